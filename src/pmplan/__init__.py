@@ -1,0 +1,64 @@
+"""pmplan: optimal parametrised motion planners for point robots among point obstacles.
+
+Implements the explicit planners of Zapata & Gonzalez, *Parametrised collision-free optimal
+motion planning algorithms in Euclidean spaces*, and their extensions (see SPEC.md).
+
+>>> import pmplan
+>>> p = pmplan.plan([[0, 0], [2, 0]], [[1, 1]], [[1, -1]])
+>>> p.domain, p.stratum, p.clearance > 0
+(6, 'T_{3,3}', True)
+"""
+
+from .api import (
+    Plan,
+    PlanBatch,
+    PlannerInfo,
+    choose_planner,
+    info,
+    parametrised_tc,
+    plan,
+    plan_batch,
+    plan_configurations,
+    plan_sequence,
+    plan_sequence_batch,
+    planner_names,
+)
+from .errors import (
+    CertificationError,
+    CollisionError,
+    DimensionError,
+    InputError,
+    NonFiniteError,
+    ObstacleMismatchError,
+    PmplanError,
+    ShapeError,
+    UnsupportedError,
+)
+from .path import PiecewiseLinearPath
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Plan",
+    "PlanBatch",
+    "PlannerInfo",
+    "PiecewiseLinearPath",
+    "choose_planner",
+    "info",
+    "parametrised_tc",
+    "plan",
+    "plan_batch",
+    "plan_configurations",
+    "plan_sequence",
+    "plan_sequence_batch",
+    "planner_names",
+    "PmplanError",
+    "InputError",
+    "ShapeError",
+    "NonFiniteError",
+    "CollisionError",
+    "ObstacleMismatchError",
+    "UnsupportedError",
+    "DimensionError",
+    "CertificationError",
+]

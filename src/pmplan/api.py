@@ -1,0 +1,474 @@
+"""The public facade: choose a planner, validate, plan in chunks, certify, return plans.
+
+Data flows one way: input arrays -> validation (:mod:`pmplan.configuration`) -> planner
+(:mod:`pmplan.planners`) -> path (:mod:`pmplan.path`) -> certificate (:mod:`pmplan.certify`)
+-> :class:`Plan` / :class:`PlanBatch`. A single query is a batch of one.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import planners as _planners  # noqa: F401  (registers the planners)
+from .certify import certify
+from .configuration import as_points, check_query, check_same_obstacles
+from .errors import CertificationError, InputError, ShapeError, UnsupportedError
+from .path import PiecewiseLinearPath
+from .planners.base import REGISTRY, Planner, RawPlan
+
+__all__ = [
+    "Plan",
+    "PlanBatch",
+    "PlannerInfo",
+    "plan",
+    "plan_batch",
+    "plan_configurations",
+    "plan_sequence",
+    "plan_sequence_batch",
+    "info",
+    "planner_names",
+    "parametrised_tc",
+    "choose_planner",
+]
+
+#: queries planned per chunk inside plan_batch: bounds the temporaries (memory) of a batch
+CHUNK = 8192
+
+
+@dataclass(frozen=True)
+class Plan:
+    """The answer to one query.
+
+    Attributes
+    ----------
+    domain : int
+        The label l of the domain of continuity W_l the query falls in.
+    stratum : str
+        The stratum in the paper's notation, e.g. ``"T_{3,5}"`` or ``"T^{2,3}_{3,4}"``.
+    clearance : float
+        Certified minimum distance between any two points along the whole motion.
+    path : PiecewiseLinearPath
+        ``path.times`` (K,), ``path.waypoints`` (K, m+n, d) with obstacles first; ``path(t)``.
+    planner : str
+        Name of the planner that produced it.
+    dims : tuple of int
+        ``(d, n, m)``.
+    """
+
+    domain: int
+    stratum: str
+    clearance: float
+    path: PiecewiseLinearPath
+    planner: str
+    dims: tuple[int, int, int]
+
+    @property
+    def m(self) -> int:
+        """Number of obstacles (the first m rows of every waypoint)."""
+        return self.dims[2]
+
+    @property
+    def obstacles(self) -> np.ndarray:
+        """The obstacles, shape (m, d)."""
+        return self.path.waypoints[0, : self.m]
+
+    @property
+    def start(self) -> np.ndarray:
+        """The robots' start positions, shape (n, d)."""
+        return self.path.waypoints[0, self.m :]
+
+    @property
+    def goal(self) -> np.ndarray:
+        """The robots' goal positions, shape (n, d)."""
+        return self.path.waypoints[-1, self.m :]
+
+    @property
+    def times(self) -> np.ndarray:
+        return self.path.times
+
+    @property
+    def waypoints(self) -> np.ndarray:
+        return self.path.waypoints
+
+
+@dataclass(frozen=True)
+class PlanBatch:
+    """The answers to a batch of B queries (vectorised :class:`Plan`).
+
+    Attributes
+    ----------
+    domain : ndarray of int64, shape (B,)
+    strata : ndarray of int64, shape (B, S)    the planner's stratum record
+    clearance : ndarray of float, shape (B,)
+    times : ndarray, shape (K,) or (B, K)
+    waypoints : ndarray, shape (B, K, m+n, d)
+    planner : str
+    dims : tuple (d, n, m)
+    """
+
+    domain: np.ndarray
+    strata: np.ndarray
+    clearance: np.ndarray
+    times: np.ndarray
+    waypoints: np.ndarray
+    planner: str
+    dims: tuple[int, int, int]
+    _names: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __len__(self) -> int:
+        return self.domain.shape[0]
+
+    @property
+    def path(self) -> PiecewiseLinearPath:
+        """The batch of paths as one :class:`PiecewiseLinearPath`."""
+        return PiecewiseLinearPath(self.times, self.waypoints)
+
+    @property
+    def stratum(self) -> np.ndarray:
+        """Stratum names, an object array of shape (B,)."""
+        d, n, m = self.dims
+        p = REGISTRY[self.planner]
+        out = np.empty(len(self), dtype=object)
+        for i, row in enumerate(self.strata):
+            key = tuple(row.tolist())
+            if key not in self._names:
+                self._names[key] = p.stratum_name(row, d, n, m)
+            out[i] = self._names[key]
+        return out
+
+    def __getitem__(self, i: int) -> Plan:
+        i = int(i)
+        d, n, m = self.dims
+        times = self.times if self.times.ndim == 1 else self.times[i]
+        path = PiecewiseLinearPath(times, self.waypoints[i]).compact()
+        return Plan(
+            domain=int(self.domain[i]),
+            stratum=REGISTRY[self.planner].stratum_name(self.strata[i], d, n, m),
+            clearance=float(self.clearance[i]),
+            path=path,
+            planner=self.planner,
+            dims=self.dims,
+        )
+
+    def __iter__(self):
+        for i in range(len(self)):
+            yield self[i]
+
+
+@dataclass(frozen=True)
+class PlannerInfo:
+    """What pmplan offers for (d, n, m, r); see :func:`info`."""
+
+    d: int
+    n: int
+    m: int
+    r: int
+    planner: str | None
+    domains: int | None
+    labels: tuple[int, ...]
+    tc: int | None
+    optimal: bool
+    message: str
+
+
+def planner_names() -> list[str]:
+    """Return the documented planner names: ``obstacle_line`` and ``planar_three``."""
+    return sorted(REGISTRY)
+
+
+def choose_planner(d: int, n: int, m: int, planner: str | None = None) -> Planner:
+    """Return the planner for (d, n, m): the named one, or the default.
+
+    The default is ``planar_three`` (paper Section 4) for (d, n, m) = (2, 1, 3) and
+    ``obstacle_line`` (paper Section 3 and SPEC 4) for every other m >= 2.
+    """
+    if planner is None:
+        planner = "planar_three" if (d, n, m) == (2, 1, 3) and "planar_three" in REGISTRY \
+            else "obstacle_line"
+    if planner not in REGISTRY:
+        raise UnsupportedError(
+            f"unknown planner {planner!r}; choose one of {', '.join(planner_names())}"
+        )
+    p = REGISTRY[planner]
+    why = p.supports(d, n, m)
+    if why is not None:
+        raise UnsupportedError(f"planner {planner!r} does not apply to (d, n, m) = ({d}, {n}, {m}): {why}")
+    return p
+
+
+def _check_lift(lift: float) -> float:
+    try:
+        lift = float(lift)
+    except (TypeError, ValueError):
+        raise InputError(f"`lift` must be a positive number, got {lift!r}") from None
+    if not np.isfinite(lift) or lift <= 0:
+        raise InputError(f"`lift` must be a positive finite number, got {lift!r}")
+    return lift
+
+
+def _raise_certificate(bad: np.ndarray, batched: bool) -> None:
+    idx = np.flatnonzero(bad)
+    where = f" for queries {idx[:10].tolist()}{'...' if idx.size > 10 else ''}" if batched else ""
+    raise CertificationError(
+        f"the planned path failed its certificate{where}: the query is too nearly degenerate "
+        "for double precision (two points would meet or the path is not finite); "
+        "nothing was returned",
+        indices=idx,
+    )
+
+
+def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, sequential: bool,
+         progress: bool = False):
+    """Plan and certify in chunks; return the arrays of a PlanBatch."""
+    b = obstacles.shape[0]
+    out = None
+    chunks = range(0, b, CHUNK)
+    if progress and len(chunks) > 4:
+        from tqdm import tqdm
+
+        chunks = tqdm(chunks, desc="planning", unit="chunk", file=sys.stderr)
+    for lo in chunks:
+        hi = min(b, lo + CHUNK)
+        obs = obstacles[lo:hi]
+        cfg = [c[lo:hi] for c in configs]
+        if sequential:
+            raw: RawPlan = planner.plan_sequence(obs, cfg, lift=lift)
+        else:
+            raw = planner.plan(obs, cfg[0], cfg[1], lift=lift)
+        wp = raw.path.waypoints
+        start = np.concatenate([obs, cfg[0]], axis=1)
+        goal = np.concatenate([obs, cfg[-1]], axis=1)
+        clr, ok = certify(wp, start, goal, obs.shape[1])
+        if sequential and len(cfg) > 2:
+            # the path must also pass through every intermediate configuration
+            r = len(cfg)
+            tk = np.arange(r) / (r - 1)
+            for k in range(1, r - 1):
+                at = PiecewiseLinearPath(raw.path.times, wp)(tk[k])
+                ok &= np.all(at == np.concatenate([obs, cfg[k]], axis=1), axis=(1, 2))
+        if not ok.all():
+            bad = np.zeros(b, dtype=bool)
+            bad[lo:hi] = ~ok
+            _raise_certificate(bad, batched)
+        if out is None:
+            times = raw.path.times
+            out = dict(
+                domain=np.empty(b, np.int64),
+                strata=np.empty((b, raw.strata.shape[1]), np.int64),
+                clearance=np.empty(b),
+                times=times if times.ndim == 1 else np.empty((b, times.shape[1])),
+                waypoints=np.empty((b,) + wp.shape[1:]),
+            )
+        out["domain"][lo:hi] = raw.domain
+        out["strata"][lo:hi] = raw.strata
+        out["clearance"][lo:hi] = clr
+        out["waypoints"][lo:hi] = wp
+        if out["times"].ndim == 2:
+            out["times"][lo:hi] = raw.path.times
+    return out
+
+
+def plan_batch(
+    obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0, progress: bool = False
+) -> PlanBatch:
+    """Plan a batch of B queries at once (vectorised :func:`plan`).
+
+    Parameters
+    ----------
+    obstacles : array_like, shape (B, m, d)
+    start, goal : array_like, shape (B, n, d)
+    planner : str, optional
+        ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
+    lift : float
+        The positive scale of the lift in the section (paper: 1).
+    progress : bool
+        Show a progress bar (tqdm, on stderr) when the batch takes more than a few chunks.
+
+    Returns
+    -------
+    PlanBatch
+        ``domain`` (B,), ``clearance`` (B,), ``waypoints`` (B, K, m+n, d), ``times``.
+
+    Raises
+    ------
+    InputError
+        (a ValueError) for malformed input: see :mod:`pmplan.errors`.
+    CertificationError
+        If a path would not be collision-free in double precision.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> batch = plan_batch(rng.normal(size=(5, 2, 2)), rng.normal(size=(5, 3, 2)),
+    ...                    rng.normal(size=(5, 3, 2)))
+    >>> batch.domain.shape, batch.waypoints.shape, batch.times.shape
+    ((5,), (5, 8, 5, 2), (8,))
+    """
+    lift = _check_lift(lift)
+    obstacles, start, goal = check_query(obstacles, start, goal, batched=True)
+    _, m, d = obstacles.shape
+    n = start.shape[1]
+    p = choose_planner(d, n, m, planner)
+    out = _run(p, obstacles, [start, goal], lift, batched=True, sequential=False, progress=progress)
+    return PlanBatch(planner=p.name, dims=(d, n, m), **out)
+
+
+def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0) -> Plan:
+    """Plan one query: a certified collision-free motion from ``start`` to ``goal``.
+
+    Parameters
+    ----------
+    obstacles : array_like, shape (m, d)
+        The obstacles o_1..o_m (m >= 2); they stay fixed.
+    start, goal : array_like, shape (n, d)
+        Robot positions x_1..x_n and x'_1..x'_n.
+    planner : str, optional
+        ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
+    lift : float
+        Positive scale of the lift (paper: 1).
+
+    Returns
+    -------
+    Plan
+        ``domain``, ``stratum``, ``clearance`` and ``path`` (waypoints (K, m+n, d)).
+
+    Examples
+    --------
+    A robot in the column of o1 (exact degeneracy: cp(C) = 2) going to a generic goal:
+
+    >>> p = plan([[0, 0], [2, 0]], [[0, 1]], [[1, -1]])
+    >>> p.domain, p.stratum, p.path.waypoints.shape
+    (5, 'T_{2,3}', (8, 3, 2))
+    >>> p.path(0.0)[2], p.path(1.0)[2]
+    (array([0., 1.]), array([ 1., -1.]))
+    """
+    lift = _check_lift(lift)
+    obstacles, start, goal = check_query(obstacles, start, goal, batched=False)
+    _, m, d = obstacles.shape
+    n = start.shape[1]
+    p = choose_planner(d, n, m, planner)
+    out = _run(p, obstacles, [start, goal], lift, batched=False, sequential=False)
+    return PlanBatch(planner=p.name, dims=(d, n, m), **out)[0]
+
+
+def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
+    """Plan between two full configurations (m+n, d) whose first m rows are the obstacles.
+
+    Raises :class:`~pmplan.errors.ObstacleMismatchError` if the obstacles differ.
+    """
+    c_start = as_points(c_start, "start configuration", False)
+    c_goal = as_points(c_goal, "goal configuration", False)
+    if c_start.shape != c_goal.shape:
+        raise ShapeError(
+            f"Expected both configurations to have the same shape, got {c_start.shape} and "
+            f"{c_goal.shape}."
+        )
+    if not 1 <= m < c_start.shape[0]:
+        raise ShapeError(f"m = {m} obstacles leave no robot in a configuration of {c_start.shape[0]} points")
+    check_same_obstacles(c_start, c_goal, m, batched=False)
+    return plan(c_start[:m], c_start[m:], c_goal[m:], **kwargs)
+
+
+def _check_sequence(obstacles, configs, batched: bool):
+    try:
+        configs = [np.asarray(c, dtype=float) for c in configs]
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"`configs` must be a list of numeric arrays: {exc}") from None
+    if len(configs) < 2:
+        raise ShapeError(f"Expected at least r = 2 configurations, got {len(configs)}.")
+    obstacles_b, first, _ = check_query(obstacles, configs[0], configs[-1], batched=batched)
+    out = [first]
+    for k, c in enumerate(configs[1:], start=2):
+        _, ck, _ = check_query(obstacles, c, c, batched=batched)
+        if ck.shape != first.shape:
+            raise ShapeError(f"configuration {k} has shape {ck.shape[1:]}, expected {first.shape[1:]}")
+        out.append(ck)
+    return obstacles_b, out
+
+
+def plan_sequence_batch(obstacles, configs, *, lift: float = 1.0) -> PlanBatch:
+    """Plan batches of motions through r >= 2 configurations (SPEC 4c).
+
+    ``obstacles`` (B, m, d); ``configs`` a list of r arrays (B, n, d). The path passes through
+    configuration k at tau = (k-1)/(r-1); labels sum_k cp(C_k) - (r-1) cp_o + 2 (- 1 when
+    e == N in odd d).
+    """
+    lift = _check_lift(lift)
+    obstacles, configs = _check_sequence(obstacles, configs, batched=True)
+    _, m, d = obstacles.shape
+    n = configs[0].shape[1]
+    p = choose_planner(d, n, m, "obstacle_line")
+    out = _run(p, obstacles, configs, lift, batched=True, sequential=True)
+    return PlanBatch(planner=p.name, dims=(d, n, m), **out)
+
+
+def plan_sequence(obstacles, configs, *, lift: float = 1.0) -> Plan:
+    """Plan one motion through r >= 2 robot configurations with the same obstacles (SPEC 4c).
+
+    Parameters
+    ----------
+    obstacles : array_like, shape (m, d)
+    configs : sequence of r array_like, each (n, d)
+
+    Examples
+    --------
+    >>> p = plan_sequence([[0, 0], [2, 0]], [[[0, 1]], [[1, -1]], [[3, 3]]])
+    >>> p.domain, p.path.waypoints.shape
+    (6, (15, 3, 2))
+    >>> p.path(0.5)[2]
+    array([ 1., -1.])
+    """
+    lift = _check_lift(lift)
+    obstacles, configs = _check_sequence(obstacles, configs, batched=False)
+    _, m, d = obstacles.shape
+    n = configs[0].shape[1]
+    p = choose_planner(d, n, m, "obstacle_line")
+    out = _run(p, obstacles, configs, lift, batched=False, sequential=True)
+    return PlanBatch(planner=p.name, dims=(d, n, m), **out)[0]
+
+
+def parametrised_tc(d: int, n: int, m: int, r: int = 2) -> int:
+    """Return the (unreduced, sequential) parametrised topological complexity.
+
+    ``2n+m-1`` (d even) / ``2n+m`` (d odd) for r = 2 (paper Theorem ``gongra``,
+    Cohen-Farber-Weinberger); ``rn+m-1`` / ``rn+m`` for r >= 2 (Farber-Paul, unreduced).
+    """
+    return r * n + m - 1 if d % 2 == 0 else r * n + m
+
+
+def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> PlannerInfo:
+    """Which planner applies to (d, n, m, r), how many domains it has, and whether it is optimal.
+
+    Examples
+    --------
+    >>> i = info(2, 3, 2)
+    >>> i.planner, i.domains, i.tc, i.optimal
+    ('obstacle_line', 7, 7, True)
+    >>> info(3, 1, 1).message
+    'no planner covers m = 1: the planners need m >= 2 obstacles (they define the line L_C)'
+    """
+    if d < 2 or n < 1 or m < 2 or r < 2:
+        why = (
+            f"d = {d}: planners need d >= 2" if d < 2 else
+            f"n = {n}: at least one robot is needed" if n < 1 else
+            f"m = {m}: the planners need m >= 2 obstacles (they define the line L_C)" if m < 2 else
+            f"r = {r}: a motion needs r >= 2 configurations"
+        )
+        return PlannerInfo(d, n, m, r, None, None, (), None, False, f"no planner covers {why}")
+    tc = parametrised_tc(d, n, m, r)
+    if r > 2:
+        if planner not in (None, "obstacle_line"):
+            raise UnsupportedError("sequential planning (r > 2) uses the obstacle_line planner")
+        p = REGISTRY["obstacle_line"]
+        low = 4 if d % 2 == 0 else 3
+        labels = tuple(range(low, r * n + m + 3))
+        msg = "sequential planner (SPEC 4c) on the obstacle_line planner"
+    else:
+        p = choose_planner(d, n, m, planner)
+        labels = tuple(p.domain_labels(d, n, m))
+        msg = p.summary
+    k = len(labels)
+    return PlannerInfo(d, n, m, r, p.name, k, labels, tc, k == tc, msg)

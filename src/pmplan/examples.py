@@ -1,0 +1,56 @@
+"""Named example queries with exact degeneracies (integer and dyadic coordinates).
+
+These are the embedded defaults of ``pmplan demo``: one query in every domain of continuity.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["line_configuration", "obstacle_line_examples"]
+
+# columns and heights (for n = 3) giving cp = 2..5 with obstacles o1 = (0, 0), o2 = (4, 0)
+_START = {
+    2: ([0.0, 4.0, 0.0], [1.5, -1.0, -1.5]),
+    3: ([1.0, 1.0, 4.0], [1.0, -1.0, 1.25]),
+    4: ([1.0, 2.5, 1.0], [1.0, -1.0, -1.5]),
+    5: ([1.0, 2.0, 3.0], [1.0, -1.0, 1.5]),
+}
+_GOAL = {
+    2: ([4.0, 0.0, 4.0], [-1.5, 1.0, 1.0]),
+    3: ([3.0, 3.0, 0.0], [-1.0, 1.0, -1.0]),
+    4: ([3.0, 1.5, 3.0], [-1.0, 1.0, 1.5]),
+    5: ([3.25, 2.25, 0.75], [-1.25, 1.25, -0.75]),
+}
+
+
+def line_configuration(cp: int, n: int, *, goal: bool = False) -> np.ndarray:
+    """Return n robot positions (n, 2) with exactly ``cp`` distinct columns in total.
+
+    Obstacles are o1 = (0, 0), o2 = (4, 0), so the column of a point is its x coordinate.
+    ``2 <= cp <= n + 2``. Robots 1..cp-2 get new columns, the others share o1's or o2's.
+    """
+    if not 2 <= cp <= n + 2:
+        raise ValueError(f"cp must lie in 2..{n + 2}, got {cp}")
+    if n == 3:
+        cols, heights = (_GOAL if goal else _START)[cp]
+        return np.column_stack([cols, heights])
+    new = cp - 2
+    cols = [4.0 * (k + 1) / (new + 1) for k in range(new)]
+    cols += [0.0 if k % 2 == 0 else 4.0 for k in range(n - new)]
+    sign = -1.0 if goal else 1.0
+    heights = [sign * (1.0 + 0.5 * k) * (1 if k % 2 == 0 else -1) for k in range(n)]
+    return np.column_stack([cols, heights])
+
+
+def obstacle_line_examples(n: int = 3):
+    """Return [(obstacles, start, goal)], one query for each domain W_4..W_{2n+4} (m = 2, d = 2).
+
+    Domain l = cp(C) + cp(C') uses cp(C) = ceil(l/2), cp(C') = floor(l/2).
+    """
+    obstacles = np.array([[0.0, 0.0], [4.0, 0.0]])
+    out = []
+    for label in range(4, 2 * n + 5):
+        i, j = (label + 1) // 2, label // 2
+        out.append((obstacles, line_configuration(i, n), line_configuration(j, n, goal=True)))
+    return out

@@ -1,0 +1,257 @@
+"""Piecewise-linear paths in F(R^d, m+n), and the path algebra the planners are built from.
+
+A *piecewise-linear path* is a map ``[0, 1] -> (R^d)^P`` given by breakpoints
+``0 = t_0 <= t_1 <= ... <= t_{K-1} = 1`` and waypoints ``P_0, ..., P_{K-1}`` (configurations of
+P points in R^d, obstacles first), linear between consecutive breakpoints. A batch of B paths
+stores waypoints of shape (B, K, P, d) and breakpoints of shape (K,) (shared) or (B, K).
+
+The algebra: :func:`linear` (the straight motion between two configurations), :meth:`join`
+(concatenation with time fractions), :meth:`reversed`, evaluation ``path(t)``, :meth:`sample`
+and :meth:`resample`, and :meth:`arc_length_reparametrised` (constant speed). With it, the
+generic composition of the paper's Remark ``constructing-sections-via-deformations-higher-case``
+is written once, in :func:`compose_via_deformations`.
+
+A zero-duration piece (``t_k == t_{k+1}``) is allowed in batches (it pads paths with fewer legs
+to a common K); its two waypoints must then be equal.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+__all__ = ["PiecewiseLinearPath", "linear", "compose_via_deformations"]
+
+
+class PiecewiseLinearPath:
+    """A piecewise-linear path, or a batch of them.
+
+    Parameters
+    ----------
+    times : array_like, shape (K,) or (B, K)
+        Non-decreasing breakpoints from 0 to 1.
+    waypoints : array_like, shape (K, P, d) or (B, K, P, d)
+        Configurations at the breakpoints (obstacles first).
+
+    Examples
+    --------
+    >>> a = np.zeros((2, 2)); b = np.array([[0.0, 0.0], [2.0, 0.0]])
+    >>> p = linear(a, b)
+    >>> p(0.25)
+    array([[0. , 0. ],
+           [0.5, 0. ]])
+    >>> p(np.array([0.0, 1.0])).shape
+    (2, 2, 2)
+    >>> p.join(p.reversed())(np.array([0.5, 0.75]))[:, 1]
+    array([[2., 0.],
+           [1., 0.]])
+    """
+
+    __slots__ = ("times", "waypoints")
+
+    def __init__(self, times, waypoints):
+        self.times = np.asarray(times, dtype=float)
+        self.waypoints = np.asarray(waypoints, dtype=float)
+        if self.waypoints.ndim not in (3, 4):
+            raise ValueError(
+                f"Expected `waypoints` to have shape (K, P, d) or (B, K, P, d), "
+                f"got {self.waypoints.shape}."
+            )
+        k = self.waypoints.shape[-3]
+        if self.times.shape[-1:] != (k,) or self.times.ndim > 2:
+            raise ValueError(
+                f"Expected `times` to have shape ({k},) or (B, {k}), got {self.times.shape}."
+            )
+        if self.times.ndim == 2 and self.waypoints.ndim == 3:
+            raise ValueError("per-path `times` of shape (B, K) need batched waypoints (B, K, P, d)")
+
+    # --- shape -----------------------------------------------------------------------------
+    @property
+    def is_batch(self) -> bool:
+        """True for a batch of paths (waypoints of shape (B, K, P, d))."""
+        return self.waypoints.ndim == 4
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """``()`` for one path, ``(B,)`` for a batch."""
+        return self.waypoints.shape[:-3]
+
+    def __len__(self) -> int:
+        if not self.is_batch:
+            raise TypeError("Single path has no len().")
+        return self.waypoints.shape[0]
+
+    def __getitem__(self, index) -> PiecewiseLinearPath:
+        if not self.is_batch:
+            raise TypeError("Single path is not subscriptable.")
+        times = self.times if self.times.ndim == 1 else self.times[index]
+        return PiecewiseLinearPath(times, self.waypoints[index])
+
+    def __iter__(self):
+        for b in range(len(self)):
+            yield self[b]
+
+    def __repr__(self) -> str:
+        return f"PiecewiseLinearPath(shape={self.shape}, K={self.waypoints.shape[-3]}, " \
+               f"points={self.waypoints.shape[-2]}, d={self.waypoints.shape[-1]})"
+
+    def as_array(self) -> np.ndarray:
+        """Return the waypoints array."""
+        return self.waypoints
+
+    # --- algebra ---------------------------------------------------------------------------
+    def reversed(self) -> PiecewiseLinearPath:
+        """Return the reverse path ``t -> self(1 - t)`` (a new object)."""
+        return PiecewiseLinearPath(1.0 - self.times[..., ::-1], self.waypoints[..., ::-1, :, :])
+
+    def join(self, *others: PiecewiseLinearPath, at: Sequence[float] | None = None):
+        """Concatenate paths end to start; path i runs on ``[at[i-1], at[i]]``.
+
+        Parameters
+        ----------
+        *others : PiecewiseLinearPath
+            Paths to follow this one; each must start exactly where the previous one ends.
+        at : sequence of float, optional
+            The interior breakpoints, strictly increasing in (0, 1), one fewer than the number
+            of paths. Default: equal durations.
+        """
+        return join([self, *others], at)
+
+    # --- evaluation ------------------------------------------------------------------------
+    def __call__(self, t):
+        """Evaluate at t in [0, 1].
+
+        Returns an array of shape ``self.shape + np.shape(t) + (P, d)``.
+        """
+        t = np.asarray(t, dtype=float)
+        scalar = t.ndim == 0
+        tt = np.atleast_1d(t)
+        if np.any(~np.isfinite(tt)) or np.any((tt < 0) | (tt > 1)):
+            raise ValueError("path parameter t must lie in [0, 1]")
+        times = self.times
+        k = times.shape[-1]
+        if times.ndim == 1:
+            idx = np.clip(np.searchsorted(times, tt, side="right") - 1, 0, k - 2)
+            t0, t1 = times[idx], times[idx + 1]
+        else:
+            idx = np.clip((times[:, None, :] <= tt[None, :, None]).sum(-1) - 1, 0, k - 2)
+            t0 = np.take_along_axis(times, idx, axis=1)
+            t1 = np.take_along_axis(times, idx + 1, axis=1)
+        dur = t1 - t0
+        with np.errstate(invalid="ignore", divide="ignore"):
+            frac = np.where(dur > 0, (tt - t0) / np.where(dur > 0, dur, 1.0), 0.0)
+        wp = self.waypoints
+        if wp.ndim == 3:
+            a, b = wp[idx], wp[idx + 1]
+        else:
+            bidx = np.arange(wp.shape[0])[:, None]
+            if idx.ndim == 1:
+                idx = np.broadcast_to(idx, (wp.shape[0], idx.shape[0]))
+                frac = np.broadcast_to(frac, idx.shape)
+            a, b = wp[bidx, idx], wp[bidx, idx + 1]
+        out = a + frac[..., None, None] * (b - a)
+        if scalar:
+            out = out[..., 0, :, :]
+        return out
+
+    def sample(self, t) -> np.ndarray:
+        """Alias of ``self(t)``."""
+        return self(t)
+
+    def resample(self, k: int) -> PiecewiseLinearPath:
+        """Return the path sampled at ``k >= 2`` equally spaced times, as a new path."""
+        if k < 2:
+            raise ValueError("resample needs k >= 2")
+        ts = np.linspace(0.0, 1.0, k)
+        wp = self(ts)
+        return PiecewiseLinearPath(ts, wp)
+
+    def leg_lengths(self) -> np.ndarray:
+        """Return, for every piece, the sum over points of the distance each point travels.
+
+        Shape ``self.shape + (K - 1,)``.
+        """
+        disp = np.diff(self.waypoints, axis=-3)
+        return np.sqrt((disp * disp).sum(-1)).sum(-1)
+
+    def length(self) -> np.ndarray | float:
+        """Return the total distance travelled, summed over all points (robots)."""
+        out = self.leg_lengths().sum(-1)
+        return float(out) if out.ndim == 0 else out
+
+    def arc_length_reparametrised(self) -> PiecewiseLinearPath:
+        """Return the same polyline traversed at constant speed (times proportional to length).
+
+        A path of length 0 becomes a constant path with equally spaced breakpoints.
+        """
+        legs = self.leg_lengths()
+        total = legs.sum(-1, keepdims=True)
+        cum = np.concatenate([np.zeros_like(total), np.cumsum(legs, axis=-1)], axis=-1)
+        k = self.waypoints.shape[-3]
+        even = np.broadcast_to(np.linspace(0.0, 1.0, k), cum.shape)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            times = np.where(total > 0, cum / np.where(total > 0, total, 1.0), even)
+        times[..., -1] = 1.0
+        return PiecewiseLinearPath(times, self.waypoints)
+
+    def compact(self) -> PiecewiseLinearPath:
+        """For a single path, drop zero-duration pieces so breakpoints are strictly increasing."""
+        if self.is_batch:
+            raise TypeError("compact() applies to a single path")
+        keep = np.concatenate([[True], np.diff(self.times) > 0])
+        if keep.all():
+            return self
+        return PiecewiseLinearPath(self.times[keep], self.waypoints[keep])
+
+
+def linear(start, end) -> PiecewiseLinearPath:
+    """Return the straight motion ``t -> start + t (end - start)`` (batched or not)."""
+    start = np.asarray(start, dtype=float)
+    end = np.asarray(end, dtype=float)
+    return PiecewiseLinearPath(np.array([0.0, 1.0]), np.stack([start, end], axis=-3))
+
+
+def join(paths: Sequence[PiecewiseLinearPath], at: Sequence[float] | None = None):
+    """Concatenate paths end to start, path i on ``[at[i-1], at[i]]`` (see the method)."""
+    paths = list(paths)
+    if not paths:
+        raise ValueError("join needs at least one path")
+    q = len(paths)
+    if at is None:
+        at = [i / q for i in range(1, q)]
+    bounds = np.concatenate([[0.0], np.asarray(at, dtype=float), [1.0]])
+    if bounds.shape != (q + 1,) or np.any(np.diff(bounds) <= 0):
+        raise ValueError(f"`at` must be {q - 1} increasing breakpoints in (0, 1), got {list(at)}")
+    for i in range(1, q):
+        if not np.array_equal(paths[i - 1].waypoints[..., -1, :, :], paths[i].waypoints[..., 0, :, :]):
+            raise ValueError(f"path {i} does not start where path {i - 1} ends")
+    per_path = any(p.times.ndim == 2 for p in paths)
+    times, wps = [], []
+    for i, p in enumerate(paths):
+        t = p.times
+        if per_path and t.ndim == 1:
+            t = np.broadcast_to(t, p.waypoints.shape[:1] + t.shape)
+        t = bounds[i] + t * (bounds[i + 1] - bounds[i])
+        w = p.waypoints
+        if i > 0:
+            t = t[..., 1:]
+            w = w[..., 1:, :, :]
+        times.append(t)
+        wps.append(w)
+    times = np.concatenate(times, axis=-1)
+    times[..., -1] = 1.0
+    return PiecewiseLinearPath(times, np.concatenate(wps, axis=-3))
+
+
+def compose_via_deformations(h_start, section, h_goal) -> PiecewiseLinearPath:
+    """Return the path of paper Remark ``constructing-sections-via-deformations-higher-case``.
+
+    Given deformations ``h_start`` of C and ``h_goal`` of C' (paths from C, C' into the set U
+    where a section is known) and the ``section`` path from ``h_start(1)`` to ``h_goal(1)``::
+
+        s_V(v)(tau) = h_1(v, 3 tau)              0   <= tau <= 1/3
+                      s_U(H(v, 1))(3 tau - 1)    1/3 <= tau <= 2/3
+                      h_2(v, 3 - 3 tau)          2/3 <= tau <= 1
+    """
+    return join([h_start, section, h_goal.reversed()], [1.0 / 3.0, 2.0 / 3.0])
