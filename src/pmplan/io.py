@@ -93,8 +93,32 @@ def parse_query(obj) -> dict:
     return out
 
 
+def _read_query_npz(path: Path) -> dict:
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: np.asarray(data[k]) for k in data.files}
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
+        raise InputError(f"cannot read {path} as npz: {exc}") from None
+    obj = {}
+    for key, arr in arrays.items():
+        if key in ("lift",) and arr.ndim == 0:
+            obj[key] = arr.item()
+        elif key == "planner":
+            obj[key] = str(arr)
+        elif arr.dtype.kind in "iuf":
+            obj[key] = arr.tolist()
+        else:
+            raise InputError(f"array `{key}` in {path} must be numeric, got dtype {arr.dtype}")
+    return parse_query(obj)
+
+
 def read_query(path: str | Path) -> dict:
-    """Read and validate a query JSON file (see the module docstring)."""
+    """Read and validate one query from a JSON file, or from an npz file with arrays
+    ``obstacles`` (m, d), ``start`` (n, d), ``goal`` (n, d) and optional ``via`` (k, n, d),
+    ``lift`` (scalar).
+    """
+    if Path(path).suffix == ".npz":
+        return _read_query_npz(Path(path))
     try:
         text = Path(path).read_text()
     except OSError as exc:
