@@ -38,13 +38,14 @@ def _pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray]:
 
 def segment_clearance(r0: np.ndarray, r1: np.ndarray) -> np.ndarray:
     """Return ``min_{t in [0,1]} |r0 + t (r1 - r0)|`` in floating point, over the last axis."""
-    v = r1 - r0
-    vv = (v * v).sum(-1)
-    r0v = (r0 * v).sum(-1)
-    with np.errstate(invalid="ignore", divide="ignore"):
+    # overflow gives inf/nan here; such pairs are re-decided exactly by the caller
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        v = r1 - r0
+        vv = (v * v).sum(-1)
+        r0v = (r0 * v).sum(-1)
         t = np.where(vv > 0, np.clip(-r0v / np.where(vv > 0, vv, 1.0), 0.0, 1.0), 0.0)
-    q = r0 + t[..., None] * v
-    return np.sqrt((q * q).sum(-1))
+        q = r0 + t[..., None] * v
+        return np.sqrt((q * q).sum(-1))
 
 
 def _exact_segment_clearance(a0, b0, a1, b1) -> float:
@@ -60,7 +61,10 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
     sq = sum((p + t * q) ** 2 for p, q in zip(r0, v))
     if sq == 0:
         return 0.0
-    val = math.sqrt(float(sq))
+    try:
+        val = math.sqrt(float(sq))
+    except OverflowError:
+        val = math.inf
     if val == 0.0 or not math.isfinite(val):  # outside the float range: go through logarithms
         val = math.exp(0.5 * (math.log(sq.numerator) - math.log(sq.denominator)))
     if val == 0.0:  # positive but below the float range: report the smallest positive float
@@ -81,7 +85,8 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
     Returns
     -------
     ndarray, shape (B,)
-        Minimum distance between two points along the whole motion; 0.0 where two points meet.
+        Minimum distance between two points along the whole motion; 0.0 where two points meet;
+        NaN where a waypoint is not finite.
 
     Examples
     --------
@@ -106,12 +111,15 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
         np.maximum(np.abs(wp[:, :-1, pi]).max(-1), np.abs(wp[:, :-1, pj]).max(-1)),
         np.maximum(np.abs(wp[:, 1:, pi]).max(-1), np.abs(wp[:, 1:, pj]).max(-1)),
     )
-    suspect = ~(dist > _REL * np.maximum(scale, absval * 1e-6))
+    finite = np.isfinite(r0).all(-1) & np.isfinite(r1).all(-1)
+    suspect = ~(dist > _REL * np.maximum(scale, absval * 1e-6)) & finite
+    dist[~finite] = np.nan  # not a path: its certificate fails below
     for bi, ki, qi in zip(*np.nonzero(suspect)):
         dist[bi, ki, qi] = _exact_segment_clearance(
             wp[bi, ki, pi[qi]], wp[bi, ki, pj[qi]], wp[bi, ki + 1, pi[qi]], wp[bi, ki + 1, pj[qi]]
         )
     out = dist.reshape(b, -1).min(axis=1, initial=np.inf)
+    out[np.isnan(dist.reshape(b, -1)).any(axis=1)] = np.nan
     if m >= 2:
         oi, oj = np.triu_indices(m, k=1)
         od = wp[:, 0, oi] - wp[:, 0, oj]

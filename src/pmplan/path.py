@@ -126,7 +126,8 @@ class PiecewiseLinearPath:
         """
         t = np.asarray(t, dtype=float)
         scalar = t.ndim == 0
-        tt = np.atleast_1d(t)
+        tshape = t.shape
+        tt = t.reshape(-1)
         if np.any(~np.isfinite(tt)) or np.any((tt < 0) | (tt > 1)):
             raise ValueError("path parameter t must lie in [0, 1]")
         times = self.times
@@ -150,10 +151,12 @@ class PiecewiseLinearPath:
                 idx = np.broadcast_to(idx, (wp.shape[0], idx.shape[0]))
                 frac = np.broadcast_to(frac, idx.shape)
             a, b = wp[bidx, idx], wp[bidx, idx + 1]
-        out = a + frac[..., None, None] * (b - a)
+        f = frac[..., None, None]
+        # exact at the breakpoints: t_k gives P_k and t_{k+1} gives P_{k+1} bit for bit
+        out = np.where(f == 1.0, b, a + f * (b - a))
         if scalar:
-            out = out[..., 0, :, :]
-        return out
+            return out[..., 0, :, :]
+        return out.reshape(out.shape[:-3] + tshape + out.shape[-2:])
 
     def sample(self, t) -> np.ndarray:
         """Alias of ``self(t)``."""

@@ -153,6 +153,10 @@ def exact_projection_difference_sign(ya, yb, o1, o2, *, perpendicular: bool = Fa
         ok &= np.isfinite(p).all(-1) & np.isfinite(s)
         # the split in TwoProduct overflows for |x| > 2**996: require moderate magnitudes
         ok &= (np.abs(t) < 2.0**900).all(-1) & (np.abs(w) < 2.0**900).all(-1)
+        # TwoProduct is error-free only without underflow: a product must be an exact zero
+        # (a zero factor) or large enough that its error term is a normal number
+        exact_zero = (p == 0) & ((t == 0) | (w == 0))
+        ok &= (exact_zero | (np.abs(p) >= 2.0**-900)).all(-1)
     out[ok] = np.sign(s[ok]).astype(np.int8)
     for i in np.flatnonzero(~ok):
         out[i] = _fraction_dot_sign(ya[i], yb[i], o1[i], o2[i], perpendicular)
@@ -192,7 +196,10 @@ def projection_classes(points, o1, o2, *, perpendicular: bool = False):
         The number of distinct projections (the paper's cp for columns).
     gap : ndarray of float, shape (B,)
         The smallest difference between two distinct projections (in units of ``|w|``-scaled
-        projections: divide by ``|w|`` to get a length); ``inf`` if all projections coincide.
+        projections: divide by ``|w|`` to get a length), evaluated in floating point: it is
+        ``0.0`` when two exactly distinct projections are closer than the float resolution
+        (no float path can then separate them: the certificate fails, SPEC section 5), and
+        ``inf`` when all projections coincide or when the projections overflow.
 
     Examples
     --------
@@ -223,9 +230,14 @@ def projection_classes(points, o1, o2, *, perpendicular: bool = False):
             points[bi, ia], points[bi, ib], o1[bi], o2[bi], perpendicular=perpendicular
         )
         equal_adj[bi, ki] = sgn == 0
-    # a run of >= 2 undecided neighbours containing an unequal pair needs a full exact pass
+    # a run of >= 2 undecided neighbours containing an unequal pair needs a full exact pass, and
+    # so does a pair that the float sort put in the wrong order (labels follow exact order)
     ambiguous = uncertain[:, 1:] & uncertain[:, :-1] & ~(equal_adj[:, 1:] & equal_adj[:, :-1])
     full = ambiguous.any(axis=1) | ~np.isfinite(bound)
+    if bi.size:
+        misordered = np.zeros(bsz, dtype=bool)
+        misordered[bi[sgn > 0]] = True
+        full |= misordered
     step = (~equal_adj).astype(np.int64)
     sorted_labels = np.concatenate([np.zeros((bsz, 1), np.int64), np.cumsum(step, axis=1)], axis=1)
     labels = np.empty((bsz, npts), dtype=np.int64)
