@@ -1,0 +1,726 @@
+"""Checking a planner: certificates, strata and labels covered, continuity inside each domain.
+
+A planner is a partition of the query space into *domains of continuity* W_l with a rule that is
+continuous on each (paper Section 2, definition of a tame planner; SPEC 0). :func:`verify`
+gathers the evidence for one (d, n, m):
+
+1. **Certificates** (SPEC 5). Queries of three families are planned with
+   :func:`pmplan.plan_batch`, which certifies every path:
+
+   * ``exact``: exact degenerate queries in every stratum -- :func:`pmplan.generators.column_query`
+     for every stratum of :func:`pmplan.generators.strata` (obstacle-line planner), or
+     :func:`pmplan.planners.planar_three.stratum_queries` for the 12 strata of paper Section 4;
+   * ``random``: generic queries, :func:`pmplan.generators.random_queries`;
+   * ``near-degenerate``: exact degenerate queries whose ties are broken by ``~1e-9`` and
+     ``~1e-15`` of the scene (:func:`pmplan.generators.near_degenerate_queries`).
+
+   **The failure rule.** A :class:`~pmplan.errors.CertificationError` on a query is *excused*
+   (reported, not a failure) iff the query is nearly degenerate beyond double precision::
+
+       rho(Q) = g(Q) / R(Q) < RHO_MIN = 2**-26  (about 1.5e-8)
+
+   where ``g(Q)`` is the smallest nonzero difference between two distinct exact projections the
+   planner decides on -- columns ``(y - o1) . e`` (and for ``planar_three`` also heights
+   ``(y - o1) . nu(e)``) among the points of C or of C' -- or the smallest distance between two
+   points of C or of C', whichever is smaller, and ``R(Q) = max |y - o1|`` over the query. Below
+   ``2**-26`` the near-coincidence uses more than half of the 53 bits of a double, and SPEC 5
+   asks the planner to refuse such a query with this clear error rather than return a colliding
+   path. On every other query (in practice: every exact and random query) a certificate failure
+   is a failure: ``ok`` is False and ``pmplan verify`` exits with status 1.
+
+2. **Coverage**: the strata met in each domain, and whether every label of
+   ``pmplan.info(d, n, m).labels`` was realised.
+
+3. **Continuity inside a domain** (SPEC 5). Each exact and random query Q is moved inside its
+   stratum by about ``delta`` (:func:`pmplan.generators.perturb_within_stratum`; for
+   ``planar_three`` an exact similarity, or moves of the robot and o3 along their column or
+   line, see :func:`_perturb_planar_three`) to Q'; the *continuity modulus* of a domain is the
+   largest ratio ``sup_t |Gamma_Q(t) - Gamma_Q'(t)| / |Q - Q'|`` (:func:`path_distance`,
+   :func:`query_distance`). A perturbed query that changes its label is an error.
+
+4. **Jumps across domains**. Each exact query Q is moved by ``delta`` in a generic direction
+   (robots only) to Q'; where the labels of Q and Q' differ, the ratio
+   ``sup_t |Gamma_Q(t) - Gamma_Q'(t)| / |Q - Q'|`` is recorded for both domains. It is of the
+   order of ``1/delta`` (a path at distance O(1) from a query at distance delta): the evidence
+   that one continuous rule cannot serve both domains, while the modulus stays O(1) inside each.
+
+Norms: ``|Q - Q'|`` is the largest Euclidean displacement of one of the m + 2n points (obstacles,
+start and goal robots), and ``sup_t |Gamma(t) - Gamma'(t)|`` the largest Euclidean distance between
+corresponding points at equal times; it is computed exactly for piecewise-linear paths (the
+maximum over the union of their breakpoints).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from . import api
+from . import generators as gen
+from .errors import CertificationError
+from .frame import Frame
+from .path import PiecewiseLinearPath
+from .predicates import projection_classes
+
+__all__ = [
+    "RHO_MIN",
+    "DELTA",
+    "DomainReport",
+    "Report",
+    "path_distance",
+    "query_distance",
+    "degeneracy_ratio",
+    "verify",
+]
+
+#: a certificate failure on a query with degeneracy ratio below this is excused (see module doc)
+RHO_MIN = 2.0**-26
+#: size of the perturbations used for the continuity modulus and the cross-domain jumps
+DELTA = 1e-6
+#: scales at which the near-degenerate family breaks exact ties
+NEAR_SCALES = (1e-9, 1e-15)
+
+
+# ------------------------------------------------------------------------------------------------
+# distances
+
+
+def _evaluate_rows(times: np.ndarray, wp: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Evaluate B paths at per-path times.
+
+    times (B, K), wp (B, K, P, d), t (B, T) -> (B, T, P, d).
+    """
+    k = times.shape[1]
+    idx = np.clip((times[:, None, :] <= t[:, :, None]).sum(-1) - 1, 0, k - 2)
+    t0 = np.take_along_axis(times, idx, axis=1)
+    t1 = np.take_along_axis(times, idx + 1, axis=1)
+    dur = t1 - t0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        frac = np.where(dur > 0, (t - t0) / np.where(dur > 0, dur, 1.0), 0.0)
+    bidx = np.arange(wp.shape[0])[:, None]
+    a, b = wp[bidx, idx], wp[bidx, idx + 1]
+    return a + frac[..., None, None] * (b - a)
+
+
+def path_distance(a: PiecewiseLinearPath, b: PiecewiseLinearPath) -> np.ndarray:
+    """Return ``sup_t max_k |a_k(t) - b_k(t)|`` for batches of piecewise-linear paths.
+
+    The difference of two piecewise-linear paths is linear between consecutive points of the
+    union of their breakpoints, and the norm of a linear map is convex, so the supremum is the
+    maximum over that union: computed exactly (up to rounding), not sampled.
+
+    Parameters
+    ----------
+    a, b : PiecewiseLinearPath
+        Batches of B paths with the same number of points P and dimension d (any breakpoints).
+
+    Returns
+    -------
+    ndarray, shape (B,)
+
+    Examples
+    --------
+    >>> from pmplan.path import linear
+    >>> z = np.zeros((1, 1, 2)); e1 = np.array([[[1.0, 0.0]]])
+    >>> a = linear(z, e1)                      # 0 -> e1 at constant speed
+    >>> b = linear(z, e1 / 2).join(linear(e1 / 2, e1), at=[0.25])  # faster, then slower
+    >>> path_distance(a, b)                    # largest gap at t = 1/4: |1/2 - 1/4|
+    array([0.25])
+    """
+    bsz = a.waypoints.shape[0]
+    ta = np.broadcast_to(a.times, (bsz, a.times.shape[-1]))
+    tb = np.broadcast_to(b.times, (bsz, b.times.shape[-1]))
+    t = np.concatenate([ta, tb], axis=1)
+    diff = _evaluate_rows(ta, a.waypoints, t) - _evaluate_rows(tb, b.waypoints, t)
+    return np.sqrt((diff * diff).sum(-1)).max(axis=(1, 2))
+
+
+def query_distance(q, q2) -> np.ndarray:
+    """Return the largest Euclidean displacement of a point between two batches of queries.
+
+    ``q``, ``q2``: ``(obstacles (B, m, d), start (B, n, d), goal (B, n, d))``; result (B,).
+
+    Examples
+    --------
+    >>> o = np.zeros((1, 2, 2)); o[0, 1] = 1
+    >>> x = np.ones((1, 1, 2))
+    >>> query_distance((o, x, x), (o, x + [[[3.0, 4.0]]], x))
+    array([5.])
+    """
+    out = None
+    for a, b in zip(q, q2):
+        dif = np.asarray(a, dtype=float) - np.asarray(b, dtype=float)
+        dist = np.sqrt((dif * dif).sum(-1)).max(axis=1)
+        out = dist if out is None else np.maximum(out, dist)
+    return out
+
+
+def degeneracy_ratio(obstacles, start, goal, *, heights: bool = False) -> np.ndarray:
+    """Return ``rho(Q) = g(Q) / R(Q)`` of the failure rule (module docstring), shape (B,).
+
+    Parameters
+    ----------
+    obstacles, start, goal : ndarray, shapes (B, m, d), (B, n, d), (B, n, d)
+    heights : bool
+        Also count gaps between distinct heights (planar three-obstacle planner, d = 2).
+
+    Examples
+    --------
+    A robot 2^-40 to the right of the column of o1 is nearly degenerate; on it, exactly, is not:
+
+    >>> o = np.array([[[0.0, 0.0], [1.0, 0.0]]] * 2)
+    >>> x = np.array([[[2.0**-40, 1.0]], [[0.0, 1.0]]])
+    >>> degeneracy_ratio(o, x, x) < RHO_MIN
+    array([ True, False])
+    """
+    obstacles = np.asarray(obstacles, dtype=float)
+    fr = Frame(obstacles[:, 0], obstacles[:, 1])
+    g = np.full(obstacles.shape[0], np.inf)
+    radius = np.zeros(obstacles.shape[0])
+    for robots in (np.asarray(start, dtype=float), np.asarray(goal, dtype=float)):
+        pts = np.concatenate([obstacles, robots], axis=1)
+        _, _, gap = projection_classes(pts, fr.o1, fr.o1 + fr.w)
+        g = np.minimum(g, gap / fr.norm)
+        if heights:
+            _, _, hgap = projection_classes(pts, fr.o1, fr.o1 + fr.w, perpendicular=True)
+            g = np.minimum(g, hgap / fr.norm)
+        dif = pts[:, :, None, :] - pts[:, None, :, :]
+        dist = np.sqrt((dif * dif).sum(-1))
+        iu = np.triu_indices(pts.shape[1], k=1)
+        g = np.minimum(g, dist[:, iu[0], iu[1]].min(axis=1))
+        rel = pts - fr.o1[:, None, :]
+        radius = np.maximum(radius, np.sqrt((rel * rel).sum(-1)).max(axis=1))
+    return g / radius
+
+
+# ------------------------------------------------------------------------------------------------
+# the report
+
+
+@dataclass
+class DomainReport:
+    """What :func:`verify` found in one domain W_l.
+
+    Attributes
+    ----------
+    label : int
+        The domain label l (``pmplan.Plan.domain``).
+    queries : int
+        Planned (certified) queries in this domain, all families.
+    strata : list of str
+        Strata met (paper notation), sorted.
+    min_clearance : float or None
+        Smallest certified clearance; None if no query landed here.
+    modulus : float or None
+        Continuity modulus: largest ``sup|path - path'| / |Q - Q'|`` over stratum-preserving
+        perturbations of size ~delta (None if none was made in this domain).
+    perturbations : int
+        Number of such perturbations.
+    jump : float or None
+        Largest ``sup|path - path'| / |Q - Q'|`` over pairs of queries at distance ~delta with
+        different labels, one of them in this domain (None if none was seen).
+    jump_median : float or None
+        Median of those ratios.
+    jumps : int
+        Number of such pairs.
+    """
+
+    label: int
+    queries: int = 0
+    strata: list = field(default_factory=list)
+    min_clearance: float | None = None
+    modulus: float | None = None
+    perturbations: int = 0
+    jump: float | None = None
+    jump_median: float | None = None
+    jumps: int = 0
+
+
+@dataclass
+class Report:
+    """The result of :func:`verify`.
+
+    Attributes
+    ----------
+    ok : bool
+        No certificate failed (under the rule of the module docstring), every label was
+        realised, and no stratum-preserving perturbation changed a label.
+    planner : str
+    dims : list of int
+        ``[d, n, m]``.
+    seed : int
+    delta : float
+        Perturbation size.
+    labels : list of int
+        The planner's labels, ``pmplan.info(d, n, m).labels``.
+    realised : list of int
+        The labels met.
+    domains : list of DomainReport
+        One per label of the planner.
+    families : dict
+        For each family (``exact``, ``random``, ``near-degenerate``): ``queries``, ``planned``,
+        ``excused`` (refused, nearly degenerate), ``failed``.
+    failures : list of dict
+        Every counted failure: ``family``, ``index`` (in the family), ``rho``, ``stratum``,
+        ``error`` (the exception's name).
+    problems : list of str
+        Why ``ok`` is False (empty when it is True).
+    """
+
+    ok: bool
+    planner: str
+    dims: list
+    seed: int
+    delta: float
+    labels: list
+    realised: list
+    domains: list
+    families: dict
+    failures: list
+    problems: list
+
+    def to_dict(self) -> dict:
+        """Return the report as plain JSON-ready data."""
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict) -> Report:
+        """Rebuild a report from :meth:`to_dict` (or parsed :meth:`to_json`) data."""
+        data = dict(data)
+        data["domains"] = [DomainReport(**d) for d in data["domains"]]
+        return cls(**data)
+
+    def to_json(self, indent: int | None = 2) -> str:
+        """Return the report as JSON (strict: no NaN or infinities)."""
+        return json.dumps(self.to_dict(), indent=indent, allow_nan=False)
+
+    @classmethod
+    def from_json(cls, text: str) -> Report:
+        """Parse :meth:`to_json` output."""
+        return cls.from_dict(json.loads(text))
+
+    @property
+    def separation(self) -> float | None:
+        """Smallest per-domain jump divided by the largest continuity modulus (None if unknown)."""
+        jumps = [d.jump for d in self.domains if d.jump is not None]
+        mods = [d.modulus for d in self.domains if d.modulus is not None]
+        if not jumps or not mods:
+            return None
+        top = max(mods)
+        return float("inf") if top == 0 else min(jumps) / top
+
+    def to_text(self) -> str:
+        """Return a human-readable summary (the default output of ``pmplan verify``)."""
+        d, n, m = self.dims
+        w = "W" if self.planner == "planar_three" else "W_"
+        fam = ", ".join(f"{k} {v['queries']}" for k, v in self.families.items())
+        lines = [
+            f"pmplan verify: {self.planner} planner, (d, n, m) = ({d}, {n}, {m}), seed {self.seed}",
+            f"queries: {fam}; perturbation size delta = {self.delta:g}",
+            "",
+            f"{'domain':<7} {'queries':>7} {'strata':>6}  {'min clearance':>13}  "
+            f"{'continuity':>10}  {'jump (max)':>10}  {'jump (median)':>13}  examples of strata",
+        ]
+
+        def num(x):
+            return f"{x:.3g}" if x is not None else "-"
+
+        for dr in self.domains:
+            shown = ", ".join(dr.strata[:3]) + (", ..." if len(dr.strata) > 3 else "")
+            lines.append(
+                f"{w + str(dr.label):<7} {dr.queries:>7} {len(dr.strata):>6}  "
+                f"{num(dr.min_clearance):>13}  {num(dr.modulus):>10}  {num(dr.jump):>10}  "
+                f"{num(dr.jump_median):>13}  {shown}"
+            )
+        lines.append("")
+        missing = sorted(set(self.labels) - set(self.realised))
+        lines.append(
+            f"labels realised: {len(self.labels) - len(missing)}/{len(self.labels)}"
+            + (f" (missing {missing})" if missing else " (all)")
+        )
+        planned = sum(v["planned"] for v in self.families.values())
+        excused = sum(v["excused"] for v in self.families.values())
+        failed = sum(v["failed"] for v in self.families.values())
+        lines.append(
+            f"certificates: {planned} passed, {failed} failed"
+            + (f"; {excused} nearly degenerate queries (rho < 2^-26) refused with "
+               "CertificationError, as SPEC 5 allows" if excused else "")
+        )
+        sep = self.separation
+        if sep is not None:
+            top = max(d.modulus for d in self.domains if d.modulus is not None)
+            low = min(d.jump for d in self.domains if d.jump is not None)
+            lines.append(
+                f"continuity: largest modulus inside a domain {top:.3g}; "
+                f"smallest cross-domain jump {low:.3g} ({sep:.3g} times larger)"
+            )
+        for f in self.failures[:10]:
+            lines.append(
+                f"FAILED: {f['family']} query {f['index']} in {f['stratum']} "
+                f"(rho = {f['rho']:.3g}): {f['error']}, the certificate failed"
+            )
+        if len(self.failures) > 10:
+            lines.append(f"... and {len(self.failures) - 10} more failures (see --json)")
+        for p in self.problems:
+            lines.append(f"problem: {p}")
+        lines.append("OK" if self.ok else "NOT OK")
+        return "\n".join(lines)
+
+
+# ------------------------------------------------------------------------------------------------
+# query families
+
+
+def _exact_queries(rng, planner: str, d: int, n: int, m: int, count: int):
+    """Exact degenerate queries covering every stratum, round robin; a batch (B, ., d)."""
+    obs, st, go = [], [], []
+    if planner == "planar_three":
+        from .planners.planar_three import STRATA, stratum_queries
+
+        per = max(1, -(-count // len(STRATA)))
+        for name in STRATA:
+            o, s, g = stratum_queries(rng, name, per)
+            obs.append(o)
+            st.append(s)
+            go.append(g)
+        order = np.arange(per * len(STRATA)).reshape(len(STRATA), per).T.ravel()  # round robin
+        return tuple(np.concatenate(a)[order] for a in (obs, st, go))
+    table = gen.strata(d, n, m)
+    for k in range(max(count, len(table))):
+        s = table[k % len(table)]
+        q = gen.column_query(rng, d, n, m, s.cp_start, s.cp_goal, cp_o=s.cp_o, pole=s.pole,
+                             integer=k % 2 == 0)
+        obs.append(q.obstacles)
+        st.append(q.start)
+        go.append(q.goal)
+    return np.stack(obs), np.stack(st), np.stack(go)
+
+
+def _near_degenerate(rng, planner: str, d: int, n: int, m: int, count: int, scale: float):
+    if planner != "planar_three":
+        return tuple(gen.near_degenerate_queries(rng, d, n, m, count, scale))
+    # the same noise as generators.near_degenerate_queries, on the strata of paper Section 4
+    q = _exact_queries(rng, planner, d, n, m, count)
+    idx = rng.permutation(q[0].shape[0])[:count]
+    return tuple(a[idx] + scale * (1 + np.abs(a[idx])) * rng.normal(size=a[idx].shape) for a in q)
+
+
+def _perturb_planar_three(rng, q, delta: float):
+    """Move one query of the planar three-obstacle planner inside its stratum by about delta.
+
+    One of two exact moves, chosen at random:
+
+    * a similarity about o1, ``y -> o1 + (I + a J)(y - o1) + t`` (J the rotation by 90 degrees,
+      ``a`` a power of two, ``t`` dyadic): it keeps every equality of columns and of heights;
+    * a dyadic translation of the whole scene, then every robot position and o3 moved by a
+      power of two times a direction their stratum allows (with ``w = o2 - o1``): along ``w``
+      for a point on L_C when o3 is on L_C (family T1), along ``rot90(w)`` for a point on an
+      obstacle column (families T22, T23, and o3 there), anywhere otherwise.
+
+    (Combining both in one move would need more than 53 bits.) The result is checked exactly
+    with :func:`pmplan.planners.planar_three.classify` and for distinct points; None if it left
+    the stratum (which does not happen for the dyadic queries of ``stratum_queries``).
+    """
+    from .planners.planar_three import classify
+
+    o, s, g = (np.array(a, dtype=float) for a in q)
+    before = classify(o[None], s[None], g[None])
+    budget = delta / 3.0
+    o1 = o[0].copy()
+    radius = max(np.abs(np.concatenate([o, s, g]) - o1).max(), 1e-300)
+    tdir = rng.normal(size=2)
+    unit = 2.0 ** np.floor(np.log2(budget / 64))
+    t = np.round(tdir / np.abs(tdir).max() * budget / 2 / unit) * unit
+    if rng.random() < 0.5:
+        a = 2.0 ** np.floor(np.log2(budget / radius)) * rng.choice([-1.0, 1.0])
+
+        def sim(y):
+            rel = y - o1
+            return o1 + rel + a * np.stack([-rel[..., 1], rel[..., 0]], axis=-1) + t
+
+        o, s, g = sim(o), sim(s), sim(g)
+    else:
+        w = o[1] - o[0]
+        fam = int(before.record[0, 0])
+        cl, hl = before.col_labels[0], before.height_labels[0]
+        step = 2.0 ** np.floor(np.log2(budget))
+        o, s, g = o + t, s + t, g + t
+        for arr, i, row in ((o, 2, 2), (s, 0, 3), (g, 0, 4)):
+            if fam == 1 and hl[row] == hl[0]:  # on L_C (with o3 on it): stay on L_C
+                v = w
+            elif fam != 1 and cl[row] in cl[:3].tolist() and (row > 2 or fam == 22):
+                v = np.array([-w[1], w[0]])  # on an obstacle column: stay on it
+            else:  # free: any direction (dyadic, 6 bits)
+                v = np.round(rng.normal(size=2) * 32) / 32
+            if row == 2 and fam == 23:  # o3 alone in its column, but robots may share it
+                v = np.array([-w[1], w[0]])
+            size = np.abs(v).max()
+            if size > 0:
+                arr[i] = arr[i] + rng.choice([-1.0, 1.0]) * step / 2.0 ** np.ceil(np.log2(size)) * v
+    after = classify(o[None], s[None], g[None])
+    if not np.array_equal(after.record, before.record):
+        return None
+    for pts in (np.concatenate([o, s]), np.concatenate([o, g])):
+        if len({tuple(r) for r in pts.tolist()}) != pts.shape[0]:
+            return None
+    return o, s, g
+
+
+def _perturb(rng, planner: str, q, delta: float):
+    if planner == "planar_three":
+        return _perturb_planar_three(rng, q, delta)
+    return tuple(gen.perturb_within_stratum(rng, q, delta))
+
+
+# ------------------------------------------------------------------------------------------------
+# planning that survives certificate failures
+
+
+def _plan_each(q, planner: str):
+    """Plan a batch, dropping queries whose certificate fails; return (batch, kept, refused)."""
+    obs, st, go = (np.asarray(a, dtype=float) for a in q)
+    keep = np.arange(obs.shape[0])
+    refused: list[tuple[int, str]] = []
+    while keep.size:
+        try:
+            return api.plan_batch(obs[keep], st[keep], go[keep], planner=planner), keep, refused
+        except CertificationError as exc:
+            bad = np.asarray(exc.indices, dtype=np.int64)
+            if bad.size == 0:  # pragma: no cover - plan_batch always names the queries
+                raise
+            refused.extend((int(keep[i]), type(exc).__name__) for i in bad)
+            keep = np.delete(keep, bad)
+    return None, keep, refused
+
+
+def _stratum_name(planner: str, d: int, n: int, m: int, q, i: int) -> str:
+    """Return the stratum of query i of a batch, decided exactly (for failure reports)."""
+    one = tuple(np.asarray(a, dtype=float)[i] for a in q)
+    p = api.choose_planner(d, n, m, planner)
+    if planner == "planar_three":
+        from .planners.planar_three import classify
+
+        row = classify(*(a[None] for a in one)).record[0]
+    else:
+        row = gen.stratum_of(one).record()
+    return p.stratum_name(np.asarray(row), d, n, m)
+
+
+def _take(q, idx):
+    return tuple(np.asarray(a)[idx] for a in q)
+
+
+# ------------------------------------------------------------------------------------------------
+# verify
+
+
+def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2, queries: int = 400,
+           seed: int = 0, progress: bool = True) -> Report:
+    """Check a planner on (d, n, m): certificates, labels, continuity modulus and jumps.
+
+    Parameters
+    ----------
+    planner : str, optional
+        ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m) as in
+        :func:`pmplan.plan`.
+    d, n, m : int
+        Dimension, robots, obstacles.
+    queries : int
+        Size of the base families: 40% exact degenerate (at least one per stratum), 30% random,
+        30% nearly degenerate; plus perturbed copies of half of the exact (at least one per
+        stratum) and a third of the random queries, and one generic neighbour of each exact query.
+    seed : int
+        Seed of the random generator (the report is reproducible).
+    progress : bool
+        Show a progress bar (tqdm, on stderr).
+
+    Returns
+    -------
+    Report
+        ``ok``, per-domain results, ``to_text()``, ``to_json()``; see the module docstring for
+        what is checked and the rule that excuses refusals of nearly degenerate queries.
+
+    Examples
+    --------
+    >>> r = verify(d=2, n=1, m=2, queries=40, progress=False)
+    >>> r.ok, r.realised == r.labels, r.separation > 100
+    (True, True, True)
+    """
+    from tqdm import tqdm
+
+    p = api.choose_planner(d, n, m, planner)
+    name = p.name
+    labels = [int(v) for v in api.info(d, n, m, planner=name).labels]
+    rng = np.random.default_rng(seed)
+    queries = max(int(queries), 10)
+    n_exact = int(0.4 * queries)
+    n_random = int(0.3 * queries)
+    n_near = queries - n_exact - n_random
+    heights = name == "planar_three"
+
+    bar = tqdm(total=6, desc=f"verify {name} ({d},{n},{m})", unit="step", file=sys.stderr,
+               disable=not progress, leave=False)
+    families = {
+        "exact": _exact_queries(rng, name, d, n, m, n_exact),
+    }
+    if name == "planar_three":
+        from .planners.planar_three import STRATA
+
+        n_strata = len(STRATA)
+    else:
+        n_strata = len(gen.strata(d, n, m))
+    families = {
+        **families,
+        "random": tuple(gen.random_queries(rng, d, n, m, n_random)),
+    }
+    near = [_near_degenerate(rng, name, d, n, m, k, s)
+            for k, s in zip((n_near // 2, n_near - n_near // 2), NEAR_SCALES)]
+    families["near-degenerate"] = tuple(np.concatenate(parts) for parts in zip(*near))
+    bar.update(1)
+
+    dom = {label: DomainReport(label=label) for label in labels}
+    strata: dict[int, set] = {label: set() for label in labels}
+    fam_stats: dict[str, dict] = {}
+    failures: list[dict] = []
+    problems: list[str] = []
+    planned: dict[str, tuple] = {}
+    for fname, q in families.items():
+        batch, kept, refused = _plan_each(q, name)
+        rho = degeneracy_ratio(*q, heights=heights)
+        excused = [i for i, _ in refused if rho[i] < RHO_MIN]
+        failed = [(i, msg) for i, msg in refused if not rho[i] < RHO_MIN]
+        for i, msg in failed:
+            failures.append({"family": fname, "index": i, "rho": float(rho[i]),
+                             "stratum": _stratum_name(name, d, n, m, q, i), "error": msg})
+        fam_stats[fname] = {"queries": int(q[0].shape[0]), "planned": int(kept.size),
+                            "excused": len(excused), "failed": len(failed)}
+        bar.update(1)
+        if batch is None:
+            continue
+        planned[fname] = (batch, kept)
+        names = batch.stratum
+        for label in np.unique(batch.domain).tolist():
+            sel = batch.domain == label
+            dr = dom.setdefault(label, DomainReport(label=label))
+            strata.setdefault(label, set()).update(names[sel].tolist())
+            dr.queries += int(sel.sum())
+            low = float(batch.clearance[sel].min())
+            dr.min_clearance = low if dr.min_clearance is None else min(dr.min_clearance, low)
+
+    # continuity inside each domain: stratum-preserving perturbations of exact and random queries
+    ratios: dict[int, list] = {}
+    base_o, base_s, base_g, pert = [], [], [], []
+    for fname, share in (("exact", 2), ("random", 3)):
+        if fname not in planned:
+            continue
+        batch, kept = planned[fname]
+        q = _take(families[fname], kept)
+        # a share of the family (the exact family is built round robin over the strata, so its
+        # first queries cover every stratum)
+        for i in range(min(kept.size, max(n_strata, kept.size // share))):
+            moved = _perturb(rng, name, (q[0][i], q[1][i], q[2][i]), DELTA)
+            if moved is None:
+                continue
+            base_o.append(q[0][i])
+            base_s.append(q[1][i])
+            base_g.append(q[2][i])
+            pert.append(moved)
+    if pert:
+        base = (np.stack(base_o), np.stack(base_s), np.stack(base_g))
+        moved = tuple(np.stack([pq[k] for pq in pert]) for k in range(3))
+        dist = query_distance(base, moved)
+        use = dist > 0
+        base, moved, dist = _take(base, use), _take(moved, use), dist[use]
+        b0, k0, r0 = _plan_each(base, name)
+        b1, k1, r1 = _plan_each(moved, name)
+        for fam_name, refused, qq in (("exact+random", r0, base), ("perturbed", r1, moved)):
+            rho = degeneracy_ratio(*qq, heights=heights)
+            for i, msg in refused:
+                if not rho[i] < RHO_MIN:
+                    failures.append({"family": fam_name, "index": i, "rho": float(rho[i]),
+                                     "stratum": _stratum_name(name, d, n, m, qq, i),
+                                     "error": msg})
+        both = np.intersect1d(k0, k1)
+        if both.size:
+            i0 = np.searchsorted(k0, both)
+            i1 = np.searchsorted(k1, both)
+            la, lb = b0.domain[i0], b1.domain[i1]
+            changed = np.flatnonzero(la != lb)
+            if changed.size:
+                problems.append(
+                    f"{changed.size} stratum-preserving perturbations changed the label "
+                    f"(e.g. {int(la[changed[0]])} -> {int(lb[changed[0]])})"
+                )
+            pa = PiecewiseLinearPath(b0.times if b0.times.ndim == 1 else b0.times[i0],
+                                     b0.waypoints[i0])
+            pb = PiecewiseLinearPath(b1.times if b1.times.ndim == 1 else b1.times[i1],
+                                     b1.waypoints[i1])
+            ratio = path_distance(pa, pb) / dist[both]
+            for label, r, same in zip(la.tolist(), ratio.tolist(), (la == lb).tolist()):
+                if same:
+                    ratios.setdefault(label, []).append(r)
+    for label, rs in ratios.items():
+        dr = dom.setdefault(label, DomainReport(label=label))
+        dr.modulus = float(max(rs))
+        dr.perturbations = len(rs)
+    bar.update(1)
+
+    # jumps across domains: exact queries against generic neighbours at distance ~delta
+    jumps: dict[int, list] = {}
+    if "exact" in planned:
+        batch, kept = planned["exact"]
+        q = _take(families["exact"], kept)
+        noise = [rng.normal(size=a.shape) for a in q[1:]]
+        scale = np.maximum(*(np.sqrt((z * z).sum(-1)).max(axis=1) for z in noise))
+        near_q = (q[0], *(a + DELTA * z / scale[:, None, None] for a, z in zip(q[1:], noise)))
+        b1, k1, _ = _plan_each(near_q, name)  # refusals here are not failures: Q' is not exact
+        if b1 is not None:
+            la = batch.domain[k1]
+            lb = b1.domain
+            diff = np.flatnonzero(la != lb)
+            if diff.size:
+                times0 = batch.times if batch.times.ndim == 1 else batch.times[k1[diff]]
+                times1 = b1.times if b1.times.ndim == 1 else b1.times[diff]
+                pa = PiecewiseLinearPath(times0, batch.waypoints[k1[diff]])
+                pb = PiecewiseLinearPath(times1, b1.waypoints[diff])
+                ratio = path_distance(pa, pb) / query_distance(_take(q, k1[diff]),
+                                                               _take(near_q, k1[diff]))
+                for a_, b_, r in zip(la[diff].tolist(), lb[diff].tolist(), ratio.tolist()):
+                    jumps.setdefault(a_, []).append(r)
+                    jumps.setdefault(b_, []).append(r)
+    for label, rs in jumps.items():
+        dr = dom.setdefault(label, DomainReport(label=label))
+        dr.jump = float(max(rs))
+        dr.jump_median = float(np.median(rs))
+        dr.jumps = len(rs)
+    bar.update(1)
+    bar.close()
+
+    for label, dr in dom.items():
+        dr.strata = sorted(strata.get(label, set()))
+    realised = sorted(label for label, dr in dom.items() if dr.queries > 0)
+    missing = sorted(set(labels) - set(realised))
+    if failures:
+        problems.insert(0, f"{len(failures)} certificate failure(s) on queries that double "
+                           "precision can represent")
+    if missing:
+        problems.append(f"labels never realised: {missing}")
+    unknown = sorted(set(realised) - set(labels))
+    if unknown:
+        problems.append(f"labels outside the planner's list {labels}: {unknown}")
+    return Report(
+        ok=not problems,
+        planner=name,
+        dims=[d, n, m],
+        seed=int(seed),
+        delta=DELTA,
+        labels=labels,
+        realised=realised,
+        domains=[dom[label] for label in sorted(dom)],
+        families=fam_stats,
+        failures=failures,
+        problems=problems,
+    )
