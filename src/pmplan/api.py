@@ -7,6 +7,7 @@ Data flows one way: input arrays -> validation (:mod:`pmplan.configuration`) -> 
 
 from __future__ import annotations
 
+import math
 import sys
 from dataclasses import dataclass, field
 
@@ -18,6 +19,7 @@ from .configuration import as_points, check_query, check_same_obstacles
 from .errors import CertificationError, InputError, ShapeError, UnsupportedError
 from .path import PiecewiseLinearPath
 from .planners.base import REGISTRY, Planner, RawPlan
+from .planners.obstacle_line import BACKENDS
 
 __all__ = [
     "Plan",
@@ -209,6 +211,11 @@ def _check_lift(lift: float) -> float:
     return lift
 
 
+def _check_backend(backend) -> None:
+    if backend is not None and backend not in BACKENDS:
+        raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
+
+
 def _raise_certificate(bad: np.ndarray, batched: bool) -> None:
     idx = np.flatnonzero(bad)
     where = f" for queries {idx[:10].tolist()}{'...' if idx.size > 10 else ''}" if batched else ""
@@ -221,8 +228,16 @@ def _raise_certificate(bad: np.ndarray, batched: bool) -> None:
 
 
 def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, sequential: bool,
-         progress: bool = False):
-    """Plan and certify in chunks; return the arrays of a PlanBatch."""
+         progress: bool = False, backend: str | None = None):
+    """Plan and certify in chunks; return the arrays of a PlanBatch.
+
+    Planners with a fused path (``plan_certified``: the obstacle-line planner, numba kernel of
+    :mod:`pmplan._kernels` or its numpy reference) write straight into the preallocated output,
+    chunk by chunk, so no temporary is larger than a chunk; the others return a RawPlan per
+    chunk that is certified by :func:`pmplan.certify.certify`.
+    """
+    if hasattr(planner, "plan_certified"):
+        return _run_fused(planner, obstacles, configs, lift, batched, progress, backend)
     b = obstacles.shape[0]
     out = None
     chunks = range(0, b, CHUNK)
@@ -271,8 +286,55 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
     return out
 
 
+def _run_fused(planner, obstacles, configs, lift, batched, progress, backend):
+    """:func:`_run` for planners that plan and certify into preallocated arrays."""
+    b, m, d = obstacles.shape
+    n = configs[0].shape[1]
+    r = len(configs)
+    times = planner.path_times(r)
+    out = dict(
+        domain=np.empty(b, np.int64),
+        strata=np.empty((b, r + 2), np.int64),
+        clearance=np.empty(b),
+        times=times.copy(),
+        waypoints=np.empty((b, times.shape[0], m + n, d)),
+    )
+    chunks = range(0, b, CHUNK)
+    if progress and len(chunks) > 4:
+        from tqdm import tqdm
+
+        chunks = tqdm(chunks, desc="planning", unit="chunk", file=sys.stderr)
+    for lo in chunks:
+        hi = min(b, lo + CHUNK)
+        ok = planner.plan_certified(
+            obstacles[lo:hi], [c[lo:hi] for c in configs], lift, out["waypoints"][lo:hi],
+            out["domain"][lo:hi], out["strata"][lo:hi], out["clearance"][lo:hi], backend=backend,
+        )
+        if not ok.all():
+            bad = np.zeros(b, dtype=bool)
+            bad[lo:hi] = ~ok
+            _raise_certificate(bad, batched)
+    return out
+
+
+def _single(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
+    """The :class:`Plan` of a batch of one (no PlanBatch in between)."""
+    d, n, m = dims
+    times = out["times"]
+    path = PiecewiseLinearPath(times if times.ndim == 1 else times[0], out["waypoints"][0])
+    return Plan(
+        domain=int(out["domain"][0]),
+        stratum=planner.stratum_name(out["strata"][0], d, n, m),
+        clearance=float(out["clearance"][0]),
+        path=path.compact(),
+        planner=planner.name,
+        dims=dims,
+    )
+
+
 def plan_batch(
-    obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0, progress: bool = False
+    obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0,
+    progress: bool = False, backend: str | None = None,
 ) -> PlanBatch:
     """Plan a batch of B queries at once (vectorised :func:`plan`).
 
@@ -286,6 +348,9 @@ def plan_batch(
         The positive scale of the lift in the section (paper: 1).
     progress : bool
         Show a progress bar (tqdm, on stderr) when the batch takes more than a few chunks.
+    backend : {"numba", "numpy"}, optional
+        Implementation of the obstacle-line planner: the fused numba kernel (default when numba
+        is installed) or the numpy reference; both give identical plans. Other planners use numpy.
 
     Returns
     -------
@@ -312,11 +377,14 @@ def plan_batch(
     _, m, d = obstacles.shape
     n = start.shape[1]
     p = choose_planner(d, n, m, planner)
-    out = _run(p, obstacles, [start, goal], lift, batched=True, sequential=False, progress=progress)
+    _check_backend(backend)
+    out = _run(p, obstacles, [start, goal], lift, batched=True, sequential=False,
+               progress=progress, backend=backend)
     return PlanBatch(planner=p.name, dims=(d, n, m), **out)
 
 
-def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0) -> Plan:
+def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0,
+         backend: str | None = None) -> Plan:
     """Plan one query: a certified collision-free motion from ``start`` to ``goal``.
 
     Parameters
@@ -329,6 +397,8 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.
         ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
     lift : float
         Positive scale of the lift (paper: 1).
+    backend : {"numba", "numpy"}, optional
+        See :func:`plan_batch`.
 
     Returns
     -------
@@ -345,13 +415,55 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.
     >>> p.path(0.0)[2], p.path(1.0)[2]
     (array([0., 1.]), array([ 1., -1.]))
     """
+    if (backend is None or backend == "numba") and (planner is None or planner == "obstacle_line"):
+        fast = _plan_fast(obstacles, start, goal, planner, lift)
+        if fast is not None:
+            return fast
     lift = _check_lift(lift)
     obstacles, start, goal = check_query(obstacles, start, goal, batched=False)
     _, m, d = obstacles.shape
     n = start.shape[1]
     p = choose_planner(d, n, m, planner)
-    out = _run(p, obstacles, [start, goal], lift, batched=False, sequential=False)
-    return PlanBatch(planner=p.name, dims=(d, n, m), **out)[0]
+    _check_backend(backend)
+    out = _run(p, obstacles, [start, goal], lift, batched=False, sequential=False,
+               backend=backend)
+    return _single(p, (d, n, m), out)
+
+
+def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
+    """The lean path of :func:`plan` for the obstacle-line planner (one numba kernel call).
+
+    Returns None -- and :func:`plan` then takes the general path, which raises the proper error
+    or re-decides exactly -- for anything but a plain valid query whose kernel result needs no
+    exact re-decision (see :meth:`ObstacleLinePlanner.plan_one`).
+    """
+    if type(lift) not in (float, int) or not 0 < lift < math.inf:
+        return None
+    try:
+        o = np.asarray(obstacles, dtype=np.float64)
+        s = np.asarray(start, dtype=np.float64)
+        g = np.asarray(goal, dtype=np.float64)
+    except (TypeError, ValueError):
+        return None
+    if o.ndim != 2 or s.ndim != 2 or s.shape != g.shape or o.shape[1] != s.shape[1]:
+        return None
+    m, d = o.shape
+    n = s.shape[0]
+    if d < 2 or m < 2 or n < 1 or (planner is None and (d, n, m) == (2, 1, 3)):
+        return None
+    p = REGISTRY["obstacle_line"]
+    res = p.plan_one(o, s, g, lift)
+    if res is None:
+        return None
+    wp, domain, row, clearance = res
+    return Plan(
+        domain=domain,
+        stratum=p.stratum_name(row, d, n, m),
+        clearance=clearance,
+        path=PiecewiseLinearPath(p.path_times(2).copy(), wp),
+        planner=p.name,
+        dims=(d, n, m),
+    )
 
 
 def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
@@ -389,29 +501,35 @@ def _check_sequence(obstacles, configs, batched: bool):
     return obstacles_b, out
 
 
-def plan_sequence_batch(obstacles, configs, *, lift: float = 1.0) -> PlanBatch:
+def plan_sequence_batch(obstacles, configs, *, lift: float = 1.0,
+                        backend: str | None = None) -> PlanBatch:
     """Plan batches of motions through r >= 2 configurations (SPEC 4c).
 
     ``obstacles`` (B, m, d); ``configs`` a list of r arrays (B, n, d). The path passes through
     configuration k at tau = (k-1)/(r-1); labels sum_k cp(C_k) - (r-1) cp_o + 2 (- 1 when
-    e == N in odd d).
+    e == N in odd d). ``backend``: see :func:`plan_batch`.
     """
     lift = _check_lift(lift)
     obstacles, configs = _check_sequence(obstacles, configs, batched=True)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
     p = choose_planner(d, n, m, "obstacle_line")
-    out = _run(p, obstacles, configs, lift, batched=True, sequential=True)
+    _check_backend(backend)
+    out = _run(p, obstacles, configs, lift, batched=True, sequential=True, backend=backend)
     return PlanBatch(planner=p.name, dims=(d, n, m), **out)
 
 
-def plan_sequence(obstacles, configs, *, lift: float = 1.0) -> Plan:
+def plan_sequence(obstacles, configs, *, lift: float = 1.0, backend: str | None = None) -> Plan:
     """Plan one motion through r >= 2 robot configurations with the same obstacles (SPEC 4c).
 
     Parameters
     ----------
     obstacles : array_like, shape (m, d)
     configs : sequence of r array_like, each (n, d)
+    lift : float
+        Positive scale of the lift (paper: 1).
+    backend : {"numba", "numpy"}, optional
+        See :func:`plan_batch`.
 
     Examples
     --------
@@ -426,8 +544,9 @@ def plan_sequence(obstacles, configs, *, lift: float = 1.0) -> Plan:
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
     p = choose_planner(d, n, m, "obstacle_line")
-    out = _run(p, obstacles, configs, lift, batched=False, sequential=True)
-    return PlanBatch(planner=p.name, dims=(d, n, m), **out)[0]
+    _check_backend(backend)
+    out = _run(p, obstacles, configs, lift, batched=False, sequential=True, backend=backend)
+    return _single(p, (d, n, m), out)
 
 
 def parametrised_tc(d: int, n: int, m: int, r: int = 2) -> int:

@@ -115,9 +115,29 @@ def check_query(obstacles, start, goal, *, batched: bool):
             f"Expected `start` and `goal` to have the same shape (n, d), got "
             f"{start.shape[1:]} and {goal.shape[1:]}."
         )
+    obstacles = np.ascontiguousarray(obstacles)
+    start = np.ascontiguousarray(start)
+    goal = start if goal is start else np.ascontiguousarray(goal)
     for which, robots in (("start", start), ("goal", goal)):
-        check_configuration(np.concatenate([obstacles, robots], axis=1), m, which, batched)
+        if which == "goal" and goal is start:
+            break
+        _check_distinct(obstacles, robots, m, which, batched)
     return obstacles, start, goal
+
+
+def _check_distinct(obstacles: np.ndarray, robots: np.ndarray, m: int, which: str,
+                    batched: bool) -> None:
+    """Raise :class:`CollisionError` if two points of ``obstacles u robots`` coincide.
+
+    The fast path is one pass of the numba kernel :func:`pmplan._kernels.first_coincident`
+    (no temporary); only when it finds a coincidence (or numba is missing) does the numpy path
+    :func:`check_configuration` run, and it raises with the full message.
+    """
+    from . import _kernels
+
+    if _kernels.AVAILABLE and _kernels.first_coincident(obstacles, robots) < 0:
+        return
+    check_configuration(np.concatenate([obstacles, robots], axis=1), m, which, batched)
 
 
 def check_same_obstacles(c_start: np.ndarray, c_goal: np.ndarray, m: int, batched: bool) -> None:

@@ -40,22 +40,31 @@ algorithms in Euclidean spaces*, Section 3.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
 
 import numpy as np
 
+from ..certify import certify
+from ..certify import clearance as certified_clearance
 from ..frame import Frame
 from ..path import PiecewiseLinearPath, compose_via_deformations, join, linear
 from ..predicates import projection_classes
 from .base import RawPlan, register
 
 __all__ = [
+    "BACKENDS",
     "ColumnStructure",
     "column_structure",
     "deformation",
     "section",
+    "path_times",
+    "resolve_backend",
     "ObstacleLinePlanner",
     "OBSTACLE_LINE",
 ]
+
+#: ``"numba"``: the fused kernel of :mod:`pmplan._kernels` (default); ``"numpy"``: the reference
+BACKENDS = ("numba", "numpy")
 
 
 @dataclass
@@ -138,6 +147,113 @@ def two_configuration_path(fr, obstacles, h_start, h_goal, lam) -> PiecewiseLine
     return compose_via_deformations(h_start, sec, h_goal)
 
 
+@cache
+def path_times(r: int) -> np.ndarray:
+    """Return the breakpoints of a path through r >= 2 configurations, shape (7 (r - 1) + 1,).
+
+    They are computed by the reference path algebra itself (:func:`compose_via_deformations`
+    and :func:`~pmplan.path.join` on an empty batch), so both backends share them bitwise:
+    tau = 0, 1/6, 1/3, 4/9, 5/9, 2/3, 5/6, 1 for r = 2.
+    """
+    empty = PiecewiseLinearPath(np.array([0.0, 0.5, 1.0]), np.zeros((0, 3, 1, 1)))
+    sec = PiecewiseLinearPath(np.array([0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0]), np.zeros((0, 4, 1, 1)))
+    leg = compose_via_deformations(empty, sec, empty)
+    path = leg if r == 2 else join([leg] * (r - 1), [k / (r - 1) for k in range(1, r - 1)])
+    out = path.times.copy()
+    out.flags.writeable = False
+    return out
+
+
+def resolve_backend(backend: str | None) -> str:
+    """Return ``"numba"`` or ``"numpy"``: the named backend, or the default (numba if installed).
+
+    Raises
+    ------
+    ValueError
+        For any other name.
+    """
+    if backend is None:
+        from .. import _kernels
+
+        return "numba" if _kernels.AVAILABLE else "numpy"
+    if backend not in BACKENDS:
+        raise ValueError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
+    if backend == "numba":
+        from .. import _kernels
+
+        if not _kernels.AVAILABLE:  # pragma: no cover
+            raise ValueError("backend 'numba' needs the numba package")
+    return backend
+
+
+def _contiguous(a) -> np.ndarray:
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def _fused(obstacles, configs, lift, wp, domain, strata, clearance) -> np.ndarray:
+    """Plan and certify with the numba kernel, re-deciding flagged queries exactly.
+
+    Fills the output arrays (B, K, m+n, d), (B,), (B, r+2), (B,) in place and returns the
+    certificate (bool, (B,)). See :mod:`pmplan._kernels` for the flags: ``FALLBACK`` queries are
+    recomputed whole by the numpy reference (:meth:`ObstacleLinePlanner.plan_sequence` with
+    ``backend="numpy"``) and certified by :func:`pmplan.certify.certify`; ``SUSPECT`` ones get
+    their clearance from :func:`pmplan.certify.clearance` (exact on the suspect pairs).
+    """
+    from .. import _kernels as K
+
+    obstacles = _contiguous(obstacles)
+    configs = [_contiguous(c) for c in configs]
+    b, m, d = obstacles.shape
+    if d > K.MAX_D:  # the kernel reproduces numpy's summation order for d <= MAX_D only
+        raw = OBSTACLE_LINE.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
+        return _store_reference(raw, obstacles, configs, np.arange(b), wp, domain, strata, clearance)
+    r = len(configs)
+    n = configs[0].shape[1]
+    if r > 2:
+        middle = np.stack(configs[1:-1])
+    else:
+        middle = np.empty((0, b, n, d))
+    flags = np.empty(b, np.uint8)
+    K.plan_obstacle_line(obstacles, configs[0], configs[-1], middle, float(lift), False, wp,
+                         domain, strata, clearance, flags)
+    ok = (flags & (K.NONFINITE | K.BROKEN)) == 0
+    if not flags.any():
+        return ok & (clearance > 0)
+    sus = np.flatnonzero((flags & (K.SUSPECT | K.FALLBACK | K.NONFINITE | K.BROKEN)) == K.SUSPECT)
+    if sus.size:
+        clearance[sus] = certified_clearance(wp[sus], m)
+    ok &= clearance > 0
+    idx = np.flatnonzero(flags & K.FALLBACK)
+    if idx.size:
+        raw = OBSTACLE_LINE.plan_sequence(obstacles[idx], [c[idx] for c in configs], lift=lift,
+                                          backend="numpy")
+        ok[idx] = _store_reference(raw, obstacles[idx], [c[idx] for c in configs], idx, wp,
+                                   domain, strata, clearance)
+    return ok
+
+
+def _store_reference(raw: RawPlan, obstacles, configs, idx, wp, domain, strata, clearance):
+    """Write a reference RawPlan into rows ``idx`` of the outputs; return its certificate."""
+    m = obstacles.shape[1]
+    pw = raw.path.waypoints
+    wp[idx] = pw
+    domain[idx] = raw.domain
+    strata[idx] = raw.strata
+    finite = np.isfinite(pw).all(axis=(1, 2, 3))
+    ok = np.zeros(idx.size, dtype=bool)
+    clr = np.full(idx.size, np.nan)
+    if finite.any():
+        f = np.flatnonzero(finite)
+        start = np.concatenate([obstacles[f], configs[0][f]], axis=1)
+        goal = np.concatenate([obstacles[f], configs[-1][f]], axis=1)
+        clr[f], ok[f] = certify(pw[f], start, goal, m)
+        for k in range(1, len(configs) - 1):  # passes through C_k at tau = k/(r-1), waypoint 7k
+            ok[f] &= (pw[f, 7 * k] == np.concatenate([obstacles[f], configs[k][f]], axis=1)
+                      ).all(axis=(1, 2))
+    clearance[idx] = clr
+    return ok
+
+
 class ObstacleLinePlanner:
     """Planner of paper Section 3, extended to any m >= 2 and any d >= 2 (SPEC 4a, 4b)."""
 
@@ -170,15 +286,35 @@ class ObstacleLinePlanner:
             extras.append("e=N")
         return name + (f"[{', '.join(extras)}]" if extras else "")
 
-    def plan(self, obstacles, start, goal, *, lift: float = 1.0) -> RawPlan:
-        return self.plan_sequence(obstacles, [start, goal], lift=lift)
+    def plan(self, obstacles, start, goal, *, lift: float = 1.0,
+             backend: str | None = None) -> RawPlan:
+        """Plan a batch: obstacles (B, m, d), start and goal (B, n, d) (see :meth:`plan_sequence`)."""
+        return self.plan_sequence(obstacles, [start, goal], lift=lift, backend=backend)
 
-    def plan_sequence(self, obstacles, configs, *, lift: float = 1.0) -> RawPlan:
+    def plan_sequence(self, obstacles, configs, *, lift: float = 1.0,
+                      backend: str | None = None) -> RawPlan:
         """Plan through r >= 2 robot configurations (SPEC 4c); r = 2 is :meth:`plan`.
 
         On ``[(k-1)/(r-1), k/(r-1)]`` the path is the two-configuration path from C_k to
         C_{k+1}; label ``sum_k cp(C_k) - (r-1) cp_o + 2 - [e == N]``.
+
+        ``backend="numpy"`` runs the reference implementation below (numpy, exact predicates of
+        :mod:`pmplan.predicates`); ``"numba"`` (the default when numba is installed) runs the
+        fused kernel of :mod:`pmplan._kernels`, whose waypoints and labels are identical.
+        The input is not validated here (see :mod:`pmplan.configuration`).
         """
+        if resolve_backend(backend) == "numba":
+            configs = [_contiguous(c) for c in configs]
+            obstacles = _contiguous(obstacles)
+            b, m, d = obstacles.shape
+            r = len(configs)
+            n = configs[0].shape[1]
+            times = path_times(r)
+            wp = np.empty((b, times.shape[0], m + n, d))
+            domain = np.empty(b, np.int64)
+            strata = np.empty((b, r + 2), np.int64)
+            _fused(obstacles, configs, lift, wp, domain, strata, np.empty(b))
+            return RawPlan(domain=domain, strata=strata, path=PiecewiseLinearPath(times, wp))
         obstacles = np.asarray(obstacles, dtype=float)
         configs = [np.asarray(c, dtype=float) for c in configs]
         r = len(configs)
@@ -195,6 +331,62 @@ class ObstacleLinePlanner:
         strata = np.stack([c.cp for c in cols] + [cp_o, pole], axis=1).astype(np.int64)
         del m
         return RawPlan(domain=domain.astype(np.int64), strata=strata, path=path)
+
+    def plan_one(self, obstacles, start, goal, lift: float):
+        """Fast path for one small query: validate, plan and certify in one kernel call.
+
+        ``obstacles`` (m, d), ``start``, ``goal`` (n, d) as float64 arrays. Returns
+        ``(waypoints (8, m+n, d), domain, strata row (list), clearance)``, or None whenever
+        anything is unusual -- numba missing, d > MAX_D, a malformed or invalid query, a query
+        the kernel flags, a failed certificate -- so that the caller takes the general path,
+        which raises the proper error or re-decides exactly.
+        """
+        from .. import _kernels as K
+
+        if not K.AVAILABLE:  # pragma: no cover
+            return None
+        if obstacles.shape[1] > K.MAX_D or not (
+            obstacles.flags.c_contiguous and start.flags.c_contiguous and goal.flags.c_contiguous
+        ):
+            return None
+        wp, domain, cp1, cp2, cp_o, pole, clr, flags = K.plan_one(obstacles, start, goal,
+                                                                  float(lift))
+        if flags or not clr > 0:
+            return None
+        return wp, int(domain), [cp1, cp2, cp_o, pole], float(clr)
+
+    def path_times(self, r: int) -> np.ndarray:
+        """Breakpoints of every path through r configurations (see :func:`path_times`)."""
+        return path_times(r)
+
+    def plan_certified(self, obstacles, configs, lift, wp, domain, strata, clearance,
+                       backend: str | None = None) -> np.ndarray:
+        """Plan and certify a chunk into preallocated outputs; return the certificate (B,).
+
+        Parameters
+        ----------
+        obstacles : ndarray (B, m, d)
+        configs : list of r ndarrays (B, n, d)
+        lift : float
+        wp : ndarray (B, 7 (r - 1) + 1, m + n, d)
+            Output waypoints, at the breakpoints :func:`path_times` ``(r)``.
+        domain, strata, clearance : ndarrays (B,), (B, r + 2), (B,)
+            Outputs: labels, strata records, certified clearances.
+        backend : {"numba", "numpy"}, optional
+
+        Returns
+        -------
+        ndarray of bool, shape (B,)
+            The certificate of SPEC section 5 (endpoints, intermediate configurations,
+            obstacles fixed, finite, clearance > 0).
+        """
+        if resolve_backend(backend) == "numba":
+            return _fused(obstacles, configs, lift, wp, domain, strata, clearance)
+        obstacles = np.asarray(obstacles, dtype=float)
+        configs = [np.asarray(c, dtype=float) for c in configs]
+        raw = self.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
+        return _store_reference(raw, obstacles, configs, np.arange(obstacles.shape[0]), wp,
+                                domain, strata, clearance)
 
 
 OBSTACLE_LINE = register(ObstacleLinePlanner())

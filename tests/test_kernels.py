@@ -1,0 +1,296 @@
+"""The fused numba kernel of the obstacle-line planner against its numpy reference.
+
+``backend="numba"`` (:mod:`pmplan._kernels`) must reproduce ``backend="numpy"`` (the reference
+code of :mod:`pmplan.predicates`, :mod:`pmplan.frame`, :mod:`pmplan.planners.obstacle_line`,
+:mod:`pmplan.certify`) exactly. What is checked, and why it can fail:
+
+* waypoints, breakpoints, labels, stratum records and certified clearances are *equal* (``==``,
+  no tolerance) for generic and exactly degenerate queries (hypothesis: d in {2, 3, 4},
+  m in {2, 3, 5}, n in {1, 2, 4, 8}; sequential r in {3, 4}; the odd-d pole e == N) -- and the
+  kernel really decided them itself (no flag: otherwise the comparison would be vacuous);
+* each re-decision route is taken where it must be: an exact tie only fractions can see
+  (``FALLBACK``), a clearance ~1e-11 of the scene (``SUSPECT``), overflow, d > MAX_D;
+* the same queries fail their certificate, with the same indices;
+* validation: every error of the fast single-query path has the reference path's type and
+  message; the kernel's coincidence test agrees with ``coincident_pairs``;
+* chunked planning equals unchunked planning.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from strategies import queries
+
+import pmplan
+from pmplan import _kernels as K
+from pmplan import api
+from pmplan.configuration import coincident_pairs
+from pmplan.errors import CertificationError, PmplanError
+from pmplan.planners.obstacle_line import OBSTACLE_LINE, path_times
+
+
+def _stack(qs):
+    return tuple(np.stack(a) for a in zip(*qs))
+
+
+def _kernel_flags(obstacles, configs, lift=1.0):
+    """Run the kernel alone on a batch; return its flags (B,)."""
+    obstacles = np.ascontiguousarray(obstacles, dtype=float)
+    configs = [np.ascontiguousarray(c, dtype=float) for c in configs]
+    b, m, d = obstacles.shape
+    n = configs[0].shape[1]
+    r = len(configs)
+    middle = np.stack(configs[1:-1]) if r > 2 else np.empty((0, b, n, d))
+    wp = np.empty((b, 7 * (r - 1) + 1, m + n, d))
+    flags = np.empty(b, np.uint8)
+    K.plan_obstacle_line(obstacles, configs[0], configs[-1], middle, float(lift), False, wp,
+                         np.empty(b, np.int64), np.empty((b, r + 2), np.int64), np.empty(b),
+                         flags)
+    return flags
+
+
+def _outcome(fn, *args, **kwargs):
+    """The PlanBatch, or the (type, message, indices) of the pmplan error raised."""
+    try:
+        return fn(*args, **kwargs)
+    except PmplanError as exc:
+        idx = getattr(exc, "indices", None)
+        return type(exc), str(exc), None if idx is None else tuple(np.asarray(idx).tolist())
+
+
+def assert_same_batch(a, b):
+    if isinstance(a, tuple) or isinstance(b, tuple):
+        assert a == b
+        return
+    assert a.waypoints.shape == b.waypoints.shape
+    assert np.array_equal(a.waypoints, b.waypoints)
+    assert np.array_equal(a.times, b.times)
+    assert np.array_equal(a.domain, b.domain)
+    assert np.array_equal(a.strata, b.strata)
+    assert np.array_equal(a.clearance, b.clearance)
+    assert (a.planner, a.dims) == (b.planner, b.dims)
+
+
+@st.composite
+def batches(draw, r: int = 2, ds=(2, 3, 4), ms=(2, 3, 5), ns=(1, 2, 4, 8)):
+    """A batch of 1..5 queries with the same (d, m, n), generic or exactly degenerate, and
+    r - 2 extra intermediate robot configurations (for r > 2) drawn like the goals."""
+    d = draw(st.sampled_from(ds))
+    m = draw(st.sampled_from(ms))
+    n = draw(st.sampled_from(ns))
+    degenerate = draw(st.booleans())
+    qs = draw(st.lists(queries(d, m, n, degenerate=degenerate), min_size=1, max_size=5))
+    obstacles, start, goal = _stack(qs)
+    configs = [start]
+    for _ in range(r - 2):
+        mids = draw(st.lists(queries(d, m, n, degenerate=degenerate), min_size=len(qs),
+                             max_size=len(qs)))
+        # keep each query's obstacles: use the drawn robots only where they avoid them
+        mid = np.stack([q[2] for q in mids])
+        clash = coincident_pairs(np.concatenate([obstacles, mid], axis=1))
+        mid[clash] = goal[clash]
+        configs.append(mid)
+    configs.append(goal)
+    return degenerate, obstacles, configs
+
+
+@settings(max_examples=50)
+@given(batches(), st.sampled_from([1.0, 0.25, 3.0]))
+def test_batch_equals_reference(case, lift):
+    degenerate, obstacles, (start, goal) = case
+    fast = _outcome(pmplan.plan_batch, obstacles, start, goal, planner="obstacle_line",
+                    lift=lift, backend="numba")
+    ref = _outcome(pmplan.plan_batch, obstacles, start, goal, planner="obstacle_line",
+                   lift=lift, backend="numpy")
+    assert_same_batch(fast, ref)
+    flags = _kernel_flags(obstacles, [start, goal], lift)
+    if not degenerate:  # generic queries are decided by the kernel alone
+        assert not (flags & K.FALLBACK).any()
+
+
+@settings(max_examples=25)
+@given(batches(r=3) | batches(r=4, ns=(1, 2, 3)))
+def test_sequence_equals_reference(case):
+    _, obstacles, configs = case
+    fast = _outcome(pmplan.plan_sequence_batch, obstacles, configs, backend="numba")
+    ref = _outcome(pmplan.plan_sequence_batch, obstacles, configs, backend="numpy")
+    assert_same_batch(fast, ref)
+    if not isinstance(fast, tuple):
+        r = len(configs)
+        assert fast.waypoints.shape[1] == 7 * (r - 1) + 1
+        for k in range(r):  # passes through C_k at tau = k / (r - 1), exactly
+            assert fast.times[7 * k] == k / (r - 1)
+            assert np.array_equal(fast.waypoints[:, 7 * k, obstacles.shape[1]:], configs[k])
+
+
+def test_integer_grid_queries_are_decided_by_the_kernel():
+    """Exact degeneracies on small integers are settled by the error-free stage, in-kernel."""
+    rng = np.random.default_rng(7)
+    for d, m, n in [(2, 2, 4), (3, 3, 2), (4, 2, 3), (2, 5, 8)]:
+        o = rng.integers(-3, 4, size=(400, m, d)).astype(float)
+        s = rng.integers(-3, 4, size=(400, n, d)).astype(float)
+        g = rng.integers(-3, 4, size=(400, n, d)).astype(float)
+        keep = ~coincident_pairs(np.concatenate([o, s], 1)) & ~coincident_pairs(
+            np.concatenate([o, g], 1))
+        o, s, g = o[keep], s[keep], g[keep]
+        flags = _kernel_flags(o, [s, g])
+        assert not (flags & K.FALLBACK).any()
+        labels, _ = OBSTACLE_LINE.plan(o, s, g, backend="numba").strata, None
+        ref = OBSTACLE_LINE.plan(o, s, g, backend="numpy")
+        assert np.array_equal(labels, ref.strata)
+        # ties do occur: some configuration has fewer distinct columns than points
+        assert (labels[:, 0] < m + n).any()
+
+
+def test_odd_d_pole():
+    """e == N exactly (SPEC 4a): nu = e_1, label one lower; both backends agree."""
+    o = np.array([[[1.0, 2.0, 0.0], [1.0, 2.0, 3.0]]])
+    s = np.array([[[0.0, 0.0, 1.0], [2.0, 2.0, 1.0]]])  # two robots share a column
+    g = np.array([[[5.0, 1.0, -1.0], [0.0, 1.0, 7.0]]])
+    fast = pmplan.plan_batch(o, s, g, backend="numba")
+    assert_same_batch(fast, pmplan.plan_batch(o, s, g, backend="numpy"))
+    assert fast.strata[0].tolist() == [3, 4, 2, 1]
+    assert fast.domain[0] == 3 + 4 - 2 + 2 - 1
+    lifted = fast.waypoints[0, 3, 2:] - fast.waypoints[0, 2, 2:]
+    assert np.array_equal(lifted, [[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])  # i lambda nu, nu = e_1
+
+
+def test_exact_tie_only_fractions_see_goes_to_the_reference():
+    """(0.3, -0.1) . (0.1, 0.3) == 0 exactly, but its products are inexact: the error-free
+    stage cannot decide, the kernel flags FALLBACK and the numpy reference decides."""
+    o = np.array([[[0.0, 0.0], [0.1, 0.3]]])
+    s = np.array([[[0.3, -0.1], [1.0, 1.0]]])
+    g = np.array([[[1.0, -1.0], [2.0, 2.0]]])
+    assert _kernel_flags(o, [s, g])[0] & K.FALLBACK
+    fast = pmplan.plan_batch(o, s, g, backend="numba")
+    assert_same_batch(fast, pmplan.plan_batch(o, s, g, backend="numpy"))
+    assert fast.strata[0, 0] == 3  # x1 shares the column of o1: cp(C) = 3, not 4
+
+
+@pytest.mark.parametrize("scale", [1.0, 2.0**-440, 2.0**450])
+def test_tiny_clearance_is_decided_exactly(scale):
+    """Columns 1e-10 apart in a scene of size ~5: the clearance (2.5e-11) is below certify's
+    float threshold, the kernel flags SUSPECT and certify.clearance decides it exactly -- also
+    at scales where the kernel's squared-distance shortcut is off (|coordinates| < 1e-130 or
+    > 1e130) and every small minimum is tested as certify tests it."""
+    o = np.array([[[0.0, 0.0], [1.0, 0.0]]]) * scale
+    s = np.array([[[0.0, 1.0], [1e-10, 5.0]]]) * scale
+    g = np.array([[[0.5, -1.0], [2.0, 2.0]]]) * scale
+    lift = 1.0 * scale
+    assert _kernel_flags(o, [s, g], lift)[0] & K.SUSPECT
+    fast = pmplan.plan_batch(o, s, g, lift=lift, backend="numba")
+    assert_same_batch(fast, pmplan.plan_batch(o, s, g, lift=lift, backend="numpy"))
+    assert 0 < fast.clearance[0] < 1e-10 * scale
+
+
+def test_certificate_failures_agree():
+    """Overflow (w = o2 - o1 is infinite) and sub-resolution eps fail in both backends, with
+    the same batch indices; the good queries around them do not matter."""
+    o = np.array([[[0.0, 0.0], [2.0, 0.0]], [[-1e308, 0.0], [1e308, 0.0]],
+                  [[0.0, 0.0], [1.0, 2.0]], [[0.0, 0.0], [2.0, 0.0]]])
+    s = np.array([[[0.0, 1.0], [1.0, 1.0]], [[0.0, 1.0], [1.0, 1.0]],
+                  [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]], [[0.5, 1.0], [1.0, 1.0]]])
+    g = np.array([[[1.0, -1.0], [3.0, 3.0]]] * 4)
+    with np.errstate(all="ignore"):
+        fast = _outcome(pmplan.plan_batch, o, s, g, backend="numba")
+        ref = _outcome(pmplan.plan_batch, o, s, g, backend="numpy")
+    assert fast[0] is CertificationError
+    assert fast == ref
+    assert fast[2] == (1, 2)
+
+
+def test_large_d_uses_the_reference():
+    rng = np.random.default_rng(3)
+    d = K.MAX_D + 2
+    o, s, g = rng.normal(size=(3, 2, d)), rng.normal(size=(3, 2, d)), rng.normal(size=(3, 2, d))
+    assert_same_batch(pmplan.plan_batch(o, s, g, backend="numba"),
+                      pmplan.plan_batch(o, s, g, backend="numpy"))
+
+
+def test_chunks(monkeypatch):
+    """Chunk boundaries change nothing (CHUNK = 3 on a batch of 10, r = 2 and r = 3)."""
+    rng = np.random.default_rng(11)
+    o, s, g, h = (rng.normal(size=(10, k, 2)) for k in (3, 2, 2, 2))
+    whole = pmplan.plan_batch(o, s, g)
+    whole_seq = pmplan.plan_sequence_batch(o, [s, h, g])
+    monkeypatch.setattr(api, "CHUNK", 3)
+    assert_same_batch(pmplan.plan_batch(o, s, g), whole)
+    assert_same_batch(pmplan.plan_sequence_batch(o, [s, h, g]), whole_seq)
+    assert_same_batch(pmplan.plan_batch(o, s, g, backend="numpy"), whole)
+
+
+@settings(max_examples=40)
+@given(st.sampled_from([(2, 2, 1), (2, 2, 4), (3, 3, 2), (4, 5, 1), (2, 3, 1)]).flatmap(
+    lambda dmn: queries(*dmn, degenerate=True) | queries(*dmn)))
+def test_single_plan_equals_reference(q):
+    """The lean single-query path gives the reference Plan (for (2, 1, 3): planar_three)."""
+    fast = pmplan.plan(*q)
+    ref = pmplan.plan(*q, backend="numpy")
+    assert (fast.domain, fast.stratum, fast.clearance, fast.planner, fast.dims) == (
+        ref.domain, ref.stratum, ref.clearance, ref.planner, ref.dims)
+    assert np.array_equal(fast.path.times, ref.path.times)
+    assert np.array_equal(fast.path.waypoints, ref.path.waypoints)
+    seq = pmplan.plan_sequence(q[0], [q[1], q[2]])
+    assert np.array_equal(seq.path.waypoints, pmplan.plan(*q, planner="obstacle_line").waypoints)
+
+
+O = [[0.0, 0.0], [2.0, 0.0]]
+S = [[1.0, 1.0], [0.0, 1.0]]
+G = [[1.0, -1.0], [3.0, 3.0]]
+
+
+@pytest.mark.parametrize("args, kwargs", [
+    ((O, S, G), {"planner": "nope"}),
+    ((O, S, G), {"planner": "planar_three"}),
+    ((O, S, G), {"lift": 0.0}),
+    ((O, S, G), {"lift": np.nan}),
+    ((O, S, G), {"lift": "x"}),
+    ((O, S, G), {"backend": "cuda"}),
+    ((O, [[1.0, 1.0], [0.0, np.nan]], G), {}),
+    ((O, S, [[1.0, -1.0], [np.inf, 3.0]]), {}),
+    (([[0.0, 0.0], [0.0, 0.0]], S, G), {}),
+    ((O, [[1.0, 1.0], [1.0, 1.0]], G), {}),
+    ((O, S, [[1.0, -1.0], [2.0, 0.0]]), {}),
+    ((O, [[1.0, 1.0]], G), {}),
+    ((O, [[1.0, 1.0, 0.0], [0.0, 1.0, 0.0]], G), {}),
+    (([0.0, 0.0], S, G), {}),
+    ((O, [["a", 1.0], [0.0, 1.0]], G), {}),
+    (([[0.0, 0.0]], S, G), {}),
+    (([[0.0], [1.0]], [[2.0]], [[3.0]]), {}),
+    (([[0.0, 0.0], [1.0, 2.0]], [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]], G), {}),
+])
+def test_fast_path_errors_are_the_reference_errors(args, kwargs):
+    fast = _outcome(pmplan.plan, *args, **kwargs)
+    ref = _outcome(pmplan.plan, *args, **{**kwargs, "backend": "numpy"}) \
+        if kwargs.get("backend") is None else fast
+    assert isinstance(fast, tuple) and issubclass(fast[0], PmplanError)
+    if kwargs.get("backend") is None:
+        assert fast == ref
+    if fast[0] is not CertificationError:
+        assert issubclass(fast[0], ValueError)
+
+
+@settings(max_examples=30)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 4), st.integers(2, 4))
+def test_first_coincident_agrees_with_coincident_pairs(seed, n, d):
+    rng = np.random.default_rng(seed)
+    o = rng.integers(-1, 2, size=(20, 2, d)).astype(float)
+    x = rng.integers(-1, 2, size=(20, n, d)).astype(float)
+    bad = coincident_pairs(np.concatenate([o, x], axis=1))
+    want = int(np.flatnonzero(bad)[0]) if bad.any() else -1
+    assert K.first_coincident(o, x) == want
+
+
+@pytest.mark.parametrize("r", [2, 3, 5])
+def test_path_times(r):
+    """The shared breakpoints: strictly increasing, C_k at k/(r-1), the paper's eight for r = 2."""
+    t = path_times(r)
+    assert t.shape == (7 * (r - 1) + 1,) and t[0] == 0.0 and t[-1] == 1.0
+    assert (np.diff(t) > 0).all()
+    assert [t[7 * k] for k in range(r)] == [k / (r - 1) for k in range(r)]
+    if r == 2:
+        want = [0, 1 / 6, 1 / 3, 4 / 9, 5 / 9, 2 / 3, 5 / 6, 1]
+        assert np.allclose(t, want, rtol=0, atol=2.0**-52)
