@@ -1,0 +1,492 @@
+"""pmplan benchmark suite: throughput, latency, memory and scaling of the public API.
+
+Usage (from the repository root)::
+
+    python benchmarks/run.py            # full run (several minutes)
+    python benchmarks/run.py --quick    # B = 100,000 only, fewer repeats (about a minute or two)
+    python benchmarks/run.py --ompl     # also run benchmarks/ompl_compare.py (needs pmplan[bench])
+
+It prints every measurement and the goal ratios, and writes ``benchmarks/RESULTS.md``,
+``benchmarks/results.json``, ``docs/benchmarks.md`` and ``docs/scaling.png``.
+
+What is measured (see ``benchmarks/README.md`` for how to read it):
+
+* **throughput** of :func:`pmplan.plan_batch` on one core, queries/s, for (d, n, m) =
+  (2,1,2), (2,4,2), (2,16,2), (4,4,2), (3,4,2), (2,4,5) and the planar three-obstacle planner
+  (2,1,3), at B = 100,000 and 1,000,000; each with generic and exactly degenerate queries; next
+  to it the ratio of the batch time to ONE ``np.copyto`` of an array as large as the output
+  waypoints, measured in the same run (a machine-independent yardstick);
+* **latency** of one :func:`pmplan.plan` call (median over many calls);
+* **memory**: peak traced allocation during ``plan_batch`` / output waypoint bytes
+  (tracemalloc), and peak resident-set growth / output bytes;
+* **scaling** with the number of robots n (1 .. 64) and with the number r of configurations of
+  sequential planning (:func:`pmplan.plan_sequence_batch`, r = 2 .. 10).
+
+Only the public API is used, so a faster core or a new planner is picked up automatically; the
+planar three-obstacle cases are skipped while that planner is absent. The RNG is seeded
+(``--seed``). This file is not a test: pytest never collects it (``benchmarks/conftest.py``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import subprocess
+import sys
+import time
+import tracemalloc
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _common import (
+    HERE,
+    ROOT,
+    degenerate_queries,
+    generic_queries,
+    machine_info,
+    planar_three_available,
+    planar_three_mixed,
+    reset_peak_rss,
+    rss_now_kib,
+    timeit,
+    write_reports,
+)
+
+import pmplan
+
+__all__ = ["main"]
+
+#: (d, n, m) of the throughput table; (2, 1, 3) is the planar three-obstacle planner
+CASES = [(2, 1, 2), (2, 4, 2), (2, 16, 2), (4, 4, 2), (3, 4, 2), (2, 4, 5), (2, 1, 3)]
+#: a batch whose output waypoints would exceed this many bytes is not run (shared 24 GiB machine)
+MAX_OUTPUT_BYTES = 3 * 2**30
+#: a B = 1,000,000 case estimated (from B = 100,000) to take longer than this is skipped
+MAX_SECONDS_PER_CALL = 60.0
+#: at most this many distinct degenerate queries are drawn; larger batches repeat them
+MAX_DISTINCT = 200_000
+
+
+def _label(d: int, n: int, m: int) -> str:
+    return "planar_three (2,1,3)" if (d, n, m) == (2, 1, 3) else f"({d},{n},{m})"
+
+
+def _queries(rng, family: str, b: int, d: int, n: int, m: int):
+    """The queries of one throughput row (see the family descriptions in the README)."""
+    if family == "generic":
+        return generic_queries(rng, b, d, n, m)
+    k = min(b, MAX_DISTINCT)
+    if (d, n, m) == (2, 1, 3):
+        o, s, g = planar_three_mixed(rng, k)
+    else:
+        o, s, g = degenerate_queries(rng, k, d, n, m)
+    if k < b:
+        reps = -(-b // k)
+        o, s, g = (np.tile(a, (reps, 1, 1))[:b] for a in (o, s, g))
+    return o, s, g
+
+
+def _planner_kw(d: int, n: int, m: int) -> dict:
+    return {"planner": "planar_three"} if (d, n, m) == (2, 1, 3) else {}
+
+
+def _time_batch_and_copy(q, kw: dict, quick: bool) -> tuple[list[float], list[float]]:
+    """Interleaved timings of plan_batch(*q) and of one np.copyto of its output waypoints."""
+
+    def batch():
+        return pmplan.plan_batch(*q, **kw)
+
+    first = timeit(batch, 1)[0]
+    reps = 1 if first > 20 else (3 if quick or len(q[0]) >= 1_000_000 else 5)
+    src = batch().waypoints
+    dst = np.empty_like(src)
+    np.copyto(dst, src)  # fault the pages in
+
+    def copy():
+        np.copyto(dst, src)
+
+    tb, tc = [first], []
+    for _ in range(reps):
+        tb += timeit(batch, 1)
+        tc += timeit(copy, 1)
+    return tb, tc
+
+
+def throughput(rng, quick: bool, log, batch: int | None = None) -> tuple[list[dict], list[str]]:
+    """Batch throughput and copy ratio for every case, family and B."""
+    rows, skipped = [], []
+    sizes = [batch] if batch else [100_000] if quick else [100_000, 1_000_000]
+    for d, n, m in CASES:
+        if (d, n, m) == (2, 1, 3) and not planar_three_available():
+            skipped.append("planar_three (2,1,3): planner not installed")
+            continue
+        kw = _planner_kw(d, n, m)
+        families = ["generic", "degenerate"]
+        for family in families:
+            fam_label = (
+                "strata mix"
+                if (family == "degenerate" and m == 3 and n == 1 and d == 2)
+                else family
+            )
+            pmplan.plan_batch(*_queries(rng, family, 1000, d, n, m), **kw)  # warm-up / JIT
+            est = None
+            for b in sizes:
+                probe = pmplan.plan_batch(*_queries(rng, "generic", 8, d, n, m), **kw)
+                out_bytes = probe.waypoints.nbytes // 8 * b
+                if out_bytes > MAX_OUTPUT_BYTES:
+                    skipped.append(
+                        f"{_label(d, n, m)} {family} B={b:,}: output "
+                        f"{out_bytes / 2**30:.1f} GiB > limit"
+                    )
+                    continue
+                if est is not None and est * b > MAX_SECONDS_PER_CALL:
+                    skipped.append(
+                        f"{_label(d, n, m)} {family} B={b:,}: estimated {est * b:.0f} s per call"
+                    )
+                    continue
+                try:
+                    tb, tc = _time_batch_and_copy(_queries(rng, family, b, d, n, m), kw, quick)
+                except Exception as exc:  # noqa: BLE001 - report, do not crash the suite
+                    skipped.append(
+                        f"{_label(d, n, m)} {family} B={b:,}: {type(exc).__name__}: {exc}"[:300]
+                    )
+                    continue
+                gc.collect()
+                est = min(tb) / b
+                row = {
+                    "case": _label(d, n, m),
+                    "dims": [d, n, m],
+                    "family": fam_label,
+                    "B": b,
+                    "qps_best": b / min(tb),
+                    "qps_median": b / float(np.median(tb)),
+                    "copy_s_best": min(tc),
+                    "batch_s_best": min(tb),
+                    "copy_ratio_best": min(tb) / min(tc),
+                    "copy_ratio_median": float(np.median(tb) / np.median(tc)),
+                    "out_mb": out_bytes / 1e6,
+                    "repeats": len(tb),
+                }
+                rows.append(row)
+                log(
+                    f"  {row['case']:22s} {fam_label:10s} B={b:>9,}  {row['qps_best']:>12,.0f} q/s"
+                    f" (median {row['qps_median']:,.0f})  batch/copy = {row['copy_ratio_best']:.2f}"
+                )
+    return rows, skipped
+
+
+def latency(rng, quick: bool, log) -> list[dict]:
+    """Median wall time of one pmplan.plan call (and one plan_sequence call, r = 3)."""
+    calls = 300 if quick else 2000
+    rows = []
+    cases = [(2, 1, 2), (2, 4, 2), (3, 4, 2), (2, 4, 5), (2, 16, 2)]
+    if planar_three_available():
+        cases.append((2, 1, 3))
+    for case in cases + ["seq"]:
+        if case == "seq":
+            label, (d, n, m) = "plan_sequence (2,4,2), r = 3", (2, 4, 2)
+            o, s, g = generic_queries(rng, calls, d, n, m)
+            mid = generic_queries(rng, calls, d, n, m)[1]
+
+            def one(i, o=o, s=s, g=g, mid=mid):
+                pmplan.plan_sequence(o[i], [s[i], mid[i], g[i]])
+        else:
+            d, n, m = case
+            label = _label(d, n, m)
+            o, s, g = generic_queries(rng, calls, d, n, m)
+            kw = _planner_kw(d, n, m)
+
+            def one(i, o=o, s=s, g=g, kw=kw):
+                pmplan.plan(o[i], s[i], g[i], **kw)
+
+        for i in range(min(50, calls)):  # warm-up / JIT
+            one(i)
+        ts = np.empty(calls)
+        gc.collect()
+        for i in range(calls):
+            t0 = time.perf_counter_ns()
+            one(i)
+            ts[i] = time.perf_counter_ns() - t0
+        us = ts / 1e3
+        rows.append(
+            {
+                "case": label,
+                "median_us": float(np.median(us)),
+                "p10_us": float(np.percentile(us, 10)),
+                "p90_us": float(np.percentile(us, 90)),
+                "calls": calls,
+            }
+        )
+        log(
+            f"  {label:30s} median {np.median(us):9.1f} us  (p10 {np.percentile(us, 10):.1f}, "
+            f"p90 {np.percentile(us, 90):.1f})"
+        )
+    return rows
+
+
+def memory(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
+    """tracemalloc peak and RSS growth during plan_batch, relative to the output waypoints."""
+    rows = []
+    b = batch or 100_000
+    cases = [c for c in CASES if c != (2, 1, 3) or planar_three_available()]
+    for d, n, m in cases:
+        kw = _planner_kw(d, n, m)
+        q = generic_queries(rng, b, d, n, m)
+        pmplan.plan_batch(*(a[:100] for a in q), **kw)  # warm-up / JIT
+        gc.collect()
+        tracemalloc.start()
+        tracemalloc.reset_peak()
+        res = pmplan.plan_batch(*q, **kw)
+        _, peak = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+        out = res.waypoints.nbytes
+        del res
+        gc.collect()
+        rss_ratio = float("nan")
+        if reset_peak_rss():
+            rss0, _ = rss_now_kib()
+            res = pmplan.plan_batch(*q, **kw)
+            _, hwm = rss_now_kib()
+            rss_ratio = (hwm - rss0) * 1024 / res.waypoints.nbytes
+            del res
+            gc.collect()
+        rows.append(
+            {
+                "case": _label(d, n, m),
+                "B": b,
+                "out_mb": out / 1e6,
+                "tracemalloc_ratio": peak / out,
+                "rss_ratio": rss_ratio,
+            }
+        )
+        log(
+            f"  {_label(d, n, m):22s} output {out / 1e6:7.1f} MB  tracemalloc peak/output = "
+            f"{peak / out:.2f}  RSS growth/output = {rss_ratio:.2f}"
+        )
+    return rows
+
+
+def scaling(rng, quick: bool, log, batch: int | None = None) -> tuple[list[dict], list[dict]]:
+    """Cost per query and per output byte as n grows (d = 2, m = 2) and as r grows (n = 4)."""
+    rows_n, rows_r = [], []
+    # ~ B * (n + m): keeps the output size similar across n
+    budget = 3 * batch if batch else 300_000 if quick else 1_200_000
+    for n in (1, 2, 4, 8, 16, 32, 64):
+        b = max(2_000, budget // (n + 2))
+        q = generic_queries(rng, b, 2, n, 2)
+        pmplan.plan_batch(*(a[:200] for a in q))
+        res = pmplan.plan_batch(*q)
+        nbytes = res.waypoints.nbytes
+        del res
+        t = min(timeit(lambda q=q: pmplan.plan_batch(*q), 3))
+        rows_n.append(
+            {
+                "n": n,
+                "B": b,
+                "us_per_query": t / b * 1e6,
+                "ns_per_byte": t / nbytes * 1e9,
+                "qps": b / t,
+            }
+        )
+        log(
+            f"  n = {n:2d}  B = {b:>8,}  {t / b * 1e6:8.2f} us/query  "
+            f"{t / nbytes * 1e9:6.3f} ns/output byte"
+        )
+    b = batch // 5 if batch else 20_000 if quick else 100_000
+    for r in range(2, 11):
+        o, s, g = generic_queries(rng, b, 2, 4, 2)
+        configs = [s] + [generic_queries(rng, b, 2, 4, 2)[1] for _ in range(r - 2)] + [g]
+        pmplan.plan_sequence_batch(o[:200], [c[:200] for c in configs])
+        res = pmplan.plan_sequence_batch(o, configs)
+        nbytes = res.waypoints.nbytes
+        del res
+        t = min(timeit(lambda o=o, configs=configs: pmplan.plan_sequence_batch(o, configs), 3))
+        rows_r.append(
+            {
+                "r": r,
+                "B": b,
+                "us_per_query": t / b * 1e6,
+                "ns_per_byte": t / nbytes * 1e9,
+                "qps": b / t,
+            }
+        )
+        log(
+            f"  r = {r:2d}  B = {b:>8,}  {t / b * 1e6:8.2f} us/query  "
+            f"{t / nbytes * 1e9:6.3f} ns/output byte"
+        )
+    return rows_n, rows_r
+
+
+def plot_scaling(rows_n: list[dict], rows_r: list[dict], path: Path) -> None:
+    """Two small log-log panels: time per query and per output byte against n and against r."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(8, 3.2), dpi=110)
+    for ax, rows, key, xlabel in (
+        (axes[0], rows_n, "n", "robots n  (d = 2, m = 2)"),
+        (axes[1], rows_r, "r", "configurations r  (sequential, n = 4)"),
+    ):
+        x = [row[key] for row in rows]
+        ax.plot(x, [row["us_per_query"] for row in rows], "o-", color="C0", label="us / query")
+        if key == "n":
+            ax.set_xscale("log", base=2)
+        ax.set_yscale("log")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("us per query", color="C0")
+        ax.set_xticks(x)
+        ax.set_xticklabels([str(v) for v in x])
+        ax.minorticks_off()
+        ax2 = ax.twinx()
+        ax2.plot(x, [row["ns_per_byte"] for row in rows], "s--", color="C1", label="ns / byte")
+        ax2.set_ylabel("ns per output byte", color="C1")
+        hi = max(row["ns_per_byte"] for row in rows)
+        ax2.set_ylim(0, hi * 1.3 if hi > 0 else 1)
+        ax.grid(alpha=0.3)
+    axes[0].set_title("plan_batch: cost vs n", fontsize=10)
+    axes[1].set_title("plan_sequence_batch: cost vs r", fontsize=10)
+    fig.tight_layout()
+    path.parent.mkdir(exist_ok=True)
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def goals(results: dict) -> list[dict]:
+    """The project's performance goals, against the measurements of this run."""
+    out = []
+    tp = [r for r in results["throughput"] if r["dims"] == [2, 4, 2] and r["family"] == "generic"]
+    if tp:
+        best = max(tp, key=lambda r: r["qps_best"])
+        out.append(
+            {
+                "goal": "plan_batch throughput, (2,4,2) generic, one core",
+                "target": ">= 1,000,000 queries/s",
+                "measured": f"{best['qps_best']:,.0f} queries/s (B = {best['B']:,})",
+                "met": best["qps_best"] >= 1e6,
+            }
+        )
+        worst = max(r["copy_ratio_best"] for r in tp)
+        out.append(
+            {
+                "goal": "batch time / one copy of the output, (2,4,2) generic",
+                "target": "<= 3",
+                "measured": f"{worst:.2f}",
+                "met": worst <= 3,
+            }
+        )
+    lat = [r for r in results["latency"] if r["case"] == "(2,4,2)"]
+    if lat:
+        out.append(
+            {
+                "goal": "single-query latency, (2,4,2)",
+                "target": "<= 20 us",
+                "measured": f"{lat[0]['median_us']:.1f} us",
+                "met": lat[0]["median_us"] <= 20,
+            }
+        )
+    if results["memory"]:
+        worst = max(results["memory"], key=lambda r: r["tracemalloc_ratio"])
+        out.append(
+            {
+                "goal": "peak memory of plan_batch / output (tracemalloc, worst case)",
+                "target": "<= 3",
+                "measured": f"{worst['tracemalloc_ratio']:.2f} ({worst['case']})",
+                "met": worst["tracemalloc_ratio"] <= 3,
+            }
+        )
+        rss = [r for r in results["memory"] if np.isfinite(r["rss_ratio"])]
+        if rss:
+            w = max(rss, key=lambda r: r["rss_ratio"])
+            out.append(
+                {
+                    "goal": "peak RSS growth of plan_batch / output (worst case)",
+                    "target": "<= 3",
+                    "measured": f"{w['rss_ratio']:.2f} ({w['case']})",
+                    "met": w["rss_ratio"] <= 3,
+                }
+            )
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help="B = 100,000 only, fewer repeats")
+    ap.add_argument(
+        "--ompl",
+        action="store_true",
+        help="also run benchmarks/ompl_compare.py (needs the ompl package)",
+    )
+    ap.add_argument("--only-ompl", action="store_true", help="run only the OMPL comparison")
+    ap.add_argument("--seed", type=int, default=20240611)
+    ap.add_argument(
+        "--batch",
+        type=int,
+        default=None,
+        help="smoke test: use this B everywhere instead of 100,000 / 1,000,000",
+    )
+    args = ap.parse_args(argv)
+
+    def log(msg: str) -> None:
+        print(msg, flush=True)
+
+    t_start = time.perf_counter()
+    if not args.only_ompl:
+        rng = np.random.default_rng(args.seed)
+        info = machine_info()
+        log(
+            f"pmplan benchmarks on {info['cpu']} ({info['cores']} cores), Python {info['python']}, "
+            f"numpy {info['numpy']}, numba {info['numba']}, {info['date']}"
+        )
+        log("latency (pmplan.plan):")
+        lat = latency(rng, args.quick, log)
+        log("throughput (plan_batch):")
+        tp, skipped = throughput(rng, args.quick, log, args.batch)
+        log(f"memory (plan_batch, B = {args.batch or 100_000:,}):")
+        mem = memory(rng, args.quick, log, args.batch)
+        log("scaling:")
+        sn, sr = scaling(rng, args.quick, log, args.batch)
+        plot_scaling(sn, sr, ROOT / "docs" / "scaling.png")
+        results = {
+            "machine": info,
+            "seed": args.seed,
+            "quick": args.quick,
+            "batch": args.batch,
+            "throughput": tp,
+            "skipped": skipped,
+            "latency": lat,
+            "memory": mem,
+            "scaling_n": sn,
+            "scaling_r": sr,
+        }
+        results["goals"] = goals(results)
+        results["total_s"] = time.perf_counter() - t_start
+        log("goals:")
+        for g in results["goals"]:
+            log(
+                f"  {g['goal']}: {g['measured']} (target {g['target']}) "
+                f"{'MET' if g['met'] else 'NOT MET'}"
+            )
+        for s in skipped:
+            log(f"  skipped: {s}")
+        write_reports(results=results)
+    if args.ompl or args.only_ompl:
+        cmd = [sys.executable, str(HERE / "ompl_compare.py"), "--seed", str(args.seed)]
+        if args.quick:
+            cmd.append("--quick")
+        rc = subprocess.call(cmd)
+        if rc != 0:
+            log(f"ompl_compare.py exited with {rc}")
+            return rc
+    log(
+        f"wrote {HERE / 'RESULTS.md'} and {ROOT / 'docs' / 'benchmarks.md'} "
+        f"({time.perf_counter() - t_start:.0f} s)"
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
