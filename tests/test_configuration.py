@@ -275,10 +275,6 @@ def test_plan_configurations_m_one_is_unsupported():
         pmplan.plan_configurations(np.array(O + S), np.array([O[0], [5.0, 5.0]] + G), m=1)
 
 
-@pytest.mark.xfail(strict=True, reason="plan_configurations(c, c2, m=0) raises ShapeError "
-                   "'m = 0 obstacles leave no robot in a configuration of 4 points', which is "
-                   "false (all 4 points would be robots); expected UnsupportedError naming m = 0 "
-                   "(m >= 2 needed), as plan() does for m < 2")
 def test_plan_configurations_m_zero_is_unsupported():
     with raises(UnsupportedError, match=r"m = 0"):
         pmplan.plan_configurations(np.array(O + S), np.array(O + G), m=0)
@@ -302,10 +298,6 @@ def test_plan_sequence_errors():
         pmplan.plan_sequence(O, [S, [[np.nan, 0.0], [5.0, 5.0]], G])
 
 
-@pytest.mark.xfail(strict=True, reason="plan_sequence validates intermediate configurations with "
-                   "check_query(obstacles, c, c), so a collision in configuration 2 is reported as "
-                   "'... of the start configuration ...' with which='start' (errors.py documents "
-                   "'config k' for sequential queries)")
 def test_plan_sequence_names_the_bad_configuration():
     with raises(CollisionError, match=r"config(uration)? 2") as info:
         pmplan.plan_sequence(O, [S, [[2.0, 0.0], [5.0, 5.0]], G])

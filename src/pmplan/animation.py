@@ -466,7 +466,7 @@ def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
     import matplotlib.animation as manim
     from matplotlib.figure import Figure
 
-    from .cli import _plan_query
+    from .api import plan_query
 
     out = Path(out)
     suffix = out.suffix.lower()
@@ -485,7 +485,7 @@ def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
         writer = manim.FFMpegWriter(fps=int(fps))
     else:
         from PIL import Image
-    plan = _plan_query(q, planner)
+    plan = plan_query(q, planner)
     if suffix == ".gif":
         images = [Image.fromarray(rgba[..., :3]).quantize(
                       colors=64, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE)

@@ -30,6 +30,7 @@ __all__ = [
     "plan_configurations",
     "plan_sequence",
     "plan_sequence_batch",
+    "plan_query",
     "info",
     "planner_names",
     "parametrised_tc",
@@ -478,7 +479,11 @@ def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
             f"Expected both configurations to have the same shape, got {c_start.shape} and "
             f"{c_goal.shape}."
         )
-    if not 1 <= m < c_start.shape[0]:
+    if m < 2:
+        raise UnsupportedError(
+            f"m = {m}: the planners need m >= 2 obstacles (they define the line L_C)"
+        )
+    if m >= c_start.shape[0]:
         raise ShapeError(f"m = {m} obstacles leave no robot in a configuration of {c_start.shape[0]} points")
     check_same_obstacles(c_start, c_goal, m, batched=False)
     return plan(c_start[:m], c_start[m:], c_goal[m:], **kwargs)
@@ -491,10 +496,15 @@ def _check_sequence(obstacles, configs, batched: bool):
         raise InputError(f"`configs` must be a list of numeric arrays: {exc}") from None
     if len(configs) < 2:
         raise ShapeError(f"Expected at least r = 2 configurations, got {len(configs)}.")
-    obstacles_b, first, _ = check_query(obstacles, configs[0], configs[-1], batched=batched)
+    r = len(configs)
+    obstacles_b, first, _ = check_query(
+        obstacles, configs[0], configs[-1], batched=batched,
+        names=("configuration 1 (start)", f"configuration {r} (goal)"),
+    )
     out = [first]
     for k, c in enumerate(configs[1:], start=2):
-        _, ck, _ = check_query(obstacles, c, c, batched=batched)
+        _, ck, _ = check_query(obstacles, c, c, batched=batched,
+                               names=(f"configuration {k}", f"configuration {k}"))
         if ck.shape != first.shape:
             raise ShapeError(f"configuration {k} has shape {ck.shape[1:]}, expected {first.shape[1:]}")
         out.append(ck)
@@ -591,3 +601,25 @@ def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> Plan
         msg = p.summary
     k = len(labels)
     return PlannerInfo(d, n, m, r, p.name, k, labels, tc, k == tc, msg)
+
+
+def plan_query(query: dict, planner: str | None = None) -> Plan:
+    """Plan a query given as a dict (the form :func:`pmplan.io.read_query` returns).
+
+    Keys ``obstacles``, ``start``, ``goal`` and optional ``via`` (intermediate configurations:
+    then :func:`plan_sequence`), ``lift`` and ``planner`` (overridden by ``planner``).
+
+    Examples
+    --------
+    >>> plan_query({"obstacles": [[0, 0], [2, 0]], "start": [[0, 1]], "goal": [[1, -1]],
+    ...             "via": [[[3, 3]]]}).stratum
+    'T_{2,3,3}'
+    """
+    planner = planner or query.get("planner")
+    lift = query.get("lift", 1.0)
+    if "via" in query:
+        if planner not in (None, "obstacle_line"):
+            raise UnsupportedError("a query with 'via' is planned by the obstacle_line planner")
+        configs = [query["start"], *query["via"], query["goal"]]
+        return plan_sequence(query["obstacles"], configs, lift=lift)
+    return plan(query["obstacles"], query["start"], query["goal"], planner=planner, lift=lift)

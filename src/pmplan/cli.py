@@ -107,25 +107,13 @@ def _read_query_arg(path: str) -> dict:
     return read_query(path)
 
 
-def _plan_query(q: dict, planner: str | None):
-    from . import api
-
-    planner = planner or q.get("planner")
-    lift = q.get("lift", 1.0)
-    if "via" in q:
-        configs = [q["start"], *q["via"], q["goal"]]
-        if planner not in (None, "obstacle_line"):
-            from .errors import UnsupportedError
-            raise UnsupportedError("a query with 'via' is planned by the obstacle_line planner")
-        return api.plan_sequence(q["obstacles"], configs, lift=lift)
-    return api.plan(q["obstacles"], q["start"], q["goal"], planner=planner, lift=lift)
-
-
 def cmd_plan(args) -> int:
     from .io import plan_to_dict
 
     q = _read_query_arg(args.query)
-    result = _plan_query(q, args.planner)
+    from .api import plan_query
+
+    result = plan_query(q, args.planner)
     print(json.dumps(plan_to_dict(result, samples=args.samples), indent=args.indent))
     return 0
 

@@ -80,8 +80,9 @@ def check_configuration(config: np.ndarray, m: int, which: str, batched: bool) -
         pair = (_point_name(i, m), _point_name(j, m))
         where = f" of query {b}" if batched else ""
         more = f" ({int(bad.sum())} queries in all)" if batched and bad.sum() > 1 else ""
+        phrase = f"the {which} configuration" if which in ("start", "goal") else which
         raise CollisionError(
-            f"points {pair[0]} and {pair[1]} of the {which} configuration{where} coincide "
+            f"points {pair[0]} and {pair[1]} of {phrase}{where} coincide "
             f"at {config[b, i].tolist()}{more}",
             index=b if batched else None,
             which=which,
@@ -89,14 +90,15 @@ def check_configuration(config: np.ndarray, m: int, which: str, batched: bool) -
         )
 
 
-def check_query(obstacles, start, goal, *, batched: bool):
+def check_query(obstacles, start, goal, *, batched: bool, names: tuple[str, str] = ("start", "goal")):
     """Validate a query (or a batch) and return float arrays (B, m, d), (B, n, d), (B, n, d).
 
-    A single query is returned as a batch of one.
+    A single query is returned as a batch of one. ``names`` label the two robot arrays in error
+    messages (e.g. ``("configuration 1", "configuration 3")`` for sequential queries).
     """
     obstacles = as_points(obstacles, "obstacles", batched)
-    start = as_points(start, "start", batched)
-    goal = as_points(goal, "goal", batched)
+    start = as_points(start, names[0], batched)
+    goal = as_points(goal, names[1], batched)
     if not batched:
         obstacles, start, goal = obstacles[None], start[None], goal[None]
     b, m, d = obstacles.shape
@@ -118,8 +120,8 @@ def check_query(obstacles, start, goal, *, batched: bool):
     obstacles = np.ascontiguousarray(obstacles)
     start = np.ascontiguousarray(start)
     goal = start if goal is start else np.ascontiguousarray(goal)
-    for which, robots in (("start", start), ("goal", goal)):
-        if which == "goal" and goal is start:
+    for which, robots in zip(names, (start, goal)):
+        if robots is goal and goal is start and which == names[1]:
             break
         _check_distinct(obstacles, robots, m, which, batched)
     return obstacles, start, goal
