@@ -288,18 +288,18 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
 
 
 def _run_fused(planner, obstacles, configs, lift, batched, progress, backend):
-    """:func:`_run` for planners that plan and certify into preallocated arrays."""
+    """:func:`_run` for planners that plan and certify into preallocated arrays.
+
+    Such a planner has ``allocate(b, r, m, n, d) -> dict`` (arrays ``domain`` (B,), ``strata``
+    (B, S), ``clearance`` (B,), ``times`` (K,) or (B, K), ``waypoints`` (B, K, m+n, d)) and
+    ``plan_certified(obstacles, configs, lift, waypoints, domain, strata, clearance, *,
+    backend, times=None)``, which fills the chunk (``times`` is passed, sliced, only when it is
+    per query) and returns the certificate (B,).
+    """
     b, m, d = obstacles.shape
     n = configs[0].shape[1]
-    r = len(configs)
-    times = planner.path_times(r)
-    out = dict(
-        domain=np.empty(b, np.int64),
-        strata=np.empty((b, r + 2), np.int64),
-        clearance=np.empty(b),
-        times=times.copy(),
-        waypoints=np.empty((b, times.shape[0], m + n, d)),
-    )
+    out = planner.allocate(b, len(configs), m, n, d)
+    per_query_times = out["times"].ndim == 2
     chunks = range(0, b, CHUNK)
     if progress and len(chunks) > 4:
         from tqdm import tqdm
@@ -307,9 +307,11 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend):
         chunks = tqdm(chunks, desc="planning", unit="chunk", file=sys.stderr)
     for lo in chunks:
         hi = min(b, lo + CHUNK)
+        extra = {"times": out["times"][lo:hi]} if per_query_times else {}
         ok = planner.plan_certified(
             obstacles[lo:hi], [c[lo:hi] for c in configs], lift, out["waypoints"][lo:hi],
             out["domain"][lo:hi], out["strata"][lo:hi], out["clearance"][lo:hi], backend=backend,
+            **extra,
         )
         if not ok.all():
             bad = np.zeros(b, dtype=bool)
@@ -416,7 +418,7 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.
     >>> p.path(0.0)[2], p.path(1.0)[2]
     (array([0., 1.]), array([ 1., -1.]))
     """
-    if (backend is None or backend == "numba") and (planner is None or planner == "obstacle_line"):
+    if backend is None or backend == "numba":
         fast = _plan_fast(obstacles, start, goal, planner, lift)
         if fast is not None:
             return fast
@@ -432,11 +434,12 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.
 
 
 def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
-    """The lean path of :func:`plan` for the obstacle-line planner (one numba kernel call).
+    """The lean path of :func:`plan` for planners with a ``plan_one`` kernel (one call).
 
     Returns None -- and :func:`plan` then takes the general path, which raises the proper error
     or re-decides exactly -- for anything but a plain valid query whose kernel result needs no
-    exact re-decision (see :meth:`ObstacleLinePlanner.plan_one`).
+    exact re-decision (see :meth:`ObstacleLinePlanner.plan_one`). ``plan_one`` returns
+    ``(times, waypoints, domain, strata row, clearance)`` or None.
     """
     if type(lift) not in (float, int) or not 0 < lift < math.inf:
         return None
@@ -450,18 +453,22 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
         return None
     m, d = o.shape
     n = s.shape[0]
-    if d < 2 or m < 2 or n < 1 or (planner is None and (d, n, m) == (2, 1, 3)):
+    if d < 2 or m < 2 or n < 1:
         return None
-    p = REGISTRY["obstacle_line"]
+    if planner is None:
+        planner = "planar_three" if (d, n, m) == (2, 1, 3) else "obstacle_line"
+    p = REGISTRY.get(planner)
+    if p is None or not hasattr(p, "plan_one") or p.supports(d, n, m) is not None:
+        return None
     res = p.plan_one(o, s, g, lift)
     if res is None:
         return None
-    wp, domain, row, clearance = res
+    times, wp, domain, row, clearance = res
     return Plan(
         domain=domain,
         stratum=p.stratum_name(row, d, n, m),
         clearance=clearance,
-        path=PiecewiseLinearPath(p.path_times(2).copy(), wp),
+        path=PiecewiseLinearPath(times, wp),
         planner=p.name,
         dims=(d, n, m),
     )

@@ -353,11 +353,22 @@ class ObstacleLinePlanner:
                                                                   float(lift))
         if flags or not clr > 0:
             return None
-        return wp, int(domain), [cp1, cp2, cp_o, pole], float(clr)
+        return path_times(2).copy(), wp, int(domain), [cp1, cp2, cp_o, pole], float(clr)
 
     def path_times(self, r: int) -> np.ndarray:
         """Breakpoints of every path through r configurations (see :func:`path_times`)."""
         return path_times(r)
+
+    def allocate(self, b: int, r: int, m: int, n: int, d: int) -> dict:
+        """Output arrays of a batch of b queries through r configurations (shared times)."""
+        times = path_times(r)
+        return dict(
+            domain=np.empty(b, np.int64),
+            strata=np.empty((b, r + 2), np.int64),
+            clearance=np.empty(b),
+            times=times.copy(),
+            waypoints=np.empty((b, times.shape[0], m + n, d)),
+        )
 
     def plan_certified(self, obstacles, configs, lift, wp, domain, strata, clearance,
                        backend: str | None = None) -> np.ndarray:
