@@ -50,6 +50,13 @@ Why every path is collision-free: each leg either runs along a column that holds
 obstacle (H, h3/2; h(x), h(x') != 0 when all obstacles lie on L_C), or leaves x (x') along its
 height towards the first solid vertical, never reaching the next obstacle column.
 
+Implementations: the numpy code below is the *reference* (``backend="numpy"``); the default
+``backend="numba"`` runs the fused kernel of :mod:`pmplan._kernels_planar` (classification,
+polyline, constant-speed times and certificate in one pass per query, flagged queries
+re-decided here), whose waypoints, breakpoints, strata and clearances are identical. The
+planner plugs into the fast paths of :mod:`pmplan.api` through :meth:`PlanarThreePlanner.allocate`,
+:meth:`~PlanarThreePlanner.plan_certified` and :meth:`~PlanarThreePlanner.plan_one`.
+
 References
 ----------
 C. A. Ipanaque Zapata and J. Gonzalez, *Parametrised collision-free optimal motion planning
@@ -64,10 +71,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..certify import certify
+from ..certify import clearance as certified_clearance
 from ..frame import Frame
 from ..path import PiecewiseLinearPath
 from ..predicates import projection_classes
 from .base import RawPlan, register
+from .obstacle_line import resolve_backend
 
 __all__ = [
     "DOMAIN_OF",
@@ -451,7 +461,8 @@ class PlanarThreePlanner:
         f, i, j = (int(v) for v in row)
         return f"T^{{{_PAPER_SUPER[f]}}}_{{{i},{j}}}"
 
-    def plan(self, obstacles, start, goal, *, lift: float = 1.0) -> RawPlan:
+    def plan(self, obstacles, start, goal, *, lift: float = 1.0,
+             backend: str | None = None) -> RawPlan:
         """Plan a batch of queries (paper Section 4).
 
         Parameters
@@ -462,6 +473,11 @@ class PlanarThreePlanner:
             Unused: the paper's Section 4 paths have no free scale (the unit in
             ``H = 1 + max(0, h3)`` and ``s3 = c3 + 1`` is the paper's). Accepted for the common
             planner interface.
+        backend : {"numba", "numpy"}, optional
+            ``"numpy"`` runs the reference implementation below; ``"numba"`` (the default when
+            numba is installed) the fused kernel of :mod:`pmplan._kernels_planar`, whose
+            waypoints, breakpoints, labels and strata are identical. The input is not
+            validated here (see :mod:`pmplan.configuration`).
 
         Returns
         -------
@@ -479,6 +495,15 @@ class PlanarThreePlanner:
         ``u(x') - u(o1)``) is below the resolution of its coordinates.
         """
         del lift
+        if resolve_backend(backend) == "numba":
+            args = _fusable(obstacles, start, goal)
+            if args is not None:
+                obstacles, start, goal = args
+                out = self.allocate(obstacles.shape[0], 2, 3, 1, 2)
+                _fused(obstacles, start, goal, out["times"], out["waypoints"], out["domain"],
+                       out["strata"], out["clearance"], certified=False)
+                return RawPlan(domain=out["domain"], strata=out["strata"],
+                               path=PiecewiseLinearPath(out["times"], out["waypoints"]))
         obstacles = np.asarray(obstacles, dtype=float)
         start = np.asarray(start, dtype=float)
         goal = np.asarray(goal, dtype=float)
@@ -497,6 +522,163 @@ class PlanarThreePlanner:
                 path = _constant_speed(sub, build(sub))
             times[idx], wp[idx] = _pad(path, K)
         return RawPlan(domain=st.domain, strata=st.record, path=PiecewiseLinearPath(times, wp))
+
+    # --- the fused protocol of pmplan.api (_run_fused, _plan_fast) --------------------------
+    def allocate(self, b: int, r: int, m: int, n: int, d: int) -> dict:
+        """Output arrays of a batch of b queries: per-query breakpoints (b, K)."""
+        if (r, m, n, d) != (2, 3, 1, 2):
+            raise ValueError(
+                f"the planar_three planner plans (d, n, m) = (2, 1, 3) and r = 2; "
+                f"got ({d}, {n}, {m}) and r = {r}"
+            )
+        return {
+            "domain": np.empty(b, np.int64),
+            "strata": np.empty((b, 3), np.int64),
+            "clearance": np.empty(b),
+            "times": np.empty((b, K)),
+            "waypoints": np.empty((b, K, 4, 2)),
+        }
+
+    def plan_certified(self, obstacles, configs, lift, wp, domain, strata, clearance, *,
+                       backend: str | None = None, times=None) -> np.ndarray:
+        """Plan and certify a chunk into preallocated outputs; return the certificate (B,).
+
+        Parameters
+        ----------
+        obstacles : ndarray (B, 3, 2)
+        configs : list of 2 ndarrays (B, 1, 2)
+            Start and goal robots.
+        lift : float
+            Unused (see :meth:`plan`).
+        wp : ndarray (B, K, 4, 2)
+            Output waypoints.
+        domain, strata, clearance : ndarrays (B,), (B, 3), (B,)
+            Outputs: domains W_a, strata records ``(family, i, j)``, certified clearances.
+        backend : {"numba", "numpy"}, optional
+        times : ndarray (B, K)
+            Output breakpoints (per query: the paths run at constant speed).
+
+        Returns
+        -------
+        ndarray of bool, shape (B,)
+            The certificate of SPEC section 5 (endpoints, obstacles fixed, finite,
+            clearance > 0), identical for both backends.
+        """
+        del lift
+        if len(configs) != 2:
+            raise ValueError(f"the planar_three planner plans r = 2 configurations, got {len(configs)}")
+        start, goal = configs
+        if times is None:
+            times = np.empty((wp.shape[0], K))
+        if resolve_backend(backend) == "numba":
+            args = _fusable(obstacles, start, goal)
+            if args is not None:
+                return _fused(*args, times, wp, domain, strata, clearance, certified=True)
+        obstacles = np.asarray(obstacles, dtype=float)
+        start = np.asarray(start, dtype=float)
+        goal = np.asarray(goal, dtype=float)
+        return _store_reference(obstacles, start, goal, np.arange(obstacles.shape[0]), times, wp,
+                                domain, strata, clearance)
+
+    def plan_one(self, obstacles, start, goal, lift: float) -> tuple | None:
+        """Fast path of :func:`pmplan.plan` for one query: validate, plan, certify in one call.
+
+        ``obstacles`` (3, 2), ``start``, ``goal`` (1, 2) as float64 arrays. Returns
+        ``(times (k,), waypoints (k, 4, 2), domain, strata row (list), clearance)`` -- the path
+        already compacted (no zero-duration piece), as :func:`pmplan.plan` returns it -- or
+        None whenever anything is unusual (numba missing, a malformed or invalid query, a
+        query the kernel flags, a failed certificate), so that the caller takes the general
+        path, which raises the proper error or re-decides exactly.
+        """
+        del lift
+        from .. import _kernels_planar as KP
+
+        if not KP.AVAILABLE:  # pragma: no cover
+            return None
+        if (obstacles.shape != (3, 2) or start.shape != (1, 2) or goal.shape != (1, 2)
+                or not (obstacles.flags.c_contiguous and start.flags.c_contiguous
+                        and goal.flags.c_contiguous)):
+            return None
+        t, wp, dom, f, i, j, clr, flags = KP.plan_planar_one(obstacles, start, goal, _EVEN)
+        if flags or not clr > 0:
+            return None
+        return t, wp, int(dom), [f, i, j], float(clr)
+
+
+# the breakpoints of a path of length 0 with k waypoints: _EVEN[k, :k] = linspace(0, 1, k)
+# (PiecewiseLinearPath.arc_length_reparametrised), for the kernel
+_EVEN = np.zeros((K + 1, K))
+for _k in range(2, K + 1):
+    _EVEN[_k, :_k] = np.linspace(0.0, 1.0, _k)
+
+
+def _fusable(obstacles, start, goal):
+    """C-contiguous float64 arrays (B, 3, 2), (B, 1, 2), (B, 1, 2) for the kernel, or None
+    (numba missing, other shapes: the reference decides, and raises its own errors)."""
+    from .. import _kernels_planar as KP
+
+    if not KP.AVAILABLE:  # pragma: no cover
+        return None
+    try:
+        obstacles = np.ascontiguousarray(obstacles, dtype=np.float64)
+        start = np.ascontiguousarray(start, dtype=np.float64)
+        goal = np.ascontiguousarray(goal, dtype=np.float64)
+    except (TypeError, ValueError):
+        return None
+    b = obstacles.shape[0] if obstacles.ndim == 3 else -1
+    if obstacles.shape != (b, 3, 2) or start.shape != (b, 1, 2) or goal.shape != (b, 1, 2):
+        return None
+    return obstacles, start, goal
+
+
+def _fused(obstacles, start, goal, times, wp, domain, strata, clearance, *,
+           certified: bool) -> np.ndarray | None:
+    """Plan (and certify) with the kernel of :mod:`pmplan._kernels_planar`, re-deciding
+    flagged queries exactly; fill the outputs in place.
+
+    ``FALLBACK`` queries are recomputed whole by the numpy reference (:meth:`PlanarThreePlanner.plan`
+    with ``backend="numpy"``) and certified by :func:`pmplan.certify.certify`; ``SUSPECT`` ones
+    get their clearance from :func:`pmplan.certify.clearance` (exact on the suspect pairs).
+    Returns the certificate (B,) when ``certified``, else None (no exact clearance is computed).
+    """
+    from .. import _kernels_planar as KP
+
+    b = obstacles.shape[0]
+    flags = np.empty(b, np.uint8)
+    KP.plan_planar(obstacles, start, goal, _EVEN, False, times, wp, domain, strata, clearance,
+                   flags)
+    if not flags.any():
+        return clearance > 0 if certified else None
+    idx = np.flatnonzero(flags & KP.FALLBACK)
+    if not certified:
+        if idx.size:
+            raw = PLANAR_THREE.plan(obstacles[idx], start[idx], goal[idx], backend="numpy")
+            times[idx], wp[idx] = raw.path.times, raw.path.waypoints
+            domain[idx], strata[idx] = raw.domain, raw.strata
+        return None
+    sus = np.flatnonzero(flags == KP.SUSPECT)
+    if sus.size:
+        clearance[sus] = certified_clearance(wp[sus], 3)
+    ok = clearance > 0
+    if idx.size:
+        ok[idx] = _store_reference(obstacles, start, goal, idx, times, wp, domain, strata,
+                                   clearance)
+    return ok
+
+
+def _store_reference(obstacles, start, goal, idx, times, wp, domain, strata, clearance):
+    """Plan rows ``idx`` with the numpy reference, certify them (:func:`pmplan.certify.certify`,
+    as :func:`pmplan.api.plan_batch` certifies a RawPlan) and store them; return the certificate."""
+    obs, s, g = obstacles[idx], start[idx], goal[idx]
+    raw = PLANAR_THREE.plan(obs, s, g, backend="numpy")
+    pw = raw.path.waypoints
+    times[idx] = raw.path.times
+    wp[idx] = pw
+    domain[idx] = raw.domain
+    strata[idx] = raw.strata
+    clr, ok = certify(pw, np.concatenate([obs, s], axis=1), np.concatenate([obs, g], axis=1), 3)
+    clearance[idx] = clr
+    return ok
 
 
 PLANAR_THREE = register(PlanarThreePlanner())

@@ -1,0 +1,302 @@
+"""The fused numba kernel of the planar three-obstacle planner against its numpy reference.
+
+``backend="numba"`` (:mod:`pmplan._kernels_planar`) must reproduce ``backend="numpy"`` (the
+reference code of :mod:`pmplan.planners.planar_three` with :mod:`pmplan.predicates`,
+:mod:`pmplan.frame`, :mod:`pmplan.path`, :mod:`pmplan.certify`) exactly. What is checked, and
+why it can fail:
+
+* waypoints, breakpoints (per query, padded to K = 6), domains, strata records and certified
+  clearances are *equal* (``==``, no tolerance: the kernel does the reference's floating-point
+  operations in the reference's order) on the exact constructions of all 12 strata (which the
+  kernel decides alone: no flag, otherwise the comparison would be vacuous), on generic floats,
+  on exactly degenerate grid queries, on near-degenerate and rescaled mixed batches (also
+  those of :mod:`pmplan.generators`);
+* the exact constructions land in the stratum and domain they were built for (paper Section 4,
+  ``(w2)``-``(w4)``), start and end exactly at the query, at breakpoints 0 and 1;
+* each re-decision route is taken where it must be: an exact tie only fractions can see
+  (``FALLBACK``), a clearance ~1e-10 of the scene (``SUSPECT``), an overflowing ``o2 - o1``;
+* the same queries fail their certificate, with the same indices (``CertificationError``);
+* the single-query fast path (:meth:`PlanarThreePlanner.plan_one`) gives the reference
+  :class:`pmplan.Plan` and the reference errors; chunked planning equals unchunked planning;
+* the kernel is compiled for one signature only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from strategies import queries
+
+import pmplan
+from pmplan import _kernels_planar as KP
+from pmplan import api
+from pmplan.errors import CertificationError, PmplanError
+from pmplan.generators import near_degenerate_queries, random_queries
+from pmplan.planners import planar_three as P3
+from pmplan.planners.planar_three import (
+    DOMAIN_OF,
+    PLANAR_THREE,
+    STRATA,
+    K,
+    stratum_queries,
+    stratum_short_name,
+)
+
+
+def _kernel(o, s, g):
+    """Run the kernel alone on a batch; return (flags (B,), outputs dict)."""
+    o, s, g = (np.ascontiguousarray(a, dtype=float) for a in (o, s, g))
+    b = o.shape[0]
+    out = PLANAR_THREE.allocate(b, 2, 3, 1, 2)
+    flags = np.empty(b, np.uint8)
+    KP.plan_planar(o, s, g, P3._EVEN, False, out["times"], out["waypoints"], out["domain"],
+                   out["strata"], out["clearance"], flags)
+    return flags, out
+
+
+def _outcome(fn, *args, **kwargs):
+    """The result, or the (type, message, indices) of the pmplan error raised."""
+    try:
+        return fn(*args, **kwargs)
+    except PmplanError as exc:
+        idx = getattr(exc, "indices", None)
+        return type(exc), str(exc), None if idx is None else tuple(np.asarray(idx).tolist())
+
+
+def _both(o, s, g):
+    fast = _outcome(pmplan.plan_batch, o, s, g, backend="numba")
+    ref = _outcome(pmplan.plan_batch, o, s, g, backend="numpy")
+    assert_same_batch(fast, ref)
+    return fast
+
+
+def assert_same_batch(a, b):
+    if isinstance(a, tuple) or isinstance(b, tuple):
+        assert a == b
+        return
+    assert a.waypoints.shape == b.waypoints.shape == (len(b), K, 4, 2)
+    assert np.array_equal(a.waypoints, b.waypoints)
+    assert np.array_equal(a.times, b.times)
+    assert np.array_equal(a.domain, b.domain)
+    assert np.array_equal(a.strata, b.strata)
+    assert np.array_equal(a.clearance, b.clearance)
+    assert (a.planner, a.dims) == (b.planner, b.dims) == ("planar_three", (2, 1, 3))
+
+
+def _mixed(rng, names, count, exponent=0, noise=0.0):
+    """``count`` exact queries of every stratum in ``names``, shuffled, scaled by 2**exponent
+    and translated by a dyadic vector (still exact); then ``noise`` relative perturbation."""
+    parts = [stratum_queries(rng, name, count) for name in names]
+    o, s, g = (np.concatenate(a) for a in zip(*parts))
+    perm = rng.permutation(o.shape[0])
+    shift = rng.integers(-64, 65, size=2) / 8.0
+    o, s, g = (a[perm] * 2.0**exponent + shift for a in (o, s, g))
+    if noise:
+        o, s, g = (a + noise * (1 + np.abs(a)) * rng.normal(size=a.shape) for a in (o, s, g))
+    return o, s, g
+
+
+def test_tables_agree_with_the_planner():
+    """The kernel's stratum codes and domains are the planner's (paper (w2)-(w4))."""
+    assert KP.K == K
+    assert np.array_equal(KP.CODE_LUT, P3._LUT)
+    assert np.array_equal(KP._DOMAIN, [DOMAIN_OF[name] for name in STRATA])
+    assert P3._EVEN.shape == (K + 1, K)
+    for k in range(2, K + 1):
+        assert np.array_equal(P3._EVEN[k, :k], np.linspace(0.0, 1.0, k))
+
+
+@pytest.mark.parametrize("name", STRATA)
+def test_exact_constructions_equal_reference(name):
+    """Every stratum's exact queries (also rescaled by powers of two): identical to the
+    reference, decided by the kernel alone, in the right stratum and domain, exact ends."""
+    rng = np.random.default_rng(sum(map(ord, name)))
+    o, s, g = _mixed(rng, [name], 40, exponent=int(rng.integers(-20, 21)))
+    flags, _ = _kernel(o, s, g)
+    assert not flags.any()  # the float filter and the error-free stage decide everything
+    fast = _both(o, s, g)
+    assert {stratum_short_name(row) for row in fast.strata} == {name}
+    assert (fast.domain == DOMAIN_OF[name]).all()
+    assert np.array_equal(fast.waypoints[:, 0, 3], s[:, 0])
+    assert np.array_equal(fast.waypoints[:, -1, 3], g[:, 0])
+    assert (fast.waypoints[:, :, :3] == o[:, None]).all()
+    assert (fast.times[:, 0] == 0).all() and (fast.times[:, -1] == 1).all()
+    assert (np.diff(fast.times, axis=1) >= 0).all()
+    assert (fast.clearance > 0).all()
+
+
+@settings(max_examples=40)
+@given(st.booleans().flatmap(
+    lambda degenerate: st.tuples(
+        st.just(degenerate),
+        st.lists(queries(2, 3, 1, degenerate=degenerate), min_size=1, max_size=6))))
+def test_random_batches_equal_reference(case):
+    """Generic floats and exactly degenerate grid queries (hypothesis strategies)."""
+    degenerate, qs = case
+    o, s, g = (np.stack(a) for a in zip(*qs))
+    _both(o, s, g)
+    if not degenerate:  # generic queries are decided by the kernel alone
+        flags, _ = _kernel(o, s, g)
+        assert not (flags & KP.FALLBACK).any()
+
+
+@settings(max_examples=30)
+@given(st.integers(0, 2**32 - 1), st.lists(st.sampled_from(STRATA), min_size=1, max_size=12),
+       st.integers(-40, 40), st.sampled_from([0.0, 1e-9, 1e-12, 1e-15]))
+def test_mixed_near_degenerate_batches_equal_reference(seed, names, exponent, noise):
+    """Mixed strata, rescaled, with ties broken by relative noise down to 1e-15 (where some
+    queries need the exact stages, and some paths fail their certificate): same outcome."""
+    rng = np.random.default_rng(seed)
+    o, s, g = _mixed(rng, names, 3, exponent=exponent, noise=noise)
+    _both(o, s, g)
+
+
+@pytest.mark.parametrize("scale", [1e-9, 1e-13, 1e-15])
+def test_generator_queries_equal_reference(scale):
+    """pmplan.generators: generic normal queries and near-degenerate column queries of the
+    (d, n, m) = (2, 1, 3) strata with ties broken at ``scale`` (at 1e-15 some paths fail)."""
+    rng = np.random.default_rng(int(-np.log10(scale)))
+    generic = random_queries(rng, 2, 1, 3, 200)
+    flags, _ = _kernel(*generic)
+    assert not flags.any()
+    _both(*generic)
+    near = near_degenerate_queries(rng, 2, 1, 3, 60, scale=scale)
+    _both(near.obstacles, near.start, near.goal)
+
+
+def test_certificate_failures_agree():
+    """Scenes of size ~2**60, where the paper's unit (H = 1 + max(0, h3), s3 = c3 + 1) is below
+    the resolution of the coordinates, fail their certificate in both backends, with the same
+    indices; the rescaled queries around them are planned."""
+    rng = np.random.default_rng(4)
+    o, s, g = _mixed(rng, STRATA, 4)
+    big = np.zeros(o.shape[0], dtype=bool)
+    big[rng.choice(o.shape[0], size=12, replace=False)] = True
+    o, s, g = (np.where(big[:, None, None], a * 2.0**60, a) for a in (o, s, g))
+    fast = _both(o, s, g)
+    assert fast[0] is CertificationError
+    assert 0 < len(fast[2]) <= 12 and big[list(fast[2])].all()
+
+
+def test_tiny_clearance_is_decided_exactly():
+    """T1_12: x on L_C, 1e-10 from o2, goes straight to x'. The clearance is below certify's
+    float threshold: the kernel flags SUSPECT and certify.clearance decides it exactly."""
+    o = np.array([[[0.0, 0.0], [1.0, 0.0], [3.0, 0.0]]])
+    s = np.array([[[1.0 + 1e-10, 0.0]]])
+    g = np.array([[[2.0, 1.0]]])
+    flags, _ = _kernel(o, s, g)
+    assert flags[0] == KP.SUSPECT
+    fast = _both(o, s, g)
+    assert stratum_short_name(fast.strata[0]) == "T1_12"
+    assert 0.9e-10 < fast.clearance[0] < 1.1e-10
+
+
+def test_exact_tie_only_fractions_see_goes_to_the_reference():
+    """(0.3, -0.1) . (0.1, 0.3) == 0 exactly, but its products are inexact: the error-free stage
+    cannot decide, the kernel flags FALLBACK and the numpy reference decides (x on the column
+    of o1: cp(C) = 3, stratum T23_34)."""
+    o = np.array([[[0.0, 0.0], [0.1, 0.3], [2.0, 0.0]], [[0.0, 0.0], [4.0, 0.0], [2.5, 1.5]]])
+    s = np.array([[[0.3, -0.1]], [[0.0, -2.0]]])
+    g = np.array([[[3.0, 3.0]], [[6.0, 2.5]]])
+    flags, _ = _kernel(o, s, g)
+    assert flags.tolist() == [KP.FALLBACK, 0]
+    fast = _both(o, s, g)
+    assert fast.strata.tolist() == [[23, 3, 4], [23, 3, 4]]
+    raw = PLANAR_THREE.plan(o, s, g, backend="numba")
+    ref = PLANAR_THREE.plan(o, s, g, backend="numpy")
+    assert np.array_equal(raw.path.waypoints, ref.path.waypoints)
+    assert np.array_equal(raw.path.times, ref.path.times)
+    assert np.array_equal(raw.strata, ref.strata) and np.array_equal(raw.domain, ref.domain)
+    one = pmplan.plan(o[0], s[0], g[0])  # flagged: the fast path hands over to the reference
+    assert one.stratum == "T^{2,3}_{3,4}" and one.clearance == fast.clearance[0]
+
+
+def test_overflowing_direction_goes_to_the_reference():
+    """o2 - o1 overflows: the kernel flags FALLBACK; both backends give the same outcome."""
+    o = np.array([[[-1e308, 0.0], [1e308, 0.0], [0.0, 1.0]]])
+    s = np.array([[[5.0, 5.0]]])
+    g = np.array([[[7.0, -3.0]]])
+    with np.errstate(all="ignore"):
+        flags, _ = _kernel(o, s, g)
+        assert flags[0] & KP.FALLBACK
+        _both(o, s, g)
+
+
+@settings(max_examples=30)
+@given(st.booleans().flatmap(lambda degenerate: queries(2, 3, 1, degenerate=degenerate)))
+def test_single_plan_equals_reference(q):
+    """The lean single-query path gives the reference Plan (compacted breakpoints)."""
+    fast = pmplan.plan(*q)
+    ref = pmplan.plan(*q, backend="numpy")
+    assert (fast.domain, fast.stratum, fast.clearance, fast.planner, fast.dims) == (
+        ref.domain, ref.stratum, ref.clearance, ref.planner, ref.dims)
+    assert np.array_equal(fast.path.times, ref.path.times)
+    assert np.array_equal(fast.path.waypoints, ref.path.waypoints)
+    assert (np.diff(fast.path.times) > 0).all()
+
+
+@pytest.mark.parametrize("name", STRATA)
+def test_single_plan_of_every_stratum_uses_the_kernel(name):
+    o, s, g = stratum_queries(np.random.default_rng(3), name, 4)
+    for q in zip(o, s, g):
+        res = PLANAR_THREE.plan_one(*q, 1.0)
+        assert res is not None  # decided and certified by the kernel
+        times, wp, domain, row, clearance = res
+        ref = pmplan.plan(*q, backend="numpy")
+        assert (domain, stratum_short_name(row), clearance) == (
+            ref.domain, name, ref.clearance)
+        assert np.array_equal(times, ref.path.times)
+        assert np.array_equal(wp, ref.path.waypoints)
+        assert pmplan.plan(*q).stratum == ref.stratum
+
+
+O = [[0.0, 0.0], [4.0, 0.0], [2.5, 1.5]]
+
+
+@pytest.mark.parametrize("args, kwargs", [
+    ((O, [[0.0, -2.0]], [[6.0, 2.5]]), {}),
+    ((O, [[0.0, -2.0]], [[6.0, 2.5]]), {"lift": -1.0}),
+    ((O, [[0.0, -2.0]], [[6.0, 2.5]]), {"backend": "cuda"}),
+    ((O, [[np.nan, -2.0]], [[6.0, 2.5]]), {}),
+    ((O, [[0.0, -2.0]], [[np.inf, 2.5]]), {}),
+    ((O, [[2.5, 1.5]], [[6.0, 2.5]]), {}),
+    ((O, [[0.0, -2.0]], [[0.0, 0.0]]), {}),
+    (([[0.0, 0.0], [0.0, 0.0], [2.5, 1.5]], [[0.0, -2.0]], [[6.0, 2.5]]), {}),
+    (([[0.0, 0.0], [4.0, 0.0], [4.0, 0.0]], [[0.0, -2.0]], [[6.0, 2.5]]), {}),
+    ((O, [[0.0, -2.0]], [[6.0, 2.5, 1.0]]), {}),
+    ((O, [[0.0, -2.0]], [[6.0, 2.5]]), {"planner": "obstacle_line"}),
+])
+def test_fast_path_errors_are_the_reference_errors(args, kwargs):
+    fast = _outcome(pmplan.plan, *args, **kwargs)
+    if kwargs.get("backend") is not None:
+        assert isinstance(fast, tuple) and issubclass(fast[0], PmplanError)
+        return
+    ref = _outcome(pmplan.plan, *args, **kwargs, backend="numpy")
+    if isinstance(ref, tuple):
+        assert fast == ref
+    else:
+        assert (fast.domain, fast.stratum, fast.clearance) == (ref.domain, ref.stratum,
+                                                               ref.clearance)
+        assert np.array_equal(fast.path.waypoints, ref.path.waypoints)
+
+
+def test_chunks(monkeypatch):
+    """Chunk boundaries change nothing (CHUNK = 7 on a mixed batch of 36)."""
+    o, s, g = _mixed(np.random.default_rng(8), STRATA, 3)
+    whole = pmplan.plan_batch(o, s, g)
+    monkeypatch.setattr(api, "CHUNK", 7)
+    assert_same_batch(pmplan.plan_batch(o, s, g), whole)
+    assert_same_batch(pmplan.plan_batch(o, s, g, backend="numpy"), whole)
+
+
+def test_one_specialisation():
+    """Batches, single queries and other input dtypes/layouts reuse one compiled kernel."""
+    o, s, g = _mixed(np.random.default_rng(9), STRATA, 2)
+    pmplan.plan_batch(o.astype(np.float32), s, g[::1])
+    pmplan.plan_batch(np.asfortranarray(o), s, g)
+    pmplan.plan(o[0].tolist(), s[0], g[0])
+    PLANAR_THREE.plan(o, s, g)
+    assert len(KP.plan_planar.signatures) == 1
+    assert len(KP.plan_planar_one.signatures) == 1
