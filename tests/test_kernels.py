@@ -13,7 +13,12 @@ code of :mod:`pmplan.predicates`, :mod:`pmplan.frame`, :mod:`pmplan.planners.obs
 * the same queries fail their certificate, with the same indices;
 * validation: every error of the fast single-query path has the reference path's type and
   message; the kernel's coincidence test agrees with ``coincident_pairs``;
-* chunked planning equals unchunked planning.
+* chunked planning equals unchunked planning;
+* the kernel's shortcuts are exact: the generic column test (all projections pairwise farther
+  apart than the filter bound, no sort) against near-ties just above / below the bound, the
+  one-pass NaN detection on waypoints, and the one-pass validation of
+  :func:`pmplan.configuration.check_query` (:func:`pmplan._kernels.valid_queries`), which must
+  accept exactly the queries the reference checks accept, and leave the errors to them.
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ from strategies import queries
 
 import pmplan
 from pmplan import _kernels as K
-from pmplan import api
+from pmplan import api, configuration
 from pmplan.configuration import coincident_pairs
 from pmplan.errors import CertificationError, PmplanError
 from pmplan.planners.obstacle_line import OBSTACLE_LINE, path_times
@@ -294,3 +299,100 @@ def test_path_times(r):
     if r == 2:
         want = [0, 1 / 6, 1 / 3, 4 / 9, 5 / 9, 2 / 3, 5 / 6, 1]
         assert np.allclose(t, want, rtol=0, atol=2.0**-52)
+
+
+def test_non_finite_waypoints_are_flagged_wherever_they_are():
+    """An (unvalidated) query with o1 == o2 has w = 0: eps(C) = gap / |w| is not finite and so
+    are the middle waypoints, while the first and last rows are the (finite) input. The kernel
+    must flag NONFINITE (the certificate fails), whatever the order of the rows."""
+    o = np.array([[[-2.0, 0.0], [-2.0, 0.0]]])
+    s = np.array([[[0.0, 2.0], [0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]])
+    g = np.array([[[1.0, 1.0], [-1.0, 1.0], [1.0, 0.0], [1.0, -1.0]]])
+    wp = np.empty((1, 8, 6, 2))
+    flags = np.empty(1, np.uint8)
+    clr = np.empty(1)
+    with np.errstate(all="ignore"):
+        K.plan_obstacle_line(o, s, g, np.empty((0, 1, 4, 2)), 1.0, False, wp,
+                             np.empty(1, np.int64), np.empty((1, 4), np.int64), clr, flags)
+    assert np.isfinite(wp[0, -1]).all() and not np.isfinite(wp).all()
+    assert flags[0] & K.NONFINITE
+    assert np.isnan(clr[0])
+
+
+@pytest.mark.parametrize("k", [-3, -1, 0, 1, 3, 64])
+def test_near_ties_around_the_filter_bound(k):
+    """Robots whose columns differ by k ulps of a coordinate ~1 (k <= 0: tie or swapped
+    order): near the filter bound the kernel takes its sorted path, far from it the generic
+    path; labels, waypoints and clearances equal the reference's either way."""
+    x = 1.0 + 2.0**-30
+    o = np.array([[[0.0, 0.0], [1.0, 0.0]]] * 2)
+    s = np.array([[[x, 1.0], [np.nextafter(x, 3.0 if k > 0 else -3.0) if k else x, -2.0]],
+                  [[x, 1.0], [x + k * 2.0**-52, 3.0]]])
+    g = np.array([[[-1.0, 1.0], [2.5, -1.5]]] * 2)
+    fast = _outcome(pmplan.plan_batch, o, s, g, backend="numba")
+    ref = _outcome(pmplan.plan_batch, o, s, g, backend="numpy")
+    assert_same_batch(fast, ref)
+    if not isinstance(fast, tuple):
+        # equal columns (k = 0) leave fewer classes than points; distinct ones do not
+        assert (fast.strata[:, 0] < 4).tolist() == [k == 0, k == 0]
+
+
+def _reference_valid(o, s, g):
+    fin = np.isfinite(o).all() and np.isfinite(s).all() and np.isfinite(g).all()
+    return bool(fin and not coincident_pairs(np.concatenate([o, s], 1)).any()
+                and not coincident_pairs(np.concatenate([o, g], 1)).any())
+
+
+@settings(max_examples=40)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 5), st.integers(2, 4), st.integers(2, 4),
+       st.sampled_from([0.0, np.nan, np.inf, 1e308]))
+def test_valid_queries_agrees_with_the_reference_checks(seed, n, m, d, special):
+    """valid_queries accepts exactly the batches with finite coordinates and no coincident
+    points (small integer grids: coincidences and equal keys are frequent); 1e308 makes the
+    keys overflow to inf, so equal keys of distinct points are compared exactly."""
+    rng = np.random.default_rng(seed)
+    o, s, g = (rng.integers(-2, 3, size=(6, k, d)).astype(float) for k in (m, n, n))
+    if special == 1e308:  # coordinates up to 1e308: keys x0 + 0.57 x1 + ... overflow to inf
+        o, s, g = o * 5e307, s * 5e307, g * 5e307
+    elif special != 0.0:
+        (o, s, g)[seed % 3][seed % 6, 0, seed % d] = special
+    want = _reference_valid(o, s, g)
+    assert K.valid_queries(o, s, g) == want
+    for b in range(6):  # and query by query
+        assert K.valid_queries(o[b:b + 1], s[b:b + 1], g[b:b + 1]) == _reference_valid(
+            o[b:b + 1], s[b:b + 1], g[b:b + 1])
+
+
+@settings(max_examples=30)
+@given(st.integers(0, 2**32 - 1), st.booleans(), st.sampled_from(["ok", "nan", "shape", "list"]))
+def test_check_query_fast_path_is_the_reference(seed, batched, kind):
+    """check_query with its one-pass fast path returns what the reference checks return, and
+    raises the same error (type and message) where they raise."""
+    rng = np.random.default_rng(seed)
+    shape = (3,) if batched else ()
+    o = rng.integers(-2, 3, size=shape + (2, 2)).astype(float)
+    s = rng.integers(-2, 3, size=shape + (2, 2)).astype(float)
+    g = rng.integers(-2, 3, size=shape + (2, 2)).astype(float)
+    if kind == "nan":
+        s[..., 0, 1] = np.nan
+    elif kind == "shape":
+        g = g[..., :1, :]
+    elif kind == "list":
+        o, s, g = o.tolist(), s.tolist(), g.tolist()
+
+    def outcome(fast):
+        saved = configuration._valid_fast
+        if not fast:
+            configuration._valid_fast = lambda *a: None
+        try:
+            return configuration.check_query(o, s, g, batched=batched)
+        except PmplanError as exc:
+            return type(exc), str(exc)
+        finally:
+            configuration._valid_fast = saved
+
+    got, want = outcome(True), outcome(False)
+    if isinstance(want, tuple) and isinstance(want[0], type):
+        assert got == want
+    else:
+        assert all(np.array_equal(a, b) and a.shape == b.shape for a, b in zip(got, want))

@@ -19,6 +19,19 @@ without any temporary larger than a few rows, exactly what that reference comput
 * the certificate of SPEC section 5: endpoints, obstacles fixed, finiteness, and the clearance
   (closed-form minimum distance per piece and pair, as :func:`pmplan.certify.clearance`).
 
+How the kernel is laid out for speed (every shortcut is exact, see the tests):
+
+* the generic case of the column classes -- all projections pairwise farther apart than the
+  filter bound -- is decided without sorting (then ``cp = m + n``, ``cp_o = m`` and the gap is
+  the smallest pairwise difference, which rounding monotonicity makes the sorted neighbours'
+  one); the stable sort (by ranks) and the error-free stage run only otherwise;
+* the waypoints are gathered from one small vector of values through index tables
+  (:func:`_build_tables`, built once per (r, m, n, d) and cached by :func:`tables`), written
+  once, and *read back* for the certificate: the relative position of every pair at every
+  waypoint is formed once from the written waypoints, and each piece takes two consecutive rows;
+* the clearance is a branch-free pass over the pairs (vectorised); only when some squared
+  minimum is small does the loop that decides as :func:`pmplan.certify.clearance` run.
+
 Every floating-point operation is done in the reference's order -- sums over the d coordinates
 are sequential, which is numpy's order below 8 terms, hence ``d <= MAX_D = 7`` (larger d is
 planned by the numpy reference) -- and no fused multiply-add or fast-math reassociation is
@@ -75,7 +88,9 @@ __all__ = [
     "MAX_D",
     "plan_obstacle_line",
     "plan_one",
+    "tables",
     "first_coincident",
+    "valid_queries",
 ]
 
 FALLBACK = 1
@@ -93,6 +108,7 @@ _TINY = 2.0**-1070
 _REL = 1e-9  # as in pmplan.certify
 _BIG = 2.0**900  # TwoProduct's split overflows beyond this (as in pmplan.predicates)
 _SMALL = 2.0**-900  # below this TwoProduct's error term may underflow (as in pmplan.predicates)
+_MAXF = 1.7976931348623157e308  # the largest finite float
 
 
 _OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
@@ -193,17 +209,26 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
     if not (finite and math.isfinite(bound)):
         return False, 0, 0, 0.0
     thr = 2.0 * (2.0 * bound) * (1 + 4 * _U)
-    # stable insertion sort (numpy's argsort(kind="stable") order)
-    for i in range(p):
-        order[i] = i
+    # all projections pairwise farther apart than thr (the generic case): every point is its
+    # own column, and the smallest gap between neighbours in the sorted order is the smallest
+    # |vals[i] - vals[j]| (rounding is monotone, so no non-neighbour difference is smaller)
+    mind = np.inf
     for i in range(1, p):
-        o = order[i]
-        key = vals[o]
-        j = i - 1
-        while j >= 0 and vals[order[j]] > key:
-            order[j + 1] = order[j]
-            j -= 1
-        order[j + 1] = o
+        vi = vals[i]
+        for j in range(i):
+            df = abs(vi - vals[j])
+            mind = df if df < mind else mind  # noqa: FURB136 (branch-free, as below)
+    if mind > thr:
+        return True, p, m, mind
+    # stable argsort (numpy's argsort(kind="stable") order) by ranks, branch-free: the rank of
+    # point i is the number of points before it (smaller value, or equal value and index)
+    for i in range(p):
+        rk = 0
+        vi = vals[i]
+        for j in range(p):
+            vj = vals[j]
+            rk += (vj < vi) | ((vj == vi) & (j < i))
+        order[rk] = i
     label = 0
     lab[order[0]] = 0
     gap = np.inf
@@ -241,94 +266,201 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
 
 
 @njit(**_INLINE)
-def _clearance_plane(s, kk, p, m, thr2, best):  # pragma: no cover - compiled
-    """Squared clearance in the plane (d = 2), branch-free: the generic loop's arithmetic.
+def _clearance_plane(dd, kk, npairs, best):  # pragma: no cover - compiled
+    """Squared clearance in the plane (d = 2), branch-free over the pairs (vectorised).
 
-    Returns ``(min squared distance, undecided)``; ``undecided`` is True when some squared
-    minimum is not above ``thr2``, and the caller then runs the generic loop, which decides
-    those minima exactly as :func:`pmplan.certify.clearance` does. ``best`` is scratch (p,).
+    ``dd[t, c, k]`` is coordinate c of the relative position of pair k at waypoint t; the
+    arithmetic is :func:`pmplan.certify.segment_clearance`'s, in its order, on every piece.
+    Returns the minimum float squared distance; ``best`` is scratch (npairs,).
     """
-    for j in range(p):
-        best[j] = np.inf
-    low = False
+    for k in range(npairs):
+        best[k] = np.inf
     for t in range(kk - 1):
-        for i in range(p - 1):
-            ax0 = s[t, 0, i]
-            ay0 = s[t, 1, i]
-            ax1 = s[t + 1, 0, i]
-            ay1 = s[t + 1, 1, i]
-            for j in range(max(i + 1, m), p):
-                rx = ax0 - s[t, 0, j]
-                ry = ay0 - s[t, 1, j]
-                vx = (ax1 - s[t + 1, 0, j]) - rx
-                vy = (ay1 - s[t + 1, 1, j]) - ry
-                vv = (0.0 + vx * vx) + vy * vy
-                num = -((0.0 + rx * vx) + ry * vy)
-                q = num / vv
-                q = 1.0 if num >= vv else q
-                q = 0.0 if num <= 0 else q
-                q = q if vv > 0 else 0.0
-                qx = rx + q * vx
-                qy = ry + q * vy
-                dist2 = (0.0 + qx * qx) + qy * qy
-                low |= not dist2 > thr2
-                best[j] = dist2 if dist2 < best[j] else best[j]  # noqa: FURB136
+        for k in range(npairs):
+            rx = dd[t, 0, k]
+            ry = dd[t, 1, k]
+            vx = dd[t + 1, 0, k] - rx
+            vy = dd[t + 1, 1, k] - ry
+            vv = (0.0 + vx * vx) + vy * vy
+            num = -((0.0 + rx * vx) + ry * vy)
+            q = num / vv
+            q = 1.0 if num >= vv else q
+            q = 0.0 if num <= 0 else q
+            q = q if vv > 0 else 0.0
+            qx = rx + q * vx
+            qy = ry + q * vy
+            dist2 = (0.0 + qx * qx) + qy * qy
+            best[k] = dist2 if dist2 < best[k] else best[k]  # noqa: FURB136
     out = np.inf
-    for j in range(p):
-        if best[j] < out:  # noqa: PLR1730 (explicit compare: NaN is never selected)
-            out = best[j]
-    return out, low
+    for k in range(npairs):
+        if best[k] < out:  # noqa: PLR1730 (explicit compare: NaN is never selected)
+            out = best[k]
+    return out
 
 
 @njit(**_INLINE)
-def _clearance_any(s, kk, p, m, d, thr2, best, vv, rv, tt):  # pragma: no cover - compiled
-    """:func:`_clearance_plane` for any d (coordinate loops); scratch arrays of length p."""
-    for j in range(p):
-        best[j] = np.inf
-    low = False
+def _clearance_any(dd, kk, npairs, d, best, vv, rv, tt, d2):  # pragma: no cover - compiled
+    """:func:`_clearance_plane` for any d (coordinate loops outside the pair loops)."""
+    for k in range(npairs):
+        best[k] = np.inf
     for t in range(kk - 1):
-        for i in range(p - 1):
-            j0 = max(i + 1, m)
-            for j in range(j0, p):
-                vv[j] = 0.0
-                rv[j] = 0.0
-            for c in range(d):
-                a0 = s[t, c, i]
-                a1 = s[t + 1, c, i]
-                for j in range(j0, p):
-                    r0 = a0 - s[t, c, j]
-                    vc = (a1 - s[t + 1, c, j]) - r0
-                    vv[j] += vc * vc
-                    rv[j] += r0 * vc
-            for j in range(j0, p):
-                num = -rv[j]
-                q = num / vv[j]
-                q = 1.0 if num >= vv[j] else q
-                q = 0.0 if num <= 0 else q
-                tt[j] = q if vv[j] > 0 else 0.0
-                vv[j] = 0.0  # now the squared distance
-            for c in range(d):
-                a0 = s[t, c, i]
-                a1 = s[t + 1, c, i]
-                for j in range(j0, p):
-                    r0 = a0 - s[t, c, j]
-                    vc = (a1 - s[t + 1, c, j]) - r0
-                    qc = r0 + tt[j] * vc
-                    vv[j] += qc * qc
-            for j in range(j0, p):
-                dist2 = vv[j]
-                low |= not dist2 > thr2
-                best[j] = dist2 if dist2 < best[j] else best[j]  # noqa: FURB136
+        for k in range(npairs):
+            vv[k] = 0.0
+            rv[k] = 0.0
+        for c in range(d):
+            for k in range(npairs):
+                r0 = dd[t, c, k]
+                vc = dd[t + 1, c, k] - r0
+                vv[k] += vc * vc
+                rv[k] += r0 * vc
+        for k in range(npairs):
+            num = -rv[k]
+            q = num / vv[k]
+            q = 1.0 if num >= vv[k] else q
+            q = 0.0 if num <= 0 else q
+            tt[k] = q if vv[k] > 0 else 0.0
+            d2[k] = 0.0
+        for c in range(d):
+            for k in range(npairs):
+                r0 = dd[t, c, k]
+                vc = dd[t + 1, c, k] - r0
+                qc = r0 + tt[k] * vc
+                d2[k] += qc * qc
+        for k in range(npairs):
+            best[k] = d2[k] if d2[k] < best[k] else best[k]  # noqa: FURB136
     out = np.inf
-    for j in range(p):
-        if best[j] < out:  # noqa: PLR1730 (explicit compare: NaN is never selected)
-            out = best[j]
-    return out, low
+    for k in range(npairs):
+        if best[k] < out:  # noqa: PLR1730 (explicit compare: NaN is never selected)
+            out = best[k]
+    return out
+
+
+@njit(**_INLINE)
+def _clearance_exact(wf, b, dd, kk, p, d, npairs, pi, pj, thr2):  # pragma: no cover - compiled
+    """The clearance loop deciding small minima as :func:`pmplan.certify.clearance` does.
+
+    Returns ``(min squared distance, suspect)``: ``suspect`` is True when some pair's float
+    minimum is not above certify's threshold ``1e-9 max(scale, 1e-6 absval)``.
+    """
+    best = np.inf
+    suspect = False
+    for t in range(kk - 1):
+        for k in range(npairs):
+            vv = 0.0
+            rv = 0.0
+            for c in range(d):
+                r0 = dd[t, c, k]
+                vc = dd[t + 1, c, k] - r0
+                vv += vc * vc
+                rv += r0 * vc
+            num = -rv
+            q = num / vv
+            if num <= 0:
+                q = 0.0
+            elif num >= vv:
+                q = 1.0
+            if not vv > 0:
+                q = 0.0
+            dist2 = 0.0
+            for c in range(d):
+                r0 = dd[t, c, k]
+                vc = dd[t + 1, c, k] - r0
+                qc = r0 + q * vc
+                dist2 += qc * qc
+            if not dist2 > thr2:
+                dist = math.sqrt(dist2)
+                scale = 0.0
+                absval = 0.0
+                i0 = (t * p + pi[k]) * d
+                j0 = (t * p + pj[k]) * d
+                i1 = i0 + p * d
+                j1 = j0 + p * d
+                for c in range(d):
+                    scale = max(scale, abs(dd[t, c, k]), abs(dd[t + 1, c, k]))
+                    absval = max(absval, abs(wf[b, i0 + c]), abs(wf[b, j0 + c]),
+                                 abs(wf[b, i1 + c]), abs(wf[b, j1 + c]))
+                if not dist > _REL * max(scale, absval * 1e-6):
+                    suspect = True
+            if dist2 < best:  # noqa: PLR1730 (explicit compare: NaN is never selected)
+                best = dist2
+    return best, suspect
 
 
 @njit(**_OPTS)
-def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domain, strata,
-                       clearance, flags):  # pragma: no cover - compiled
+def _build_tables(r, m, n, d):  # pragma: no cover - compiled
+    """The index tables of :func:`_plan` for queries through r configurations of (d, n, m).
+
+    One int64 vector: ``g1, g2, add`` (size ``K (m + n) d`` each: waypoint element x is
+    ``src[g1[x]]``, plus ``src[g2[x]]`` where ``add[x]``), the pairs ``pi, pj`` with a moving
+    point, and ``ia, ja``: the positions in a waypoint block of the two coordinates whose
+    difference is ``dd[t, c, k]``.
+    """
+    p = m + n
+    kk = 7 * (r - 1) + 1
+    row = p * d
+    size = kk * row
+    y0 = 1
+    x10 = y0 + r * p * d
+    x20 = x10 + r * n * d
+    of0 = x20 + r * n * d
+    # waypoint element x is src[g1[x]] (+ src[g2[x]] where add[x]): paper Remark
+    # constructing-sections-via-deformations, one leg C_k -> C_{k+1} per 7 waypoints
+    g1 = np.zeros(size, np.int64)
+    g2 = np.zeros(size, np.int64)
+    add = np.zeros(size, np.int64)
+    for k in range(r - 1):
+        for s in range(7):
+            for i in range(p):
+                for c in range(d):
+                    x = (7 * k + s) * row + i * d + c
+                    if i < m:
+                        g1[x] = y0 + i * d + c
+                        # (the reference adds the zero lift to the obstacles too)
+                        add[x] = 1 if s == 3 or s == 4 else 0
+                        continue
+                    j = i - m
+                    a0 = (k * n + j) * d + c
+                    a1 = a0 + n * d
+                    if s == 0:
+                        g1[x] = y0 + (k * p + i) * d + c
+                    elif s == 1:
+                        g1[x] = x10 + a0
+                    elif s in (2, 3):
+                        g1[x] = x20 + a0
+                    elif s in (4, 5):
+                        g1[x] = x20 + a1
+                    else:
+                        g1[x] = x10 + a1
+                    if s == 3 or s == 4:
+                        g2[x] = of0 + j * d + c
+                        add[x] = 1
+    for i in range(p * d):
+        g1[(kk - 1) * row + i] = y0 + (r - 1) * p * d + i
+    # the pairs with a moving point (i < j, j >= m), and the positions of their coordinates
+    npairs = (p * (p - 1)) // 2 - (m * (m - 1)) // 2
+    pi = np.empty(npairs, np.int64)
+    pj = np.empty(npairs, np.int64)
+    k = 0
+    for i in range(p - 1):
+        for j in range(max(i + 1, m), p):
+            pi[k] = i
+            pj[k] = j
+            k += 1
+    ndd = kk * d * npairs
+    ia = np.empty(ndd, np.int64)
+    ja = np.empty(ndd, np.int64)
+    for t in range(kk):
+        for c in range(d):
+            for k in range(npairs):
+                x = (t * d + c) * npairs + k
+                ia[x] = t * row + pi[k] * d + c
+                ja[x] = t * row + pj[k] * d + c
+    return np.concatenate((g1, g2, add, pi, pj, ia, ja))
+
+
+@njit(**_OPTS)
+def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
+          tab):  # pragma: no cover - compiled
     """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c).
 
     Parameters
@@ -342,7 +474,7 @@ def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domai
     validate : bool
         Check the input first: a query with a non-finite coordinate or two equal points in one
         of its configurations gets the flag ``INVALID`` and nothing else is computed for it.
-    wp : float64 (B, 7 (r - 1) + 1, m + n, d), output
+    wp : float64 (B, 7 (r - 1) + 1, m + n, d), C-contiguous, output
         The waypoints (bitwise those of the numpy reference).
     domain : int64 (B,), output
         ``l = sum_k cp(C_k) - (r - 1) cp_o + 2 - [e == N]``.
@@ -352,12 +484,21 @@ def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domai
         The certified clearance where ``flags == 0``.
     flags : uint8 (B,), output
         Bit set of ``FALLBACK``, ``SUSPECT``, ``NONFINITE``, ``BROKEN``, ``INVALID``.
+
+    Notes
+    -----
+    The certificate is computed from the waypoints as written into ``wp`` (read back), not from
+    the construction: the relative position of every pair at every waypoint is formed once
+    (``dd``), and the closed-form minimum of every piece is taken from two consecutive rows.
     """
     nb, m, d = obstacles.shape
     n = first.shape[1]
     r = middle.shape[0] + 2
     p = m + n
     kk = wp.shape[1]
+    row = p * d
+    size = kk * row
+    wf = wp.reshape((nb, size))
     w = np.empty(d)
     e = np.empty(d)
     nu = np.empty(d)
@@ -366,15 +507,35 @@ def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domai
     order = np.empty(p, np.int64)
     lab = np.empty(p, np.int64)
     cps = np.empty(r, np.int64)
-    y = np.empty((r, p, d))  # the configurations C_k (waypoints 7k)
-    x1 = np.empty((r, n, d))  # desingularized robots F(C_k, 1)
-    x2 = np.empty((r, n, d))  # projected robots phi(F(C_k, 1), 1)
-    off = np.empty((n, d))  # the lift i lambda nu(e) of robot i
-    s = np.empty((kk, d, p))  # this query's waypoints, coordinate-major (for the clearance)
-    vv = np.empty(p)
-    rv = np.empty(p)
-    tt = np.empty(p)
-    d2 = np.empty(p)
+    # the values the waypoints are made of, in one vector: 0.0, then the configurations C_k
+    # (waypoints 7k), the desingularized robots F(C_k, 1), the projected robots
+    # phi(F(C_k, 1), 1), and the lift i lambda nu(e) of robot i
+    y0 = 1
+    x10 = y0 + r * p * d
+    x20 = x10 + r * n * d
+    of0 = x20 + r * n * d
+    src = np.zeros(of0 + n * d)
+    y = src[y0:x10].reshape((r, p, d))
+    x1 = src[x10:x20].reshape((r, n, d))
+    x2 = src[x20:of0].reshape((r, n, d))
+    off = src[of0:].reshape((n, d))
+    size3 = 3 * size
+    npairs = (p * (p - 1)) // 2 - (m * (m - 1)) // 2  # pairs with a moving point
+    ndd = kk * d * npairs
+    g1 = tab[0:size]
+    g2 = tab[size:2 * size]
+    add = tab[2 * size:size3]
+    pi = tab[size3:size3 + npairs]
+    pj = tab[size3 + npairs:size3 + 2 * npairs]
+    ia = tab[size3 + 2 * npairs:size3 + 2 * npairs + ndd]
+    ja = tab[size3 + 2 * npairs + ndd:size3 + 2 * npairs + 2 * ndd]
+    ddf = np.empty(ndd)
+    dd = ddf.reshape((kk, d, npairs))  # relative positions of the pairs at every waypoint
+    best_k = np.empty(npairs)
+    vv = np.empty(npairs)
+    rv = np.empty(npairs)
+    tt = np.empty(npairs)
+    d2 = np.empty(npairs)
     nfl = float(n + m)
     odd = d % 2 == 1
     for b in range(nb):
@@ -479,52 +640,28 @@ def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domai
             li = lam * float(j + 1)
             for c in range(d):
                 off[j, c] = li * nu[c]
-        # --- the waypoints (paper Remark constructing-sections-via-deformations) -----------
-        for k in range(r - 1):
-            t0 = 7 * k
-            for c in range(d):
-                for i in range(m):
-                    oc = y[0, i, c]
-                    s[t0, c, i] = oc
-                    s[t0 + 1, c, i] = oc
-                    s[t0 + 2, c, i] = oc
-                    s[t0 + 3, c, i] = oc + 0.0
-                    s[t0 + 4, c, i] = oc + 0.0
-                    s[t0 + 5, c, i] = oc
-                    s[t0 + 6, c, i] = oc
-                for j in range(n):
-                    s[t0, c, m + j] = y[k, m + j, c]
-                    s[t0 + 1, c, m + j] = x1[k, j, c]
-                    s[t0 + 2, c, m + j] = x2[k, j, c]
-                    s[t0 + 3, c, m + j] = x2[k, j, c] + off[j, c]
-                    s[t0 + 4, c, m + j] = x2[k + 1, j, c] + off[j, c]
-                    s[t0 + 5, c, m + j] = x2[k + 1, j, c]
-                    s[t0 + 6, c, m + j] = x1[k + 1, j, c]
-        for c in range(d):
-            for i in range(p):
-                s[kk - 1, c, i] = y[r - 1, i, c]
+        # --- the waypoints, written into wp; the certificate (pmplan.certify) reads them back:
+        # finite, obstacles fixed, the configurations C_k at waypoints 7k -------------------
         amax = 0.0
-        for t in range(kk):
-            for i in range(p):
-                for c in range(d):
-                    x = s[t, c, i]
-                    wp[b, t, i, c] = x
-                    a = abs(x)
-                    if not a <= amax:
-                        amax = a
-        # --- certificate (pmplan.certify): finite, obstacles fixed, endpoints ---------------
-        if not math.isfinite(amax):
+        finite = True
+        for x in range(size):
+            v1 = src[g1[x]]
+            v2 = v1 + src[g2[x]]
+            v = v2 if add[x] else v1
+            wf[b, x] = v
+            a = abs(v)
+            finite &= a <= _MAXF  # False for inf and NaN
+            amax = a if a > amax else amax  # noqa: FURB136 (NaN is caught by `finite`)
+        if not finite:
             fl |= NONFINITE
         for t in range(1, kk):
-            for c in range(d):
-                for i in range(m):
-                    if s[t, c, i] != s[0, c, i]:
-                        fl |= BROKEN
+            for x in range(m * d):
+                if wf[b, t * row + x] != wf[b, x]:
+                    fl |= BROKEN
         for k in range(r):
-            for c in range(d):
-                for i in range(p):
-                    if s[7 * k, c, i] != y[k, i, c]:
-                        fl |= BROKEN
+            for x in range(row):
+                if wf[b, 7 * k * row + x] != src[y0 + k * row + x]:
+                    fl |= BROKEN
         dom = 2 - pole - (r - 1) * cp_o
         for k in range(r):
             dom += cps[k]
@@ -537,73 +674,27 @@ def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domai
             flags[b] = fl
             continue
         # --- clearance: closed-form minimum per piece and pair ------------------------------
+        for x in range(ndd):
+            ddf[x] = wf[b, ia[x]] - wf[b, ja[x]]
         # A float squared distance above thr2 is certainly above certify's suspect threshold
         # 1e-9 max(scale, 1e-6 absval) <= 2.0000001e-9 amax; below it, decide as certify does.
         thr2 = np.inf  # (outside that range every minimum is decided as certify does)
         if 1e-130 < amax < 1e130:
             thr2 = (2.1e-9 * amax) * (2.1e-9 * amax)
-        best = np.inf
-        # a fast branch-free pass; if some minimum is small, the loop below decides as certify
+        # a fast branch-free pass; if some minimum is small, the exact loop decides as certify
         if d == 2:
-            best, check = _clearance_plane(s, kk, p, m, thr2, d2)
+            best = _clearance_plane(dd, kk, npairs, best_k)
         else:
-            best, check = _clearance_any(s, kk, p, m, d, thr2, d2, vv, rv, tt)
-        if check:
-            best = np.inf
-            for t in range(kk - 1):
-                for i in range(p - 1):
-                    j0 = max(i + 1, m)
-                    for j in range(j0, p):
-                        vv[j] = 0.0
-                        rv[j] = 0.0
-                    for c in range(d):
-                        a0 = s[t, c, i]
-                        a1 = s[t + 1, c, i]
-                        for j in range(j0, p):
-                            r0 = a0 - s[t, c, j]
-                            vc = (a1 - s[t + 1, c, j]) - r0
-                            vv[j] += vc * vc
-                            rv[j] += r0 * vc
-                    for j in range(j0, p):
-                        num = -rv[j]
-                        q = num / vv[j]
-                        if num <= 0:
-                            q = 0.0
-                        elif num >= vv[j]:
-                            q = 1.0
-                        if not vv[j] > 0:
-                            q = 0.0
-                        tt[j] = q
-                        d2[j] = 0.0
-                    for c in range(d):
-                        a0 = s[t, c, i]
-                        a1 = s[t + 1, c, i]
-                        for j in range(j0, p):
-                            r0 = a0 - s[t, c, j]
-                            vc = (a1 - s[t + 1, c, j]) - r0
-                            qc = r0 + tt[j] * vc
-                            d2[j] += qc * qc
-                    for j in range(j0, p):
-                        dist2 = d2[j]
-                        if not dist2 > thr2:
-                            dist = math.sqrt(dist2)
-                            scale = 0.0
-                            absval = 0.0
-                            for c in range(d):
-                                scale = max(scale, abs(s[t, c, i] - s[t, c, j]),
-                                            abs(s[t + 1, c, i] - s[t + 1, c, j]))
-                                absval = max(absval, abs(s[t, c, i]), abs(s[t, c, j]),
-                                             abs(s[t + 1, c, i]), abs(s[t + 1, c, j]))
-                            if not dist > _REL * max(scale, absval * 1e-6):
-                                fl |= SUSPECT
-                        if dist2 < best:  # noqa: PLR1730 (explicit compare: NaN is never selected)
-                            best = dist2
-
+            best = _clearance_any(dd, kk, npairs, d, best_k, vv, rv, tt, d2)
+        if not best > thr2:
+            best, suspect = _clearance_exact(wf, b, dd, kk, p, d, npairs, pi, pj, thr2)
+            if suspect:
+                fl |= SUSPECT
         for i in range(m):
             for j in range(i + 1, m):
                 dist2 = 0.0
                 for c in range(d):
-                    dc = s[0, c, i] - s[0, c, j]
+                    dc = wf[b, i * d + c] - wf[b, j * d + c]
                     dist2 += dc * dc
                 if dist2 < best:  # noqa: PLR1730 (explicit compare: NaN is never selected)
                     best = dist2
@@ -612,12 +703,40 @@ def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domai
 
 
 @njit(**_OPTS)
-def plan_one(obstacles, start, goal, lift):  # pragma: no cover - compiled
+def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domain, strata,
+                       clearance, flags):  # pragma: no cover - compiled
+    """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c).
+
+    Parameters and outputs as :func:`_plan`, which this calls with the index tables of
+    :func:`_build_tables`.
+    """
+    m, d = obstacles.shape[1:]
+    tab = _build_tables(middle.shape[0] + 2, m, first.shape[1], d)
+    _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
+          tab)
+
+
+_TABLES: dict = {}
+
+
+def tables(r: int, m: int, n: int, d: int) -> np.ndarray:
+    """The index tables of :func:`_plan` for (r, m, n, d), cached (never to be written)."""
+    key = (r, m, n, d)
+    tab = _TABLES.get(key)
+    if tab is None:
+        tab = _build_tables(r, m, n, d)
+        if len(_TABLES) < 256:
+            _TABLES[key] = tab
+    return tab
+
+
+@njit(**_OPTS)
+def plan_one(obstacles, start, goal, lift, tab):  # pragma: no cover - compiled
     """One query, validated, planned and certified: the lean path of ``pmplan.plan``.
 
-    ``obstacles`` (m, d), ``start``, ``goal`` (n, d), C-contiguous float64. Returns
-    ``(waypoints (8, m+n, d), domain, cp(C), cp(C'), cp_o, [e == N], clearance, flags)``
-    (see :func:`plan_obstacle_line`, called with ``validate=True``).
+    ``obstacles`` (m, d), ``start``, ``goal`` (n, d), C-contiguous float64; ``tab`` is
+    :func:`tables` ``(2, m, n, d)``. Returns ``(waypoints (8, m+n, d), domain, cp(C), cp(C'),
+    cp_o, [e == N], clearance, flags)`` (see :func:`_plan`, called with ``validate=True``).
     """
     m, d = obstacles.shape
     n = start.shape[0]
@@ -627,9 +746,8 @@ def plan_one(obstacles, start, goal, lift):  # pragma: no cover - compiled
     clearance = np.empty(1)
     flags = np.empty(1, np.uint8)
     validate = m >= 0  # a run-time True: the batch kernel's own specialisation is reused
-    plan_obstacle_line(obstacles.reshape((1, m, d)), start.reshape((1, n, d)),
-                       goal.reshape((1, n, d)), np.empty((0, 1, n, d)), lift, validate, wp,
-                       domain, strata, clearance, flags)
+    _plan(obstacles.reshape((1, m, d)), start.reshape((1, n, d)), goal.reshape((1, n, d)),
+          np.empty((0, 1, n, d)), lift, validate, wp, domain, strata, clearance, flags, tab)
     return (wp[0], domain[0], strata[0, 0], strata[0, 1], strata[0, 2], strata[0, 3],
             clearance[0], flags[0])
 
@@ -654,3 +772,79 @@ def first_coincident(obstacles, robots):  # pragma: no cover - compiled
                 if same:
                     return b
     return -1
+
+
+@njit(**_INLINE)
+def _coincide(x, b, i, y, j, d):  # pragma: no cover - compiled
+    """Point i of ``x[b]`` equals point j of ``y[b]`` (flat rows of d coordinates)."""
+    eq = True
+    for c in range(d):
+        eq &= x[b, i * d + c] == y[b, j * d + c]
+    return eq
+
+
+@njit(**_OPTS)
+def valid_queries(obstacles, start, goal):  # pragma: no cover - compiled
+    """True when every coordinate is finite and no two points of ``obstacles[b] u start[b]``
+    or of ``obstacles[b] u goal[b]`` are equal (``==``), for every query b.
+
+    Shapes (B, m, d), (B, n, d), (B, n, d), C-contiguous. One pass, no temporary: the fast
+    path of :func:`pmplan.configuration.check_query`, which runs its reference checks (and
+    raises their errors) when this returns False. Equal points have equal keys
+    ``sum_c x_c w_c`` (the same float operations), so a configuration whose keys are pairwise
+    different has no coincident points; only where two keys are equal are the points compared.
+    """
+    nb, m, d = obstacles.shape
+    n = start.shape[1]
+    p = m + n
+    wk = np.empty(d)
+    for c in range(d):
+        wk[c] = 1.0 / (1.0 + 0.7548776662466927 * c)
+    o = obstacles.reshape((nb, m * d))
+    s = start.reshape((nb, n * d))
+    g = goal.reshape((nb, n * d))
+    ks = np.empty(p)
+    kg = np.empty(p)
+    for b in range(nb):
+        ok = True
+        for x in range(m * d):
+            ok &= abs(o[b, x]) <= _MAXF  # False for inf and NaN
+        for x in range(n * d):
+            ok &= abs(s[b, x]) <= _MAXF
+            ok &= abs(g[b, x]) <= _MAXF
+        if not ok:
+            return False
+        for i in range(m):
+            v = 0.0
+            for c in range(d):
+                v += o[b, i * d + c] * wk[c]
+            ks[i] = v
+            kg[i] = v
+        for j in range(n):
+            v = 0.0
+            u = 0.0
+            for c in range(d):
+                v += s[b, j * d + c] * wk[c]
+                u += g[b, j * d + c] * wk[c]
+            ks[m + j] = v
+            kg[m + j] = u
+        hit = False
+        for i in range(1, p):
+            a = ks[i]
+            z = kg[i]
+            for j in range(i):
+                hit |= (ks[j] == a) | (kg[j] == z)
+        if not hit:
+            continue
+        for i in range(m):  # some keys are equal: compare those points
+            for j in range(i + 1, m):
+                if _coincide(o, b, i, o, j, d):
+                    return False
+            for j in range(n):
+                if _coincide(o, b, i, s, j, d) or _coincide(o, b, i, g, j, d):
+                    return False
+        for i in range(n):
+            for j in range(i + 1, n):
+                if _coincide(s, b, i, s, j, d) or _coincide(g, b, i, g, j, d):
+                    return False
+    return True

@@ -464,14 +464,24 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
     if res is None:
         return None
     times, wp, domain, row, clearance = res
+    key = (p.name, d, n, m, *row)
+    stratum = _STRATUM_NAMES.get(key)
+    if stratum is None:
+        stratum = p.stratum_name(row, d, n, m)
+        if len(_STRATUM_NAMES) < 4096:
+            _STRATUM_NAMES[key] = stratum
     return Plan(
-        domain=domain,
-        stratum=p.stratum_name(row, d, n, m),
-        clearance=clearance,
+        domain=int(domain),
+        stratum=stratum,
+        clearance=float(clearance),
         path=PiecewiseLinearPath(times, wp),
         planner=p.name,
         dims=(d, n, m),
     )
+
+
+#: stratum names of the single-query fast path, by (planner, d, n, m, *stratum record)
+_STRATUM_NAMES: dict = {}
 
 
 def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:

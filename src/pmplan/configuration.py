@@ -95,7 +95,13 @@ def check_query(obstacles, start, goal, *, batched: bool, names: tuple[str, str]
 
     A single query is returned as a batch of one. ``names`` label the two robot arrays in error
     messages (e.g. ``("configuration 1", "configuration 3")`` for sequential queries).
+
+    A valid query takes the fast path (:func:`_valid_fast`: one numba pass, no temporary); any
+    problem sends it through the checks below, which raise the error.
     """
+    fast = _valid_fast(obstacles, start, goal, batched)
+    if fast is not None:
+        return fast
     obstacles = as_points(obstacles, "obstacles", batched)
     start = as_points(start, names[0], batched)
     goal = as_points(goal, names[1], batched)
@@ -125,6 +131,38 @@ def check_query(obstacles, start, goal, *, batched: bool, names: tuple[str, str]
             break
         _check_distinct(obstacles, robots, m, which, batched)
     return obstacles, start, goal
+
+
+def _valid_fast(obstacles, start, goal, batched: bool):
+    """Return the arrays of :func:`check_query` when the query is valid, else None.
+
+    Converts like :func:`as_points`, checks the axes and shapes, then asks
+    :func:`pmplan._kernels.valid_queries` (finite, no two equal points in C or C') in one pass.
+    It never raises: None means "let the reference checks decide (and word the error)".
+    """
+    from . import _kernels
+
+    if not _kernels.AVAILABLE:  # pragma: no cover
+        return None
+    try:
+        o = np.asarray(obstacles, dtype=float)
+        s = np.asarray(start, dtype=float)
+        g = np.asarray(goal, dtype=float)
+    except (TypeError, ValueError):
+        return None
+    want = 3 if batched else 2
+    if o.ndim != want or s.ndim != want or g.ndim != want:
+        return None
+    if not batched:
+        o, s, g = o[None], s[None], g[None]
+    if s.shape != g.shape or s.shape[0] != o.shape[0] or s.shape[2] != o.shape[2]:
+        return None
+    o = np.ascontiguousarray(o)
+    s = np.ascontiguousarray(s)
+    g = s if g is s else np.ascontiguousarray(g)
+    if not _kernels.valid_queries(o, s, g):
+        return None
+    return o, s, g
 
 
 def _check_distinct(obstacles: np.ndarray, robots: np.ndarray, m: int, which: str,

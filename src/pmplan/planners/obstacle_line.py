@@ -164,6 +164,9 @@ def path_times(r: int) -> np.ndarray:
     return out
 
 
+_TIMES2 = path_times(2)  # the breakpoints of every two-configuration path (read-only)
+
+
 def resolve_backend(backend: str | None) -> str:
     """Return ``"numba"`` or ``"numpy"``: the named backend, or the default (numba if installed).
 
@@ -184,6 +187,19 @@ def resolve_backend(backend: str | None) -> str:
         if not _kernels.AVAILABLE:  # pragma: no cover
             raise ValueError("backend 'numba' needs the numba package")
     return backend
+
+
+def _kernels_module():
+    """:mod:`pmplan._kernels`, imported on first use (it imports numba), then kept."""
+    global _KERNELS
+    if _KERNELS is None:
+        from .. import _kernels
+
+        _KERNELS = _kernels
+    return _KERNELS
+
+
+_KERNELS = None
 
 
 def _contiguous(a) -> np.ndarray:
@@ -214,8 +230,8 @@ def _fused(obstacles, configs, lift, wp, domain, strata, clearance) -> np.ndarra
     else:
         middle = np.empty((0, b, n, d))
     flags = np.empty(b, np.uint8)
-    K.plan_obstacle_line(obstacles, configs[0], configs[-1], middle, float(lift), False, wp,
-                         domain, strata, clearance, flags)
+    K._plan(obstacles, configs[0], configs[-1], middle, float(lift), False, wp, domain, strata,
+            clearance, flags, K.tables(r, m, n, d))
     ok = (flags & (K.NONFINITE | K.BROKEN)) == 0
     if not flags.any():
         return ok & (clearance > 0)
@@ -341,19 +357,20 @@ class ObstacleLinePlanner:
         the kernel flags, a failed certificate -- so that the caller takes the general path,
         which raises the proper error or re-decides exactly.
         """
-        from .. import _kernels as K
-
+        K = _kernels_module()
         if not K.AVAILABLE:  # pragma: no cover
             return None
         if obstacles.shape[1] > K.MAX_D or not (
             obstacles.flags.c_contiguous and start.flags.c_contiguous and goal.flags.c_contiguous
         ):
             return None
+        m, d = obstacles.shape
+        tab = K.tables(2, m, start.shape[0], d)
         wp, domain, cp1, cp2, cp_o, pole, clr, flags = K.plan_one(obstacles, start, goal,
-                                                                  float(lift))
+                                                                  float(lift), tab)
         if flags or not clr > 0:
             return None
-        return path_times(2).copy(), wp, int(domain), [cp1, cp2, cp_o, pole], float(clr)
+        return _TIMES2.copy(), wp, domain, [cp1, cp2, cp_o, pole], clr
 
     def path_times(self, r: int) -> np.ndarray:
         """Breakpoints of every path through r configurations (see :func:`path_times`)."""
