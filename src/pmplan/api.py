@@ -352,8 +352,8 @@ def plan_batch(
     progress : bool
         Show a progress bar (tqdm, on stderr) when the batch takes more than a few chunks.
     backend : {"numba", "numpy"}, optional
-        Implementation of the obstacle-line planner: the fused numba kernel (default when numba
-        is installed) or the numpy reference; both give identical plans. Other planners use numpy.
+        Implementation of the obstacle-line and planar_three planners: the fused numba kernels
+        (default when numba is installed) or the numpy references; both give identical plans.
 
     Returns
     -------
