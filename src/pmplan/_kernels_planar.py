@@ -57,6 +57,8 @@ import math
 
 import numpy as np
 
+from ._kernels import _two_prod, _two_sum  # the error-free transformations, shared
+
 try:
     from numba import njit
 
@@ -107,25 +109,6 @@ _DOMAIN = np.array([1, 3, 3, 2, 2, 3, 3, 1, 3, 4, 4, 1], dtype=np.int64)
 _FAMILY = np.array([1, 22, 23], dtype=np.int64)
 
 _OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
-
-
-@njit(**_OPTS)
-def _two_sum(a, b):  # pragma: no cover - compiled
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
-
-
-@njit(**_OPTS)
-def _two_prod(a, b):  # pragma: no cover - compiled
-    p = a * b
-    c = 134217729.0 * a
-    ah = c - (c - a)
-    al = a - ah
-    c = 134217729.0 * b
-    bh = c - (c - b)
-    bl = b - bh
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
 
 
 @njit(**_OPTS)
