@@ -145,6 +145,8 @@ def cmd_demo(args) -> int:
     if args.n < 1 or args.n > 8:
         from .errors import UnsupportedError
         raise UnsupportedError(f"demo takes 1 <= n <= 8 robots, got {args.n}")
+    print("pmplan demo: planning... (the first run after installing compiles pmplan's numba "
+          "kernels, about half a minute; they are cached for later runs)", file=sys.stderr)
     rows, plans = [], []
     for obstacles, start, goal in obstacle_line_examples(args.n):
         p = api.plan(obstacles, start, goal)
