@@ -335,7 +335,6 @@ class ObstacleLinePlanner:
         configs = [np.asarray(c, dtype=float) for c in configs]
         r = len(configs)
         fr = Frame(obstacles[:, 0], obstacles[:, 1])
-        m = obstacles.shape[1]
         cols = [column_structure(fr, obstacles, c) for c in configs]
         hs = [deformation(fr, obstacles, c, cs) for c, cs in zip(configs, cols)]
         lam = lift_height(fr, obstacles, lift)
@@ -345,7 +344,6 @@ class ObstacleLinePlanner:
         pole = fr.at_pole.astype(np.int64)
         domain = sum(c.cp for c in cols) - (r - 1) * cp_o + 2 - pole
         strata = np.stack([c.cp for c in cols] + [cp_o, pole], axis=1).astype(np.int64)
-        del m
         return RawPlan(domain=domain.astype(np.int64), strata=strata, path=path)
 
     def plan_one(self, obstacles, start, goal, lift: float):
