@@ -57,17 +57,8 @@ import math
 
 import numpy as np
 
-from ._kernels import _two_prod, _two_sum  # the error-free transformations, shared
-
-try:
-    from numba import njit
-
-    AVAILABLE = True
-except ImportError:  # pragma: no cover - numba is a dependency; keep the numpy path usable
-    AVAILABLE = False
-
-    def njit(*args, **kwargs):
-        return lambda f: f
+# the error-free transformations and the numba import (with its no-numba fallback), shared
+from ._kernels import AVAILABLE, _two_prod, _two_sum, njit
 
 __all__ = [
     "AVAILABLE",
