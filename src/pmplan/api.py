@@ -2,7 +2,9 @@
 
 Data flows one way: input arrays -> validation (:mod:`pmplan.configuration`) -> planner
 (:mod:`pmplan.planners`) -> path (:mod:`pmplan.path`) -> certificate (:mod:`pmplan.certify`)
--> :class:`Plan` / :class:`PlanBatch`. A single query is a batch of one.
+-> :class:`Plan` / :class:`PlanBatch`. A single query is a batch of one; :func:`plan` and
+:func:`plan_sequence` first try a lean path (one validating kernel call, see
+:func:`_plan_fast`) that gives the same :class:`Plan` and declines anything unusual.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from . import planners as _planners  # noqa: F401  (registers the planners)
 from .certify import certify
 from .configuration import as_points, check_query, check_same_obstacles
 from .errors import CertificationError, InputError, ShapeError, UnsupportedError
-from .path import PiecewiseLinearPath
+from .path import PiecewiseLinearPath, _unchecked_path
 from .planners.base import REGISTRY, Planner, RawPlan
 from .planners.obstacle_line import BACKENDS
 
@@ -205,7 +207,7 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None) -> Planne
 def _check_lift(lift: float) -> float:
     try:
         lift = float(lift)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"`lift` must be a positive number, got {lift!r}") from None
     if not np.isfinite(lift) or lift <= 0:
         raise InputError(f"`lift` must be a positive finite number, got {lift!r}")
@@ -438,50 +440,110 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
 
     Returns None -- and :func:`plan` then takes the general path, which raises the proper error
     or re-decides exactly -- for anything but a plain valid query whose kernel result needs no
-    exact re-decision (see :meth:`ObstacleLinePlanner.plan_one`). ``plan_one`` returns
-    ``(times, waypoints, domain, strata row, clearance)`` or None.
+    exact re-decision (see :meth:`ObstacleLinePlanner.plan_one`). The kernel function, the
+    planner's name, the dims and the stratum names are looked up once per (planner, shapes)
+    (:func:`_fast_entry`); inputs that already are C-contiguous float64 arrays are not copied;
+    the :class:`Plan` and its path are built without re-checking arrays the kernel wrote.
     """
-    if type(lift) not in (float, int) or not 0 < lift < math.inf:
+    if type(lift) is not float:
+        lift = _fast_lift(lift)
+    if not 0.0 < lift < math.inf:  # False for NaN
         return None
-    try:
-        o = np.asarray(obstacles, dtype=np.float64)
-        s = np.asarray(start, dtype=np.float64)
-        g = np.asarray(goal, dtype=np.float64)
-    except (TypeError, ValueError):
+    o = obstacles if type(obstacles) is np.ndarray and obstacles.dtype is _F64 \
+        and obstacles.flags.carray else _fast_array(obstacles)
+    s = start if type(start) is np.ndarray and start.dtype is _F64 \
+        and start.flags.carray else _fast_array(start)
+    g = goal if type(goal) is np.ndarray and goal.dtype is _F64 \
+        and goal.flags.carray else _fast_array(goal)
+    if o is None or s is None or g is None or (planner is not None and type(planner) is not str):
         return None
-    if o.ndim != 2 or s.ndim != 2 or s.shape != g.shape or o.shape[1] != s.shape[1]:
+    key = (planner, o.shape, s.shape, g.shape)
+    entry = _FAST.get(key, _UNSEEN)
+    if entry is _UNSEEN:
+        entry = _fast_entry(key)
+    if entry is None:
         return None
-    m, d = o.shape
-    n = s.shape[0]
-    if d < 2 or m < 2 or n < 1:
-        return None
-    if planner is None:
-        planner = "planar_three" if (d, n, m) == (2, 1, 3) else "obstacle_line"
-    p = REGISTRY.get(planner)
-    if p is None or not hasattr(p, "plan_one") or p.supports(d, n, m) is not None:
-        return None
-    res = p.plan_one(o, s, g, lift)
+    run, p, dims, names = entry
+    res = run(o, s, g, lift)
     if res is None:
         return None
     times, wp, domain, row, clearance = res
-    key = (p.name, d, n, m, *row)
-    stratum = _STRATUM_NAMES.get(key)
+    stratum = names.get(row)
     if stratum is None:
-        stratum = p.stratum_name(row, d, n, m)
-        if len(_STRATUM_NAMES) < 4096:
-            _STRATUM_NAMES[key] = stratum
-    return Plan(
-        domain=int(domain),
-        stratum=stratum,
-        clearance=float(clearance),
-        path=PiecewiseLinearPath(times, wp),
-        planner=p.name,
-        dims=(d, n, m),
-    )
+        stratum = _stratum_name(p, row, dims, names)
+    return _new_plan(domain, stratum, clearance, _unchecked_path(times, wp), p.name, dims)
 
 
-#: stratum names of the single-query fast path, by (planner, d, n, m, *stratum record)
-_STRATUM_NAMES: dict = {}
+def _fast_lift(lift) -> float:
+    """``lift`` as the float :func:`_check_lift` makes of it, or NaN (for the fast paths:
+    anything but a Python number goes to the general path)."""
+    if isinstance(lift, (int, float)):
+        try:
+            return float(lift)
+        except OverflowError:
+            pass
+    return math.nan
+
+
+def _fast_array(a) -> np.ndarray | None:
+    """``a`` as a new C-contiguous float64 array (as :func:`pmplan.configuration.as_points`
+    converts it), or None if it does not convert (the general path raises the error)."""
+    try:
+        return np.array(a, dtype=np.float64, order="C")
+    except (TypeError, ValueError):
+        return None
+
+
+def _fast_entry(key: tuple):
+    """``(run, planner, dims, stratum names)`` of the single-query fast path for ``key =
+    (planner name or None, obstacles shape, start shape, goal shape)``, or None if that shape
+    never takes it; cached in :data:`_FAST`."""
+    planner, oshape, sshape, gshape = key
+    entry = None
+    if len(oshape) == 2 and len(sshape) == 2 and sshape == gshape and oshape[1] == sshape[1]:
+        (m, d), n = oshape, sshape[0]
+        if planner is None:
+            planner = "planar_three" if (d, n, m) == (2, 1, 3) and "planar_three" in REGISTRY \
+                else "obstacle_line"
+        p = REGISTRY.get(planner)
+        if p is not None and p.supports(d, n, m) is None:
+            run = p.plan_one_for(m, n, d) if hasattr(p, "plan_one_for") \
+                else getattr(p, "plan_one", None)
+            if run is not None:
+                entry = (run, p, (d, n, m), {})
+    if len(_FAST) < 1024:
+        _FAST[key] = entry
+    return entry
+
+
+def _stratum_name(p: Planner, row: tuple, dims: tuple[int, int, int], names: dict) -> str:
+    """``p.stratum_name(row, d, n, m)``, remembered in ``names`` (by row)."""
+    d, n, m = dims
+    name = p.stratum_name(row, d, n, m)
+    if len(names) < 4096:
+        names[row] = name
+    return name
+
+
+def _new_plan(domain: int, stratum: str, clearance: float, path: PiecewiseLinearPath,
+              planner: str, dims: tuple[int, int, int]) -> Plan:
+    """``Plan(domain, stratum, clearance, path, planner, dims)`` without the frozen dataclass's
+    per-field ``object.__setattr__`` (the same object: :class:`Plan` has no validation)."""
+    plan = _NEW(Plan)
+    _SETATTR(plan, "__dict__", {"domain": domain, "stratum": stratum, "clearance": clearance,
+                                "path": path, "planner": planner, "dims": dims})
+    return plan
+
+
+_F64 = np.dtype(np.float64)
+_NEW = object.__new__
+_SETATTR = object.__setattr__
+_UNSEEN = object()
+#: the single-query fast paths by (planner, shapes) (see :func:`_fast_entry`); None: never
+_FAST: dict = {}
+#: the sequential fast path by (r, obstacles shape, configuration shape) (see
+#: :func:`_sequence_entry`); None: never
+_FAST_SEQUENCE: dict = {}
 
 
 def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
@@ -566,6 +628,10 @@ def plan_sequence(obstacles, configs, *, lift: float = 1.0, backend: str | None 
     >>> p.path(0.5)[2]
     array([ 1., -1.])
     """
+    if backend is None or backend == "numba":
+        fast = _plan_sequence_fast(obstacles, configs, lift)
+        if fast is not None:
+            return fast
     lift = _check_lift(lift)
     obstacles, configs = _check_sequence(obstacles, configs, batched=False)
     _, m, d = obstacles.shape
@@ -574,6 +640,65 @@ def plan_sequence(obstacles, configs, *, lift: float = 1.0, backend: str | None 
     _check_backend(backend)
     out = _run(p, obstacles, configs, lift, batched=False, sequential=True, backend=backend)
     return _single(p, (d, n, m), out)
+
+
+def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
+    """The lean path of :func:`plan_sequence`: one validating kernel call
+    (:meth:`ObstacleLinePlanner.plan_sequence_one_for`), as :func:`_plan_fast` for :func:`plan`.
+
+    Returns None -- and :func:`plan_sequence` then takes the general path, which raises the
+    proper error or re-decides exactly -- for anything but a plain valid query (a list, tuple or
+    array of r >= 2 configurations of one shape (n, d), obstacles (m, d), d <= MAX_D) whose
+    kernel result needs no exact re-decision.
+    """
+    if type(lift) is not float:
+        lift = _fast_lift(lift)
+    if not 0.0 < lift < math.inf or not (
+        type(configs) in (list, tuple) or type(configs) is np.ndarray and configs.ndim == 3
+    ):
+        return None
+    o = obstacles if type(obstacles) is np.ndarray and obstacles.dtype is _F64 \
+        and obstacles.flags.carray else _fast_array(obstacles)
+    if o is None or len(configs) < 2:
+        return None
+    cs = [c if type(c) is np.ndarray and c.dtype is _F64 and c.flags.carray else _fast_array(c)
+          for c in configs]
+    shape = None if cs[0] is None else cs[0].shape
+    for c in cs:
+        if c is None or c.shape != shape:
+            return None
+    key = (len(cs), o.shape, shape)
+    entry = _FAST_SEQUENCE.get(key, _UNSEEN)
+    if entry is _UNSEEN:
+        entry = _sequence_entry(key)
+    if entry is None:
+        return None
+    run, p, dims, names = entry
+    res = run(o, cs, lift)
+    if res is None:
+        return None
+    times, wp, domain, row, clearance = res
+    stratum = names.get(row)
+    if stratum is None:
+        stratum = _stratum_name(p, row, dims, names)
+    return _new_plan(domain, stratum, clearance, _unchecked_path(times, wp), p.name, dims)
+
+
+def _sequence_entry(key: tuple):
+    """``(run, planner, dims, stratum names)`` of the sequential fast path for ``key = (r,
+    obstacles shape, configuration shape)``, or None; cached in :data:`_FAST_SEQUENCE`."""
+    r, oshape, cshape = key
+    entry = None
+    if len(oshape) == 2 and len(cshape) == 2 and oshape[1] == cshape[1]:
+        (m, d), n = oshape, cshape[0]
+        p = REGISTRY["obstacle_line"]
+        if p.supports(d, n, m) is None:
+            run = p.plan_sequence_one_for(r, m, n, d)
+            if run is not None:
+                entry = (run, p, (d, n, m), {})
+    if len(_FAST_SEQUENCE) < 1024:
+        _FAST_SEQUENCE[key] = entry
+    return entry
 
 
 def parametrised_tc(d: int, n: int, m: int, r: int = 2) -> int:

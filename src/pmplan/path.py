@@ -208,6 +208,23 @@ class PiecewiseLinearPath:
         return PiecewiseLinearPath(self.times[keep], self.waypoints[keep])
 
 
+def _unchecked_path(times: np.ndarray, waypoints: np.ndarray) -> PiecewiseLinearPath:
+    """A :class:`PiecewiseLinearPath` of arrays already known to be valid, without the checks.
+
+    For the single-query fast paths of :mod:`pmplan.api` only: ``times`` (K,) and ``waypoints``
+    (K, P, d) are float64 arrays written by a certified kernel (so ``np.asarray`` would return
+    them unchanged and the shape checks of the constructor hold). The public constructor always
+    validates.
+    """
+    path = _NEW(PiecewiseLinearPath)
+    path.times = times
+    path.waypoints = waypoints
+    return path
+
+
+_NEW = object.__new__
+
+
 def linear(start, end) -> PiecewiseLinearPath:
     """Return the straight motion ``t -> start + t (end - start)`` (batched or not)."""
     start = np.asarray(start, dtype=float)

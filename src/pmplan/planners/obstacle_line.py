@@ -349,26 +349,96 @@ class ObstacleLinePlanner:
     def plan_one(self, obstacles, start, goal, lift: float):
         """Fast path for one small query: validate, plan and certify in one kernel call.
 
-        ``obstacles`` (m, d), ``start``, ``goal`` (n, d) as float64 arrays. Returns
-        ``(waypoints (8, m+n, d), domain, strata row (list), clearance)``, or None whenever
-        anything is unusual -- numba missing, d > MAX_D, a malformed or invalid query, a query
-        the kernel flags, a failed certificate -- so that the caller takes the general path,
-        which raises the proper error or re-decides exactly.
+        ``obstacles`` (m, d), ``start``, ``goal`` (n, d) as C-contiguous float64 arrays.
+        Returns ``(times (8,), waypoints (8, m+n, d), domain, strata row (tuple), clearance)``,
+        or None whenever anything is unusual -- numba missing, d > MAX_D, a malformed or invalid
+        query, a query the kernel flags, a failed certificate -- so that the caller takes the
+        general path, which raises the proper error or re-decides exactly.
+        (:func:`pmplan.plan` calls the function of :meth:`plan_one_for` directly.)
         """
-        K = _kernels_module()
-        if not K.AVAILABLE:  # pragma: no cover
-            return None
-        if obstacles.shape[1] > K.MAX_D or not (
-            obstacles.flags.c_contiguous and start.flags.c_contiguous and goal.flags.c_contiguous
-        ):
+        arrays = (obstacles, start, goal)
+        if not all(type(a) is np.ndarray and a.dtype == np.float64 and a.flags.carray
+                   for a in arrays) or obstacles.ndim != 2 or start.ndim != 2 \
+                or start.shape != goal.shape or start.shape[1] != obstacles.shape[1]:
             return None
         m, d = obstacles.shape
-        tab = K.tables(2, m, start.shape[0], d)
-        wp, domain, cp1, cp2, cp_o, pole, clr, flags = K.plan_one(obstacles, start, goal,
-                                                                  float(lift), tab)
-        if flags or not clr > 0:
+        run = self.plan_one_for(m, start.shape[0], d)
+        return None if run is None else run(obstacles, start, goal, float(lift))
+
+    def plan_one_for(self, m: int, n: int, d: int):
+        """The single-query kernel call of :meth:`plan_one` for queries of shape (m, n, d).
+
+        Returns ``run(obstacles, start, goal, lift) -> (times, waypoints, domain, row,
+        clearance) | None`` -- the caller guarantees C-contiguous, aligned, writeable float64
+        arrays of shapes (m, d), (n, d), (n, d) and a float ``lift`` -- or None when no kernel
+        plans that shape (numba missing, d > MAX_D, m < 2, n < 1). The index tables are looked
+        up once here, not per query.
+        """
+        K = _kernels_module()
+        if not K.AVAILABLE or not 2 <= d <= K.MAX_D or m < 2 or n < 1:
             return None
-        return _TIMES2.copy(), wp, domain, [cp1, cp2, cp_o, pole], clr
+        tab = K.tables(2, m, n, d)
+        kernel = K.plan_one
+        times = _TIMES2
+
+        def run(obstacles, start, goal, lift):
+            wp, domain, cp1, cp2, cp_o, pole, clr, flags = kernel(obstacles, start, goal, lift,
+                                                                  tab)
+            if flags or not clr > 0:
+                return None
+            return times.copy(), wp, domain, (cp1, cp2, cp_o, pole), clr
+
+        return run
+
+    def plan_sequence_one_for(self, r: int, m: int, n: int, d: int):
+        """The single-query kernel call of :func:`pmplan.plan_sequence` for shape (r, m, n, d).
+
+        Returns ``run(obstacles, configs, lift) -> (times, waypoints, domain, row, clearance)
+        | None`` for one query through ``r >= 2`` configurations -- the caller guarantees
+        C-contiguous, aligned, writeable float64 arrays ``obstacles`` (m, d) and ``configs``
+        (a sequence of r arrays (n, d)), and a float ``lift`` -- or None when no kernel plans
+        that shape (numba missing, d > MAX_D, m < 2, n < 1, r < 2). ``run`` returns None
+        whenever the kernel (:func:`pmplan._kernels.plan_obstacle_line`, asked to validate)
+        flags the query or the clearance is not positive: the general path then raises the
+        proper error or re-decides exactly. The breakpoints are :func:`path_times` ``(r)`` (strictly increasing, so the
+        path is already compact), the waypoints those of paper Remark
+        ``constructing-sections-via-deformations-higher-case`` on every leg (SPEC 4c).
+        """
+        K = _kernels_module()
+        if not K.AVAILABLE or not 2 <= d <= K.MAX_D or m < 2 or n < 1 or r < 2:
+            return None
+        times = path_times(r)
+        if not (np.diff(times) > 0).all():  # pragma: no cover - never: path_times is strict
+            return None
+        kernel = K.plan_obstacle_line
+        oshape, rshape, mshape = (1, m, d), (1, n, d), (1, 1, n, d)
+        wshape, sshape = (1, times.shape[0], m + n, d), (1, r + 2)
+        mfull, mflat = (r - 2, 1, n, d), ((r - 2) * n, d)
+        no_middle = np.empty((0, 1, n, d))
+        empty, concatenate, i64, u8 = np.empty, np.concatenate, np.int64, np.uint8
+
+        def run(obstacles, configs, lift):
+            if r == 2:
+                middle = no_middle
+            elif r == 3:
+                middle = configs[1].reshape(mshape)
+            else:
+                middle = empty(mfull)
+                concatenate(configs[1:-1], out=middle.reshape(mflat))
+            wp = empty(wshape)
+            domain = empty(1, i64)
+            strata = empty(sshape, i64)
+            clearance = empty(1)
+            flags = empty(1, u8)
+            kernel(obstacles.reshape(oshape), configs[0].reshape(rshape),
+                   configs[-1].reshape(rshape), middle, lift, True, wp, domain, strata,
+                   clearance, flags)
+            clr = clearance.item()
+            if flags.item() or not clr > 0:
+                return None
+            return times.copy(), wp[0], domain.item(), tuple(strata.tolist()[0]), clr
+
+        return run
 
     def path_times(self, r: int) -> np.ndarray:
         """Breakpoints of every path through r configurations (see :func:`path_times`)."""

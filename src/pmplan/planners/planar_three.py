@@ -584,25 +584,28 @@ class PlanarThreePlanner:
         """Fast path of :func:`pmplan.plan` for one query: validate, plan, certify in one call.
 
         ``obstacles`` (3, 2), ``start``, ``goal`` (1, 2) as float64 arrays. Returns
-        ``(times (k,), waypoints (k, 4, 2), domain, strata row (list), clearance)`` -- the path
-        already compacted (no zero-duration piece), as :func:`pmplan.plan` returns it -- or
+        ``(times (k,), waypoints (k, 4, 2), domain, strata row (tuple), clearance)`` -- the
+        path already compacted (no zero-duration piece), as :func:`pmplan.plan` returns it -- or
         None whenever anything is unusual (numba missing, a malformed or invalid query, a
         query the kernel flags, a failed certificate), so that the caller takes the general
         path, which raises the proper error or re-decides exactly.
         """
         del lift
-        from .. import _kernels_planar as KP
+        kernel = self.__dict__.get("_plan_planar_one")
+        if kernel is None:  # first call: import the kernel module (numba) once
+            from .. import _kernels_planar as KP
 
-        if not KP.AVAILABLE:  # pragma: no cover
-            return None
+            if not KP.AVAILABLE:  # pragma: no cover
+                return None
+            kernel = self.__dict__["_plan_planar_one"] = KP.plan_planar_one
         if (obstacles.shape != (3, 2) or start.shape != (1, 2) or goal.shape != (1, 2)
                 or not (obstacles.flags.c_contiguous and start.flags.c_contiguous
                         and goal.flags.c_contiguous)):
             return None
-        t, wp, dom, f, i, j, clr, flags = KP.plan_planar_one(obstacles, start, goal, _EVEN)
+        t, wp, dom, f, i, j, clr, flags = kernel(obstacles, start, goal, _EVEN)
         if flags or not clr > 0:
             return None
-        return t, wp, int(dom), [f, i, j], float(clr)
+        return t, wp, int(dom), (f, i, j), float(clr)
 
 
 # the breakpoints of a path of length 0 with k waypoints: _EVEN[k, :k] = linspace(0, 1, k)
