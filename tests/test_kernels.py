@@ -14,6 +14,10 @@ code of :mod:`pmplan.predicates`, :mod:`pmplan.frame`, :mod:`pmplan.planners.obs
 * validation: every error of the fast single-query path has the reference path's type and
   message; the kernel's coincidence test agrees with ``coincident_pairs``;
 * chunked planning equals unchunked planning;
+* the SIMD path (:func:`pmplan._kernels._plan_lanes`, generic queries 64 at a time) gives the
+  scalar kernel's outputs bit for bit on batches that mix generic queries with every kind it
+  must hand over (lattice ties, coincident points, NaN, the pole, tiny gaps, huge scales), it
+  decides only top-stratum queries, and all of those in a random batch;
 * the kernel's shortcuts are exact: the generic column test (all projections pairwise farther
   apart than the filter bound, no sort) against near-ties just above / below the bound, the
   one-pass NaN detection on waypoints, and the one-pass validation of
@@ -396,3 +400,111 @@ def test_check_query_fast_path_is_the_reference(seed, batched, kind):
         assert got == want
     else:
         assert all(np.array_equal(a, b) and a.shape == b.shape for a, b in zip(got, want))
+
+
+# --- the SIMD path: _plan_lanes (generic queries, L at a time) against the scalar _plan -------
+
+
+def _mixed_batch(rng, b, d, m, n, r, special):
+    """A batch of b queries through r configurations: mostly generic normal queries, with
+    ``special`` queries at random positions replaced by one that the lanes must hand to the
+    scalar kernel (exact lattice ties, coincident points, NaN, the odd-d pole, a tiny robot
+    gap, a huge scale)."""
+    o = rng.normal(size=(b, m, d))
+    cs = [rng.normal(size=(b, n, d)) for _ in range(r)]
+    kinds = ["lattice", "coincident", "nan", "pole", "tiny", "huge", "zero_w"]
+    for i in rng.choice(b, size=min(special, b), replace=False):
+        kind = kinds[rng.integers(len(kinds))]
+        if kind == "lattice":
+            o[i] = rng.integers(-2, 3, size=(m, d))
+            for c in cs:
+                c[i] = rng.integers(-2, 3, size=(n, d))
+        elif kind == "coincident":
+            cs[rng.integers(r)][i, 0] = o[i, rng.integers(m)]
+        elif kind == "nan":
+            cs[rng.integers(r)][i, 0, 0] = np.nan
+        elif kind == "pole":
+            o[i, 1] = o[i, 0]
+            o[i, 1, d - 1] += 1.5
+        elif kind == "tiny" and n > 1:
+            cs[0][i, 1] = cs[0][i, 0] + 1e-12
+        elif kind == "huge":
+            o[i] *= 1e200
+            for c in cs:
+                c[i] *= 1e200
+        elif kind == "zero_w":
+            o[i, 1] = o[i, 0]
+    return o, cs
+
+
+def _run_chunk(o, cs, lift, scalar_only):
+    b, m, d = o.shape
+    n, r = cs[0].shape[1], len(cs)
+    middle = np.stack(cs[1:-1]) if r > 2 else np.empty((0, b, n, d))
+    kk = 7 * (r - 1) + 1
+    out = (np.full((b, kk, m + n, d), 7.0), np.full(b, -1, np.int64),
+           np.full((b, r + 2), -1, np.int64), np.full(b, -1.0), np.full(b, 99, np.uint8))
+    tab = K.tables(r, m, n, d)
+    with np.errstate(all="ignore"):
+        if scalar_only:
+            K._plan(o, cs[0], cs[-1], middle, lift, True, *out, tab, np.arange(b), b)
+        else:
+            K.plan_chunk(o, cs[0], cs[-1], middle, lift, True, *out, tab)
+    return out
+
+
+@settings(max_examples=30)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3, 4, 5]), st.sampled_from([2, 3, 5]),
+       st.sampled_from([1, 2, 4, 9]), st.sampled_from([2, 2, 3]), st.integers(0, 40),
+       st.sampled_from([1.0, 0.25]))
+def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
+    """The SIMD path decides the generic queries of a chunk and hands every other one to the
+    scalar kernel: the outputs (waypoints, labels, strata, clearances, flags -- also of invalid
+    queries, validated) are identical to the scalar kernel's on every query, the lanes really
+    decide the generic ones, and they never decide a query that is not generic."""
+    rng = np.random.default_rng(seed)
+    b = int(rng.integers(K.LANES_MIN, 3 * K.lanes(r, m, n, d) + 7))
+    o, cs = _mixed_batch(rng, b, d, m, n, r, special)
+    lanes = _run_chunk(o, cs, lift, scalar_only=False)
+    scalar = _run_chunk(o, cs, lift, scalar_only=True)
+    flags = scalar[4]
+    assert np.array_equal(lanes[4], flags)
+    for a, z in zip(lanes[1:4], scalar[1:4]):
+        assert np.array_equal(a, z, equal_nan=True)
+    # (the waypoints of a query flagged INVALID or FALLBACK are left unspecified: the caller
+    # raises, or recomputes the query with the numpy reference)
+    kept = (flags & (K.INVALID | K.FALLBACK)) == 0
+    assert np.array_equal(lanes[0][kept], scalar[0][kept], equal_nan=True)
+    # which queries did the lanes decide?
+    middle = np.stack(cs[1:-1]) if r > 2 else np.empty((0, b, n, d))
+    todo = np.empty(b, np.int64)
+    out = [np.empty_like(x) for x in lanes]
+    with np.errstate(all="ignore"):
+        nt = K._plan_lanes(o, cs[0], cs[-1], middle, lift, *out, todo, K.lanes(r, m, n, d))
+    decided = np.ones(b, bool)
+    decided[todo[:nt]] = False
+    strata = scalar[2]
+    generic = (strata[:, :r] == m + n).all(axis=1) & (strata[:, r] == m) & (flags == 0)
+    if d % 2:
+        generic &= strata[:, r + 1] == 0
+    assert not (decided & ~generic).any()  # the lanes only decide top-stratum queries...
+    full = (b // K.lanes(r, m, n, d)) * K.lanes(r, m, n, d)
+    if special == 0:  # ...and decide all of those in full blocks of a random batch
+        assert decided[:full].all()
+
+
+def test_large_batch_equals_reference():
+    """A batch large enough for several SIMD blocks, generic and exactly degenerate queries
+    mixed, through the public API: numba equals the numpy reference."""
+    rng = np.random.default_rng(7)
+    for d, n, m in [(2, 4, 2), (3, 2, 3), (4, 3, 2)]:
+        b = 2 * K.lanes(2, m, n, d) + 5
+        o, (s, g) = _mixed_batch(rng, b, d, m, n, 2, 0)
+        lat = rng.choice(b, size=b // 4, replace=False)
+        for a in (o, s, g):
+            a[lat] = rng.integers(-2, 3, size=a[lat].shape)
+        ok = ~(coincident_pairs(np.concatenate([o, s], 1))
+               | coincident_pairs(np.concatenate([o, g], 1)))
+        o, s, g = o[ok], s[ok], g[ok]
+        fast = pmplan.plan_batch(o, s, g, backend="numba")
+        assert_same_batch(fast, pmplan.plan_batch(o, s, g, backend="numpy"))

@@ -21,6 +21,14 @@ without any temporary larger than a few rows, exactly what that reference comput
 
 How the kernel is laid out for speed (every shortcut is exact, see the tests):
 
+* a chunk is planned first by :func:`_plan_lanes`, which takes ``L`` (64) queries at a time
+  with the lanes innermost, so that every loop is a vectorised loop over queries (AVX2: four
+  at once) whatever (d, n, m, r) are. It decides the *generic* query -- every configuration in
+  the top stratum, no pole, every minimum distance clearly positive: all of a random batch --
+  with exactly the operations of the scalar kernel :func:`_plan`, and hands every other query
+  to it (the scalar kernel also validates). Two layout rules matter for speed under numba: no
+  array views in inner loops (each costs a reference count), and running minima kept in two
+  alternating rows (a select written back into the row it reads becomes a masked store);
 * the generic case of the column classes -- all projections pairwise farther apart than the
   filter bound -- is decided without sorting (then ``cp = m + n``, ``cp_o = m`` and the gap is
   the smallest pairwise difference, which rounding monotonicity makes the sorted neighbours'
@@ -87,6 +95,8 @@ __all__ = [
     "INVALID",
     "MAX_D",
     "plan_obstacle_line",
+    "plan_chunk",
+    "lanes",
     "plan_one",
     "tables",
     "first_coincident",
@@ -110,6 +120,10 @@ _BIG = 2.0**900  # TwoProduct's split overflows beyond this (as in pmplan.predic
 _SMALL = 2.0**-900  # below this TwoProduct's error term may underflow (as in pmplan.predicates)
 _MAXF = 1.7976931348623157e308  # the largest finite float
 
+
+#: chunks smaller than this are planned query by query (:func:`_plan`), larger ones mostly
+#: ``lanes(...)`` queries at a time (:func:`_plan_lanes`)
+LANES_MIN = 16
 
 _OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
 _INLINE = {**_OPTS, "inline": "always"}
@@ -459,8 +473,19 @@ def _build_tables(r, m, n, d):  # pragma: no cover - compiled
 
 
 @njit(**_OPTS)
+def lanes(r, m, n, d):  # pragma: no cover - compiled
+    """How many queries :func:`_plan_lanes` plans at once: 64, fewer when its scratch (the
+    waypoints and configurations of every lane) would exceed 1 MiB."""
+    rows = (7 * (r - 1) + 1 + 3 * r) * (m + n) * d
+    L = 64
+    while L > 8 and rows * L * 8 > 2**20:
+        L //= 2
+    return L
+
+
+@njit(**_OPTS)
 def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
-          tab):  # pragma: no cover - compiled
+          tab, sel, nsel):  # pragma: no cover - compiled
     """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c).
 
     Parameters
@@ -484,6 +509,9 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
         The certified clearance where ``flags == 0``.
     flags : uint8 (B,), output
         Bit set of ``FALLBACK``, ``SUSPECT``, ``NONFINITE``, ``BROKEN``, ``INVALID``.
+    tab : int64 (:func:`_build_tables`)
+    sel, nsel : int64 (>= nsel,), int
+        The queries to plan: ``sel[:nsel]`` (the others are not touched).
 
     Notes
     -----
@@ -538,7 +566,8 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
     d2 = np.empty(npairs)
     nfl = float(n + m)
     odd = d % 2 == 1
-    for b in range(nb):
+    for ii in range(nsel):
+        b = sel[ii]
         fl = 0
         for k in range(r):
             for i in range(m):
@@ -703,17 +732,448 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
 
 
 @njit(**_OPTS)
+def _unit_rows(w, n, out, t):  # pragma: no cover - compiled
+    """``_unit`` lane by lane on rows: ``w[:n]`` into ``out[:n]`` (rows of L lanes);
+    ``t`` is scratch (>= 3 rows)."""
+    L = w.shape[1]
+    src = 0
+    dst = 1
+    for l in range(L):
+        t[src, l] = 0.0
+        t[2, l] = 0.0
+    for c in range(n):
+        for l in range(L):
+            a = abs(w[c, l])
+            s = t[src, l]
+            t[dst, l] = a if a > s else s
+        src, dst = dst, src
+    for c in range(n):
+        for l in range(L):
+            s = t[src, l]
+            x = w[c, l] / s
+            x = x if s > 0 else 0.0
+            out[c, l] = x
+            t[2, l] += x * x
+    for l in range(L):
+        t[2, l] = math.sqrt(t[2, l])
+    for c in range(n):
+        for l in range(L):
+            s = t[2, l]
+            x = out[c, l] / s
+            out[c, l] = x if s > 0 else 0.0
+
+
+@njit(**_OPTS)
+def _piece_plane(S, a0, b0, c0, e0, T, src, dst):  # pragma: no cover - compiled
+    """One piece of one pair in the plane, every lane: row ``dst`` of T = min(row ``src``,
+    squared distance). The relative position is ``S[a] - S[b]`` at the start and
+    ``S[c] - S[e]`` at the end of the piece (rows a0, a0 + 1 hold coordinates 0, 1); the
+    arithmetic is :func:`_clearance_plane`'s."""
+    for l in range(S.shape[1]):
+        rx = S[a0, l] - S[b0, l]
+        ry = S[a0 + 1, l] - S[b0 + 1, l]
+        vx = (S[c0, l] - S[e0, l]) - rx
+        vy = (S[c0 + 1, l] - S[e0 + 1, l]) - ry
+        vv = (0.0 + vx * vx) + vy * vy
+        num = -((0.0 + rx * vx) + ry * vy)
+        q = num / vv
+        q = 1.0 if num >= vv else q
+        q = 0.0 if num <= 0 else q
+        q = q if vv > 0 else 0.0
+        qx = rx + q * vx
+        qy = ry + q * vy
+        dist2 = (0.0 + qx * qx) + qy * qy
+        s = T[src, l]
+        T[dst, l] = dist2 if dist2 < s else s
+
+
+@njit(**_OPTS)
+def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance, flags, todo,
+               L):  # pragma: no cover - compiled
+    """Plan and certify the *generic* queries of a chunk, ``L`` queries at a time (SIMD).
+
+    The same computation as :func:`_plan`, operation for operation (so the results are bitwise
+    the same), restricted to the case every query of a random batch is in: every configuration
+    in the top stratum (all projections pairwise farther apart than the filter bound, so
+    ``cp(C_k) = m + n``, ``cp_o = m`` and the desingularization ``(desin)`` moves nothing), not
+    at the pole ``e == N`` (odd d), finite waypoints, every float minimum distance above
+    certify's suspect threshold. The data are laid out lanes-innermost -- row ``x`` of the
+    scratch ``S`` holds coordinate x of the waypoints of L queries -- so that every loop over
+    the lanes is one vectorised loop without branches (selects only, minima and maxima in two
+    alternating rows, the "undecided" test accumulated as a float: ``v - v`` is NaN unless v is
+    finite). The waypoints are then written query after query into ``wp``.
+
+    Queries that are not generic -- and the last ``B mod L`` -- are listed in ``todo`` (their
+    count is returned) for :func:`_plan`, which decides them exactly (and validates them:
+    a query with a non-finite coordinate or two equal points is never generic). Arguments as
+    :func:`_plan` (without ``validate``, ``tab``) plus ``todo`` int64 (B,) and ``L``.
+    """
+    nb, m, d = obstacles.shape
+    n = first.shape[1]
+    r = middle.shape[0] + 2
+    p = m + n
+    kk = wp.shape[1]
+    row = p * d
+    size = kk * row
+    md = m * d
+    nd = n * d
+    of = obstacles.reshape((nb, md))
+    ff = first.reshape((nb, nd))
+    lf = last.reshape((nb, nd))
+    mf = middle.reshape((r - 2, nb, nd))
+    wf = wp.reshape((nb, size))
+    odd = d % 2 == 1
+    Y = np.empty((r * row, L))  # configuration k, point i, coordinate c: row (k p + i) d + c
+    S = np.empty((size, L))  # waypoint t, point i, coordinate c: row (t p + i) d + c
+    X1 = np.empty((r * nd, L))  # robot j of F(C_k, 1): row (k n + j) d + c
+    X2 = np.empty((r * nd, L))  # robot j of phi(F(C_k, 1), 1)
+    OFF = np.empty((nd, L))  # the lift of robot j: row j d + c
+    W = np.empty((d, L))
+    E = np.empty((d, L))
+    NU = np.empty((d, L))
+    H = np.empty((d, L))
+    V = np.empty((p, L))
+    T = np.empty((16, L))
+    BAD = 3
+    NORM = 4
+    ACC = 5
+    ACC2 = 6
+    THR = 7
+    SC = 8
+    Q = 9
+    THR2 = 10
+    nt = 0
+    nfull = nb // L
+    dom = 2 - (r - 1) * m + r * p
+    for blk in range(nfull):
+        b0 = blk * L
+        # --- the configurations, lanes innermost ---------------------------------------------
+        for l in range(L):
+            b = b0 + l
+            for k in range(r):
+                for x in range(md):
+                    Y[k * row + x, l] = of[b, x]
+            for x in range(nd):
+                Y[md + x, l] = ff[b, x]
+                Y[(r - 1) * row + md + x, l] = lf[b, x]
+            for k in range(1, r - 1):
+                for x in range(nd):
+                    Y[k * row + md + x, l] = mf[k - 1, b, x]
+        for l in range(L):
+            T[BAD, l] = 0.0
+        # --- the frame: w = o2 - o1, e, |w|, nu(e) ------------------------------------------
+        for c in range(d):
+            for l in range(L):
+                W[c, l] = Y[d + c, l] - Y[c, l]
+        _unit_rows(W, d, E, T)
+        for l in range(L):
+            T[NORM, l] = 0.0
+        for c in range(d):
+            for l in range(L):
+                T[NORM, l] += W[c, l] * E[c, l]
+        if not odd:
+            for c in range(0, d, 2):
+                for l in range(L):
+                    NU[c, l] = -E[c + 1, l] + 0.0
+                    NU[c + 1, l] = E[c, l] + 0.0
+        else:
+            # the pole e == N is left to the scalar kernel
+            for l in range(L):
+                T[ACC, l] = 1.0 if W[d - 1, l] > 0 else 0.0
+            for c in range(d - 1):
+                for l in range(L):
+                    T[ACC, l] = 0.0 if W[c, l] != 0 else T[ACC, l]
+            for l in range(L):
+                T[BAD, l] += T[ACC, l]
+            _unit_rows(W, d - 1, H, T)
+            for c in range(d - 1):
+                for l in range(L):
+                    NU[c, l] = -(H[0, l] * H[c, l]) * (1.0 + E[d - 1, l])
+            for l in range(L):
+                NU[0, l] += 1.0
+                NU[d - 1, l] = E[0, l]
+            for c in range(d):
+                for l in range(L):
+                    NU[c, l] = NU[c, l] + 0.0
+        # --- column classes: only the generic case, every point its own column --------------
+        mx = 11
+        mx2 = 12
+        for k in range(r):
+            yk = k * row
+            for l in range(L):
+                T[mx, l] = 0.0
+            for i in range(p):
+                for l in range(L):
+                    T[ACC, l] = 0.0
+                    T[ACC2, l] = 0.0
+                for c in range(d):
+                    for l in range(L):
+                        t = (Y[yk + i * d + c, l] - Y[yk + c, l]) * W[c, l]
+                        T[ACC, l] += t
+                        T[ACC2, l] += abs(t)
+                for l in range(L):
+                    v = T[ACC, l]
+                    V[i, l] = v
+                    T[BAD, l] += v - v  # NaN unless finite
+                    a = T[ACC2, l]
+                    z = T[mx, l]
+                    T[mx2, l] = z if a <= z else a
+                mx, mx2 = mx2, mx
+            mn = 13
+            mn2 = 14
+            for l in range(L):
+                bound = (d + 2) * 1.01 * _U * T[mx, l] + (d + 1) * _TINY
+                T[BAD, l] += bound - bound
+                T[THR, l] = 2.0 * (2.0 * bound) * (1 + 4 * _U)
+                T[mn, l] = np.inf
+            for i in range(1, p):
+                for j in range(i):
+                    for l in range(L):
+                        df = abs(V[i, l] - V[j, l])
+                        z = T[mn, l]
+                        T[mn2, l] = df if df < z else z
+                    mn, mn2 = mn2, mn
+            for l in range(L):
+                T[BAD, l] += 0.0 if T[mn, l] > T[THR, l] else 1.0
+            # desingularization (desin) moves nothing here (cp = cp_o + n), projection
+            # (linear-transformation-obs)
+            for j in range(n):
+                for l in range(L):
+                    T[ACC, l] = 0.0
+                for c in range(d):
+                    yj = yk + (m + j) * d + c
+                    x1 = (k * n + j) * d + c
+                    for l in range(L):
+                        xc = Y[yj, l] + 0.0 * E[c, l]
+                        X1[x1, l] = xc
+                        T[ACC, l] += (xc - Y[yk + c, l]) * E[c, l]
+                for c in range(d):
+                    x2 = (k * n + j) * d + c
+                    for l in range(L):
+                        X2[x2, l] = Y[yk + c, l] + T[ACC, l] * E[c, l]
+        # --- lambda (SPEC 4b) and the lift ---------------------------------------------------
+        for l in range(L):
+            T[mx, l] = 0.0
+        for i in range(2, m):
+            for l in range(L):
+                T[SC, l] = 0.0
+                T[Q, l] = 0.0
+            for c in range(d):
+                for l in range(L):
+                    T[SC, l] += (Y[i * d + c, l] - Y[c, l]) * E[c, l]
+            for c in range(d):
+                for l in range(L):
+                    rc = (Y[i * d + c, l] - Y[c, l]) - T[SC, l] * E[c, l]
+                    T[Q, l] += rc * rc
+            for l in range(L):
+                qq = math.sqrt(T[Q, l])
+                z = T[mx, l]
+                T[mx2, l] = qq if (qq > z) | (i == 2) | (qq != qq) else z
+            mx, mx2 = mx2, mx
+        for j in range(n):
+            for c in range(d):
+                for l in range(L):
+                    OFF[j * d + c, l] = ((lift + T[mx, l]) * float(j + 1)) * NU[c, l]
+        # --- the waypoints (Remark constructing-sections-via-deformations) ------------------
+        for k in range(r - 1):
+            for s in range(7):
+                t0 = (7 * k + s) * row
+                lifted = s == 3 or s == 4
+                for x in range(md):
+                    if lifted:
+                        for l in range(L):
+                            S[t0 + x, l] = Y[x, l] + 0.0
+                    else:
+                        for l in range(L):
+                            S[t0 + x, l] = Y[x, l]
+                for x in range(nd):
+                    if s == 0:
+                        for l in range(L):
+                            S[t0 + md + x, l] = Y[k * row + md + x, l]
+                    elif s == 1:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X1[k * nd + x, l]
+                    elif s == 2:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X2[k * nd + x, l]
+                    elif s == 3:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X2[k * nd + x, l] + OFF[x, l]
+                    elif s == 4:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X2[(k + 1) * nd + x, l] + OFF[x, l]
+                    elif s == 5:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X2[(k + 1) * nd + x, l]
+                    else:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X1[(k + 1) * nd + x, l]
+        for x in range(row):
+            for l in range(L):
+                S[(kk - 1) * row + x, l] = Y[(r - 1) * row + x, l]
+        # --- certificate: finite, exact endpoints and obstacles, clearance ------------------
+        for l in range(L):
+            T[mx, l] = 0.0
+        for x in range(size):
+            for l in range(L):
+                v = S[x, l]
+                av = abs(v)
+                T[BAD, l] += v - v
+                z = T[mx, l]
+                T[mx2, l] = av if av > z else z
+            mx, mx2 = mx2, mx
+        for t in range(kk):
+            for x in range(md):
+                for l in range(L):
+                    T[BAD, l] += 0.0 if S[t * row + x, l] == Y[x, l] else 1.0
+        # (and the pieces 7k -> 7k + 1, 7k - 1 -> 7k do not move: F(C_k, 1) = C_k here)
+        for k in range(r):
+            for x in range(md, row):
+                for l in range(L):
+                    y = Y[k * row + x, l]
+                    T[BAD, l] += 0.0 if S[7 * k * row + x, l] == y else 1.0
+                    if k < r - 1:
+                        T[BAD, l] += 0.0 if S[(7 * k + 1) * row + x, l] == y else 1.0
+                    if k > 0:
+                        T[BAD, l] += 0.0 if S[(7 * k - 1) * row + x, l] == y else 1.0
+        mn = 13
+        mn2 = 14
+        for l in range(L):
+            z = 2.1e-9 * T[mx, l]
+            T[THR2, l] = z * z if (T[mx, l] > 1e-130) & (T[mx, l] < 1e130) else np.inf
+            T[mn, l] = np.inf
+        # the pieces that do not move: the squared distance at their start, once per C_k
+        # (certify's arithmetic with v = 0 gives exactly this)
+        for k in range(r):
+            r0 = 7 * k * row
+            for i in range(p - 1):
+                for j in range(max(i + 1, m), p):
+                    for l in range(L):
+                        T[ACC, l] = 0.0
+                    for c in range(d):
+                        for l in range(L):
+                            rc = S[r0 + i * d + c, l] - S[r0 + j * d + c, l]
+                            T[ACC, l] += rc * rc
+                    for l in range(L):
+                        a = T[ACC, l]
+                        z = T[mn, l]
+                        T[mn2, l] = a if a < z else z
+                    mn, mn2 = mn2, mn
+        for t in range(kk - 1):
+            if t % 7 == 0 or t % 7 == 6:
+                continue
+            r0 = t * row
+            r1 = r0 + row
+            for i in range(p - 1):
+                for j in range(max(i + 1, m), p):
+                    if d == 2:
+                        _piece_plane(S, r0 + 2 * i, r0 + 2 * j, r1 + 2 * i, r1 + 2 * j, T, mn,
+                                     mn2)
+                    else:
+                        for l in range(L):
+                            T[ACC, l] = 0.0
+                            T[ACC2, l] = 0.0
+                        for c in range(d):
+                            si = r0 + i * d + c
+                            sj = r0 + j * d + c
+                            for l in range(L):
+                                rc = S[si, l] - S[sj, l]
+                                vc = (S[si + row, l] - S[sj + row, l]) - rc
+                                T[ACC, l] += vc * vc
+                                T[ACC2, l] += rc * vc
+                        for l in range(L):
+                            num = -T[ACC2, l]
+                            vv = T[ACC, l]
+                            qq = num / vv
+                            qq = 1.0 if num >= vv else qq
+                            qq = 0.0 if num <= 0 else qq
+                            T[Q, l] = qq if vv > 0 else 0.0
+                            T[ACC, l] = 0.0
+                        for c in range(d):
+                            si = r0 + i * d + c
+                            sj = r0 + j * d + c
+                            for l in range(L):
+                                rc = S[si, l] - S[sj, l]
+                                vc = (S[si + row, l] - S[sj + row, l]) - rc
+                                qc = rc + T[Q, l] * vc
+                                T[ACC, l] += qc * qc
+                        for l in range(L):
+                            a = T[ACC, l]
+                            z = T[mn, l]
+                            T[mn2, l] = a if a < z else z
+                    mn, mn2 = mn2, mn
+        for l in range(L):
+            T[BAD, l] += 0.0 if T[mn, l] > T[THR2, l] else 1.0
+        for i in range(m):
+            for j in range(i + 1, m):
+                for l in range(L):
+                    T[ACC, l] = 0.0
+                for c in range(d):
+                    for l in range(L):
+                        dc = S[i * d + c, l] - S[j * d + c, l]
+                        T[ACC, l] += dc * dc
+                for l in range(L):
+                    a = T[ACC, l]
+                    z = T[mn, l]
+                    T[mn2, l] = a if a < z else z
+                mn, mn2 = mn2, mn
+        # --- write the waypoints (query after query) and the decided queries' records -------
+        for l in range(L):
+            b = b0 + l
+            w = wf[b]
+            for x in range(size):
+                w[x] = S[x, l]
+            if T[BAD, l] == 0:
+                domain[b] = dom
+                for k in range(r):
+                    strata[b, k] = p
+                strata[b, r] = m
+                strata[b, r + 1] = 0
+                clearance[b] = math.sqrt(T[mn, l])
+                flags[b] = 0
+            else:
+                todo[nt] = b
+                nt += 1
+    for b in range(nfull * L, nb):
+        todo[nt] = b
+        nt += 1
+    return nt
+
+
+@njit(**_OPTS)
 def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domain, strata,
                        clearance, flags):  # pragma: no cover - compiled
     """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c).
 
-    Parameters and outputs as :func:`_plan`, which this calls with the index tables of
-    :func:`_build_tables`.
+    Parameters and outputs as :func:`_plan`. The generic queries are planned by
+    :func:`_plan_lanes`, many at a time; :func:`_plan` (with the index tables of
+    :func:`_build_tables`) decides the others, and every query of a chunk smaller than
+    ``LANES_MIN``. Both compute the same floating-point operations, so which one plans a query
+    never shows in the result.
     """
     m, d = obstacles.shape[1:]
     tab = _build_tables(middle.shape[0] + 2, m, first.shape[1], d)
+    plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
+               flags, tab)
+
+
+@njit(**_OPTS)
+def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
+               flags, tab):  # pragma: no cover - compiled
+    """:func:`plan_obstacle_line` with the index tables ``tab`` of :func:`tables` given."""
+    nb, m, d = obstacles.shape
+    n = first.shape[1]
+    r = middle.shape[0] + 2
+    todo = np.empty(nb, np.int64)
+    nt = nb
+    if nb >= LANES_MIN:
+        nt = _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance,
+                         flags, todo, lanes(r, m, n, d))
+    else:
+        for b in range(nb):
+            todo[b] = b
     _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
-          tab)
+          tab, todo, nt)
 
 
 _TABLES: dict = {}
@@ -746,8 +1206,10 @@ def plan_one(obstacles, start, goal, lift, tab):  # pragma: no cover - compiled
     clearance = np.empty(1)
     flags = np.empty(1, np.uint8)
     validate = m >= 0  # a run-time True: the batch kernel's own specialisation is reused
+    sel = np.zeros(1, np.int64)  # (and a run-time count, not the literal 1, for the same reason)
     _plan(obstacles.reshape((1, m, d)), start.reshape((1, n, d)), goal.reshape((1, n, d)),
-          np.empty((0, 1, n, d)), lift, validate, wp, domain, strata, clearance, flags, tab)
+          np.empty((0, 1, n, d)), lift, validate, wp, domain, strata, clearance, flags, tab,
+          sel, sel.shape[0])
     return (wp[0], domain[0], strata[0, 0], strata[0, 1], strata[0, 2], strata[0, 3],
             clearance[0], flags[0])
 

@@ -230,8 +230,8 @@ def _fused(obstacles, configs, lift, wp, domain, strata, clearance) -> np.ndarra
     else:
         middle = np.empty((0, b, n, d))
     flags = np.empty(b, np.uint8)
-    K._plan(obstacles, configs[0], configs[-1], middle, float(lift), False, wp, domain, strata,
-            clearance, flags, K.tables(r, m, n, d))
+    K.plan_chunk(obstacles, configs[0], configs[-1], middle, float(lift), False, wp, domain,
+                 strata, clearance, flags, K.tables(r, m, n, d))
     ok = (flags & (K.NONFINITE | K.BROKEN)) == 0
     if not flags.any():
         return ok & (clearance > 0)
