@@ -177,6 +177,71 @@ def throughput(rng, quick: bool, log, batch: int | None = None) -> tuple[list[di
     return rows, skipped
 
 
+def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
+    """Where the time of plan_batch goes, (2,4,2) generic, in units of one copy of the output.
+
+    Each stage is timed on its own (best of a few, interleaved with the copy): the validation
+    (``check_query``), the kernels writing into output arrays allocated before the timer starts
+    (``plan_certified`` chunk by chunk, as ``plan_batch`` calls it), the same into freshly
+    allocated arrays (the operating system zeroes new pages on first touch), and the whole call.
+    """
+    from pmplan.api import CHUNK, choose_planner
+    from pmplan.configuration import check_query
+
+    rows = []
+    d, n, m = 2, 4, 2
+    p = choose_planner(d, n, m)
+    for b in [batch] if batch else [100_000] if quick else [100_000, 1_000_000]:
+        o, s, g = _queries(rng, "generic", b, d, n, m)
+        reps = 3 if quick or b >= 1_000_000 else 5
+        out = p.allocate(b, 2, m, n, d)
+
+        def kernels(out=out, o=o, s=s, g=g, b=b):
+            for lo in range(0, b, CHUNK):
+                hi = min(b, lo + CHUNK)
+                p.plan_certified(o[lo:hi], [s[lo:hi], g[lo:hi]], 1.0, out["waypoints"][lo:hi],
+                                 out["domain"][lo:hi], out["strata"][lo:hi],
+                                 out["clearance"][lo:hi])
+
+        def fresh(o=o, s=s, g=g, b=b):
+            new = p.allocate(b, 2, m, n, d)
+            for lo in range(0, b, CHUNK):
+                hi = min(b, lo + CHUNK)
+                p.plan_certified(o[lo:hi], [s[lo:hi], g[lo:hi]], 1.0, new["waypoints"][lo:hi],
+                                 new["domain"][lo:hi], new["strata"][lo:hi],
+                                 new["clearance"][lo:hi])
+
+        src = out["waypoints"]
+        dst = np.empty_like(src)
+        np.copyto(dst, src)
+        stages = {
+            "validation (check_query)": lambda o=o, s=s, g=g: check_query(o, s, g, batched=True),
+            "kernels, output allocated beforehand": kernels,
+            "kernels, fresh output (pages zeroed on first touch)": fresh,
+            "plan_batch (all of it)": lambda o=o, s=s, g=g: pmplan.plan_batch(o, s, g),
+            "plan_batch, workers = -1 (every core)":
+                lambda o=o, s=s, g=g: pmplan.plan_batch(o, s, g, workers=-1),
+        }
+        kernels()
+        times = {k: [] for k in stages}
+        tc = []
+        for _ in range(reps):
+            for k, fn in stages.items():
+                times[k] += timeit(fn, 1)
+                gc.collect()
+            tc += timeit(lambda: np.copyto(dst, src), 1)
+        copy = min(tc)
+        for k, ts in times.items():
+            rows.append({"B": b, "stage": k, "ms": 1e3 * min(ts), "ratio": min(ts) / copy,
+                         "qps": b / min(ts)})
+            log(f"  B={b:>9,}  {k:52s} {1e3 * min(ts):8.1f} ms  = {min(ts) / copy:5.2f} copies")
+        rows.append({"B": b, "stage": "one np.copyto of the output", "ms": 1e3 * copy,
+                     "ratio": 1.0, "qps": b / copy})
+        del out, src, dst
+        gc.collect()
+    return rows
+
+
 def latency(rng, quick: bool, log) -> list[dict]:
     """Median wall time of one pmplan.plan call (and one plan_sequence call, r = 3)."""
     calls = 300 if quick else 2000
@@ -445,6 +510,8 @@ def main(argv: list[str] | None = None) -> int:
         lat = latency(rng, args.quick, log)
         log("throughput (plan_batch):")
         tp, skipped = throughput(rng, args.quick, log, args.batch)
+        log("where the time goes ((2,4,2), plan_batch):")
+        bd = breakdown(rng, args.quick, log, args.batch)
         log(f"memory (plan_batch, B = {args.batch or 100_000:,}):")
         mem = memory(rng, args.quick, log, args.batch)
         log("scaling:")
@@ -456,6 +523,7 @@ def main(argv: list[str] | None = None) -> int:
             "quick": args.quick,
             "batch": args.batch,
             "throughput": tp,
+            "breakdown": bd,
             "skipped": skipped,
             "latency": lat,
             "memory": mem,

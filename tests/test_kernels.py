@@ -37,7 +37,7 @@ import pmplan
 from pmplan import _kernels as K
 from pmplan import api, configuration
 from pmplan.configuration import coincident_pairs
-from pmplan.errors import CertificationError, PmplanError
+from pmplan.errors import CertificationError, InputError, PmplanError
 from pmplan.planners.obstacle_line import OBSTACLE_LINE, path_times
 
 
@@ -508,3 +508,36 @@ def test_large_batch_equals_reference():
         o, s, g = o[ok], s[ok], g[ok]
         fast = pmplan.plan_batch(o, s, g, backend="numba")
         assert_same_batch(fast, pmplan.plan_batch(o, s, g, backend="numpy"))
+
+
+@pytest.mark.parametrize("planner, dims", [("obstacle_line", (2, 3, 2)),
+                                           ("obstacle_line", (3, 2, 4)),
+                                           ("planar_three", (2, 1, 3))])
+def test_workers_change_nothing(monkeypatch, planner, dims):
+    """Threads plan the chunks of a batch in parallel: the result is the one-thread result, and
+    a failing certificate is reported with the same indices (also from a later chunk)."""
+    d, n, m = dims
+    rng = np.random.default_rng(5)
+    o, s, g = (rng.normal(size=(300, k, d)) for k in (m, n, n))
+    monkeypatch.setattr(api, "CHUNK", 64)
+    one = pmplan.plan_batch(o, s, g, planner=planner)
+    for workers in (2, 3, -1):
+        assert_same_batch(pmplan.plan_batch(o, s, g, planner=planner, workers=workers), one)
+    if planner == "obstacle_line" and dims == (2, 3, 2):
+        # the SPEC 5 precision case (see test_configuration) in chunks 2 and 4
+        o[[150, 270]] = [[0.0, 0.0], [1.0, 2.0]]
+        s[[150, 270], :2] = [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]]
+        g[[150, 270], :2] = [[5.0, 5.0], [6.0, -7.0]]
+        s[[150, 270], 2] = g[[150, 270], 2] = [-4.0, 7.0]
+        single = _outcome(pmplan.plan_batch, o, s, g)
+        # (the error names the failing queries of the first chunk that has any)
+        assert single[0] is CertificationError and single[2] == (150,)
+        assert _outcome(pmplan.plan_batch, o, s, g, workers=2) == single
+
+
+@pytest.mark.parametrize("workers", [0, -2, 1.5, True, "2", None])
+def test_workers_must_be_a_thread_count(workers):
+    o, s, g = np.zeros((1, 2, 2)), np.ones((1, 1, 2)), np.ones((1, 1, 2))
+    o[0, 1] = 1.0
+    with pytest.raises(InputError, match="workers"):
+        pmplan.plan_batch(o, s, g, workers=workers)

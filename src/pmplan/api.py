@@ -10,6 +10,7 @@ Data flows one way: input arrays -> validation (:mod:`pmplan.configuration`) -> 
 from __future__ import annotations
 
 import math
+import os
 import sys
 from dataclasses import dataclass, field
 
@@ -231,7 +232,7 @@ def _raise_certificate(bad: np.ndarray, batched: bool) -> None:
 
 
 def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, sequential: bool,
-         progress: bool = False, backend: str | None = None):
+         progress: bool = False, backend: str | None = None, workers: int = 1):
     """Plan and certify in chunks; return the arrays of a PlanBatch.
 
     Planners with a fused path (``plan_certified``: the obstacle-line planner, numba kernel of
@@ -240,7 +241,7 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
     chunk that is certified by :func:`pmplan.certify.certify`.
     """
     if hasattr(planner, "plan_certified"):
-        return _run_fused(planner, obstacles, configs, lift, batched, progress, backend)
+        return _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers)
     b = obstacles.shape[0]
     out = None
     chunks = range(0, b, CHUNK)
@@ -289,25 +290,22 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
     return out
 
 
-def _run_fused(planner, obstacles, configs, lift, batched, progress, backend):
+def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers=1):
     """:func:`_run` for planners that plan and certify into preallocated arrays.
 
     Such a planner has ``allocate(b, r, m, n, d) -> dict`` (arrays ``domain`` (B,), ``strata``
     (B, S), ``clearance`` (B,), ``times`` (K,) or (B, K), ``waypoints`` (B, K, m+n, d)) and
     ``plan_certified(obstacles, configs, lift, waypoints, domain, strata, clearance, *,
     backend, times=None)``, which fills the chunk (``times`` is passed, sliced, only when it is
-    per query) and returns the certificate (B,).
+    per query) and returns the certificate (B,). With ``workers > 1`` the chunks are planned by
+    that many threads (the numba kernels release the GIL; every chunk writes its own rows).
     """
     b, m, d = obstacles.shape
     n = configs[0].shape[1]
     out = planner.allocate(b, len(configs), m, n, d)
     per_query_times = out["times"].ndim == 2
-    chunks = range(0, b, CHUNK)
-    if progress and len(chunks) > 4:
-        from tqdm import tqdm
 
-        chunks = tqdm(chunks, desc="planning", unit="chunk", file=sys.stderr)
-    for lo in chunks:
+    def chunk(lo: int) -> tuple[int, int, np.ndarray]:
         hi = min(b, lo + CHUNK)
         extra = {"times": out["times"][lo:hi]} if per_query_times else {}
         ok = planner.plan_certified(
@@ -315,11 +313,43 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend):
             out["domain"][lo:hi], out["strata"][lo:hi], out["clearance"][lo:hi], backend=backend,
             **extra,
         )
-        if not ok.all():
-            bad = np.zeros(b, dtype=bool)
-            bad[lo:hi] = ~ok
-            _raise_certificate(bad, batched)
+        return lo, hi, ok
+
+    starts = range(0, b, CHUNK)
+    bar = None
+    if progress and len(starts) > 4:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(starts), desc="planning", unit="chunk", file=sys.stderr)
+    pool = None
+    if workers > 1 and len(starts) > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        pool = ThreadPoolExecutor(min(workers, len(starts)))
+    try:
+        done = map(chunk, starts) if pool is None else pool.map(chunk, starts)
+        for lo, hi, ok in done:
+            if bar is not None:
+                bar.update()
+            if not ok.all():
+                bad = np.zeros(b, dtype=bool)
+                bad[lo:hi] = ~ok
+                _raise_certificate(bad, batched)
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
+        if bar is not None:
+            bar.close()
     return out
+
+
+def _check_workers(workers) -> int:
+    """``workers`` as a thread count: a positive int, or -1 for every CPU of the machine."""
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or not (
+        workers >= 1 or workers == -1
+    ):
+        raise InputError(f"`workers` must be a positive integer or -1 (all CPUs), got {workers!r}")
+    return (os.cpu_count() or 1) if workers == -1 else int(workers)
 
 
 def _single(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
@@ -339,7 +369,7 @@ def _single(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
 
 def plan_batch(
     obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0,
-    progress: bool = False, backend: str | None = None,
+    progress: bool = False, backend: str | None = None, workers: int = 1,
 ) -> PlanBatch:
     """Plan a batch of B queries at once (vectorised :func:`plan`).
 
@@ -356,6 +386,9 @@ def plan_batch(
     backend : {"numba", "numpy"}, optional
         Implementation of the obstacle-line and planar_three planners: the fused numba kernels
         (default when numba is installed) or the numpy references; both give identical plans.
+    workers : int
+        Threads that plan chunks of the batch in parallel (-1: one per CPU). The result does not
+        depend on it. Only the fused planners (obstacle-line, planar_three) use threads.
 
     Returns
     -------
@@ -378,13 +411,14 @@ def plan_batch(
     ((5,), (5, 8, 5, 2), (8,))
     """
     lift = _check_lift(lift)
+    workers = _check_workers(workers)
     obstacles, start, goal = check_query(obstacles, start, goal, batched=True)
     _, m, d = obstacles.shape
     n = start.shape[1]
     p = choose_planner(d, n, m, planner)
     _check_backend(backend)
     out = _run(p, obstacles, [start, goal], lift, batched=True, sequential=False,
-               progress=progress, backend=backend)
+               progress=progress, backend=backend, workers=workers)
     return PlanBatch(planner=p.name, dims=(d, n, m), **out)
 
 

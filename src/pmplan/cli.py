@@ -55,6 +55,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--planner", default=None)
     p.add_argument("--lift", type=float, default=1.0)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--workers", type=int, default=1,
+                   help="threads planning in parallel (-1: one per CPU; default 1)")
 
     p = sub.add_parser("demo", help="the main job: one query per domain, table and picture",
                        description="Example: pmplan demo --out demo.png")
@@ -124,7 +126,8 @@ def cmd_batch(args) -> int:
 
     q = read_queries(args.queries)
     batch = api.plan_batch(q["obstacles"], q["start"], q["goal"], planner=args.planner,
-                           lift=args.lift, progress=not args.no_progress)
+                           lift=args.lift, progress=not args.no_progress,
+                           workers=args.workers)
     write_plans(args.out, batch)
     counts = {int(k): int(v) for k, v in zip(*_unique(batch.domain))}
     print(f"planned {len(batch)} queries with {batch.planner}; domains {counts}; "
