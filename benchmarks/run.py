@@ -229,7 +229,7 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
             for k, fn in stages.items():
                 times[k] += timeit(fn, 1)
                 gc.collect()
-            tc += timeit(lambda: np.copyto(dst, src), 1)
+            tc += timeit(lambda dst=dst, src=src: np.copyto(dst, src), 1)
         copy = min(tc)
         for k, ts in times.items():
             rows.append({"B": b, "stage": k, "ms": 1e3 * min(ts), "ratio": min(ts) / copy,

@@ -523,6 +523,10 @@ def test_workers_change_nothing(monkeypatch, planner, dims):
     one = pmplan.plan_batch(o, s, g, planner=planner)
     for workers in (2, 3, -1):
         assert_same_batch(pmplan.plan_batch(o, s, g, planner=planner, workers=workers), one)
+    if planner == "obstacle_line":
+        h = rng.normal(size=s.shape)
+        seq = pmplan.plan_sequence_batch(o, [s, h, g])
+        assert_same_batch(pmplan.plan_sequence_batch(o, [s, h, g], workers=2), seq)
     if planner == "obstacle_line" and dims == (2, 3, 2):
         # the SPEC 5 precision case (see test_configuration) in chunks 2 and 4
         o[[150, 270]] = [[0.0, 0.0], [1.0, 2.0]]
@@ -541,3 +545,21 @@ def test_workers_must_be_a_thread_count(workers):
     o[0, 1] = 1.0
     with pytest.raises(InputError, match="workers"):
         pmplan.plan_batch(o, s, g, workers=workers)
+
+
+def test_one_specialisation():
+    """Read-only, Fortran-ordered, strided, float32 and list inputs reuse the one compiled
+    kernel (a new array type would make numba compile every kernel again, for seconds)."""
+    rng = np.random.default_rng(3)
+    o, s, g = (rng.normal(size=(40, k, 2)) for k in (2, 3, 3))
+    frozen = [a.copy() for a in (o, s, g)]
+    for a in frozen:
+        a.flags.writeable = False
+    want = pmplan.plan_batch(o, s, g)
+    assert_same_batch(pmplan.plan_batch(*frozen), want)
+    assert_same_batch(pmplan.plan_sequence_batch(frozen[0], [frozen[1], frozen[2]]), want)
+    assert_same_batch(pmplan.plan_batch(np.asfortranarray(o), s[:, ::-1][:, ::-1], g.tolist()),
+                      want)
+    pmplan.plan_batch(o.astype(np.float32), s, g)  # (other values: planned, not compared)
+    for kernel in (K.plan_chunk, K.valid_queries, K._plan_lanes):
+        assert len(kernel.signatures) == 1, kernel

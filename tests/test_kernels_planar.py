@@ -298,5 +298,10 @@ def test_one_specialisation():
     pmplan.plan_batch(np.asfortranarray(o), s, g)
     pmplan.plan(o[0].tolist(), s[0], g[0])
     PLANAR_THREE.plan(o, s, g)
+    frozen = [a.copy() for a in (o, s, g)]
+    for a in frozen:  # read-only input (a memory map, say) is copied, not compiled for
+        a.flags.writeable = False
+    pmplan.plan_batch(*frozen)
+    PLANAR_THREE.plan(*frozen)
     assert len(KP.plan_planar.signatures) == 1
     assert len(KP.plan_planar_one.signatures) == 1

@@ -745,7 +745,7 @@ def _unit_rows(w, n, out, t):  # pragma: no cover - compiled
         for l in range(L):
             a = abs(w[c, l])
             s = t[src, l]
-            t[dst, l] = a if a > s else s
+            t[dst, l] = a if a > s else s  # noqa: FURB136 (a select: NaN never chosen)
         src, dst = dst, src
     for c in range(n):
         for l in range(L):
@@ -784,7 +784,7 @@ def _piece_plane(S, a0, b0, c0, e0, T, src, dst):  # pragma: no cover - compiled
         qy = ry + q * vy
         dist2 = (0.0 + qx * qx) + qy * qy
         s = T[src, l]
-        T[dst, l] = dist2 if dist2 < s else s
+        T[dst, l] = dist2 if dist2 < s else s  # noqa: FURB136 (a select: NaN never chosen)
 
 
 @njit(**_OPTS)
@@ -917,7 +917,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     T[BAD, l] += v - v  # NaN unless finite
                     a = T[ACC2, l]
                     z = T[mx, l]
-                    T[mx2, l] = z if a <= z else a
+                    T[mx2, l] = z if a <= z else a  # noqa: FURB136 (a select: NaN never chosen)
                 mx, mx2 = mx2, mx
             mn = 13
             mn2 = 14
@@ -931,7 +931,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     for l in range(L):
                         df = abs(V[i, l] - V[j, l])
                         z = T[mn, l]
-                        T[mn2, l] = df if df < z else z
+                        T[mn2, l] = df if df < z else z  # noqa: FURB136 (a select: NaN never chosen)
                     mn, mn2 = mn2, mn
             for l in range(L):
                 T[BAD, l] += 0.0 if T[mn, l] > T[THR, l] else 1.0
@@ -951,6 +951,15 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     x2 = (k * n + j) * d + c
                     for l in range(L):
                         X2[x2, l] = Y[yk + c, l] + T[ACC, l] * E[c, l]
+        # a block with no generic query (a degenerate batch) goes to the scalar kernel at once
+        anygood = False
+        for l in range(L):
+            anygood |= T[BAD, l] == 0
+        if not anygood:
+            for l in range(L):
+                todo[nt] = b0 + l
+                nt += 1
+            continue
         # --- lambda (SPEC 4b) and the lift ---------------------------------------------------
         for l in range(L):
             T[mx, l] = 0.0
@@ -968,7 +977,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
             for l in range(L):
                 qq = math.sqrt(T[Q, l])
                 z = T[mx, l]
-                T[mx2, l] = qq if (qq > z) | (i == 2) | (qq != qq) else z
+                T[mx2, l] = qq if (qq > z) | (i == 2) | math.isnan(qq) else z
             mx, mx2 = mx2, mx
         for j in range(n):
             for c in range(d):
@@ -1020,7 +1029,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                 av = abs(v)
                 T[BAD, l] += v - v
                 z = T[mx, l]
-                T[mx2, l] = av if av > z else z
+                T[mx2, l] = av if av > z else z  # noqa: FURB136 (a select: NaN never chosen)
             mx, mx2 = mx2, mx
         for t in range(kk):
             for x in range(md):
@@ -1057,7 +1066,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     for l in range(L):
                         a = T[ACC, l]
                         z = T[mn, l]
-                        T[mn2, l] = a if a < z else z
+                        T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
                     mn, mn2 = mn2, mn
         for t in range(kk - 1):
             if t % 7 == 0 or t % 7 == 6:
@@ -1100,7 +1109,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                         for l in range(L):
                             a = T[ACC, l]
                             z = T[mn, l]
-                            T[mn2, l] = a if a < z else z
+                            T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
                     mn, mn2 = mn2, mn
         for l in range(L):
             T[BAD, l] += 0.0 if T[mn, l] > T[THR2, l] else 1.0
@@ -1115,7 +1124,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                 for l in range(L):
                     a = T[ACC, l]
                     z = T[mn, l]
-                    T[mn2, l] = a if a < z else z
+                    T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
                 mn, mn2 = mn2, mn
         # --- write the waypoints (query after query) and the decided queries' records -------
         for l in range(L):

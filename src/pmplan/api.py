@@ -625,20 +625,23 @@ def _check_sequence(obstacles, configs, batched: bool):
 
 
 def plan_sequence_batch(obstacles, configs, *, lift: float = 1.0,
-                        backend: str | None = None) -> PlanBatch:
+                        backend: str | None = None, progress: bool = False,
+                        workers: int = 1) -> PlanBatch:
     """Plan batches of motions through r >= 2 configurations (SPEC 4c).
 
     ``obstacles`` (B, m, d); ``configs`` a list of r arrays (B, n, d). The path passes through
     configuration k at tau = (k-1)/(r-1); labels sum_k cp(C_k) - (r-1) cp_o + 2 (- 1 when
-    e == N in odd d). ``backend``: see :func:`plan_batch`.
+    e == N in odd d). ``backend``, ``progress``, ``workers``: see :func:`plan_batch`.
     """
     lift = _check_lift(lift)
+    workers = _check_workers(workers)
     obstacles, configs = _check_sequence(obstacles, configs, batched=True)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
     p = choose_planner(d, n, m, "obstacle_line")
     _check_backend(backend)
-    out = _run(p, obstacles, configs, lift, batched=True, sequential=True, backend=backend)
+    out = _run(p, obstacles, configs, lift, batched=True, sequential=True, progress=progress,
+               backend=backend, workers=workers)
     return PlanBatch(planner=p.name, dims=(d, n, m), **out)
 
 

@@ -12,7 +12,8 @@ import numpy as np
 
 from .errors import CollisionError, InputError, NonFiniteError, ObstacleMismatchError, ShapeError
 
-__all__ = ["as_points", "check_query", "coincident_pairs", "check_same_obstacles"]
+__all__ = [
+    "as_points", "check_query", "coincident_pairs", "check_same_obstacles", "kernel_array"]
 
 
 def as_points(value, name: str, batched: bool) -> np.ndarray:
@@ -133,6 +134,16 @@ def check_query(obstacles, start, goal, *, batched: bool, names: tuple[str, str]
     return obstacles, start, goal
 
 
+def kernel_array(a) -> np.ndarray:
+    """``a`` as a C-contiguous, writeable float64 array (copied only when it is not one).
+
+    The numba kernels are compiled for exactly this array type: a read-only input (a memory
+    map, a broadcast view) would otherwise make numba compile a second copy of every kernel.
+    """
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    return a if a.flags.writeable else a.copy()
+
+
 def _valid_fast(obstacles, start, goal, batched: bool):
     """Return the arrays of :func:`check_query` when the query is valid, else None.
 
@@ -157,9 +168,9 @@ def _valid_fast(obstacles, start, goal, batched: bool):
         o, s, g = o[None], s[None], g[None]
     if s.shape != g.shape or s.shape[0] != o.shape[0] or s.shape[2] != o.shape[2]:
         return None
-    o = np.ascontiguousarray(o)
-    s = np.ascontiguousarray(s)
-    g = s if g is s else np.ascontiguousarray(g)
+    o = kernel_array(o)
+    s = kernel_array(s)
+    g = s if g is s else kernel_array(g)
     if not _kernels.valid_queries(o, s, g):
         return None
     return o, s, g

@@ -46,6 +46,7 @@ import numpy as np
 
 from ..certify import certify
 from ..certify import clearance as certified_clearance
+from ..configuration import kernel_array
 from ..frame import Frame
 from ..path import PiecewiseLinearPath, compose_via_deformations, join, linear
 from ..predicates import projection_classes
@@ -203,7 +204,7 @@ _KERNELS = None
 
 
 def _contiguous(a) -> np.ndarray:
-    return np.ascontiguousarray(a, dtype=np.float64)
+    return kernel_array(a)
 
 
 def _fused(obstacles, configs, lift, wp, domain, strata, clearance) -> np.ndarray:

@@ -73,6 +73,7 @@ import numpy as np
 
 from ..certify import certify
 from ..certify import clearance as certified_clearance
+from ..configuration import kernel_array
 from ..frame import Frame
 from ..path import PiecewiseLinearPath
 from ..predicates import projection_classes
@@ -623,9 +624,9 @@ def _fusable(obstacles, start, goal):
     if not KP.AVAILABLE:  # pragma: no cover
         return None
     try:
-        obstacles = np.ascontiguousarray(obstacles, dtype=np.float64)
-        start = np.ascontiguousarray(start, dtype=np.float64)
-        goal = np.ascontiguousarray(goal, dtype=np.float64)
+        obstacles = kernel_array(obstacles)
+        start = kernel_array(start)
+        goal = kernel_array(goal)
     except (TypeError, ValueError):
         return None
     b = obstacles.shape[0] if obstacles.ndim == 3 else -1
