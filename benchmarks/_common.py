@@ -472,9 +472,10 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
                 (
                     "Every stage timed on its own, in the same run as the copy. The kernels "
                     "alone, writing into arrays that already exist, are the planner's own cost; "
-                    "a fresh output adds the zeroing of new pages by the operating system; "
-                    "`plan_batch` adds the validation of the input. The last row uses every "
-                    "core (`workers=-1`): not a one-core figure, shown for reference."
+                    "`plan_batch` adds the validation of the input and a fresh output (whose "
+                    "pages the operating system zeroes when they are first written). The last "
+                    "row uses every core (`workers=-1`): not a one-core figure, shown for "
+                    "reference."
                 ),
                 "",
                 _breakdown_md(results),
@@ -514,6 +515,10 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
             "### Batch throughput (one core)",
             "",
             _throughput_md(results),
+            "",
+            "### Where the time of `plan_batch` goes, (2,4,2) generic",
+            "",
+            _breakdown_md(results),
             "",
             "### Single-query latency",
             "",

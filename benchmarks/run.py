@@ -182,8 +182,8 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
 
     Each stage is timed on its own (best of a few, interleaved with the copy): the validation
     (``check_query``), the kernels writing into output arrays allocated before the timer starts
-    (``plan_certified`` chunk by chunk, as ``plan_batch`` calls it), the same into freshly
-    allocated arrays (the operating system zeroes new pages on first touch), and the whole call.
+    (``plan_certified`` chunk by chunk, as ``plan_batch`` calls it), and the whole call, which
+    also allocates the output (the operating system zeroes new pages on first touch).
     """
     from pmplan.api import CHUNK, choose_planner
     from pmplan.configuration import check_query
@@ -203,26 +203,19 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
                                  out["domain"][lo:hi], out["strata"][lo:hi],
                                  out["clearance"][lo:hi])
 
-        def fresh(o=o, s=s, g=g, b=b):
-            new = p.allocate(b, 2, m, n, d)
-            for lo in range(0, b, CHUNK):
-                hi = min(b, lo + CHUNK)
-                p.plan_certified(o[lo:hi], [s[lo:hi], g[lo:hi]], 1.0, new["waypoints"][lo:hi],
-                                 new["domain"][lo:hi], new["strata"][lo:hi],
-                                 new["clearance"][lo:hi])
-
         src = out["waypoints"]
         dst = np.empty_like(src)
         np.copyto(dst, src)
         stages = {
             "validation (check_query)": lambda o=o, s=s, g=g: check_query(o, s, g, batched=True),
             "kernels, output allocated beforehand": kernels,
-            "kernels, fresh output (pages zeroed on first touch)": fresh,
             "plan_batch (all of it)": lambda o=o, s=s, g=g: pmplan.plan_batch(o, s, g),
             "plan_batch, workers = -1 (every core)":
                 lambda o=o, s=s, g=g: pmplan.plan_batch(o, s, g, workers=-1),
         }
-        kernels()
+        for fn in stages.values():  # warm-up: memory the process never touched before is
+            fn()  # slow to fault in on a virtual machine (the host maps it on first use)
+            gc.collect()
         times = {k: [] for k in stages}
         tc = []
         for _ in range(reps):
