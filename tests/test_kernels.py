@@ -563,3 +563,52 @@ def test_one_specialisation():
     pmplan.plan_batch(o.astype(np.float32), s, g)  # (other values: planned, not compared)
     for kernel in (K.plan_chunk, K.valid_queries, K._plan_lanes):
         assert len(kernel.signatures) == 1, kernel
+
+
+@pytest.mark.parametrize("bad", ["nan", "inf", "coincident_start", "coincident_goal",
+                                 "obstacles_equal"])
+@pytest.mark.parametrize("where", [3, 150, 299])
+def test_validation_in_the_kernel_raises_the_reference_error(monkeypatch, bad, where):
+    """plan_batch lets the kernel validate the queries in its own pass: an invalid query
+    anywhere (any chunk, in the SIMD blocks or the tail) raises exactly the error of the
+    reference checks -- also when an earlier chunk holds a query whose certificate fails."""
+    rng = np.random.default_rng(17)
+    o, s, g = (rng.normal(size=(300, k, 2)) for k in (2, 3, 3))
+    if bad == "nan":
+        s[where, 1, 0] = np.nan
+    elif bad == "inf":
+        g[where, 2, 1] = -np.inf
+    elif bad == "coincident_start":
+        s[where, 2] = o[where, 1]
+    elif bad == "coincident_goal":
+        g[where, 0] = g[where, 2]
+    else:
+        o[where, 1] = o[where, 0]
+    want = _outcome(configuration.check_query, o, s, g, batched=True)
+    assert isinstance(want, tuple) and issubclass(want[0], PmplanError)
+    monkeypatch.setattr(api, "CHUNK", 100)
+    assert _outcome(pmplan.plan_batch, o, s, g) == want
+    assert _outcome(pmplan.plan_batch, o, s, g, workers=2) == want
+    # the SPEC 5 precision case (a failing certificate) in the first chunk changes nothing
+    o[1] = [[0.0, 0.0], [1.0, 2.0]]
+    s[1, :2] = [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]]
+    g[1, :2] = [[5.0, 5.0], [6.0, -7.0]]
+    s[1, 2] = g[1, 2] = [-4.0, 7.0]
+    assert _outcome(pmplan.plan_batch, o, s, g) == want
+
+
+def test_plan_batch_validates_in_one_pass(monkeypatch):
+    """For the obstacle-line kernel the separate validation pass is skipped (the kernel
+    validates); for the numpy backend and the planar planner it runs first."""
+    calls = []
+    real = K.valid_queries
+    monkeypatch.setattr(K, "valid_queries", lambda *a: calls.append(1) or real(*a))
+    rng = np.random.default_rng(2)
+    o, s, g = (rng.normal(size=(50, k, 2)) for k in (2, 3, 3))
+    pmplan.plan_batch(o, s, g)
+    assert calls == []
+    pmplan.plan_batch(o, s, g, backend="numpy")
+    assert calls == [1]
+    o3, s1, g1 = (rng.normal(size=(50, k, 2)) for k in (3, 1, 1))
+    pmplan.plan_batch(o3, s1, g1)
+    assert calls == [1, 1]

@@ -19,7 +19,7 @@ import numpy as np
 from . import planners as _planners  # noqa: F401  (registers the planners)
 from .certify import certify
 from .configuration import as_points, check_query, check_same_obstacles
-from .errors import CertificationError, InputError, ShapeError, UnsupportedError
+from .errors import CertificationError, InputError, PmplanError, ShapeError, UnsupportedError
 from .path import PiecewiseLinearPath, _unchecked_path
 from .planners.base import REGISTRY, Planner, RawPlan
 from .planners.obstacle_line import BACKENDS
@@ -232,7 +232,8 @@ def _raise_certificate(bad: np.ndarray, batched: bool) -> None:
 
 
 def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, sequential: bool,
-         progress: bool = False, backend: str | None = None, workers: int = 1):
+         progress: bool = False, backend: str | None = None, workers: int = 1,
+         validate: bool = False):
     """Plan and certify in chunks; return the arrays of a PlanBatch.
 
     Planners with a fused path (``plan_certified``: the obstacle-line planner, numba kernel of
@@ -241,7 +242,8 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
     chunk that is certified by :func:`pmplan.certify.certify`.
     """
     if hasattr(planner, "plan_certified"):
-        return _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers)
+        return _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers,
+                          validate)
     b = obstacles.shape[0]
     out = None
     chunks = range(0, b, CHUNK)
@@ -290,7 +292,8 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
     return out
 
 
-def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers=1):
+def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers=1,
+               validate=False):
     """:func:`_run` for planners that plan and certify into preallocated arrays.
 
     Such a planner has ``allocate(b, r, m, n, d) -> dict`` (arrays ``domain`` (B,), ``strata``
@@ -299,6 +302,10 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
     backend, times=None)``, which fills the chunk (``times`` is passed, sliced, only when it is
     per query) and returns the certificate (B,). With ``workers > 1`` the chunks are planned by
     that many threads (the numba kernels release the GIL; every chunk writes its own rows).
+    With ``validate`` the planner's kernel also validates the queries (``plan_certified(...,
+    validate=True)``, see ``planner.validates``): before a certificate error is raised, the
+    queries are checked (:func:`pmplan.configuration.check_query`), which raises the input
+    error if one of them is invalid -- the error the caller would have got from checking first.
     """
     b, m, d = obstacles.shape
     n = configs[0].shape[1]
@@ -308,6 +315,8 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
     def chunk(lo: int) -> tuple[int, int, np.ndarray]:
         hi = min(b, lo + CHUNK)
         extra = {"times": out["times"][lo:hi]} if per_query_times else {}
+        if validate:
+            extra["validate"] = True
         ok = planner.plan_certified(
             obstacles[lo:hi], [c[lo:hi] for c in configs], lift, out["waypoints"][lo:hi],
             out["domain"][lo:hi], out["strata"][lo:hi], out["clearance"][lo:hi], backend=backend,
@@ -332,6 +341,8 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
             if bar is not None:
                 bar.update()
             if not ok.all():
+                if validate:  # an invalid query, or a certificate that fails
+                    check_query(obstacles, configs[0], configs[-1], batched=True)
                 bad = np.zeros(b, dtype=bool)
                 bad[lo:hi] = ~ok
                 _raise_certificate(bad, batched)
@@ -412,13 +423,22 @@ def plan_batch(
     """
     lift = _check_lift(lift)
     workers = _check_workers(workers)
-    obstacles, start, goal = check_query(obstacles, start, goal, batched=True)
+    # types and shapes here; the validity of every query (finite, no two equal points) is
+    # checked by the planner's kernel in its own pass where it can, else here
+    obstacles, start, goal = check_query(obstacles, start, goal, batched=True, deep=False)
     _, m, d = obstacles.shape
     n = start.shape[1]
-    p = choose_planner(d, n, m, planner)
-    _check_backend(backend)
+    try:
+        p = choose_planner(d, n, m, planner)
+        _check_backend(backend)
+    except PmplanError:  # an invalid query is reported first, as always
+        check_query(obstacles, start, goal, batched=True)
+        raise
+    deferred = getattr(p, "validates", None) is not None and p.validates(d, backend)
+    if not deferred:
+        check_query(obstacles, start, goal, batched=True)
     out = _run(p, obstacles, [start, goal], lift, batched=True, sequential=False,
-               progress=progress, backend=backend, workers=workers)
+               progress=progress, backend=backend, workers=workers, validate=deferred)
     return PlanBatch(planner=p.name, dims=(d, n, m), **out)
 
 

@@ -91,16 +91,19 @@ def check_configuration(config: np.ndarray, m: int, which: str, batched: bool) -
         )
 
 
-def check_query(obstacles, start, goal, *, batched: bool, names: tuple[str, str] = ("start", "goal")):
+def check_query(obstacles, start, goal, *, batched: bool, names: tuple[str, str] = ("start", "goal"),
+                deep: bool = True):
     """Validate a query (or a batch) and return float arrays (B, m, d), (B, n, d), (B, n, d).
 
     A single query is returned as a batch of one. ``names`` label the two robot arrays in error
     messages (e.g. ``("configuration 1", "configuration 3")`` for sequential queries).
 
     A valid query takes the fast path (:func:`_valid_fast`: one numba pass, no temporary); any
-    problem sends it through the checks below, which raise the error.
+    problem sends it through the checks below, which raise the error. ``deep=False`` checks the
+    types, axes and shapes only, for a caller whose kernel validates every query itself (and
+    calls this again with ``deep=True`` to raise the error when it finds an invalid one).
     """
-    fast = _valid_fast(obstacles, start, goal, batched)
+    fast = _valid_fast(obstacles, start, goal, batched, deep)
     if fast is not None:
         return fast
     obstacles = as_points(obstacles, "obstacles", batched)
@@ -144,10 +147,10 @@ def kernel_array(a) -> np.ndarray:
     return a if a.flags.writeable else a.copy()
 
 
-def _valid_fast(obstacles, start, goal, batched: bool):
+def _valid_fast(obstacles, start, goal, batched: bool, deep: bool = True):
     """Return the arrays of :func:`check_query` when the query is valid, else None.
 
-    Converts like :func:`as_points`, checks the axes and shapes, then asks
+    Converts like :func:`as_points`, checks the axes and shapes, then (if ``deep``) asks
     :func:`pmplan._kernels.valid_queries` (finite, no two equal points in C or C') in one pass.
     It never raises: None means "let the reference checks decide (and word the error)".
     """
@@ -171,7 +174,7 @@ def _valid_fast(obstacles, start, goal, batched: bool):
     o = kernel_array(o)
     s = kernel_array(s)
     g = s if g is s else kernel_array(g)
-    if not _kernels.valid_queries(o, s, g):
+    if deep and not _kernels.valid_queries(o, s, g):
         return None
     return o, s, g
 

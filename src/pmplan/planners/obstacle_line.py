@@ -207,11 +207,14 @@ def _contiguous(a) -> np.ndarray:
     return kernel_array(a)
 
 
-def _fused(obstacles, configs, lift, wp, domain, strata, clearance) -> np.ndarray:
+def _fused(obstacles, configs, lift, wp, domain, strata, clearance,
+           validate: bool = False) -> np.ndarray:
     """Plan and certify with the numba kernel, re-deciding flagged queries exactly.
 
     Fills the output arrays (B, K, m+n, d), (B,), (B, r+2), (B,) in place and returns the
-    certificate (bool, (B,)). See :mod:`pmplan._kernels` for the flags: ``FALLBACK`` queries are
+    certificate (bool, (B,)). With ``validate`` (d <= MAX_D only) the kernel also checks every
+    query (finite, no two equal points) and an invalid one fails the certificate: the caller
+    then runs :func:`pmplan.configuration.check_query`, which raises the error. See :mod:`pmplan._kernels` for the flags: ``FALLBACK`` queries are
     recomputed whole by the numpy reference (:meth:`ObstacleLinePlanner.plan_sequence` with
     ``backend="numpy"``) and certified by :func:`pmplan.certify.certify`; ``SUSPECT`` ones get
     their clearance from :func:`pmplan.certify.clearance` (exact on the suspect pairs).
@@ -231,12 +234,13 @@ def _fused(obstacles, configs, lift, wp, domain, strata, clearance) -> np.ndarra
     else:
         middle = np.empty((0, b, n, d))
     flags = np.empty(b, np.uint8)
-    K.plan_chunk(obstacles, configs[0], configs[-1], middle, float(lift), False, wp, domain,
+    K.plan_chunk(obstacles, configs[0], configs[-1], middle, float(lift), validate, wp, domain,
                  strata, clearance, flags, K.tables(r, m, n, d))
-    ok = (flags & (K.NONFINITE | K.BROKEN)) == 0
+    ok = (flags & (K.NONFINITE | K.BROKEN | K.INVALID)) == 0
     if not flags.any():
         return ok & (clearance > 0)
-    sus = np.flatnonzero((flags & (K.SUSPECT | K.FALLBACK | K.NONFINITE | K.BROKEN)) == K.SUSPECT)
+    sus = np.flatnonzero((flags & (K.SUSPECT | K.FALLBACK | K.NONFINITE | K.BROKEN | K.INVALID))
+                         == K.SUSPECT)
     if sus.size:
         clearance[sus] = certified_clearance(wp[sus], m)
     ok &= clearance > 0
@@ -441,6 +445,13 @@ class ObstacleLinePlanner:
 
         return run
 
+    def validates(self, d: int, backend: str | None = None) -> bool:
+        """Whether :meth:`plan_certified` can validate the queries itself (``validate=True``):
+        with the numba kernel, for d <= MAX_D."""
+        if resolve_backend(backend) != "numba":
+            return False
+        return d <= _kernels_module().MAX_D
+
     def path_times(self, r: int) -> np.ndarray:
         """Breakpoints of every path through r configurations (see :func:`path_times`)."""
         return path_times(r)
@@ -457,7 +468,7 @@ class ObstacleLinePlanner:
         )
 
     def plan_certified(self, obstacles, configs, lift, wp, domain, strata, clearance,
-                       backend: str | None = None) -> np.ndarray:
+                       backend: str | None = None, validate: bool = False) -> np.ndarray:
         """Plan and certify a chunk into preallocated outputs; return the certificate (B,).
 
         Parameters
@@ -470,6 +481,9 @@ class ObstacleLinePlanner:
         domain, strata, clearance : ndarrays (B,), (B, r + 2), (B,)
             Outputs: labels, strata records, certified clearances.
         backend : {"numba", "numpy"}, optional
+        validate : bool
+            Let the numba kernel check every query too (only where :meth:`validates` says it
+            does): an invalid query then fails the certificate.
 
         Returns
         -------
@@ -478,7 +492,7 @@ class ObstacleLinePlanner:
             obstacles fixed, finite, clearance > 0).
         """
         if resolve_backend(backend) == "numba":
-            return _fused(obstacles, configs, lift, wp, domain, strata, clearance)
+            return _fused(obstacles, configs, lift, wp, domain, strata, clearance, validate)
         obstacles = np.asarray(obstacles, dtype=float)
         configs = [np.asarray(c, dtype=float) for c in configs]
         raw = self.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
