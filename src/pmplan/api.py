@@ -518,7 +518,12 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
     if entry is None:
         return None
     run, p, dims, names = entry
-    res = run(o, s, g, lift)
+    return _fast_answer(run(o, s, g, lift), p, dims, names)
+
+
+def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict) -> Plan | None:
+    """The :class:`Plan` of a fast-path kernel result ``(times, waypoints, domain, row,
+    clearance)``, or None when the kernel declined (``res`` is None)."""
     if res is None:
         return None
     times, wp, domain, row, clearance = res
@@ -731,14 +736,7 @@ def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
     if entry is None:
         return None
     run, p, dims, names = entry
-    res = run(o, cs, lift)
-    if res is None:
-        return None
-    times, wp, domain, row, clearance = res
-    stratum = names.get(row)
-    if stratum is None:
-        stratum = _stratum_name(p, row, dims, names)
-    return _new_plan(domain, stratum, clearance, _unchecked_path(times, wp), p.name, dims)
+    return _fast_answer(run(o, cs, lift), p, dims, names)
 
 
 def _sequence_entry(key: tuple):

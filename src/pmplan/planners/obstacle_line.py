@@ -403,10 +403,11 @@ class ObstacleLinePlanner:
         C-contiguous, aligned, writeable float64 arrays ``obstacles`` (m, d) and ``configs``
         (a sequence of r arrays (n, d)), and a float ``lift`` -- or None when no kernel plans
         that shape (numba missing, d > MAX_D, m < 2, n < 1, r < 2). ``run`` returns None
-        whenever the kernel (:func:`pmplan._kernels.plan_obstacle_line`, asked to validate)
-        flags the query or the clearance is not positive: the general path then raises the
-        proper error or re-decides exactly. The breakpoints are :func:`path_times` ``(r)`` (strictly increasing, so the
-        path is already compact), the waypoints those of paper Remark
+        whenever the kernel (:func:`pmplan._kernels.plan_chunk`, asked to validate, with the
+        index tables looked up once here) flags the query or the clearance is not positive:
+        the general path then raises the proper error or re-decides exactly. The breakpoints
+        are :func:`path_times` ``(r)`` (strictly increasing, so the path is already compact),
+        the waypoints those of paper Remark
         ``constructing-sections-via-deformations-higher-case`` on every leg (SPEC 4c).
         """
         K = _kernels_module()
@@ -415,7 +416,8 @@ class ObstacleLinePlanner:
         times = path_times(r)
         if not (np.diff(times) > 0).all():  # pragma: no cover - never: path_times is strict
             return None
-        kernel = K.plan_obstacle_line
+        kernel = K.plan_chunk
+        tab = K.tables(r, m, n, d)
         oshape, rshape, mshape = (1, m, d), (1, n, d), (1, 1, n, d)
         wshape, sshape = (1, times.shape[0], m + n, d), (1, r + 2)
         mfull, mflat = (r - 2, 1, n, d), ((r - 2) * n, d)
@@ -437,7 +439,7 @@ class ObstacleLinePlanner:
             flags = empty(1, u8)
             kernel(obstacles.reshape(oshape), configs[0].reshape(rshape),
                    configs[-1].reshape(rshape), middle, lift, True, wp, domain, strata,
-                   clearance, flags)
+                   clearance, flags, tab)
             clr = clearance.item()
             if flags.item() or not clr > 0:
                 return None
