@@ -57,8 +57,22 @@ import math
 
 import numpy as np
 
-# the error-free transformations and the numba import (with its no-numba fallback), shared
-from ._kernels import AVAILABLE, _two_prod, _two_sum, njit
+# shared with the obstacle-line kernel: the error-free transformations, the numba import (with
+# its no-numba fallback), the flag bits and the constants of the filter and the certificate
+from ._kernels import (
+    _BIG,
+    _REL,
+    _SMALL,
+    _TINY,
+    _U,
+    AVAILABLE,
+    FALLBACK,
+    INVALID,
+    SUSPECT,
+    _two_prod,
+    _two_sum,
+    njit,
+)
 
 __all__ = [
     "AVAILABLE",
@@ -71,19 +85,10 @@ __all__ = [
     "plan_planar_one",
 ]
 
-# the same bits as pmplan._kernels (kept here so that this module stands alone)
-FALLBACK = 1
-SUSPECT = 2
-INVALID = 16
 
 #: waypoints of every path of a batch (pmplan.planners.planar_three.K)
 K = 6
 
-_U = 2.0**-53  # unit roundoff (as in pmplan.predicates)
-_TINY = 2.0**-1070
-_REL = 1e-9  # as in pmplan.certify
-_BIG = 2.0**900  # TwoProduct's split overflows beyond this (as in pmplan.predicates)
-_SMALL = 2.0**-900  # below this TwoProduct's error term may underflow (as in pmplan.predicates)
 
 #: stratum code (index in planar_three.STRATA) of (family index, i, j); -1: no stratum.
 #: Family index 0, 1, 2 = T1, T22, T23. Written out here (the kernel's branches use the codes
