@@ -88,18 +88,18 @@ except ImportError:  # pragma: no cover - numba is a dependency; keep the numpy 
 
 __all__ = [
     "AVAILABLE",
-    "FALLBACK",
-    "SUSPECT",
-    "NONFINITE",
     "BROKEN",
+    "FALLBACK",
     "INVALID",
     "MAX_D",
-    "plan_obstacle_line",
-    "plan_chunk",
+    "NONFINITE",
+    "SUSPECT",
+    "first_coincident",
     "lanes",
+    "plan_chunk",
+    "plan_obstacle_line",
     "plan_one",
     "tables",
-    "first_coincident",
     "valid_queries",
 ]
 
@@ -280,6 +280,31 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
 
 
 @njit(**_INLINE)
+def _segment_param(num, vv):  # pragma: no cover - compiled
+    """The parameter of the point of a piece closest to the origin, as
+    :func:`pmplan.certify.segment_clearance` computes it: ``num / vv`` (``num = -r0.v``,
+    ``vv = |v|^2``) clipped to [0, 1], and 0 when ``vv`` is not positive. Branch-free (selects),
+    so that the loops calling it vectorise."""
+    q = num / vv
+    q = 1.0 if num >= vv else q
+    q = 0.0 if num <= 0 else q
+    return q if vv > 0 else 0.0
+
+
+@njit(**_INLINE)
+def _segment_dist2_plane(rx, ry, r1x, r1y):  # pragma: no cover - compiled
+    """Squared minimum distance to the origin of the plane piece r0 -> r1 (relative
+    positions), in :func:`pmplan.certify.segment_clearance`'s arithmetic and order."""
+    vx = r1x - rx
+    vy = r1y - ry
+    vv = (0.0 + vx * vx) + vy * vy
+    q = _segment_param(-((0.0 + rx * vx) + ry * vy), vv)
+    qx = rx + q * vx
+    qy = ry + q * vy
+    return (0.0 + qx * qx) + qy * qy
+
+
+@njit(**_INLINE)
 def _clearance_plane(dd, kk, npairs, best):  # pragma: no cover - compiled
     """Squared clearance in the plane (d = 2), branch-free over the pairs (vectorised).
 
@@ -291,19 +316,8 @@ def _clearance_plane(dd, kk, npairs, best):  # pragma: no cover - compiled
         best[k] = np.inf
     for t in range(kk - 1):
         for k in range(npairs):
-            rx = dd[t, 0, k]
-            ry = dd[t, 1, k]
-            vx = dd[t + 1, 0, k] - rx
-            vy = dd[t + 1, 1, k] - ry
-            vv = (0.0 + vx * vx) + vy * vy
-            num = -((0.0 + rx * vx) + ry * vy)
-            q = num / vv
-            q = 1.0 if num >= vv else q
-            q = 0.0 if num <= 0 else q
-            q = q if vv > 0 else 0.0
-            qx = rx + q * vx
-            qy = ry + q * vy
-            dist2 = (0.0 + qx * qx) + qy * qy
+            dist2 = _segment_dist2_plane(dd[t, 0, k], dd[t, 1, k], dd[t + 1, 0, k],
+                                         dd[t + 1, 1, k])
             best[k] = dist2 if dist2 < best[k] else best[k]  # noqa: FURB136
     out = np.inf
     for k in range(npairs):
@@ -328,11 +342,7 @@ def _clearance_any(dd, kk, npairs, d, best, vv, rv, tt, d2):  # pragma: no cover
                 vv[k] += vc * vc
                 rv[k] += r0 * vc
         for k in range(npairs):
-            num = -rv[k]
-            q = num / vv[k]
-            q = 1.0 if num >= vv[k] else q
-            q = 0.0 if num <= 0 else q
-            tt[k] = q if vv[k] > 0 else 0.0
+            tt[k] = _segment_param(-rv[k], vv[k])
             d2[k] = 0.0
         for c in range(d):
             for k in range(npairs):
@@ -367,14 +377,7 @@ def _clearance_exact(wf, b, dd, kk, p, d, npairs, pi, pj, thr2):  # pragma: no c
                 vc = dd[t + 1, c, k] - r0
                 vv += vc * vc
                 rv += r0 * vc
-            num = -rv
-            q = num / vv
-            if num <= 0:
-                q = 0.0
-            elif num >= vv:
-                q = 1.0
-            if not vv > 0:
-                q = 0.0
+            q = _segment_param(-rv, vv)
             dist2 = 0.0
             for c in range(d):
                 r0 = dd[t, c, k]
@@ -767,22 +770,10 @@ def _unit_rows(w, n, out, t):  # pragma: no cover - compiled
 def _piece_plane(S, a0, b0, c0, e0, T, src, dst):  # pragma: no cover - compiled
     """One piece of one pair in the plane, every lane: row ``dst`` of T = min(row ``src``,
     squared distance). The relative position is ``S[a] - S[b]`` at the start and
-    ``S[c] - S[e]`` at the end of the piece (rows a0, a0 + 1 hold coordinates 0, 1); the
-    arithmetic is :func:`_clearance_plane`'s."""
+    ``S[c] - S[e]`` at the end of the piece (rows a0, a0 + 1 hold coordinates 0, 1)."""
     for l in range(S.shape[1]):
-        rx = S[a0, l] - S[b0, l]
-        ry = S[a0 + 1, l] - S[b0 + 1, l]
-        vx = (S[c0, l] - S[e0, l]) - rx
-        vy = (S[c0 + 1, l] - S[e0 + 1, l]) - ry
-        vv = (0.0 + vx * vx) + vy * vy
-        num = -((0.0 + rx * vx) + ry * vy)
-        q = num / vv
-        q = 1.0 if num >= vv else q
-        q = 0.0 if num <= 0 else q
-        q = q if vv > 0 else 0.0
-        qx = rx + q * vx
-        qy = ry + q * vy
-        dist2 = (0.0 + qx * qx) + qy * qy
+        dist2 = _segment_dist2_plane(S[a0, l] - S[b0, l], S[a0 + 1, l] - S[b0 + 1, l],
+                                     S[c0, l] - S[e0, l], S[c0 + 1, l] - S[e0 + 1, l])
         s = T[src, l]
         T[dst, l] = dist2 if dist2 < s else s  # noqa: FURB136 (a select: NaN never chosen)
 
@@ -1092,12 +1083,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                                 T[ACC, l] += vc * vc
                                 T[ACC2, l] += rc * vc
                         for l in range(L):
-                            num = -T[ACC2, l]
-                            vv = T[ACC, l]
-                            qq = num / vv
-                            qq = 1.0 if num >= vv else qq
-                            qq = 0.0 if num <= 0 else qq
-                            T[Q, l] = qq if vv > 0 else 0.0
+                            T[Q, l] = _segment_param(-T[ACC2, l], T[ACC, l])
                             T[ACC, l] = 0.0
                         for c in range(d):
                             si = r0 + i * d + c

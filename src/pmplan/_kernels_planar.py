@@ -58,7 +58,8 @@ import math
 import numpy as np
 
 # shared with the obstacle-line kernel: the error-free transformations, the numba import (with
-# its no-numba fallback), the flag bits and the constants of the filter and the certificate
+# its no-numba fallback), the flag bits, the constants of the filter and the certificate, and
+# the closed-form distance of a piece
 from ._kernels import (
     _BIG,
     _REL,
@@ -69,6 +70,7 @@ from ._kernels import (
     FALLBACK,
     INVALID,
     SUSPECT,
+    _segment_dist2_plane,
     _two_prod,
     _two_sum,
     njit,
@@ -146,23 +148,6 @@ def _compare(vi, vj, thr, ax, ay, bx, by, rx, ry, rexact):  # pragma: no cover -
     if not rexact:
         return False, 0
     return _esign(ax, ay, bx, by, rx, ry)
-
-
-@njit(**_OPTS)
-def _seg_dist2(rx, ry, r1x, r1y):  # pragma: no cover - compiled
-    """Squared ``certify.segment_clearance`` of a pair moving r0 -> r1: the reference's
-    arithmetic (``t* = clip(-r0.v / |v|^2, 0, 1)``, 0 when ``|v| = 0``), branch-free."""
-    vx = r1x - rx
-    vy = r1y - ry
-    vv = vx * vx + vy * vy
-    num = -(rx * vx + ry * vy)
-    q = num / vv
-    q = 1.0 if num >= vv else q
-    q = 0.0 if num <= 0 else q
-    q = q if vv > 0 else 0.0
-    qx = rx + q * vx
-    qy = ry + q * vy
-    return qx * qx + qy * qy
 
 
 @njit(**_OPTS)
@@ -534,7 +519,7 @@ def plan_planar(obstacles, start, goal, even, validate, times, wp, domain, strat
                 ry = oy - y0
                 r1x = ox - x1
                 r1y = oy - y1
-                dist2 = _seg_dist2(rx, ry, r1x, r1y)
+                dist2 = _segment_dist2_plane(rx, ry, r1x, r1y)
                 if not dist2 > thr2:
                     sc = max(abs(rx), abs(ry), abs(r1x), abs(r1y))
                     av = max(abs(ox), abs(oy), abs(x0), abs(y0), abs(x1), abs(y1))
