@@ -329,6 +329,21 @@ def memory(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
     return rows
 
 
+def _cost_row(key: str, value: int, b: int, call, log) -> dict:
+    """Time ``call()`` (a batch of b queries, best of 3) and express it per query and per byte
+    of output waypoints; ``key = value`` names the row."""
+    res = call()
+    nbytes = res.waypoints.nbytes
+    del res
+    t = min(timeit(call, 3))
+    log(
+        f"  {key} = {value:2d}  B = {b:>8,}  {t / b * 1e6:8.2f} us/query  "
+        f"{t / nbytes * 1e9:6.3f} ns/output byte"
+    )
+    return {key: value, "B": b, "us_per_query": t / b * 1e6, "ns_per_byte": t / nbytes * 1e9,
+            "qps": b / t}
+
+
 def scaling(rng, quick: bool, log, batch: int | None = None) -> tuple[list[dict], list[dict]]:
     """Cost per query and per output byte as n grows (d = 2, m = 2) and as r grows (n = 4)."""
     rows_n, rows_r = [], []
@@ -338,45 +353,14 @@ def scaling(rng, quick: bool, log, batch: int | None = None) -> tuple[list[dict]
         b = max(2_000, budget // (n + 2))
         q = generic_queries(rng, b, 2, n, 2)
         pmplan.plan_batch(*(a[:200] for a in q))
-        res = pmplan.plan_batch(*q)
-        nbytes = res.waypoints.nbytes
-        del res
-        t = min(timeit(lambda q=q: pmplan.plan_batch(*q), 3))
-        rows_n.append(
-            {
-                "n": n,
-                "B": b,
-                "us_per_query": t / b * 1e6,
-                "ns_per_byte": t / nbytes * 1e9,
-                "qps": b / t,
-            }
-        )
-        log(
-            f"  n = {n:2d}  B = {b:>8,}  {t / b * 1e6:8.2f} us/query  "
-            f"{t / nbytes * 1e9:6.3f} ns/output byte"
-        )
+        rows_n.append(_cost_row("n", n, b, lambda q=q: pmplan.plan_batch(*q), log))
     b = batch // 5 if batch else 20_000 if quick else 100_000
     for r in range(2, 11):
         o, s, g = generic_queries(rng, b, 2, 4, 2)
         configs = [s] + [generic_queries(rng, b, 2, 4, 2)[1] for _ in range(r - 2)] + [g]
         pmplan.plan_sequence_batch(o[:200], [c[:200] for c in configs])
-        res = pmplan.plan_sequence_batch(o, configs)
-        nbytes = res.waypoints.nbytes
-        del res
-        t = min(timeit(lambda o=o, configs=configs: pmplan.plan_sequence_batch(o, configs), 3))
-        rows_r.append(
-            {
-                "r": r,
-                "B": b,
-                "us_per_query": t / b * 1e6,
-                "ns_per_byte": t / nbytes * 1e9,
-                "qps": b / t,
-            }
-        )
-        log(
-            f"  r = {r:2d}  B = {b:>8,}  {t / b * 1e6:8.2f} us/query  "
-            f"{t / nbytes * 1e9:6.3f} ns/output byte"
-        )
+        rows_r.append(_cost_row(
+            "r", r, b, lambda o=o, configs=configs: pmplan.plan_sequence_batch(o, configs), log))
     return rows_n, rows_r
 
 
