@@ -233,17 +233,18 @@ def _raise_certificate(bad: np.ndarray, batched: bool) -> None:
 
 def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, sequential: bool,
          progress: bool = False, backend: str | None = None, workers: int = 1,
-         validate: bool = False):
+         validate: bool = False, into: dict | None = None):
     """Plan and certify in chunks; return the arrays of a PlanBatch.
 
     Planners with a fused path (``plan_certified``: the obstacle-line planner, numba kernel of
     :mod:`pmplan._kernels` or its numpy reference) write straight into the preallocated output,
     chunk by chunk, so no temporary is larger than a chunk; the others return a RawPlan per
-    chunk that is certified by :func:`pmplan.certify.certify`.
+    chunk that is certified by :func:`pmplan.certify.certify`. ``into`` (from
+    :func:`_output_arrays`) are existing output arrays for the fused path to fill.
     """
     if hasattr(planner, "plan_certified"):
         return _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers,
-                          validate)
+                          validate, into)
     b = obstacles.shape[0]
     out = None
     chunks = range(0, b, CHUNK)
@@ -293,7 +294,7 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
 
 
 def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers=1,
-               validate=False):
+               validate=False, into=None):
     """:func:`_run` for planners that plan and certify into preallocated arrays.
 
     Such a planner has ``allocate(b, r, m, n, d) -> dict`` (arrays ``domain`` (B,), ``strata``
@@ -309,7 +310,7 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
     """
     b, m, d = obstacles.shape
     n = configs[0].shape[1]
-    out = planner.allocate(b, len(configs), m, n, d)
+    out = planner.allocate(b, len(configs), m, n, d) if into is None else into
     per_query_times = out["times"].ndim == 2
 
     def chunk(lo: int) -> tuple[int, int, np.ndarray]:
@@ -363,6 +364,48 @@ def _check_workers(workers) -> int:
     return (os.cpu_count() or 1) if workers == -1 else int(workers)
 
 
+def _output_arrays(out, planner: Planner, dims: tuple[int, int, int], b: int, r: int,
+                   inputs: tuple) -> dict | None:
+    """The arrays of ``out`` (the ``out=`` argument of the batch functions) to plan into.
+
+    ``out`` must be a :class:`PlanBatch` of the same planner, dims and length whose arrays have
+    the shapes and dtypes a new batch would have, are writeable and C-contiguous, and share no
+    memory with the query (``inputs``). Shared breakpoints (``times`` of shape (K,)) are
+    rewritten. Returns None when ``out`` is None.
+    """
+    if out is None:
+        return None
+    if not isinstance(out, PlanBatch):
+        raise InputError(f"`out` must be a PlanBatch returned by plan_batch, got "
+                         f"{type(out).__name__}")
+    if out.planner != planner.name or tuple(out.dims) != dims or len(out) != b:
+        raise InputError(
+            f"`out` holds {len(out)} plans of the {out.planner} planner for (d, n, m) = "
+            f"{tuple(out.dims)}; this batch needs {b} of the {planner.name} planner for "
+            f"{dims}"
+        )
+    d, n, m = dims
+    if not hasattr(planner, "allocate"):
+        raise UnsupportedError(f"the {planner.name} planner cannot plan into `out`")
+    template = planner.allocate(0, r, m, n, d)
+    arrays = {k: getattr(out, k) for k in template}
+    for k, a in arrays.items():
+        t = template[k]
+        want = t.shape if k == "times" and t.ndim == 1 else (b,) + t.shape[1:]
+        if a.shape != want or a.dtype != t.dtype:
+            raise InputError(
+                f"`out.{k}` has shape {a.shape} and dtype {a.dtype}; this batch needs shape "
+                f"{want} and dtype {t.dtype}"
+            )
+        if not (a.flags.writeable and a.flags.c_contiguous):
+            raise InputError(f"`out.{k}` must be a writeable C-contiguous array")
+        if any(np.may_share_memory(a, x) for x in inputs):
+            raise InputError(f"`out.{k}` shares memory with the query; pass separate arrays")
+    if template["times"].ndim == 1:
+        arrays["times"][...] = template["times"]
+    return arrays
+
+
 def _single(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
     """The :class:`Plan` of a batch of one (no PlanBatch in between)."""
     d, n, m = dims
@@ -381,6 +424,7 @@ def _single(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
 def plan_batch(
     obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0,
     progress: bool = False, backend: str | None = None, workers: int = 1,
+    out: PlanBatch | None = None,
 ) -> PlanBatch:
     """Plan a batch of B queries at once (vectorised :func:`plan`).
 
@@ -400,6 +444,11 @@ def plan_batch(
     workers : int
         Threads that plan chunks of the batch in parallel (-1: one per CPU). The result does not
         depend on it. Only the fused planners (obstacle-line, planar_three) use threads.
+    out : PlanBatch, optional
+        A batch returned by an earlier call with the same planner, (d, n, m) and B: its arrays
+        are overwritten with this batch's answers and ``out`` itself is returned, so that
+        planning batch after batch allocates nothing (as ``np.copyto`` writes into an existing
+        array). If the call raises, the contents of ``out`` are unspecified.
 
     Returns
     -------
@@ -437,9 +486,10 @@ def plan_batch(
     deferred = getattr(p, "validates", None) is not None and p.validates(d, backend)
     if not deferred:
         check_query(obstacles, start, goal, batched=True)
-    out = _run(p, obstacles, [start, goal], lift, batched=True, sequential=False,
-               progress=progress, backend=backend, workers=workers, validate=deferred)
-    return PlanBatch(planner=p.name, dims=(d, n, m), **out)
+    into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], 2, (obstacles, start, goal))
+    res = _run(p, obstacles, [start, goal], lift, batched=True, sequential=False,
+               progress=progress, backend=backend, workers=workers, validate=deferred, into=into)
+    return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
 
 
 def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0,
@@ -651,12 +701,12 @@ def _check_sequence(obstacles, configs, batched: bool):
 
 def plan_sequence_batch(obstacles, configs, *, lift: float = 1.0,
                         backend: str | None = None, progress: bool = False,
-                        workers: int = 1) -> PlanBatch:
+                        workers: int = 1, out: PlanBatch | None = None) -> PlanBatch:
     """Plan batches of motions through r >= 2 configurations (SPEC 4c).
 
     ``obstacles`` (B, m, d); ``configs`` a list of r arrays (B, n, d). The path passes through
     configuration k at tau = (k-1)/(r-1); labels sum_k cp(C_k) - (r-1) cp_o + 2 (- 1 when
-    e == N in odd d). ``backend``, ``progress``, ``workers``: see :func:`plan_batch`.
+    e == N in odd d). ``backend``, ``progress``, ``workers``, ``out``: see :func:`plan_batch`.
     """
     lift = _check_lift(lift)
     workers = _check_workers(workers)
@@ -665,9 +715,11 @@ def plan_sequence_batch(obstacles, configs, *, lift: float = 1.0,
     n = configs[0].shape[1]
     p = choose_planner(d, n, m, "obstacle_line")
     _check_backend(backend)
-    out = _run(p, obstacles, configs, lift, batched=True, sequential=True, progress=progress,
-               backend=backend, workers=workers)
-    return PlanBatch(planner=p.name, dims=(d, n, m), **out)
+    into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], len(configs),
+                          (obstacles, *configs))
+    res = _run(p, obstacles, configs, lift, batched=True, sequential=True, progress=progress,
+               backend=backend, workers=workers, into=into)
+    return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
 
 
 def plan_sequence(obstacles, configs, *, lift: float = 1.0, backend: str | None = None) -> Plan:
