@@ -510,6 +510,37 @@ def test_large_batch_equals_reference():
         assert_same_batch(fast, pmplan.plan_batch(o, s, g, backend="numpy"))
 
 
+@settings(max_examples=10, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([(2, 4, 2), (2, 2, 3), (3, 3, 2)]),
+       st.sampled_from([2, 3]))
+def test_closest_pair_at_a_configuration(seed, dims, r):
+    """Generic queries whose closest pair sits in a configuration C_k (two points 1e-4..1e-2
+    apart, robot-robot or robot-obstacle): the clearance is then the distance at C_k, which
+    the SIMD path takes from the configurations themselves; numba equals the numpy reference."""
+    d, n, m = dims
+    rng = np.random.default_rng(seed)
+    b = 3 * K.lanes(r, m, n, d) + 3
+    o = rng.normal(size=(b, m, d))
+    cs = [rng.normal(size=(b, n, d)) for _ in range(r)]
+    k = rng.integers(0, r, size=b)  # the configuration with the close pair
+    near = rng.integers(0, m + n - 1, size=b)  # the point the last robot comes close to
+    gap = 10.0 ** rng.uniform(-4, -2, size=b)
+    u = rng.normal(size=(b, d))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    for i in range(b):
+        c = cs[k[i]]
+        pts = np.concatenate([o[i], c[i]])
+        c[i, -1] = pts[near[i]] + gap[i] * u[i]
+    if r == 2:
+        fast = pmplan.plan_batch(o, cs[0], cs[1], backend="numba")
+        ref = pmplan.plan_batch(o, cs[0], cs[1], backend="numpy")
+    else:
+        fast = pmplan.plan_sequence_batch(o, cs, backend="numba")
+        ref = pmplan.plan_sequence_batch(o, cs, backend="numpy")
+    assert_same_batch(fast, ref)
+    assert (fast.clearance < 1.01e-2).all()  # the close pair decides the clearance
+
+
 @pytest.mark.parametrize("planner, dims", [("obstacle_line", (2, 3, 2)),
                                            ("obstacle_line", (3, 2, 4)),
                                            ("planar_three", (2, 1, 3))])

@@ -766,16 +766,49 @@ def _unit_rows(w, n, out, t):  # pragma: no cover - compiled
             out[c, l] = x if s > 0 else 0.0
 
 
+@njit(**_INLINE)
+def _dist2_lanes(rx, ry, r1x, r1y):  # pragma: no cover - compiled
+    """:func:`_segment_dist2_plane` for :func:`_plan_lanes`, without its three ``0.0 +``.
+
+    The value is the same: a sum of squares never is -0, so ``0.0 + x * x`` is ``x * x``;
+    ``num = -(rx vx + ry vy)`` may differ only in the sign of a zero, and both signs of zero give
+    the parameter 0 (:func:`_segment_param`)."""
+    vx = r1x - rx
+    vy = r1y - ry
+    vv = vx * vx + vy * vy
+    q = _segment_param(-(rx * vx + ry * vy), vv)
+    qx = rx + q * vx
+    qy = ry + q * vy
+    return qx * qx + qy * qy
+
+
 @njit(**_OPTS)
-def _piece_plane(S, a0, b0, c0, e0, T, src, dst):  # pragma: no cover - compiled
-    """One piece of one pair in the plane, every lane: row ``dst`` of T = min(row ``src``,
-    squared distance). The relative position is ``S[a] - S[b]`` at the start and
-    ``S[c] - S[e]`` at the end of the piece (rows a0, a0 + 1 hold coordinates 0, 1)."""
+def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
+    """One pair over one segment of the path in the plane, every lane.
+
+    The pair's points start at rows ``a`` and ``b`` of a waypoint (coordinates 0, 1); the
+    segment is the waypoints ``w0 .. w0 + 6 row`` (row = one waypoint). Row ``dst`` of T =
+    min(row ``src``, the squared distance at waypoint w0 -- the piece w0 -> w0 + 1 does not
+    move -- and the squared minimum distance of the five moving pieces w0 + 1 -> ... -> w0 + 6).
+    The relative position at each waypoint is formed once."""
     for l in range(S.shape[1]):
-        dist2 = _segment_dist2_plane(S[a0, l] - S[b0, l], S[a0 + 1, l] - S[b0 + 1, l],
-                                     S[c0, l] - S[e0, l], S[c0 + 1, l] - S[e0 + 1, l])
-        s = T[src, l]
-        T[dst, l] = dist2 if dist2 < s else s  # noqa: FURB136 (a select: NaN never chosen)
+        x0 = S[w0 + a, l] - S[w0 + b, l]
+        y0 = S[w0 + a + 1, l] - S[w0 + b + 1, l]
+        best = x0 * x0 + y0 * y0
+        z = T[src, l]
+        best = best if best < z else z  # noqa: FURB136 (a select: NaN never chosen)
+        w = w0 + row
+        x1 = S[w + a, l] - S[w + b, l]
+        y1 = S[w + a + 1, l] - S[w + b + 1, l]
+        for _ in range(5):
+            w += row
+            x2 = S[w + a, l] - S[w + b, l]
+            y2 = S[w + a + 1, l] - S[w + b + 1, l]
+            dist2 = _dist2_lanes(x1, y1, x2, y2)
+            best = dist2 if dist2 < best else best  # noqa: FURB136
+            x1 = x2
+            y1 = y2
+        T[dst, l] = best
 
 
 @njit(**_OPTS)
@@ -1012,10 +1045,33 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         for x in range(row):
             for l in range(L):
                 S[(kk - 1) * row + x, l] = Y[(r - 1) * row + x, l]
-        # --- certificate: finite, exact endpoints and obstacles, clearance ------------------
+        # --- certificate: finite, clearance --------------------------------------------------
+        # (the obstacle rows, the endpoints and the configurations C_k are copies of the input
+        # here -- F(C_k, 1) = C_k + 0 e as values for finite e -- so the scalar kernel's BROKEN
+        # checks hold for every lane with finite waypoints, and the pieces 7k -> 7k + 1,
+        # 7k + 6 -> 7k + 7 do not move). Four waypoint rows per pass: the largest |coordinate|
+        # (certify's scale) and the finiteness test (v - v is NaN unless v is finite).
         for l in range(L):
             T[mx, l] = 0.0
-        for x in range(size):
+        quads = size - size % 4
+        for x in range(0, quads, 4):
+            for l in range(L):
+                v0 = S[x, l]
+                v1 = S[x + 1, l]
+                v2 = S[x + 2, l]
+                v3 = S[x + 3, l]
+                T[BAD, l] += ((v0 - v0) + (v1 - v1)) + ((v2 - v2) + (v3 - v3))
+                a0 = abs(v0)
+                a1 = abs(v1)
+                a2 = abs(v2)
+                a3 = abs(v3)
+                a0 = a1 if a1 > a0 else a0  # noqa: FURB136 (selects: NaN is caught by BAD)
+                a2 = a3 if a3 > a2 else a2  # noqa: FURB136
+                a0 = a2 if a2 > a0 else a0  # noqa: FURB136
+                z = T[mx, l]
+                T[mx2, l] = a0 if a0 > z else z  # noqa: FURB136
+            mx, mx2 = mx2, mx
+        for x in range(quads, size):
             for l in range(L):
                 v = S[x, l]
                 av = abs(v)
@@ -1023,54 +1079,53 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                 z = T[mx, l]
                 T[mx2, l] = av if av > z else z  # noqa: FURB136 (a select: NaN never chosen)
             mx, mx2 = mx2, mx
-        for t in range(kk):
-            for x in range(md):
-                for l in range(L):
-                    T[BAD, l] += 0.0 if S[t * row + x, l] == Y[x, l] else 1.0
-        # (and the pieces 7k -> 7k + 1, 7k - 1 -> 7k do not move: F(C_k, 1) = C_k here)
-        for k in range(r):
-            for x in range(md, row):
-                for l in range(L):
-                    y = Y[k * row + x, l]
-                    T[BAD, l] += 0.0 if S[7 * k * row + x, l] == y else 1.0
-                    if k < r - 1:
-                        T[BAD, l] += 0.0 if S[(7 * k + 1) * row + x, l] == y else 1.0
-                    if k > 0:
-                        T[BAD, l] += 0.0 if S[(7 * k - 1) * row + x, l] == y else 1.0
         mn = 13
         mn2 = 14
         for l in range(L):
             z = 2.1e-9 * T[mx, l]
             T[THR2, l] = z * z if (T[mx, l] > 1e-130) & (T[mx, l] < 1e130) else np.inf
             T[mn, l] = np.inf
-        # the pieces that do not move: the squared distance at their start, once per C_k
-        # (certify's arithmetic with v = 0 gives exactly this)
-        for k in range(r):
-            r0 = 7 * k * row
+        if d == 2:
+            # every segment C_k -> C_k+1 (its stationary start and five moving pieces) per pair
+            for k in range(r - 1):
+                for i in range(p - 1):
+                    for j in range(max(i + 1, m), p):
+                        _pair_plane(S, 7 * k * row, 2 * i, 2 * j, row, T, mn, mn2)
+                        mn, mn2 = mn2, mn
+            r0 = (kk - 1) * row
             for i in range(p - 1):
                 for j in range(max(i + 1, m), p):
                     for l in range(L):
-                        T[ACC, l] = 0.0
-                    for c in range(d):
-                        for l in range(L):
-                            rc = S[r0 + i * d + c, l] - S[r0 + j * d + c, l]
-                            T[ACC, l] += rc * rc
-                    for l in range(L):
-                        a = T[ACC, l]
+                        x0 = S[r0 + 2 * i, l] - S[r0 + 2 * j, l]
+                        y0 = S[r0 + 2 * i + 1, l] - S[r0 + 2 * j + 1, l]
+                        a = x0 * x0 + y0 * y0
                         z = T[mn, l]
                         T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
                     mn, mn2 = mn2, mn
-        for t in range(kk - 1):
-            if t % 7 == 0 or t % 7 == 6:
-                continue
-            r0 = t * row
-            r1 = r0 + row
-            for i in range(p - 1):
-                for j in range(max(i + 1, m), p):
-                    if d == 2:
-                        _piece_plane(S, r0 + 2 * i, r0 + 2 * j, r1 + 2 * i, r1 + 2 * j, T, mn,
-                                     mn2)
-                    else:
+        else:
+            # the pieces that do not move: the squared distance at their start, once per C_k
+            # (certify's arithmetic with v = 0 gives exactly this)
+            for k in range(r):
+                r0 = 7 * k * row
+                for i in range(p - 1):
+                    for j in range(max(i + 1, m), p):
+                        for l in range(L):
+                            T[ACC, l] = 0.0
+                        for c in range(d):
+                            for l in range(L):
+                                rc = S[r0 + i * d + c, l] - S[r0 + j * d + c, l]
+                                T[ACC, l] += rc * rc
+                        for l in range(L):
+                            a = T[ACC, l]
+                            z = T[mn, l]
+                            T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
+                        mn, mn2 = mn2, mn
+            for t in range(kk - 1):
+                if t % 7 == 0 or t % 7 == 6:
+                    continue
+                r0 = t * row
+                for i in range(p - 1):
+                    for j in range(max(i + 1, m), p):
                         for l in range(L):
                             T[ACC, l] = 0.0
                             T[ACC2, l] = 0.0
@@ -1097,7 +1152,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                             a = T[ACC, l]
                             z = T[mn, l]
                             T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
-                    mn, mn2 = mn2, mn
+                        mn, mn2 = mn2, mn
         for l in range(L):
             T[BAD, l] += 0.0 if T[mn, l] > T[THR2, l] else 1.0
         for i in range(m):
