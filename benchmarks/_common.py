@@ -277,13 +277,14 @@ def _machine_md(info: dict) -> str:
 def _throughput_md(res: dict) -> str:
     head = (
         "| case | queries | B | queries/s (best) | queries/s (median) | time / one copy of "
-        "the output (best) | output MB |\n|---|---|---|---|---|---|---|"
+        "the output (best) | the same with out= | output MB |\n|---|---|---|---|---|---|---|---|"
     )
     lines = [head]
     for r in res["throughput"]:
         lines.append(
             f"| {r['case']} | {r['family']} | {r['B']:,} | {_fmt(r['qps_best'])} | "
-            f"{_fmt(r['qps_median'])} | {_fmt(r['copy_ratio_best'])} | {r['out_mb']:.0f} |"
+            f"{_fmt(r['qps_median'])} | {_fmt(r['copy_ratio_best'])} | "
+            f"{_fmt(r.get('copy_ratio_out_best'))} | {r['out_mb']:.0f} |"
         )
     return "\n".join(lines)
 
