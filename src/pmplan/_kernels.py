@@ -38,7 +38,10 @@ How the kernel is laid out for speed (every shortcut is exact, see the tests):
   once, and *read back* for the certificate: the relative position of every pair at every
   waypoint is formed once from the written waypoints, and each piece takes two consecutive rows;
 * the clearance is a branch-free pass over the pairs (vectorised); only when some squared
-  minimum is small does the loop that decides as :func:`pmplan.certify.clearance` run.
+  minimum is small does the loop that decides as :func:`pmplan.certify.clearance` run. In the
+  SIMD path in the plane, one loop takes a pair over a whole segment C_k -> C_k+1 (its
+  stationary start and five moving pieces, :func:`_pair_plane`), forming the pair's relative
+  position once per waypoint, with the running minimum in a register.
 
 Every floating-point operation is done in the reference's order -- sums over the d coordinates
 are sequential, which is numpy's order below 8 terms, hence ``d <= MAX_D = 7`` (larger d is
