@@ -546,19 +546,17 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
     or re-decides exactly -- for anything but a plain valid query whose kernel result needs no
     exact re-decision (see :meth:`ObstacleLinePlanner.plan_one`). The kernel function, the
     planner's name, the dims and the stratum names are looked up once per (planner, shapes)
-    (:func:`_fast_entry`); inputs that already are C-contiguous float64 arrays are not copied;
-    the :class:`Plan` and its path are built without re-checking arrays the kernel wrote.
+    (:func:`_fast_entry`); inputs that already are C-contiguous float64 arrays are not copied
+    (:func:`_fast_array`); the :class:`Plan` and its path are built without re-checking arrays
+    the kernel wrote.
     """
     if type(lift) is not float:
         lift = _fast_lift(lift)
     if not 0.0 < lift < math.inf:  # False for NaN
         return None
-    o = obstacles if type(obstacles) is np.ndarray and obstacles.dtype is _F64 \
-        and obstacles.flags.carray else _fast_array(obstacles)
-    s = start if type(start) is np.ndarray and start.dtype is _F64 \
-        and start.flags.carray else _fast_array(start)
-    g = goal if type(goal) is np.ndarray and goal.dtype is _F64 \
-        and goal.flags.carray else _fast_array(goal)
+    o = _fast_array(obstacles)
+    s = _fast_array(start)
+    g = _fast_array(goal)
     if o is None or s is None or g is None or (planner is not None and type(planner) is not str):
         return None
     key = (planner, o.shape, s.shape, g.shape)
@@ -595,8 +593,11 @@ def _fast_lift(lift) -> float:
 
 
 def _fast_array(a) -> np.ndarray | None:
-    """``a`` as a new C-contiguous float64 array (as :func:`pmplan.configuration.as_points`
-    converts it), or None if it does not convert (the general path raises the error)."""
+    """``a`` itself if it already is a writeable C-contiguous float64 ndarray, else ``a`` as a
+    new one (as :func:`pmplan.configuration.as_points` converts it), or None if it does not
+    convert (the general path raises the error)."""
+    if type(a) is np.ndarray and a.dtype is _F64 and a.flags.carray:
+        return a
     try:
         return np.array(a, dtype=np.float64, order="C")
     except (TypeError, ValueError):
@@ -771,12 +772,10 @@ def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
         type(configs) in (list, tuple) or type(configs) is np.ndarray and configs.ndim == 3
     ):
         return None
-    o = obstacles if type(obstacles) is np.ndarray and obstacles.dtype is _F64 \
-        and obstacles.flags.carray else _fast_array(obstacles)
+    o = _fast_array(obstacles)
     if o is None or len(configs) < 2:
         return None
-    cs = [c if type(c) is np.ndarray and c.dtype is _F64 and c.flags.carray else _fast_array(c)
-          for c in configs]
+    cs = [_fast_array(c) for c in configs]
     shape = None if cs[0] is None else cs[0].shape
     for c in cs:
         if c is None or c.shape != shape:
