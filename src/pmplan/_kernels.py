@@ -770,6 +770,16 @@ def _unit_rows(w, n, out, t):  # pragma: no cover - compiled
 
 
 @njit(**_INLINE)
+def _fold_min(T, a, src, dst):  # pragma: no cover - compiled
+    """Row ``dst`` of T = min(row ``src``, row ``a``), every lane, as a select (NaN is never
+    chosen); the caller then swaps ``src`` and ``dst`` (running minima in alternating rows)."""
+    for l in range(T.shape[1]):
+        v = T[a, l]
+        z = T[src, l]
+        T[dst, l] = v if v < z else z  # noqa: FURB136
+
+
+@njit(**_INLINE)
 def _dist2_lanes(rx, ry, r1x, r1y):  # pragma: no cover - compiled
     """:func:`_segment_dist2_plane` for :func:`_plan_lanes`, without its three ``0.0 +``.
 
@@ -1118,10 +1128,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                             for l in range(L):
                                 rc = S[r0 + i * d + c, l] - S[r0 + j * d + c, l]
                                 T[ACC, l] += rc * rc
-                        for l in range(L):
-                            a = T[ACC, l]
-                            z = T[mn, l]
-                            T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
+                        _fold_min(T, ACC, mn, mn2)
                         mn, mn2 = mn2, mn
             for t in range(kk - 1):
                 if t % 7 == 0 or t % 7 == 6:
@@ -1151,10 +1158,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                                 vc = (S[si + row, l] - S[sj + row, l]) - rc
                                 qc = rc + T[Q, l] * vc
                                 T[ACC, l] += qc * qc
-                        for l in range(L):
-                            a = T[ACC, l]
-                            z = T[mn, l]
-                            T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
+                        _fold_min(T, ACC, mn, mn2)
                         mn, mn2 = mn2, mn
         for l in range(L):
             T[BAD, l] += 0.0 if T[mn, l] > T[THR2, l] else 1.0
@@ -1166,10 +1170,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     for l in range(L):
                         dc = S[i * d + c, l] - S[j * d + c, l]
                         T[ACC, l] += dc * dc
-                for l in range(L):
-                    a = T[ACC, l]
-                    z = T[mn, l]
-                    T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
+                _fold_min(T, ACC, mn, mn2)
                 mn, mn2 = mn2, mn
         # --- write the waypoints (query after query) and the decided queries' records -------
         for l in range(L):
