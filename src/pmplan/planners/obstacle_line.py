@@ -214,10 +214,11 @@ def _fused(obstacles, configs, lift, wp, domain, strata, clearance,
     Fills the output arrays (B, K, m+n, d), (B,), (B, r+2), (B,) in place and returns the
     certificate (bool, (B,)). With ``validate`` (d <= MAX_D only) the kernel also checks every
     query (finite, no two equal points) and an invalid one fails the certificate: the caller
-    then runs :func:`pmplan.configuration.check_query`, which raises the error. See :mod:`pmplan._kernels` for the flags: ``FALLBACK`` queries are
-    recomputed whole by the numpy reference (:meth:`ObstacleLinePlanner.plan_sequence` with
-    ``backend="numpy"``) and certified by :func:`pmplan.certify.certify`; ``SUSPECT`` ones get
-    their clearance from :func:`pmplan.certify.clearance` (exact on the suspect pairs).
+    then runs :func:`pmplan.configuration.check_query`, which raises the error. See
+    :mod:`pmplan._kernels` for the flags: ``FALLBACK`` queries are recomputed whole by the numpy
+    reference (:meth:`ObstacleLinePlanner.plan_sequence` with ``backend="numpy"``) and certified
+    by :func:`pmplan.certify.certify`; ``SUSPECT`` ones get their clearance from
+    :func:`pmplan.certify.clearance` (exact on the suspect pairs).
     """
     from .. import _kernels as K
 
