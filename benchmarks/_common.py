@@ -475,7 +475,7 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
                     "alone (which validate the queries too), writing into arrays that already "
                     "exist, are the planner's own cost; `plan_batch` adds a fresh output (whose "
                     "pages the operating system zeroes when they are first written). The "
-                    "`workers=-1` row uses every core: not a one-core figure, shown for "
+                    "two `workers=-1` rows use every core: not one-core figures, shown for "
                     "reference. The separate validation pass is what `plan_batch` saves by "
                     "validating inside the kernel."
                 ),

@@ -196,7 +196,8 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
     writing into output arrays allocated before the timer starts (``plan_certified`` chunk by
     chunk, validating, as ``plan_batch`` calls it), the whole call, which also allocates the
     output (the operating system zeroes new pages on first touch), the call with ``out=`` (the
-    arrays of an earlier batch: no new memory), the same with one thread per core, and for
+    arrays of an earlier batch: no new memory), the whole call and the call with ``out=`` with
+    one thread per core, and for
     comparison a separate validation pass (``check_query``), which
     ``plan_batch`` skips for this planner because its kernel validates the queries itself.
     """
@@ -211,6 +212,7 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
         reps = 3 if quick or b >= 1_000_000 else 5
         out = p.allocate(b, 2, m, n, d)
         prev = pmplan.plan_batch(o, s, g)
+        prev2 = pmplan.plan_batch(o, s, g)
 
         def kernels(out=out, o=o, s=s, g=g, b=b):
             for lo in range(0, b, CHUNK):
@@ -231,6 +233,9 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
                 lambda o=o, s=s, g=g, prev=prev: pmplan.plan_batch(o, s, g, out=prev),
             "plan_batch, workers = -1 (every core)":
                 lambda o=o, s=s, g=g: pmplan.plan_batch(o, s, g, workers=-1),
+            "plan_batch(out=..., workers=-1): every core, no new memory":
+                lambda o=o, s=s, g=g, prev=prev2: pmplan.plan_batch(o, s, g, out=prev,
+                                                                    workers=-1),
         }
         for fn in stages.values():  # warm-up: memory the process never touched before is
             fn()  # slow to fault in on a virtual machine (the host maps it on first use)
@@ -249,7 +254,7 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
             log(f"  B={b:>9,}  {k:52s} {1e3 * min(ts):8.1f} ms  = {min(ts) / copy:5.2f} copies")
         rows.append({"B": b, "stage": "one np.copyto of the output", "ms": 1e3 * copy,
                      "ratio": 1.0, "qps": b / copy})
-        del out, src, dst, prev
+        del out, src, dst, prev, prev2
         gc.collect()
     return rows
 
