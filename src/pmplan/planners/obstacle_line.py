@@ -203,10 +203,6 @@ def _kernels_module():
 _KERNELS = None
 
 
-def _contiguous(a) -> np.ndarray:
-    return kernel_array(a)
-
-
 def _fused(obstacles, configs, lift, wp, domain, strata, clearance,
            validate: bool = False) -> np.ndarray:
     """Plan and certify with the numba kernel, re-deciding flagged queries exactly.
@@ -222,8 +218,8 @@ def _fused(obstacles, configs, lift, wp, domain, strata, clearance,
     """
     from .. import _kernels as K
 
-    obstacles = _contiguous(obstacles)
-    configs = [_contiguous(c) for c in configs]
+    obstacles = kernel_array(obstacles)
+    configs = [kernel_array(c) for c in configs]
     b, m, d = obstacles.shape
     if d > K.MAX_D:  # the kernel reproduces numpy's summation order for d <= MAX_D only
         raw = OBSTACLE_LINE.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
@@ -237,11 +233,11 @@ def _fused(obstacles, configs, lift, wp, domain, strata, clearance,
     flags = np.empty(b, np.uint8)
     K.plan_chunk(obstacles, configs[0], configs[-1], middle, float(lift), validate, wp, domain,
                  strata, clearance, flags, K.tables(r, m, n, d))
-    ok = (flags & (K.NONFINITE | K.BROKEN | K.INVALID)) == 0
+    failed = K.NONFINITE | K.BROKEN | K.INVALID
+    ok = (flags & failed) == 0
     if not flags.any():
         return ok & (clearance > 0)
-    sus = np.flatnonzero((flags & (K.SUSPECT | K.FALLBACK | K.NONFINITE | K.BROKEN | K.INVALID))
-                         == K.SUSPECT)
+    sus = np.flatnonzero((flags & (K.SUSPECT | K.FALLBACK | failed)) == K.SUSPECT)
     if sus.size:
         clearance[sus] = certified_clearance(wp[sus], m)
     ok &= clearance > 0
@@ -326,8 +322,8 @@ class ObstacleLinePlanner:
         The input is not validated here (see :mod:`pmplan.configuration`).
         """
         if resolve_backend(backend) == "numba":
-            configs = [_contiguous(c) for c in configs]
-            obstacles = _contiguous(obstacles)
+            configs = [kernel_array(c) for c in configs]
+            obstacles = kernel_array(obstacles)
             b, m, d = obstacles.shape
             r = len(configs)
             n = configs[0].shape[1]
