@@ -197,8 +197,7 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
     chunk, validating, as ``plan_batch`` calls it), the whole call, which also allocates the
     output (the operating system zeroes new pages on first touch), the call with ``out=`` (the
     arrays of an earlier batch: no new memory), the whole call and the call with ``out=`` with
-    one thread per core, and for
-    comparison a separate validation pass (``check_query``), which
+    one thread per core, and for comparison a separate validation pass (``check_query``), which
     ``plan_batch`` skips for this planner because its kernel validates the queries itself.
     """
     from pmplan.api import CHUNK, choose_planner
