@@ -76,6 +76,27 @@ def _type_name(v) -> str:
     return t.__name__ if t.__module__ == "builtins" else f"{t.__module__}.{t.__qualname__}"
 
 
+_EXACT_INT = 2**53  # every integer of at most this magnitude is a double
+
+
+def _plain(v) -> bool:
+    """True when every leaf of nested lists (tuples) is a float or an int of magnitude at most
+    2**53 -- the common case, which then converts with one ``np.array(v, dtype=float)``."""
+    for r in v:
+        t = type(r)
+        if t is list or t is tuple:
+            for x in r:
+                tx = type(x)
+                if tx is float or (tx is int and -_EXACT_INT <= x <= _EXACT_INT):
+                    continue
+                if (tx is list or tx is tuple) and _plain(x):
+                    continue
+                return False
+        elif not (t is float or (t is int and -_EXACT_INT <= r <= _EXACT_INT)):
+            return False
+    return True
+
+
 def as_real(value, name: str, fix: str | None = None) -> np.ndarray:
     """``value`` as a float64 array, if it holds real numbers only; the one rule of pmplan.
 
@@ -98,6 +119,11 @@ def as_real(value, name: str, fix: str | None = None) -> np.ndarray:
     pmplan.errors.InputError: `start[0][0]` must hold real numbers, got str; pass real \
 numbers, e.g. np.asarray(x, dtype=float)
     """
+    if type(value) in (list, tuple) and _plain(value):
+        try:
+            return np.array(value, dtype=np.float64)
+        except ValueError:  # ragged: worded below
+            pass
     if isinstance(value, np.ndarray):
         arr, from_list = value, False
     else:
