@@ -35,7 +35,7 @@ import pmplan
 from pmplan import api
 from pmplan.configuration import as_lift, as_real
 from pmplan.errors import InputError
-from pmplan.io import parse_query
+from pmplan.io import parse_query, read_query
 
 O = [[0.0, 0.0], [2.0, 0.0]]
 S = [[0.0, 1.0]]
@@ -73,15 +73,16 @@ BAD_START = [
     ([[None, 1.0]], r"\[0\]\[0\]` must hold real numbers, got NoneType"),
     (np.array([[Fraction(1, 2), Fraction(1, 3)]], dtype=object), r"got fractions\.Fraction"),
     ([[0.5, 2**53 + 1]], r"\[0\]\[1\]` is the integer 9007199254740993"),  # among floats
-    ([[10**400, 1]], r"\[0\]\[0\]` is the integer 100000\.\.\. \(an integer of 401 digits\), which "
-                     r"is too large for a double"),
+    ([[10**400, 1]], r"\[0\]\[0\]` is an integer of 401 digits, which is too large for a double"),
     ([[1, 2**53 + 1]], r"\[0\]\[1\]` is the integer 9007199254740993, which is not exactly "
                        r"representable as a double \(it would be rounded to 9007199254740992\.0\); "
                        r"integers are not rounded silently: pass a float"),
     (np.array([[2**63 - 1, 0]], dtype=np.int64), r"is the integer 9223372036854775807"),
-    (np.array([[0, 2**64 - 1]], dtype=np.uint64), r"\[0\]\[1\]` is the integer 18446744073709551615"),
+    (np.array([[0, 2**64 - 1]], dtype=np.uint64),
+     r"\[0\]\[1\]` is the integer 18446744073709551615"),
     (np.array([[1, 3]], dtype=np.longdouble) / 3, r"not exactly representable as a double"),
-    (np.array([["2020-01-01", "2020-01-02"]], dtype="datetime64[D]"), r"got (datetime64|datetime\.date)"),
+    (np.array([["2020-01-01", "2020-01-02"]], dtype="datetime64[D]"),
+     r"got (datetime64|datetime\.date)"),
     ("12", r"`[^`]*` must hold real numbers, got str"),
 ]
 BAD_START = [v for v in BAD_START
@@ -101,7 +102,7 @@ def test_not_real_refused_everywhere(bad, message):
                 call()
         if isinstance(bad, list):
             with pytest.raises(InputError, match=r"^`goal configuration\[2\]\[\d\]` (must hold "
-                                                 r"real numbers|is the integer)"):
+                                                 r"real numbers|is (the|an) integer)"):
                 pmplan.plan_configurations(O + G, O + bad, m=2)
 
 
@@ -125,8 +126,10 @@ def test_messages_name_the_argument():
         pmplan.plan(O, S, np.array([[True, False]]))
     with pytest.raises(InputError, match=r"^`configs\[1\]\[0\]\[1\]` must hold real numbers"):
         pmplan.plan_sequence(O, [S, [[1.0, "x"]], G])
-    with pytest.raises(InputError, match=r"^`configs\[2\]\[0\]\[0\]\[0\]` is the integer"):
+    with pytest.raises(InputError, match=r"^`configs\[2\]\[0\]\[0\]\[0\]` is an integer of 401"):
         pmplan.plan_sequence_batch([O], [[S], [G], [[[10**400, 0]]]])
+    with pytest.raises(InputError, match=r"^`start\[0\]\[0\]` is an integer of more than 3900"):
+        pmplan.plan(O, [[-(10**5000), 0]], G)
     with pytest.raises(InputError, match=r"^`start configuration\[2\]\[1\]` must hold real"):
         pmplan.plan_configurations(O + [[1, "a"]], O + G)
     with pytest.raises(InputError, match=r"`m` \(the number of obstacles\) must be an int"):
@@ -136,7 +139,7 @@ def test_messages_name_the_argument():
 def test_overflowing_integer_is_an_input_error_not_overflow():
     """The issue's case: the integer 10**400 raised a bare OverflowError."""
     for call in _entry_points([[0, 0], [10**400, 0]], S, G).values():
-        with pytest.raises(InputError, match=r"`[^`]*\[1\]\[0\]` is the integer .* too "
+        with pytest.raises(InputError, match=r"`[^`]*\[1\]\[0\]` is an integer .* too "
                                              r"large for a double"):
             call()
 
@@ -209,7 +212,7 @@ BAD_LIFT = [
     (Fraction(1, 2), r"got fractions\.Fraction"),
     ([1.0], r"got list"),
     (np.array(1.0), r"got numpy\.ndarray"),
-    (10**400, r"`lift` is the integer .* too large for a double"),
+    (10**400, r"`lift` is an integer of 401 digits, which is too large for a double"),
     (2**53 + 1, r"`lift` is the integer 9007199254740993, which is not exactly representable"),
     (0, r"`lift` must be a positive finite number, got 0"),
     (-2.0, r"positive finite number"),
@@ -254,8 +257,8 @@ def test_scene_lift_in_query_files():
 def test_json_numbers():
     """JSON numbers follow the API's rule; the message names the coordinate."""
     text = '{"obstacles": [[0, 0], [2, 0]], "start": [[0, %s]], "goal": [[1, -1]]}'
-    with pytest.raises(InputError, match=r"^`start\[0\]\[1\]` is the integer 100000\.\.\. "
-                                         r"\(an integer of 401 digits\), which is too large"):
+    with pytest.raises(InputError, match=r"^`start\[0\]\[1\]` is an integer of 401 digits, "
+                                         r"which is too large for a double"):
         parse_query(json.loads(text % ("1" + "0" * 400)))
     with pytest.raises(InputError, match=r"^`start\[0\]\[1\]` is the integer 9007199254740993"):
         parse_query(json.loads(text % (2**53 + 1)))
@@ -265,5 +268,17 @@ def test_json_numbers():
             parse_query(json.loads(text % bad))
     q = parse_query(json.loads(text % (2**64)))
     assert q["start"][0, 1] == 2.0**64
+    assert q["start"][0, 1] == 2.0**64
     with pytest.raises(InputError, match=r"`start` must be a list nested 2 deep"):
         parse_query(json.loads(text % "[1]"))
+
+
+def test_json_integer_beyond_python_str_limit(tmp_path):
+    """A JSON integer of 5000 digits (beyond Python's str -> int limit) is an InputError naming
+    the coordinate, not a ValueError from the JSON decoder."""
+    path = tmp_path / "q.json"
+    path.write_text('{"obstacles": [[0, 0], [2, 0]], "start": [[0, -%s]], "goal": [[1, -1]]}'
+                    % ("9" * 5000))
+    with pytest.raises(InputError, match=r"^`start\[0\]\[1\]` is an integer of more than 3900 "
+                                         r"digits, which is too large for a double"):
+        read_query(path)

@@ -73,7 +73,8 @@ def test_scene_unit_values():
 @settings(max_examples=40)
 @given(st.integers(2, 5), st.integers(2, 4), st.integers(0, 2**32 - 1))
 def test_scene_unit_matches_distance(m, d, seed):
-    o = np.random.default_rng(seed).normal(size=(3, m, d)) * 10.0 ** np.arange(-3, 6, 4)[:, None, None]
+    scales = 10.0 ** np.arange(-3, 6, 4)[:, None, None]
+    o = np.random.default_rng(seed).normal(size=(3, m, d)) * scales
     got = scene_unit(o)
     want = [_u(q) for q in o]
     np.testing.assert_allclose(got, want, rtol=4e-16)

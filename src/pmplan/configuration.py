@@ -37,9 +37,14 @@ def _where(name: str, index) -> str:
 
 
 def _int_text(v: int) -> str:
-    """A Python integer for a message (its digit count when it is long)."""
+    """A Python integer for a message: ``the integer 123``, or its digit count when it is long
+    (``str`` refuses integers of more than 4300 digits)."""
+    if v.bit_length() > 13000:
+        return "an integer of more than 3900 digits"
     text = str(v)
-    return text if len(text) <= 24 else f"{text[:6]}... (an integer of {len(text.lstrip('-'))} digits)"
+    if len(text) <= 24:
+        return f"the integer {text}"
+    return f"an integer of {len(text.lstrip('-'))} digits"
 
 
 def _inexact_int(v, name: str, index) -> InputError | None:
@@ -54,7 +59,7 @@ def _inexact_int(v, name: str, index) -> InputError | None:
             return None
         why = f"is not exactly representable as a double (it would be rounded to {f!r})"
     return InputError(
-        f"{_where(name, index)} is the integer {_int_text(v)}, which {why}; integers are not "
+        f"{_where(name, index)} is {_int_text(v)}, which {why}; integers are not "
         "rounded silently: pass a float (e.g. float(v)) if rounding is acceptable"
         + (", or scale the scene down" if "too large" in why else "")
     )
@@ -369,7 +374,8 @@ def kernel_array(a) -> np.ndarray:
 def _valid_fast(obstacles, start, goal, batched: bool, deep: bool = True):
     """Return the arrays of :func:`check_query` when the query is valid, else None.
 
-    Converts like :func:`as_points` (:func:`as_real`), checks the axes and shapes, then (if ``deep``) asks
+    Converts like :func:`as_points` (:func:`as_real`), checks the axes and shapes, then (if
+    ``deep``) asks
     :func:`pmplan._kernels.valid_queries` (finite, no two equal points in C or C') in one pass.
     It never raises: None means "let the reference checks decide (and word the error)".
     """

@@ -617,7 +617,7 @@ class PlanarThreePlanner:
                 or not (obstacles.flags.c_contiguous and start.flags.c_contiguous
                         and goal.flags.c_contiguous)):
             return None
-        t, wp, dom, f, i, j, clr, flags = kernel(obstacles, start, goal, _EVEN, lift)
+        t, wp, dom, f, i, j, clr, flags = kernel(obstacles, start, goal, _EVEN, lift_code(lift))
         if flags or not clr > 0:
             return None
         return t, wp, int(dom), (f, i, j), float(clr)
