@@ -57,6 +57,18 @@ def _same_batch(p, q):
         assert _bits(getattr(p, k)) == _bits(getattr(q, k)), k
 
 
+def _planar_kernel(o, s, g, lift):
+    """The planar kernel alone on a batch: (flags, outputs)."""
+    from pmplan import _kernels_planar as KP
+
+    b = o.shape[0]
+    out = P3.PLANAR_THREE.allocate(b, 2, 3, 1, 2)
+    flags = np.empty(b, np.uint8)
+    KP.plan_planar(o, s, g, P3._EVEN, float(lift), False, out["times"], out["waypoints"],
+                   out["domain"], out["strata"], out["clearance"], flags)
+    return flags, out
+
+
 def _u(obstacles) -> float:
     """u(O) recomputed independently (math.dist, exact to within an ulp or two)."""
     o = np.asarray(obstacles, dtype=float)
@@ -100,6 +112,13 @@ def test_planar_default_lift_is_the_papers_one(name):
             assert _bits(poly[:, 1, 1]) == _bits(sc.unit + np.maximum(0.0, sc.h[:, 2]))
         if name.startswith("T23"):
             assert _bits(P3._solid_verticals(sc)[:, 2]) == _bits(sc.cols[:, 2] + sc.unit)
+        # the kernel (batch and single-query fast path) is the reference, bit for bit
+        ref = pmplan.plan_batch(o, s, g, lift=lift, backend="numpy")
+        _same_batch(pmplan.plan_batch(o, s, g, lift=lift), ref)
+        flags, _ = _planar_kernel(o, s, g, SCENE_CODE if lift == "scene" else lift)
+        assert not flags.any()  # the kernel decided every exact construction alone
+        for i in range(0, 30, 7):
+            _same_plan(pmplan.plan(o[i], s[i], g[i], lift=lift), ref[i])
     if name in ("T1_11", "T22_33", "T23_44", "T23_33", "T23_34", "T23_43"):
         # lift is not ignored: another unit moves the legs that use it
         other = pmplan.plan_batch(o, s, g, lift=2.0)
