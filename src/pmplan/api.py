@@ -18,7 +18,7 @@ import numpy as np
 
 from . import planners as _planners  # noqa: F401  (registers the planners)
 from .certify import certify
-from .configuration import as_lift, as_points, as_real, check_query, check_same_obstacles
+from .configuration import _plain, as_lift, as_points, as_real, check_query, check_same_obstacles
 from .errors import CertificationError, InputError, PmplanError, ShapeError, UnsupportedError
 from .path import PiecewiseLinearPath, _unchecked_path
 from .planners.base import REGISTRY, Planner, RawPlan, lift_code
@@ -603,6 +603,11 @@ def _fast_array(a) -> np.ndarray | None:
     raises the error)."""
     if type(a) is np.ndarray and a.dtype is _F64 and a.flags.carray:
         return a
+    if type(a) is list and _plain(a):  # floats and ints a double holds: as_real's first case
+        try:
+            return np.array(a, dtype=np.float64)
+        except ValueError:
+            return None
     try:
         a = as_real(a, "array")
     except InputError:
