@@ -228,7 +228,8 @@ def test_planner_that_does_not_apply():
     [[["a", "b"]], [[1.0, [2.0]]], [[1.0, 2.0], [3.0]], "abc", [[{}, 1.0]], None],
 )
 def test_non_numeric_input(start):
-    with raises(InputError, match=r"`start` must be a numeric array|Expected `start` to have"):
+    with raises(InputError, match=r"`start(\[\d+\])*` must (be a numeric array|hold real numbers)"
+                                  r"|Expected `start` to have"):
         pmplan.plan(O, start, G[:1])
 
 
@@ -244,7 +245,7 @@ def test_bad_lift_value(lift):
 
 @pytest.mark.parametrize("lift", ["x", None, [1.0, 2.0]])
 def test_bad_lift_type(lift):
-    with raises(InputError, match=r"`lift` must be a positive number"):
+    with raises(InputError, match=r"`lift` must be a positive real number or 'scene'"):
         pmplan.plan(O, S, G, lift=lift)
 
 
@@ -290,7 +291,7 @@ def test_plan_sequence_errors():
         pmplan.plan_sequence(O, [S])
     with raises(ShapeError, match=r"configuration 2 has shape \(1, 2\), expected \(2, 2\)"):
         pmplan.plan_sequence(O, [S, [[5.0, 5.0]], G])
-    with raises(InputError, match=r"`configs` must be a list of numeric arrays"):
+    with raises(InputError, match=r"`configs\[1\]\[0\]\[0\]` must hold real numbers, got str"):
         pmplan.plan_sequence(O, [S, [["a", "b"]], G])
     with raises(CollisionError, match="o2 and x1"):
         pmplan.plan_sequence(O, [S, [[2.0, 0.0], [5.0, 5.0]], G])

@@ -213,7 +213,7 @@ def test_readonly_input_is_planned_by_the_fast_path():
         assert_same_plan(seq, pmplan.plan_sequence(args[0], [args[1], args[2], args[1]]))
 
 
-@pytest.mark.parametrize("lift", [1, 2.5, np.float64(0.5), True, 3])
+@pytest.mark.parametrize("lift", [1, 2.5, np.float64(0.5), np.float32(0.25), np.int64(2), 3])
 def test_plan_lift_forms(lift):
     rng = np.random.default_rng(11)
     o, s, g = rng.normal(size=(3, 3)), rng.normal(size=(2, 3)), rng.normal(size=(2, 3))

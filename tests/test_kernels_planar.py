@@ -45,13 +45,13 @@ from pmplan.planners.planar_three import (
 )
 
 
-def _kernel(o, s, g):
+def _kernel(o, s, g, lift=1.0):
     """Run the kernel alone on a batch; return (flags (B,), outputs dict)."""
     o, s, g = (np.ascontiguousarray(a, dtype=float) for a in (o, s, g))
     b = o.shape[0]
     out = PLANAR_THREE.allocate(b, 2, 3, 1, 2)
     flags = np.empty(b, np.uint8)
-    KP.plan_planar(o, s, g, P3._EVEN, False, out["times"], out["waypoints"], out["domain"],
+    KP.plan_planar(o, s, g, P3._EVEN, lift, False, out["times"], out["waypoints"], out["domain"],
                    out["strata"], out["clearance"], flags)
     return flags, out
 

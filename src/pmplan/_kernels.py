@@ -11,7 +11,8 @@ without any temporary larger than a few rows, exactly what that reference comput
   order* suffices -- and its error-free second stage (TwoSum / TwoProduct) for the pairs the
   filter cannot decide; ``cp(C)``, ``cp_o``, ``eps(C)``;
 * the frame ``e``, ``nu(e)`` (paper Section 3 for even d, SPEC 4a for odd d with the exact
-  ``e == N`` case) and ``lambda = lift + max_k |r(o_k)|`` (SPEC 4b);
+  ``e == N`` case) and ``lambda = lift + max_k |r(o_k)|`` (SPEC 4b), where ``lift`` is the
+  unit, or for ``lift="scene"`` the obstacles' radius ``u(O) = max_k |o_k - o_1|`` of each query;
 * the ``7 (r - 1) + 1`` waypoints of paper Remark
   ``constructing-sections-via-deformations-higher-case`` -- desingularization ``(desin)``,
   projection ``(linear-transformation-obs)``, section ``(algorithm-gamma)`` -- written directly
@@ -502,6 +503,9 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
     middle : float64 (r - 2, B, n, d)
         Robots of the intermediate configurations (shape (0, B, n, d) when r = 2).
     lift : float
+        The unit of the lift when positive; otherwise (``SCENE_CODE`` of
+        :mod:`pmplan.planners.base`, ``lift="scene"``) the unit of every query is its
+        obstacles' radius ``u(O) = max_k |o_k - o_1|``, computed here as the reference does.
     validate : bool
         Check the input first: a query with a non-finite coordinate or two equal points in one
         of its configurations gets the flag ``INVALID`` and nothing else is computed for it.
@@ -655,8 +659,21 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
         if fl:
             flags[b] = fl
             continue
+        # --- the unit: lift, or for lift="scene" (lift <= 0, planners.base.SCENE_CODE) the
+        # obstacles' radius u(O) = sqrt(max_k sum_c (o_k,c - o_1,c)^2) (planners.base.scene_unit)
+        unit = lift
+        if not lift > 0:
+            q = 0.0
+            for i in range(1, m):
+                sq = 0.0
+                for c in range(d):
+                    dc = y[0, i, c] - y[0, 0, c]
+                    sq += dc * dc
+                if sq > q or i == 1 or math.isnan(sq):
+                    q = sq
+            unit = math.sqrt(q)
         # --- lambda (SPEC 4b) and the lift of the section (algorithm-gamma) -----------------
-        lam = lift
+        lam = unit
         if m > 2:
             mx = 0.0
             for i in range(2, m):
@@ -670,7 +687,7 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
                 q = math.sqrt(q)
                 if q > mx or i == 2 or math.isnan(q):
                     mx = q
-            lam = lift + mx
+            lam = unit + mx
         for j in range(n):
             li = lam * float(j + 1)
             for c in range(d):
@@ -1017,10 +1034,29 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                 z = T[mx, l]
                 T[mx2, l] = qq if (qq > z) | (i == 2) | math.isnan(qq) else z
             mx, mx2 = mx2, mx
+        # the unit: lift, or the obstacles' radius u(O) of every lane (lift="scene", see _plan)
+        UNIT = 15
+        if lift > 0:
+            for l in range(L):
+                T[UNIT, l] = lift
+        else:
+            for i in range(1, m):
+                for l in range(L):
+                    T[ACC, l] = 0.0
+                for c in range(d):
+                    for l in range(L):
+                        dc = Y[i * d + c, l] - Y[c, l]
+                        T[ACC, l] += dc * dc
+                for l in range(L):
+                    sq = T[ACC, l]
+                    z = T[UNIT, l]
+                    T[UNIT, l] = sq if (sq > z) | (i == 1) | math.isnan(sq) else z
+            for l in range(L):
+                T[UNIT, l] = math.sqrt(T[UNIT, l])
         for j in range(n):
             for c in range(d):
                 for l in range(L):
-                    OFF[j * d + c, l] = ((lift + T[mx, l]) * float(j + 1)) * NU[c, l]
+                    OFF[j * d + c, l] = ((T[UNIT, l] + T[mx, l]) * float(j + 1)) * NU[c, l]
         # --- the waypoints (Remark constructing-sections-via-deformations) ------------------
         for k in range(r - 1):
             for s in range(7):

@@ -151,8 +151,22 @@ def _compare(vi, vj, thr, ax, ay, bx, by, rx, ry, rexact):  # pragma: no cover -
 
 
 @njit(**_OPTS)
-def plan_planar(obstacles, start, goal, even, validate, times, wp, domain, strata, clearance,
-                flags):  # pragma: no cover - compiled
+def _radius(o1x, o1y, o2x, o2y, o3x, o3y):  # pragma: no cover - compiled
+    """``u(O) = sqrt(max(|o2 - o1|^2, |o3 - o1|^2))``, the operations of
+    :func:`pmplan.planners.base.scene_unit` (NaN propagates as numpy's maximum does)."""
+    dx = o2x - o1x
+    dy = o2y - o1y
+    q2 = dx * dx + dy * dy
+    dx = o3x - o1x
+    dy = o3y - o1y
+    q3 = dx * dx + dy * dy
+    q = q3 if (q3 > q2 or math.isnan(q3)) and not math.isnan(q2) else q2
+    return math.sqrt(q)
+
+
+@njit(**_OPTS)
+def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain, strata,
+                clearance, flags):  # pragma: no cover - compiled
     """Plan and certify a chunk of queries of the planar three-obstacle planner.
 
     Parameters
@@ -162,6 +176,11 @@ def plan_planar(obstacles, start, goal, even, validate, times, wp, domain, strat
     even : float64 (K + 1, K)
         ``even[k, :k] = numpy.linspace(0, 1, k)``: the breakpoints of a path of length 0
         (:meth:`~pmplan.path.PiecewiseLinearPath.arc_length_reparametrised`).
+    lift : float
+        The paper's unit (the 1 in ``H = 1 + max(0, h3)`` and ``s3 = c3 + 1``) when positive;
+        otherwise (``SCENE_CODE`` of :mod:`pmplan.planners.base`, ``lift="scene"``) the
+        obstacles' radius ``u(O) = max(|o2 - o1|, |o3 - o1|)`` of each query, computed as
+        :func:`pmplan.planners.base.scene_unit` does.
     validate : bool
         Check the input first: a query with a non-finite coordinate or two equal points in
         one of its configurations gets the flag ``INVALID`` and nothing else is computed.
@@ -362,8 +381,11 @@ def plan_planar(obstacles, start, goal, even, validate, times, wp, domain, strat
             bx, by, ub, hb, rb = gx, gy, ug, hg, rank_g
         pu[0] = ua
         ph[0] = ha
+        unit = lift
+        if (code == 0 or code == 7 or code >= 8) and not lift > 0:  # lift="scene": u(O)
+            unit = _radius(o1x, o1y, o2x, o2y, o3x, o3y)
         if code == 0 or code == 7 or code == 11:  # W1, Figure T111
-            big_h = 1.0 + (h3 if h3 > 0.0 else 0.0)  # noqa: FURB136 (np.maximum(0, h3))
+            big_h = unit + (h3 if h3 > 0.0 else 0.0)  # noqa: FURB136 (np.maximum(0, h3))
             kk = 4
             pu[1] = ua
             ph[1] = big_h
@@ -398,7 +420,7 @@ def plan_planar(obstacles, start, goal, even, validate, times, wp, domain, strat
             cols[pos[2]] = u3
             svert[0] = 0.5 * (cols[0] + cols[1])
             svert[1] = 0.5 * (cols[1] + cols[2])
-            svert[2] = cols[2] + 1.0
+            svert[2] = cols[2] + unit
             sa = svert[ra]
             h_half = 0.5 * h3
             pu[1] = sa
@@ -534,10 +556,11 @@ def plan_planar(obstacles, start, goal, even, validate, times, wp, domain, strat
 
 
 @njit(**_OPTS)
-def plan_planar_one(obstacles, start, goal, even):  # pragma: no cover - compiled
+def plan_planar_one(obstacles, start, goal, even, lift):  # pragma: no cover - compiled
     """One query, validated, planned and certified: the lean path of ``pmplan.plan``.
 
-    ``obstacles`` (3, 2), ``start``, ``goal`` (1, 2), C-contiguous float64. Returns
+    ``obstacles`` (3, 2), ``start``, ``goal`` (1, 2), C-contiguous float64; ``lift`` as in
+    :func:`plan_planar`. Returns
     ``(times (k,), waypoints (k, 4, 2), domain, family, i, j, clearance, flags)`` where the
     path is already compacted as :meth:`pmplan.path.PiecewiseLinearPath.compact` does (only
     breakpoints strictly after the previous one are kept).
@@ -550,8 +573,8 @@ def plan_planar_one(obstacles, start, goal, even):  # pragma: no cover - compile
     flags = np.empty(1, np.uint8)
     validate = obstacles.shape[0] >= 0  # a run-time True: the batch kernel's specialisation
     plan_planar(obstacles.reshape((1, 3, 2)), start.reshape((1, 1, 2)),
-                goal.reshape((1, 1, 2)), even, validate, times, wp, domain, strata, clearance,
-                flags)
+                goal.reshape((1, 1, 2)), even, lift, validate, times, wp, domain, strata,
+                clearance, flags)
     keep = np.empty(K, np.int64)
     kc = 0
     if flags[0] == 0:

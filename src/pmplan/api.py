@@ -18,10 +18,10 @@ import numpy as np
 
 from . import planners as _planners  # noqa: F401  (registers the planners)
 from .certify import certify
-from .configuration import as_points, check_query, check_same_obstacles
+from .configuration import _plain, as_lift, as_points, as_real, check_query, check_same_obstacles
 from .errors import CertificationError, InputError, PmplanError, ShapeError, UnsupportedError
 from .path import PiecewiseLinearPath, _unchecked_path
-from .planners.base import REGISTRY, Planner, RawPlan
+from .planners.base import REGISTRY, Planner, RawPlan, lift_code
 from .planners.obstacle_line import BACKENDS
 
 __all__ = [
@@ -205,14 +205,10 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None) -> Planne
     return p
 
 
-def _check_lift(lift: float) -> float:
-    try:
-        lift = float(lift)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"`lift` must be a positive number, got {lift!r}") from None
-    if not np.isfinite(lift) or lift <= 0:
-        raise InputError(f"`lift` must be a positive finite number, got {lift!r}")
-    return lift
+def _check_lift(lift) -> float:
+    """``lift`` checked (:func:`pmplan.configuration.as_lift`: a positive real number or
+    ``"scene"``) as the float the planners take (:func:`pmplan.planners.base.lift_code`)."""
+    return lift_code(as_lift(lift))
 
 
 def _check_backend(backend) -> None:
@@ -422,7 +418,7 @@ def _single(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
 
 
 def plan_batch(
-    obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0,
+    obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
     progress: bool = False, backend: str | None = None, workers: int = 1,
     out: PlanBatch | None = None,
 ) -> PlanBatch:
@@ -434,8 +430,13 @@ def plan_batch(
     start, goal : array_like, shape (B, n, d)
     planner : str, optional
         ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
-    lift : float
-        The positive scale of the lift in the section (paper: 1).
+    lift : float or "scene"
+        The unit of the motion; default 1, the paper's (the height scale of the lift in the
+        obstacle-line planner, the 1 of ``H`` and ``s3`` in the planar one). ``"scene"``: the
+        obstacles' radius ``u(O) = max_k |o_k - o_1|`` of each query, for scenes far from
+        unit size (millimetres, kilometres) and for equivariance (a scaled, translated or
+        rotated query gets the scaled, translated or rotated plan). A bool or a string other
+        than ``"scene"`` is refused.
     progress : bool
         Show a progress bar (tqdm, on stderr) when the batch takes more than a few chunks.
     backend : {"numba", "numpy"}, optional
@@ -492,7 +493,7 @@ def plan_batch(
     return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
 
 
-def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.0,
+def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
          backend: str | None = None) -> Plan:
     """Plan one query: a certified collision-free motion from ``start`` to ``goal``.
 
@@ -504,8 +505,13 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.
         Robot positions x_1..x_n and x'_1..x'_n.
     planner : str, optional
         ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
-    lift : float
-        Positive scale of the lift (paper: 1).
+    lift : float or "scene"
+        The unit of the motion; default 1, the paper's (the height scale of the lift in the
+        obstacle-line planner, the 1 of ``H`` and ``s3`` in the planar one). ``"scene"``: the
+        obstacles' radius ``u(O) = max_k |o_k - o_1|`` of each query, for scenes far from
+        unit size (millimetres, kilometres) and for equivariance (a scaled, translated or
+        rotated query gets the scaled, translated or rotated plan). A bool or a string other
+        than ``"scene"`` is refused.
     backend : {"numba", "numpy"}, optional
         See :func:`plan_batch`.
 
@@ -550,10 +556,10 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
     (:func:`_fast_array`); the :class:`Plan` and its path are built without re-checking arrays
     the kernel wrote.
     """
-    if type(lift) is not float:
+    if type(lift) is not float or not 0.0 < lift < math.inf:  # (False for NaN)
         lift = _fast_lift(lift)
-    if not 0.0 < lift < math.inf:  # False for NaN
-        return None
+        if lift is None:
+            return None
     o = _fast_array(obstacles)
     s = _fast_array(start)
     g = _fast_array(goal)
@@ -581,27 +587,32 @@ def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict) -> Pl
     return _new_plan(domain, stratum, clearance, _unchecked_path(times, wp), p.name, dims)
 
 
-def _fast_lift(lift) -> float:
-    """``lift`` as the float :func:`_check_lift` makes of it, or NaN (for the fast paths:
-    anything but a Python number goes to the general path)."""
-    if isinstance(lift, (int, float)):
-        try:
-            return float(lift)
-        except OverflowError:
-            pass
-    return math.nan
+def _fast_lift(lift) -> float | None:
+    """``lift`` as the float :func:`_check_lift` makes of it (the same rule), or None when it
+    is invalid (the general path raises the error)."""
+    try:
+        return _check_lift(lift)
+    except InputError:
+        return None
 
 
 def _fast_array(a) -> np.ndarray | None:
     """``a`` itself if it already is a writeable C-contiguous float64 ndarray, else ``a`` as a
-    new one (as :func:`pmplan.configuration.as_points` converts it), or None if it does not
-    convert (the general path raises the error)."""
+    new one (converted by :func:`pmplan.configuration.as_real`, the rule of
+    :func:`~pmplan.configuration.as_points`), or None if it does not convert (the general path
+    raises the error)."""
     if type(a) is np.ndarray and a.dtype is _F64 and a.flags.carray:
         return a
+    if type(a) is list and _plain(a):  # floats and ints a double holds: as_real's first case
+        try:
+            return np.array(a, dtype=np.float64)
+        except ValueError:
+            return None
     try:
-        return np.array(a, dtype=np.float64, order="C")
-    except (TypeError, ValueError):
+        a = as_real(a, "array")
+    except InputError:
         return None
+    return a if a.flags.carray else np.array(a, order="C")
 
 
 def _fast_entry(key: tuple):
@@ -661,6 +672,9 @@ def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
 
     Raises :class:`~pmplan.errors.ObstacleMismatchError` if the obstacles differ.
     """
+    if isinstance(m, (bool, np.bool_)) or not isinstance(m, (int, np.integer)):
+        raise InputError(f"`m` (the number of obstacles) must be an int, got {type(m).__name__} "
+                         f"{m!r}")
     c_start = as_points(c_start, "start configuration", False)
     c_goal = as_points(c_goal, "goal configuration", False)
     if c_start.shape != c_goal.shape:
@@ -680,9 +694,13 @@ def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
 
 def _check_sequence(obstacles, configs, batched: bool):
     try:
-        configs = [np.asarray(c, dtype=float) for c in configs]
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"`configs` must be a list of numeric arrays: {exc}") from None
+        if isinstance(configs, (str, bytes)):
+            raise TypeError
+        configs = list(configs)
+    except TypeError:
+        raise InputError(f"`configs` must be a list of r >= 2 arrays of real numbers, got "
+                         f"{type(configs).__name__}") from None
+    configs = [as_real(c, f"configs[{k}]") for k, c in enumerate(configs)]
     if len(configs) < 2:
         raise ShapeError(f"Expected at least r = 2 configurations, got {len(configs)}.")
     r = len(configs)
@@ -700,14 +718,15 @@ def _check_sequence(obstacles, configs, batched: bool):
     return obstacles_b, out
 
 
-def plan_sequence_batch(obstacles, configs, *, lift: float = 1.0,
+def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
                         backend: str | None = None, progress: bool = False,
                         workers: int = 1, out: PlanBatch | None = None) -> PlanBatch:
     """Plan batches of motions through r >= 2 configurations (SPEC 4c).
 
     ``obstacles`` (B, m, d); ``configs`` a list of r arrays (B, n, d). The path passes through
     configuration k at tau = (k-1)/(r-1); labels sum_k cp(C_k) - (r-1) cp_o + 2 (- 1 when
-    e == N in odd d). ``backend``, ``progress``, ``workers``, ``out``: see :func:`plan_batch`.
+    e == N in odd d). ``lift``, ``backend``, ``progress``, ``workers``, ``out``: see
+    :func:`plan_batch`.
     """
     lift = _check_lift(lift)
     workers = _check_workers(workers)
@@ -723,15 +742,21 @@ def plan_sequence_batch(obstacles, configs, *, lift: float = 1.0,
     return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
 
 
-def plan_sequence(obstacles, configs, *, lift: float = 1.0, backend: str | None = None) -> Plan:
+def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
+                  backend: str | None = None) -> Plan:
     """Plan one motion through r >= 2 robot configurations with the same obstacles (SPEC 4c).
 
     Parameters
     ----------
     obstacles : array_like, shape (m, d)
     configs : sequence of r array_like, each (n, d)
-    lift : float
-        Positive scale of the lift (paper: 1).
+    lift : float or "scene"
+        The unit of the motion; default 1, the paper's (the height scale of the lift in the
+        obstacle-line planner, the 1 of ``H`` and ``s3`` in the planar one). ``"scene"``: the
+        obstacles' radius ``u(O) = max_k |o_k - o_1|`` of each query, for scenes far from
+        unit size (millimetres, kilometres) and for equivariance (a scaled, translated or
+        rotated query gets the scaled, translated or rotated plan). A bool or a string other
+        than ``"scene"`` is refused.
     backend : {"numba", "numpy"}, optional
         See :func:`plan_batch`.
 
@@ -766,11 +791,11 @@ def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
     array of r >= 2 configurations of one shape (n, d), obstacles (m, d), d <= MAX_D) whose
     kernel result needs no exact re-decision.
     """
-    if type(lift) is not float:
+    if type(lift) is not float or not 0.0 < lift < math.inf:  # (False for NaN)
         lift = _fast_lift(lift)
-    if not 0.0 < lift < math.inf or not (
-        type(configs) in (list, tuple) or type(configs) is np.ndarray and configs.ndim == 3
-    ):
+        if lift is None:
+            return None
+    if not (type(configs) in (list, tuple) or type(configs) is np.ndarray and configs.ndim == 3):
         return None
     o = _fast_array(obstacles)
     if o is None or len(configs) < 2:

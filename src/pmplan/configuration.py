@@ -13,27 +13,251 @@ import numpy as np
 from .errors import CollisionError, InputError, NonFiniteError, ObstacleMismatchError, ShapeError
 
 __all__ = [
-    "as_points", "check_query", "coincident_pairs", "check_same_obstacles", "kernel_array"]
+    "SCENE", "as_lift", "as_points", "as_real", "check_query", "coincident_pairs",
+    "check_same_obstacles", "kernel_array"]
+
+#: the value of ``lift`` that makes the unit of every query its obstacles' radius
+#: ``u(O) = max_{k >= 2} |o_k - o_1|`` (see :func:`pmplan.planners.base.unit`)
+SCENE = "scene"
+
+#: the fix every "not a real number" error names
+_FIX = "pass real numbers, e.g. np.asarray(x, dtype=float)"
+#: what a refused NumPy dtype kind is, in words
+_KINDS = {"b": "bool", "c": "complex", "U": "str", "S": "bytes", "M": "datetime64",
+          "m": "timedelta64", "V": "structured (void)", "O": "object"}
+#: Python types that may hide among ints and floats in a list (np.asarray makes them numbers)
+_HIDDEN = (bool, np.bool_)
+
+
+def _where(name: str, index) -> str:
+    """``name[i][j]`` for a flat index into an array of some shape, or ``name``."""
+    if index is None:
+        return f"`{name}`"
+    return f"`{name}" + "".join(f"[{i}]" for i in index) + "`"
+
+
+def _int_text(v: int) -> str:
+    """A Python integer for a message: ``the integer 123``, or its digit count when it is long
+    (``str`` refuses integers of more than 4300 digits)."""
+    if v.bit_length() > 13000:
+        return "an integer of more than 3900 digits"
+    text = str(v)
+    if len(text) <= 24:
+        return f"the integer {text}"
+    return f"an integer of {len(text.lstrip('-'))} digits"
+
+
+def _inexact_int(v, name: str, index) -> InputError | None:
+    """The error for an integer a double cannot hold exactly (None when it can): never rounded."""
+    v = int(v)
+    try:
+        f = float(v)
+    except OverflowError:
+        why = "is too large for a double (beyond 1.8e308)"
+    else:
+        if int(f) == v:
+            return None
+        why = f"is not exactly representable as a double (it would be rounded to {f!r})"
+    return InputError(
+        f"{_where(name, index)} is {_int_text(v)}, which {why}; integers are not "
+        "rounded silently: pass a float (e.g. float(v)) if rounding is acceptable"
+        + (", or scale the scene down" if "too large" in why else "")
+    )
+
+
+def _not_real(name: str, what: str, index=None, fix: str | None = None) -> InputError:
+    """The error for a value that is not a real number (``what`` names its type)."""
+    if fix is not None:
+        pass
+    elif "complex" not in what:
+        fix = _FIX
+    else:
+        fix = "pass real numbers, e.g. np.real(x) if the imaginary parts are zero"
+    return InputError(f"{_where(name, index)} must hold real numbers, got {what}; {fix}")
+
+
+def _type_name(v) -> str:
+    t = type(v)
+    return t.__name__ if t.__module__ == "builtins" else f"{t.__module__}.{t.__qualname__}"
+
+
+_EXACT_INT = 2**53  # every integer of at most this magnitude is a double
+
+
+def _plain(v) -> bool:
+    """True when every leaf of nested lists (tuples) is a float or an int of magnitude at most
+    2**53 -- the common case, which then converts with one ``np.array(v, dtype=float)``."""
+    for r in v:
+        t = type(r)
+        if t is list or t is tuple:
+            for x in r:
+                tx = type(x)
+                if tx is float or (tx is int and -_EXACT_INT <= x <= _EXACT_INT):
+                    continue
+                if (tx is list or tx is tuple) and _plain(x):
+                    continue
+                return False
+        elif not (t is float or (t is int and -_EXACT_INT <= r <= _EXACT_INT)):
+            return False
+    return True
+
+
+def as_real(value, name: str, fix: str | None = None) -> np.ndarray:
+    """``value`` as a float64 array, if it holds real numbers only; the one rule of pmplan.
+
+    Accepted: arrays of a real dtype (float16, float32, float64; signed and unsigned
+    integers) and (nested) lists of Python ints and floats. Refused with an
+    :class:`~pmplan.errors.InputError` naming the argument, the offending type and the fix:
+    bools, complex numbers, strings and bytes, object arrays of anything but ints and floats
+    (``Fraction``, ``Decimal``, ``None``, ...), and any number a double cannot hold *exactly*
+    (an integer beyond 2**53 that is not a double, 10**400, a long double): nothing is
+    silently converted or rounded. A float64 ndarray is returned as it is (no copy).
+    ``fix`` replaces the fix the message suggests (e.g. for a query file).
+
+    Examples
+    --------
+    >>> as_real([[0, 1], [2.5, 3]], "start").dtype
+    dtype('float64')
+    >>> as_real([["0", "1"]], "start")
+    Traceback (most recent call last):
+    ...
+    pmplan.errors.InputError: `start[0][0]` must hold real numbers, got str; pass real \
+numbers, e.g. np.asarray(x, dtype=float)
+    """
+    if type(value) in (list, tuple) and _plain(value):
+        try:
+            return np.array(value, dtype=np.float64)
+        except ValueError:  # ragged: worded below
+            pass
+    if isinstance(value, np.ndarray):
+        arr, from_list = value, False
+    else:
+        if isinstance(value, (str, bytes)):
+            raise _not_real(name, _type_name(value), fix=fix)
+        try:
+            arr = np.asarray(value)
+        except (TypeError, ValueError, OverflowError) as exc:
+            raise InputError(
+                f"`{name}` must be a numeric array (nested lists of numbers of equal lengths): "
+                f"{exc}"
+            ) from None
+        from_list = True
+    dt = arr.dtype
+    kind = dt.kind
+    if kind in "fiu":
+        if from_list:  # a list: a bool (or an inexact int among floats) became a number
+            objs = np.asarray(value, dtype=object)
+            types = set(map(type, objs.ravel().tolist()))
+            if any(t in types for t in _HIDDEN) or (kind == "f" and int in types):
+                _object_reals(objs, name, fix)
+        if dt == np.float64:
+            return arr
+        out = arr.astype(np.float64)
+        if dt.itemsize >= 8:  # int64, uint64, long double: exactly representable?
+            if kind == "f":
+                bad = out.astype(dt) != arr
+            else:
+                top = 2.0**63 if kind == "i" else 2.0**64
+                inside = out < top
+                bad = ~inside | (np.where(inside, out, 0.0).astype(dt) != arr)
+            if bad.any():
+                index = tuple(int(i) for i in np.unravel_index(np.flatnonzero(bad)[0], arr.shape))
+                if kind == "f":
+                    raise InputError(
+                        f"{_where(name, index)} is the {dt} value {arr[index]!r}, which is not "
+                        "exactly representable as a double; values are not rounded silently: "
+                        "pass float64 (np.asarray(x, dtype=float)) if rounding is acceptable"
+                    )
+                raise _inexact_int(arr[index], name, index)
+        return out
+    if kind == "O":
+        out = _object_reals(arr, name, fix)
+        if from_list:  # a list holding an int beyond 64 bits that a double holds exactly
+            return out
+        raise _not_real(name, "an object array (NumPy dtype object)", fix=fix)
+    if from_list:  # name the first offending element (a str, a complex, a bool)
+        _object_reals(np.asarray(value, dtype=object), name, fix)
+    what = _KINDS.get(kind, str(dt))
+    raise _not_real(name, f"{what} (NumPy dtype {dt})", fix=fix)
+
+
+def _object_reals(arr: np.ndarray, name: str, fix: str | None = None) -> np.ndarray:
+    """An object array as float64: only Python ints (exactly representable) and floats, and
+    NumPy real scalars, are accepted (NumPy makes an object array of a list holding an integer
+    beyond 64 bits, a Fraction, a Decimal, None, ...)."""
+    flat = arr.ravel().tolist()
+    out = np.empty(len(flat))
+    for k, v in enumerate(flat):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, np.integer,
+                                                                  np.floating)):
+            index = tuple(int(i) for i in np.unravel_index(k, arr.shape))
+            raise _not_real(name, _type_name(v), index, fix)
+        if isinstance(v, (int, np.integer)):
+            err = _inexact_int(v, name, tuple(int(i) for i in np.unravel_index(k, arr.shape)))
+            if err is not None:
+                raise err
+        elif isinstance(v, np.floating) and np.dtype(type(v)).itemsize > 8 \
+                and np.float64(v) != v:
+            index = tuple(int(i) for i in np.unravel_index(k, arr.shape))
+            raise InputError(
+                f"{_where(name, index)} is the {type(v).__name__} value {v!r}, which is not "
+                "exactly representable as a double; values are not rounded silently: pass "
+                "float64 (np.asarray(x, dtype=float)) if rounding is acceptable"
+            )
+        out[k] = float(v)
+    return out.reshape(arr.shape)
+
+
+def as_lift(lift) -> float | str:
+    """Check ``lift``: a positive finite real number, or :data:`SCENE` (``"scene"``).
+
+    The one rule for every entry point (:func:`pmplan.plan` and the other planning functions,
+    their fast paths, query files). A real number is a Python ``int`` or ``float`` or a NumPy
+    integer or floating scalar -- not a bool, a string, a complex number -- that a double holds
+    exactly. Returns the float, or ``"scene"``.
+
+    Raises
+    ------
+    InputError
+        Naming what was given and what to pass instead.
+    """
+    if isinstance(lift, str) and lift == SCENE:
+        return SCENE
+    fix = ("pass a positive number (the unit of the motion: 1.0, the paper's) or "
+           "lift='scene' (the obstacles' size)")
+    if isinstance(lift, (bool, np.bool_)) or not isinstance(lift, (int, float, np.integer,
+                                                                    np.floating)):
+        raise InputError(f"`lift` must be a positive real number or 'scene', got "
+                         f"{_type_name(lift)} {lift!r}; {fix}")
+    if isinstance(lift, (int, np.integer)):
+        err = _inexact_int(lift, "lift", None)
+        if err is not None:
+            raise err
+    value = float(lift)
+    if isinstance(lift, np.floating) and value != lift:
+        raise InputError(f"`lift` is the {type(lift).__name__} value {lift!r}, which is not "
+                         "exactly representable as a double; pass a float")
+    if not 0.0 < value < np.inf:
+        raise InputError(f"`lift` must be a positive finite number, got {lift!r}; {fix}")
+    return value
 
 
 def as_points(value, name: str, batched: bool) -> np.ndarray:
     """Convert to a float array of shape (k, d) (or (B, k, d) when ``batched``).
 
+    The values must be real numbers (:func:`as_real`: no bools, strings, complex numbers,
+    objects, nor integers a double cannot hold exactly).
+
     Raises
     ------
     InputError
-        Ragged or non-numeric input.
+        Ragged input, or values that are not real numbers.
     ShapeError
         Wrong number of axes.
     NonFiniteError
         NaN or infinite coordinates.
     """
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InputError(
-            f"`{name}` must be a numeric array (nested lists of numbers of equal lengths): {exc}"
-        ) from None
+    arr = as_real(value, name)
     want = 3 if batched else 2
     form = "(B, k, d)" if batched else "(k, d)"
     if arr.ndim != want:
@@ -150,7 +374,8 @@ def kernel_array(a) -> np.ndarray:
 def _valid_fast(obstacles, start, goal, batched: bool, deep: bool = True):
     """Return the arrays of :func:`check_query` when the query is valid, else None.
 
-    Converts like :func:`as_points`, checks the axes and shapes, then (if ``deep``) asks
+    Converts like :func:`as_points` (:func:`as_real`), checks the axes and shapes, then (if
+    ``deep``) asks
     :func:`pmplan._kernels.valid_queries` (finite, no two equal points in C or C') in one pass.
     It never raises: None means "let the reference checks decide (and word the error)".
     """
@@ -159,10 +384,10 @@ def _valid_fast(obstacles, start, goal, batched: bool, deep: bool = True):
     if not _kernels.AVAILABLE:  # pragma: no cover
         return None
     try:
-        o = np.asarray(obstacles, dtype=float)
-        s = np.asarray(start, dtype=float)
-        g = np.asarray(goal, dtype=float)
-    except (TypeError, ValueError):
+        o = as_real(obstacles, "obstacles")
+        s = as_real(start, "start")
+        g = as_real(goal, "goal")
+    except InputError:
         return None
     want = 3 if batched else 2
     if o.ndim != want or s.ndim != want or g.ndim != want:

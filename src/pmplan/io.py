@@ -6,7 +6,7 @@ Query JSON (one query)::
      "start":     [[x, y], ...],      # (n, d)
      "goal":      [[x, y], ...],      # (n, d)
      "via":       [[[x, y], ...], ...],   # optional: intermediate configurations (SPEC 4c)
-     "lift":      1.0,                # optional, positive
+     "lift":      1.0,                # optional: a positive number, or "scene"
      "planner":   "obstacle_line"}    # optional
 
 Batch npz (``pmplan batch``): arrays ``obstacles`` (B, m, d), ``start`` (B, n, d), ``goal``
@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .configuration import as_lift, as_real
 from .errors import InputError
 
 __all__ = [
@@ -38,11 +39,22 @@ MAX_POINTS = 10_000
 _KEYS = {"obstacles", "start", "goal", "via", "lift", "planner"}
 
 
+#: the fix named when a query file holds something that is not a real number
+_JSON_FIX = "write plain numbers in the query (not strings, booleans or null)"
+
+
 def _numeric(value, name: str, ndim: int) -> np.ndarray:
+    """A list nested ``ndim`` deep of JSON numbers as a float array.
+
+    The numbers follow the rule of :func:`pmplan.configuration.as_real` (also for the API):
+    a bool, a string or null is refused, and so is an integer a double cannot hold exactly
+    (e.g. ``10**400``), naming the coordinate (``start[0][1]``) -- nothing is rounded.
+    """
     def walk(v, depth):
         if depth == 0:
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise InputError(f"`{name}` must hold numbers, found {type(v).__name__} {v!r}")
+            if isinstance(v, list):
+                raise InputError(f"`{name}` must be a list nested {ndim} deep (found a list "
+                                 "where a number belongs)")
             return
         if not isinstance(v, list):
             raise InputError(f"`{name}` must be a list nested {ndim} deep (got {type(v).__name__})")
@@ -51,12 +63,22 @@ def _numeric(value, name: str, ndim: int) -> np.ndarray:
 
     walk(value, ndim)
     try:
-        arr = np.array(value, dtype=float)
+        arr = np.asarray(value, dtype=object)
     except ValueError:
         raise InputError(f"`{name}` is ragged: its rows have different lengths") from None
     if arr.ndim != ndim:
         raise InputError(f"`{name}` is ragged: its rows have different lengths")
-    return arr
+    return as_real(value, name, fix=_JSON_FIX)
+
+
+def _json_int(text: str) -> int:
+    """``parse_int`` of :func:`json.loads`: the integer, or for one of more than 4000 digits
+    (which Python will not convert) an integer of more than 4000 digits of the same sign, so
+    that :func:`_numeric` refuses it as too large for a double, naming the coordinate."""
+    digits = text.lstrip("-")
+    if len(digits) <= 4000:
+        return int(text)
+    return (-1 if text.startswith("-") else 1) * 10**4001
 
 
 def parse_query(obj) -> dict:
@@ -80,9 +102,7 @@ def parse_query(obj) -> dict:
         out["via"] = [_numeric(c, f"via[{k}]", 2) for k, c in enumerate(obj["via"])] \
             if isinstance(obj["via"], list) else _numeric(obj["via"], "via", 3)
     if "lift" in obj:
-        if isinstance(obj["lift"], bool) or not isinstance(obj["lift"], (int, float)):
-            raise InputError(f"`lift` must be a number, got {obj['lift']!r}")
-        out["lift"] = float(obj["lift"])
+        out["lift"] = as_lift(obj["lift"])  # a positive number, or "scene"
     if "planner" in obj:
         if not isinstance(obj["planner"], str):
             raise InputError(f"`planner` must be a string, got {obj['planner']!r}")
@@ -124,7 +144,7 @@ def read_query(path: str | Path) -> dict:
     except OSError as exc:
         raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None
     try:
-        obj = json.loads(text)
+        obj = json.loads(text, parse_int=_json_int)
     except json.JSONDecodeError as exc:
         raise InputError(f"{path} is not valid JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
     return parse_query(obj)

@@ -19,7 +19,10 @@ unit normal of :mod:`pmplan.frame`.
 * ``H(C, s)``: the desingularization at 2s on [0, 1/2], then the projection at 2s - 1.
 * Section over collinear pairs ``(algorithm-gamma)``, Figure ``algorithm1``: robot i is lifted by
   ``i lambda nu(e)``, slides from X_i to X'_i, and descends, with
-  ``lambda = lift + max_{k>=3} |r(o_k)|`` (= lift for m = 2; the paper has lift = 1).
+  ``lambda = lift + max_{k>=3} |r(o_k)|`` (= lift for m = 2; the paper has lift = 1), where
+  the unit ``lift`` is a positive number, or with ``lift="scene"`` the obstacles' radius
+  ``u(O) = max_k |o_k - o_1|`` of the query (:func:`~pmplan.planners.base.scene_unit`), which
+  makes the planner equivariant under translations, rotations (d = 2) and scalings.
 * The whole path is the composition of paper Remark
   ``constructing-sections-via-deformations-higher-case``: [0,1/3] H(C, 3 tau),
   [1/3,2/3] the section, [2/3,1] H(C', 3 - 3 tau). Eight waypoints, at
@@ -50,7 +53,7 @@ from ..configuration import kernel_array
 from ..frame import Frame
 from ..path import PiecewiseLinearPath, compose_via_deformations, join, linear
 from ..predicates import projection_classes
-from .base import RawPlan, register
+from .base import RawPlan, lift_code, register, unit
 
 __all__ = [
     "BACKENDS",
@@ -116,11 +119,17 @@ def deformation(fr: Frame, obstacles, robots, cols: ColumnStructure) -> Piecewis
 
 
 def lift_height(fr: Frame, obstacles: np.ndarray, lift: float) -> np.ndarray:
-    """Return ``lambda = lift + max_{k >= 3} |r(o_k)|`` (SPEC 4b), shape (B,)."""
+    """Return ``lambda = lift + max_{k >= 3} |r(o_k)|`` (SPEC 4b), shape (B,).
+
+    ``lift`` is the unit: a positive float (the paper's 1 by default), or
+    :data:`~pmplan.planners.base.SCENE_CODE` / ``"scene"`` for the unit
+    ``u(O) = max_k |o_k - o_1|`` of each query (:func:`~pmplan.planners.base.scene_unit`).
+    """
+    u = unit(obstacles, lift)
     if obstacles.shape[1] <= 2:
-        return np.full(obstacles.shape[0], float(lift))
+        return u
     r = fr.perpendicular(obstacles[:, 2:])
-    return lift + np.sqrt((r * r).sum(-1)).max(axis=1)
+    return u + np.sqrt((r * r).sum(-1)).max(axis=1)
 
 
 def section(fr: Frame, x_start, x_goal, lam: np.ndarray, m: int) -> PiecewiseLinearPath:
@@ -231,8 +240,8 @@ def _fused(obstacles, configs, lift, wp, domain, strata, clearance,
     else:
         middle = np.empty((0, b, n, d))
     flags = np.empty(b, np.uint8)
-    K.plan_chunk(obstacles, configs[0], configs[-1], middle, float(lift), validate, wp, domain,
-                 strata, clearance, flags, K.tables(r, m, n, d))
+    K.plan_chunk(obstacles, configs[0], configs[-1], middle, lift_code(lift), validate, wp,
+                 domain, strata, clearance, flags, K.tables(r, m, n, d))
     failed = K.NONFINITE | K.BROKEN | K.INVALID
     ok = (flags & failed) == 0
     if not flags.any():
@@ -365,14 +374,15 @@ class ObstacleLinePlanner:
             return None
         m, d = obstacles.shape
         run = self.plan_one_for(m, start.shape[0], d)
-        return None if run is None else run(obstacles, start, goal, float(lift))
+        return None if run is None else run(obstacles, start, goal, lift_code(lift))
 
     def plan_one_for(self, m: int, n: int, d: int):
         """The single-query kernel call of :meth:`plan_one` for queries of shape (m, n, d).
 
         Returns ``run(obstacles, start, goal, lift) -> (times, waypoints, domain, row,
         clearance) | None`` -- the caller guarantees C-contiguous, aligned, writeable float64
-        arrays of shapes (m, d), (n, d), (n, d) and a float ``lift`` -- or None when no kernel
+        arrays of shapes (m, d), (n, d), (n, d) and a float ``lift`` (positive, or
+        :data:`~pmplan.planners.base.SCENE_CODE` for ``"scene"``) -- or None when no kernel
         plans that shape (numba missing, d > MAX_D, m < 2, n < 1). The index tables are looked
         up once here, not per query.
         """
@@ -398,7 +408,8 @@ class ObstacleLinePlanner:
         Returns ``run(obstacles, configs, lift) -> (times, waypoints, domain, row, clearance)
         | None`` for one query through ``r >= 2`` configurations -- the caller guarantees
         C-contiguous, aligned, writeable float64 arrays ``obstacles`` (m, d) and ``configs``
-        (a sequence of r arrays (n, d)), and a float ``lift`` -- or None when no kernel plans
+        (a sequence of r arrays (n, d)), and a float ``lift`` (positive, or
+        :data:`~pmplan.planners.base.SCENE_CODE`) -- or None when no kernel plans
         that shape (numba missing, d > MAX_D, m < 2, n < 1, r < 2). ``run`` returns None
         whenever the kernel (:func:`pmplan._kernels.plan_chunk`, asked to validate, with the
         index tables looked up once here) flags the query or the clearance is not positive:
@@ -474,7 +485,8 @@ class ObstacleLinePlanner:
         ----------
         obstacles : ndarray (B, m, d)
         configs : list of r ndarrays (B, n, d)
-        lift : float
+        lift : float or "scene"
+            The unit (positive), or ``"scene"`` / :data:`~pmplan.planners.base.SCENE_CODE`.
         wp : ndarray (B, 7 (r - 1) + 1, m + n, d)
             Output waypoints, at the breakpoints :func:`path_times` ``(r)``.
         domain, strata, clearance : ndarrays (B,), (B, r + 2), (B,)

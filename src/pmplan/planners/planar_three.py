@@ -30,7 +30,10 @@ Domains (paper ``(w2)``-``(w4)``)::
 Paths (SPEC section 3) are polylines in the frame (u, h), traversed at constant speed:
 
 * W1, Figure ``T111``: ``x -> (u(x), H) -> (u(x'), H) -> x'`` with ``H = 1 + max(0, h3)``
-  (see the typo note in :func:`frame_polyline_W1`).
+  (see the typo note in :func:`frame_polyline_W1`). The 1 here and in ``s3 = c3 + 1`` below is
+  the paper's unit: the planner's ``lift`` (default 1; ``lift="scene"``: the obstacles' radius
+  ``u(O) = max(|o2 - o1|, |o3 - o1|)``, which makes the paths equivariant under translations,
+  rotations and scalings).
 * T1_12, T1_21, Figure ``Tstraight``: the segment ``x -> x'``.
 * T1_22, T22_22, Figure ``porenmedio``: ``x -> (delta, h(x)) -> (delta, h(x')) -> x'`` with
   ``delta = min(|o1o2|, |o1o3|)/2`` (T1_22) and ``delta = |o1o2|/2`` (T22_22).
@@ -77,7 +80,7 @@ from ..configuration import kernel_array
 from ..frame import Frame
 from ..path import PiecewiseLinearPath
 from ..predicates import projection_classes
-from .base import RawPlan, register
+from .base import RawPlan, lift_code, register, unit
 from .obstacle_line import resolve_backend
 
 __all__ = [
@@ -254,6 +257,7 @@ class _Scene:
     cols: np.ndarray  # (b, 3) obstacle columns, sorted by their exact order
     rank_x: np.ndarray  # (b,) index a of the obstacle column c_a holding x (-1: none)
     rank_g: np.ndarray  # (b,) the same for x'
+    unit: np.ndarray  # (b,) the unit: lift, or u(O) for lift="scene" (planners.base.unit)
 
     def take(self, idx: np.ndarray) -> _Scene:
         return _Scene(**{k: v[idx] for k, v in self.__dict__.items()})
@@ -263,10 +267,10 @@ class _Scene:
         u = self.u[:, [0, 1, 2, 4, 3]]
         h = self.h[:, [0, 1, 2, 4, 3]]
         return _Scene(self.obstacles, self.xg, self.x, self.o1, self.e, self.nu, self.length,
-                      u, h, self.cols, self.rank_g, self.rank_x)
+                      u, h, self.cols, self.rank_g, self.rank_x, self.unit)
 
 
-def _scene(obstacles, start, goal, st: Strata) -> _Scene:
+def _scene(obstacles, start, goal, st: Strata, lift=1.0) -> _Scene:
     o1, o2 = obstacles[:, 0], obstacles[:, 1]
     fr = Frame(o1, o2)
     pts = np.concatenate([obstacles, start, goal], axis=1)
@@ -285,7 +289,7 @@ def _scene(obstacles, start, goal, st: Strata) -> _Scene:
         return np.where(hit.any(axis=1), hit.argmax(axis=1), -1)
 
     return _Scene(obstacles, start[:, 0], goal[:, 0], o1, fr.e, fr.nu, fr.norm, u, h, cols,
-                  rank(3), rank(4))
+                  rank(3), rank(4), unit(obstacles, lift))
 
 
 def _uh(*pairs) -> np.ndarray:
@@ -300,6 +304,9 @@ def frame_polyline_W1(sc: _Scene) -> np.ndarray:
 
         x -> (u(x), H) -> (u(x'), H) -> x',      H = 1 + max(0, h3)
 
+    The 1 is the paper's unit: the planner's ``lift`` (default 1; with ``lift="scene"`` the
+    obstacles' radius ``u(O) = max(|o2 - o1|, |o3 - o1|)``).
+
     Notes
     -----
     The paper (Section 4, text after Figure ``T111``) describes the middle leg as "the
@@ -312,7 +319,7 @@ def frame_polyline_W1(sc: _Scene) -> np.ndarray:
     ux, hx, ug, hg, h3 = sc.u[:, 3], sc.h[:, 3], sc.u[:, 4], sc.h[:, 4], sc.h[:, 2]
     # paper Section 4 after Figure T111: "p_C projection 1+max{p_C(o_i)}"
     # *** TYPO IN PAPER ***: an L_C-parallel line is fixed by its height: read p^perp_C
-    big_h = 1.0 + np.maximum(0.0, h3)
+    big_h = sc.unit + np.maximum(0.0, h3)  # the paper's 1 is the unit (lift)
     return _uh((ux, hx), (ux, big_h), (ug, big_h), (ug, hg))
 
 
@@ -346,9 +353,11 @@ def _frame_T22_23(sc: _Scene) -> np.ndarray:
 
 
 def _solid_verticals(sc: _Scene) -> np.ndarray:
-    """The solid verticals of Figure ``grid``: (c1+c2)/2, (c2+c3)/2, c3 + 1, shape (b, 3)."""
+    """The solid verticals of Figure ``grid``: (c1+c2)/2, (c2+c3)/2, c3 + 1, shape (b, 3)
+    (the 1 is the unit, ``lift``)."""
     c = sc.cols
-    return np.stack([0.5 * (c[:, 0] + c[:, 1]), 0.5 * (c[:, 1] + c[:, 2]), c[:, 2] + 1.0], axis=1)
+    return np.stack([0.5 * (c[:, 0] + c[:, 1]), 0.5 * (c[:, 1] + c[:, 2]), c[:, 2] + sc.unit],
+                    axis=1)
 
 
 def _frame_T23_33(sc: _Scene) -> np.ndarray:
@@ -470,10 +479,13 @@ class PlanarThreePlanner:
         ----------
         obstacles : array_like, shape (B, 3, 2)
         start, goal : array_like, shape (B, 1, 2)
-        lift : float
-            Unused: the paper's Section 4 paths have no free scale (the unit in
-            ``H = 1 + max(0, h3)`` and ``s3 = c3 + 1`` is the paper's). Accepted for the common
-            planner interface.
+        lift : float or "scene"
+            The unit of the paper's constructions: the 1 in ``H = 1 + max(0, h3)`` (W1, Figure
+            ``T111``) and in ``s3 = c3 + 1`` (T23, Figure ``grid``). Default 1, the paper's;
+            ``"scene"`` (or :data:`~pmplan.planners.base.SCENE_CODE`) makes it the obstacles'
+            radius ``u(O) = max(|o2 - o1|, |o3 - o1|)`` of each query, so that the planner is
+            equivariant under translations, rotations and scalings. Every other leg is
+            built from the scene alone.
         backend : {"numba", "numpy"}, optional
             ``"numpy"`` runs the reference implementation below; ``"numba"`` (the default when
             numba is installed) the fused kernel of :mod:`pmplan._kernels_planar`, whose
@@ -490,19 +502,20 @@ class PlanarThreePlanner:
         -----
         Queries are grouped by stratum and every group is built with array operations. The
         paper's constructions use an absolute unit (``H = 1 + max(0, h3)``, ``s3 = c3 + 1``):
-        for scenes whose coordinates exceed ~2**50 that unit is below the resolution of the
-        coordinates and the certificate of :mod:`pmplan.api` rejects the path
-        (``CertificationError``); likewise when a gap of the scene (e.g. ``h3`` or
-        ``u(x') - u(o1)``) is below the resolution of its coordinates.
+        for scenes whose coordinates exceed ~2**50 that unit (``lift=1``) is below the
+        resolution of the coordinates and the certificate of :mod:`pmplan.api` rejects the
+        path (``CertificationError``); ``lift="scene"`` scales it with the scene. The
+        certificate also fails when a gap of the scene (e.g. ``h3`` or ``u(x') - u(o1)``) is
+        below the resolution of its coordinates.
         """
-        del lift
+        lift = lift_code(lift)
         if resolve_backend(backend) == "numba":
             args = _fusable(obstacles, start, goal)
             if args is not None:
                 obstacles, start, goal = args
                 out = self.allocate(obstacles.shape[0], 2, 3, 1, 2)
-                _fused(obstacles, start, goal, out["times"], out["waypoints"], out["domain"],
-                       out["strata"], out["clearance"], certified=False)
+                _fused(obstacles, start, goal, lift, out["times"], out["waypoints"],
+                       out["domain"], out["strata"], out["clearance"], certified=False)
                 return RawPlan(domain=out["domain"], strata=out["strata"],
                                path=PiecewiseLinearPath(out["times"], out["waypoints"]))
         obstacles = np.asarray(obstacles, dtype=float)
@@ -510,7 +523,7 @@ class PlanarThreePlanner:
         goal = np.asarray(goal, dtype=float)
         b = obstacles.shape[0]
         st = classify(obstacles, start, goal)
-        sc = _scene(obstacles, start, goal, st)
+        sc = _scene(obstacles, start, goal, st, lift)
         times = np.empty((b, K))
         wp = np.empty((b, K, 4, 2))
         for code in np.unique(st.code):
@@ -549,8 +562,8 @@ class PlanarThreePlanner:
         obstacles : ndarray (B, 3, 2)
         configs : list of 2 ndarrays (B, 1, 2)
             Start and goal robots.
-        lift : float
-            Unused (see :meth:`plan`).
+        lift : float or "scene"
+            The unit (see :meth:`plan`).
         wp : ndarray (B, K, 4, 2)
             Output waypoints.
         domain, strata, clearance : ndarrays (B,), (B, 3), (B,)
@@ -565,7 +578,7 @@ class PlanarThreePlanner:
             The certificate of SPEC section 5 (endpoints, obstacles fixed, finite,
             clearance > 0), identical for both backends.
         """
-        del lift
+        lift = lift_code(lift)
         if len(configs) != 2:
             raise ValueError(f"the planar_three planner plans r = 2 configurations, got {len(configs)}")
         start, goal = configs
@@ -574,24 +587,25 @@ class PlanarThreePlanner:
         if resolve_backend(backend) == "numba":
             args = _fusable(obstacles, start, goal)
             if args is not None:
-                return _fused(*args, times, wp, domain, strata, clearance, certified=True)
+                return _fused(*args, lift, times, wp, domain, strata, clearance,
+                              certified=True)
         obstacles = np.asarray(obstacles, dtype=float)
         start = np.asarray(start, dtype=float)
         goal = np.asarray(goal, dtype=float)
-        return _store_reference(obstacles, start, goal, np.arange(obstacles.shape[0]), times, wp,
-                                domain, strata, clearance)
+        return _store_reference(obstacles, start, goal, lift, np.arange(obstacles.shape[0]),
+                                times, wp, domain, strata, clearance)
 
     def plan_one(self, obstacles, start, goal, lift: float) -> tuple | None:
         """Fast path of :func:`pmplan.plan` for one query: validate, plan, certify in one call.
 
-        ``obstacles`` (3, 2), ``start``, ``goal`` (1, 2) as float64 arrays. Returns
+        ``obstacles`` (3, 2), ``start``, ``goal`` (1, 2) as float64 arrays, ``lift`` a float
+        (positive, or :data:`~pmplan.planners.base.SCENE_CODE`). Returns
         ``(times (k,), waypoints (k, 4, 2), domain, strata row (tuple), clearance)`` -- the
         path already compacted (no zero-duration piece), as :func:`pmplan.plan` returns it -- or
         None whenever anything is unusual (numba missing, a malformed or invalid query, a
         query the kernel flags, a failed certificate), so that the caller takes the general
         path, which raises the proper error or re-decides exactly.
         """
-        del lift
         kernel = self.__dict__.get("_plan_planar_one")
         if kernel is None:  # first call: import the kernel module (numba) once
             from .. import _kernels_planar as KP
@@ -603,7 +617,7 @@ class PlanarThreePlanner:
                 or not (obstacles.flags.c_contiguous and start.flags.c_contiguous
                         and goal.flags.c_contiguous)):
             return None
-        t, wp, dom, f, i, j, clr, flags = kernel(obstacles, start, goal, _EVEN)
+        t, wp, dom, f, i, j, clr, flags = kernel(obstacles, start, goal, _EVEN, lift_code(lift))
         if flags or not clr > 0:
             return None
         return t, wp, int(dom), (f, i, j), float(clr)
@@ -635,7 +649,7 @@ def _fusable(obstacles, start, goal):
     return obstacles, start, goal
 
 
-def _fused(obstacles, start, goal, times, wp, domain, strata, clearance, *,
+def _fused(obstacles, start, goal, lift, times, wp, domain, strata, clearance, *,
            certified: bool) -> np.ndarray | None:
     """Plan (and certify) with the kernel of :mod:`pmplan._kernels_planar`, re-deciding
     flagged queries exactly; fill the outputs in place.
@@ -649,14 +663,15 @@ def _fused(obstacles, start, goal, times, wp, domain, strata, clearance, *,
 
     b = obstacles.shape[0]
     flags = np.empty(b, np.uint8)
-    KP.plan_planar(obstacles, start, goal, _EVEN, False, times, wp, domain, strata, clearance,
-                   flags)
+    KP.plan_planar(obstacles, start, goal, _EVEN, lift, False, times, wp, domain, strata,
+                   clearance, flags)
     if not flags.any():
         return clearance > 0 if certified else None
     idx = np.flatnonzero(flags & KP.FALLBACK)
     if not certified:
         if idx.size:
-            raw = PLANAR_THREE.plan(obstacles[idx], start[idx], goal[idx], backend="numpy")
+            raw = PLANAR_THREE.plan(obstacles[idx], start[idx], goal[idx], lift=lift,
+                                    backend="numpy")
             times[idx], wp[idx] = raw.path.times, raw.path.waypoints
             domain[idx], strata[idx] = raw.domain, raw.strata
         return None
@@ -665,16 +680,16 @@ def _fused(obstacles, start, goal, times, wp, domain, strata, clearance, *,
         clearance[sus] = certified_clearance(wp[sus], 3)
     ok = clearance > 0
     if idx.size:
-        ok[idx] = _store_reference(obstacles, start, goal, idx, times, wp, domain, strata,
+        ok[idx] = _store_reference(obstacles, start, goal, lift, idx, times, wp, domain, strata,
                                    clearance)
     return ok
 
 
-def _store_reference(obstacles, start, goal, idx, times, wp, domain, strata, clearance):
+def _store_reference(obstacles, start, goal, lift, idx, times, wp, domain, strata, clearance):
     """Plan rows ``idx`` with the numpy reference, certify them (:func:`pmplan.certify.certify`,
     as :func:`pmplan.api.plan_batch` certifies a RawPlan) and store them; return the certificate."""
     obs, s, g = obstacles[idx], start[idx], goal[idx]
-    raw = PLANAR_THREE.plan(obs, s, g, backend="numpy")
+    raw = PLANAR_THREE.plan(obs, s, g, lift=lift, backend="numpy")
     pw = raw.path.waypoints
     times[idx] = raw.path.times
     wp[idx] = pw
