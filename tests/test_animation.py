@@ -245,7 +245,7 @@ def test_animate_query_rejects_other_suffixes(tmp_path):
     q = read_query(_query(tmp_path))
     with pytest.raises(InputError, match=r"\.gif or \.mp4"):
         animate_query(q, tmp_path / "m.png", frames=3)
-    with pytest.raises(InputError, match="at least 2 frames"):
+    with pytest.raises(InputError, match="`frames` must be an integer from 2 to 1,000"):
         animate_query(q, tmp_path / "m.gif", frames=1)
 
 
