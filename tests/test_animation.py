@@ -165,7 +165,7 @@ def test_draw_frame_artists(d, n, m, trails):
     np.testing.assert_allclose(np.asarray(goals.get_offsets()), goal_xy)
     assert ax.texts[m].get_text() == phase_at(p, 0.5).label() == "phase 4/7: slide"
     title = ax.get_title()
-    assert f"W_{p.domain}" in title and p.stratum in title
+    assert f"$W_{{{p.domain}}}$: ${p.stratum}$" in title  # mathtext, not raw TeX
     if d > 2:
         assert "planner's frame" in ax.texts[-1].get_text()
         assert "marker size" in ax.texts[-1].get_text()

@@ -204,8 +204,6 @@ def frame_coordinates(plan, points: np.ndarray) -> tuple[np.ndarray, np.ndarray 
     return np.stack([s, h], axis=-1).reshape(shape + (2,)), rest.reshape(shape)
 
 
-def _domain_name(plan) -> str:
-    return f"W{plan.domain}" if plan.planner == "planar_three" else f"W_{plan.domain}"
 
 
 class _FrameArtists:
@@ -278,8 +276,8 @@ class _FrameArtists:
         ax.set_aspect("equal", adjustable="box")
         ax.grid(alpha=0.3)
         ax.tick_params(labelsize=7)
-        ax.set_title(f"{_domain_name(plan)}  {plan.stratum}  ({plan.planner}, d={d}, n={n}, m={m})",
-                     fontsize=8)
+        ax.set_title(f"$W_{{{plan.domain}}}$: ${plan.stratum}$  ({plan.planner}, d={d}, n={n}, "
+                     f"m={m})", fontsize=8)
 
     def _sizes(self, rest, base: float):
         if rest is None:

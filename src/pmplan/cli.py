@@ -281,12 +281,11 @@ def cmd_demo(args) -> int:
     import matplotlib
 
     matplotlib.use("Agg")
-    allp = plans + extra
-    titles = [f"W_{p.domain}: {p.stratum}" if p.planner == "obstacle_line"
-              else f"W{p.domain}: {p.stratum}" for p in allp]
-    fig = plan_grid(allp, titles, ncols=4)
-    fig.suptitle("pmplan demo: one certified motion per domain of continuity", y=1.0)
-    fig.savefig(out, dpi=110, bbox_inches="tight")
+    what = f"{args.n} robot{'s' if args.n > 1 else ''} among 2 obstacles (obstacle_line)" + (
+        ", 1 robot among 3 obstacles (planar_three, paper Section 4)" if extra else "")
+    fig = plan_grid(plans + extra, ncols=4, suptitle="pmplan demo: one certified motion per "
+                    f"domain of continuity $W_l$\n{what}")
+    fig.savefig(out, dpi=110)
     print(f"wrote {out.resolve()}")
     return 0
 

@@ -342,8 +342,8 @@ class Report:
         w = "W" if self.planner == "planar_three" else "W_"
         fam = ", ".join(f"{k} {v['queries']}" for k, v in self.families.items())
         lines = [
-            f"pmplan verify: {self.planner} planner, (d, n, m) = ({d}, {n}, {m}), lift {self.lift}, "
-            f"seed {self.seed}",
+            f"pmplan verify: {self.planner} planner, (d, n, m) = ({d}, {n}, {m}), "
+            + ("" if self.lift == 1.0 else f"lift {self.lift}, ") + f"seed {self.seed}",
             f"queries: {fam}; perturbation size delta = {self.delta:g}",
             "",
             f"{'domain':<7} {'queries':>7} {'strata':>6}  {'min clearance':>13}  "
