@@ -383,6 +383,7 @@ BAD_OPTIONS = [
     (["demo", "--n", "9"], "argument --n: must be between 1 and 8, got 9"),
     (["info", "--d", "2", "--n", "10000000000", "--m", "2"], "argument --n: must be between 0"),
     (["info", "--d", "2", "--n", "1", "--m", "2", "--r", "1"], "r = 1: a motion needs r >= 2"),
+    (["info", "--d", "2", "--n", "10000", "--m", "2", "--r", "10000"], "more than pmplan info lists"),
     (["frobnicate"], "argument COMMAND: invalid choice: 'frobnicate'"),
 ]
 

@@ -198,6 +198,10 @@ def _read_query_arg(path: str) -> dict:
     return read_query(path)
 
 
+def _source(path: str) -> str:
+    return "standard input" if path == "-" else path
+
+
 def _with_options(q: dict, args, source: str) -> dict:
     """Return the query ``q`` with the command line's ``--planner`` and ``--lift`` applied.
 
@@ -224,7 +228,7 @@ def cmd_plan(args) -> int:
     from .api import plan_query
     from .io import plan_to_dict
 
-    q = _with_options(_read_query_arg(args.query), args, args.query)
+    q = _with_options(_read_query_arg(args.query), args, _source(args.query))
     result = plan_query(q)
     print(json.dumps(plan_to_dict(result, samples=args.samples), indent=args.indent))
     return 0
@@ -290,6 +294,9 @@ def cmd_demo(args) -> int:
     return 0
 
 
+#: most domains ``pmplan info`` lists (it prints every label with --json)
+MAX_INFO_LABELS = 1_000_000
+
 #: picture formats ``pmplan demo --out`` writes (by suffix)
 PICTURE_SUFFIXES = (".png", ".pdf", ".svg")
 
@@ -320,8 +327,12 @@ def _planar_three_demo():
 def cmd_info(args) -> int:
     from . import api
 
-    from .errors import UnsupportedError
+    from .errors import InputError, UnsupportedError
 
+    if args.r * args.n + args.m > MAX_INFO_LABELS:
+        raise InputError(f"(d, n, m, r) = ({args.d}, {args.n}, {args.m}, {args.r}) has about "
+                         f"r n + m = {args.r * args.n + args.m:,} domains, more than pmplan info "
+                         f"lists ({MAX_INFO_LABELS:,}): ask for fewer robots or configurations")
     i = api.info(args.d, args.n, args.m, r=args.r, planner=args.planner)
     if i.planner is None:
         raise UnsupportedError(f"(d, n, m, r) = ({i.d}, {i.n}, {i.m}, {i.r}): {i.message}")
@@ -350,7 +361,7 @@ def cmd_figures(args) -> int:
 def cmd_animate(args) -> int:
     from .animation import animate_query
 
-    q = _with_options(_read_query_arg(args.query), args, args.query)
+    q = _with_options(_read_query_arg(args.query), args, _source(args.query))
     out = animate_query(q, args.out, frames=args.frames, fps=args.fps)
     print(f"wrote {out.resolve()}")
     return 0
