@@ -353,7 +353,7 @@ def test_version(capsys):
 
 def test_lift_is_an_option_wherever_a_planner_runs():
     _, commands = _subparsers()
-    for name in ("plan", "batch", "animate", "verify"):
+    for name in ("plan", "batch", "animate", "verify", "demo"):
         assert "--lift" in commands[name]._option_string_actions, name
 
 
@@ -612,3 +612,17 @@ def test_batch_npz_options(tmp_path, capsys):
         np.savez(src, obstacles=o, start=s, goal=g, **extra)
         status, out, err = run(capsys, "batch", str(src), "--out", str(dst))
         assert_one_line_error(status, out, err, match)
+
+
+def test_npy_and_bad_list_items_are_one_line_errors(tmp_path, capsys):
+    npy = tmp_path / "a.npy"
+    np.save(npy, np.zeros(3))
+    disguised = tmp_path / "a.npz"
+    disguised.write_bytes(npy.read_bytes())
+    for command, src in (("batch", npy), ("batch", disguised), ("plan", disguised)):
+        extra = ["--out", str(tmp_path / "p")] if command == "batch" else []
+        status, out, err = run(capsys, command, str(src), *extra)
+        assert_one_line_error(status, out, err, "holds a single array (.npy)")
+    src = write_json(tmp_path, [QUERY, 5], "qs.json")
+    status, out, err = run(capsys, "batch", src, "--out", str(tmp_path / "p"))
+    assert_one_line_error(status, out, err, "qs.json: query 1: a query must be a JSON object")

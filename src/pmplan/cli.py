@@ -134,6 +134,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="number of robots among the two obstacles, 1 to 8 (default 3)")
     p.add_argument("--out", default="pmplan-demo.png", metavar="FILE",
                    help="picture to write: .png (default pmplan-demo.png), .pdf or .svg")
+    p.add_argument("--lift", type=_lift, default=1.0, metavar="LIFT", help=LIFT_HELP)
 
     p = sub.add_parser("info", help="which planner applies to (d, n, m, r) and its optimality",
                        description="Example: pmplan info --d 3 --n 2 --m 4 --r 3")
@@ -269,10 +270,10 @@ def cmd_demo(args) -> int:
           "kernels, about half a minute; they are cached for later runs)", file=sys.stderr)
     rows, plans = [], []
     for obstacles, start, goal in obstacle_line_examples(args.n):
-        p = api.plan(obstacles, start, goal)
+        p = api.plan(obstacles, start, goal, lift=args.lift)
         plans.append(p)
         rows.append(("obstacle_line", f"W_{p.domain}", p.stratum, p.path.length(), p.clearance))
-    extra = _planar_three_demo()
+    extra = _planar_three_demo(args.lift)
     for p in extra:
         rows.append(("planar_three", f"W{p.domain}", p.stratum, p.path.length(), p.clearance))
     print(f"pmplan demo: {args.n} robots among 2 obstacles in the plane "
@@ -314,14 +315,14 @@ def _picture_path(out: str) -> Path:
     return path
 
 
-def _planar_three_demo():
+def _planar_three_demo(lift=1.0):
     from . import api
 
     try:
         from .planners.planar_three import demo_examples
     except ImportError:
         return []
-    return [api.plan(o, s, g) for o, s, g in demo_examples()]
+    return [api.plan(o, s, g, lift=lift) for o, s, g in demo_examples()]
 
 
 def cmd_info(args) -> int:

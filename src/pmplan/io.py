@@ -99,12 +99,25 @@ def parse_query(obj) -> dict:
     return out
 
 
-def _read_query_npz(path: Path) -> dict:
+def _load_npz(path: Path) -> dict:
+    """The arrays of an npz file by name; an InputError for anything that is not one
+    (a missing file, a .npy, a pickle, a truncated zip)."""
     try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {k: np.asarray(data[k]) for k in data.files}
+        data = np.load(path, allow_pickle=False)
     except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
         raise InputError(f"cannot read {path} as npz: {exc}") from None
+    if not isinstance(data, np.lib.npyio.NpzFile):
+        raise InputError(f"cannot read {path} as npz: it holds a single array (.npy), not "
+                         "named arrays (write it with numpy.savez)")
+    try:
+        with data:
+            return {k: np.asarray(data[k]) for k in data.files}
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
+        raise InputError(f"cannot read {path} as npz: {exc}") from None
+
+
+def _read_query_npz(path: Path) -> dict:
+    arrays = _load_npz(path)
     obj = {}
     for key, arr in arrays.items():
         if key in ("lift",) and arr.ndim == 0:
@@ -256,32 +269,33 @@ def read_queries(path: str | Path) -> dict:
         if not items:
             raise InputError(f"{path} holds an empty list; an empty batch needs its shapes: "
                              "write it as an npz with arrays of shapes (0, m, d), (0, n, d)")
-        qs = [parse_query(q) for q in items]
+        qs = []
+        for i, item in enumerate(items):
+            try:
+                qs.append(parse_query(item))
+            except InputError as exc:
+                if len(items) == 1:
+                    raise
+                raise type(exc)(f"{path}: query {i}: {exc}") from None
         try:
             out = {k: np.stack([q[k] for q in qs]) for k in ("obstacles", "start", "goal")}
         except ValueError:
             raise InputError(f"{path}: the queries do not all have the same (m, n, d)") from None
         out.update(_common_options(path, qs))
         return out
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            missing = {"obstacles", "start", "goal"} - set(data.files)
-            if missing:
-                raise InputError(
-                    f"{path} lacks array(s) {sorted(missing)}; expected obstacles (B, m, d), "
-                    "start (B, n, d), goal (B, n, d)"
-                )
-            unknown = set(data.files) - {"obstacles", "start", "goal", "via", "lift", "planner"}
-            if unknown:
-                raise InputError(
-                    f"{path} has unknown array(s) {sorted(unknown)}; expected obstacles, start, "
-                    "goal and optional via, lift, planner"
-                )
-            out = {k: np.asarray(data[k]) for k in data.files}
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-        if isinstance(exc, InputError):
-            raise
-        raise InputError(f"cannot read {path} as npz: {exc}") from None
+    out = _load_npz(path)
+    missing = {"obstacles", "start", "goal"} - set(out)
+    if missing:
+        raise InputError(
+            f"{path} lacks array(s) {sorted(missing)}; expected obstacles (B, m, d), "
+            "start (B, n, d), goal (B, n, d)"
+        )
+    unknown = set(out) - {"obstacles", "start", "goal", "via", "lift", "planner"}
+    if unknown:
+        raise InputError(
+            f"{path} has unknown array(s) {sorted(unknown)}; expected obstacles, start, "
+            "goal and optional via, lift, planner"
+        )
     for k in ("obstacles", "start", "goal", "via"):
         if k in out and out[k].dtype.kind not in "iuf":
             raise InputError(f"array `{k}` in {path} must be numeric, got dtype {out[k].dtype}")
