@@ -98,8 +98,6 @@ def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
     cmap, norm = time_cmap(), Normalize(0.0, 1.0)
     obs = plan.obstacles
     ax.plot(obs[:, 0], obs[:, 1], "s", color="black", ms=9, zorder=5)
-    for k, o in enumerate(obs):
-        ax.annotate(f"$o_{{{k + 1}}}$", o, xytext=(4, 4), textcoords="offset points", fontsize=9)
     times = plan.path.times
     for j in range(n):
         segs, tmid = _time_segments(plan, j, samples)
@@ -115,10 +113,11 @@ def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
                                                 lw=1.2, mutation_scale=11))
         ax.plot(*plan.start[j], "o", color=cmap(0.0), ms=8, mfc="white", mew=2, zorder=6)
         ax.plot(*plan.goal[j], "*", color=cmap(1.0), mec="black", mew=0.6, ms=13, zorder=6)
-        ax.annotate(f"$x_{{{j + 1}}}$", plan.start[j], xytext=(5, -12), textcoords="offset points",
-                    fontsize=9)
-        ax.annotate(f"$x_{{{j + 1}}}'$", plan.goal[j], xytext=(6, 3), textcoords="offset points",
-                    fontsize=9)
+    labels = [(f"$o_{{{k + 1}}}$", o) for k, o in enumerate(obs)]
+    labels += [(f"$x_{{{j + 1}}}$", plan.start[j]) for j in range(n)]
+    labels += [(f"$x_{{{j + 1}}}'$", plan.goal[j]) for j in range(n)]
+    _place_labels(ax, labels, np.concatenate([obs, plan.start, plan.goal]))
+    ax.margins(0.1)
     ax.autoscale_view()
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_title(title if title is not None else
@@ -128,6 +127,41 @@ def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
     if colorbar:
         _time_colorbar(ax.figure, ax)
     return ax
+
+
+# where a label may go around its marker: (direction in data units, offset in points, ha, va)
+_LABEL_SPOTS = (
+    ((1.0, 0.0), (7, 0), "left", "center"),
+    ((-1.0, 0.0), (-7, 0), "right", "center"),
+    ((0.0, 1.0), (0, 6), "center", "bottom"),
+    ((0.0, -1.0), (0, -6), "center", "top"),
+    ((0.8, 0.8), (5, 5), "left", "bottom"),
+    ((-0.8, 0.8), (-5, 5), "right", "bottom"),
+    ((0.8, -0.8), (5, -5), "left", "top"),
+    ((-0.8, -0.8), (-5, -5), "right", "top"),
+)
+
+
+def _place_labels(ax, labels, points) -> None:
+    """Annotate each (text, point) on the side of its marker farthest from the other markers
+    and from the labels already placed (a greedy choice among eight spots), so that labels of
+    nearby starts, goals and obstacles do not print over each other."""
+    points = np.asarray(points, dtype=float)
+    span = float(np.ptp(points, axis=0).max()) or 1.0
+    unit = 0.06 * span  # about the size of a label in data units at the panel sizes used
+    taken = [p for p in points]
+    for text, at in labels:
+        at = np.asarray(at, dtype=float)
+        best, best_score = _LABEL_SPOTS[0], -np.inf
+        for spot in _LABEL_SPOTS:
+            centre = at + unit * np.asarray(spot[0])
+            others = [q for q in taken if not np.array_equal(q, at)]
+            score = min((float(np.hypot(*(centre - q))) for q in others), default=np.inf)
+            if score > best_score + 1e-9 * span:
+                best, best_score = spot, score
+        ax.annotate(text, at, xytext=best[1], textcoords="offset points", fontsize=9,
+                    ha=best[2], va=best[3], zorder=7)
+        taken.append(at + unit * np.asarray(best[0]))
 
 
 def _time_colorbar(fig, ax, **kw):
