@@ -121,11 +121,38 @@ def test_demo_grid_has_legend_mathtext_titles_and_time_colourbar(demo_plans):
             if (na, nb) in {(t, f"panel {k}") for k, t in enumerate(p_.get_title() for p_ in panels)}:
                 continue
             assert not a.overlaps(b), f"{na!r} overlaps {nb!r}"
+    _assert_labels_apart_and_inside(fig, demo_plans)
     # every box lies inside the figure
     fig_box = fig.bbox
     for name, box in boxes:
         assert box.x0 >= fig_box.x0 - 1 and box.x1 <= fig_box.x1 + 1, name
         assert box.y0 >= fig_box.y0 - 1 and box.y1 <= fig_box.y1 + 1, name
+
+
+def _assert_labels_apart_and_inside(fig, plans):
+    """The labels of obstacles, starts and goals neither overlap each other nor leave their
+    panel (one label per obstacle, start and goal)."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax, p in zip(fig.axes, plans):
+        texts = [t for t in ax.texts if t.get_text()]
+        assert len(texts) == 2 * p.dims[1] + p.dims[2]
+        inner = ax.get_window_extent(renderer)
+        tb = [t.get_window_extent(renderer) for t in texts]
+        for i, a in enumerate(tb):
+            assert inner.x0 <= a.x0 and a.x1 <= inner.x1 and inner.y0 <= a.y0 and a.y1 <= inner.y1, \
+                (ax.get_title(), texts[i].get_text())
+            for k in range(i + 1, len(tb)):
+                assert not a.overlaps(tb[k]), (ax.get_title(), texts[i].get_text(),
+                                               texts[k].get_text())
+
+
+@pytest.mark.parametrize("n", [1, 2, 5, 6])
+def test_demo_labels_do_not_collide(n):
+    from pmplan.examples import obstacle_line_examples
+
+    plans = [pmplan.plan(*q) for q in obstacle_line_examples(n)]
+    _assert_labels_apart_and_inside(plan_grid(plans, ncols=4), plans)
 
 
 def test_paths_are_coloured_by_time(demo_plans):

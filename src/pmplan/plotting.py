@@ -145,7 +145,8 @@ _LABEL_SPOTS = (
 def _place_labels(ax, labels, points) -> None:
     """Annotate each (text, point) on the side of its marker farthest from the other markers
     and from the labels already placed (a greedy choice among eight spots), so that labels of
-    nearby starts, goals and obstacles do not print over each other."""
+    nearby starts, goals and obstacles do not print over each other; the data limits grow to
+    hold every label inside the panel."""
     points = np.asarray(points, dtype=float)
     span = float(np.ptp(points, axis=0).max()) or 1.0
     unit = 0.06 * span  # about the size of a label in data units at the panel sizes used
@@ -156,12 +157,13 @@ def _place_labels(ax, labels, points) -> None:
         for spot in _LABEL_SPOTS:
             centre = at + unit * np.asarray(spot[0])
             others = [q for q in taken if not np.array_equal(q, at)]
-            score = min((float(np.hypot(*(centre - q))) for q in others), default=np.inf)
+            score = min((float(np.hypot(*(centre - q))) for q in others), default=span)
             if score > best_score + 1e-9 * span:
                 best, best_score = spot, score
         ax.annotate(text, at, xytext=best[1], textcoords="offset points", fontsize=9,
                     ha=best[2], va=best[3], zorder=7)
         taken.append(at + unit * np.asarray(best[0]))
+        ax.update_datalim([at + 2.0 * unit * np.asarray(best[0])])  # keep it inside the panel
 
 
 def _time_colorbar(fig, ax, **kw):
