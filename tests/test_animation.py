@@ -165,7 +165,7 @@ def test_draw_frame_artists(d, n, m, trails):
     np.testing.assert_allclose(np.asarray(goals.get_offsets()), goal_xy)
     assert ax.texts[m].get_text() == phase_at(p, 0.5).label() == "phase 4/7: slide"
     title = ax.get_title()
-    assert f"W_{p.domain}" in title and p.stratum in title
+    assert f"$W_{{{p.domain}}}$: ${p.stratum}$" in title  # mathtext, not raw TeX
     if d > 2:
         assert "planner's frame" in ax.texts[-1].get_text()
         assert "marker size" in ax.texts[-1].get_text()
@@ -245,7 +245,7 @@ def test_animate_query_rejects_other_suffixes(tmp_path):
     q = read_query(_query(tmp_path))
     with pytest.raises(InputError, match=r"\.gif or \.mp4"):
         animate_query(q, tmp_path / "m.png", frames=3)
-    with pytest.raises(InputError, match="at least 2 frames"):
+    with pytest.raises(InputError, match="`frames` must be an integer from 2 to 1,000"):
         animate_query(q, tmp_path / "m.gif", frames=1)
 
 

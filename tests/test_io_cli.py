@@ -35,7 +35,7 @@ def assert_one_line_error(status, out, err, match):
     lines = err.strip("\n").split("\n")
     assert len(lines) == 1, err
     assert "Traceback" not in err
-    assert lines[0].startswith("pmplan ") and "error:" in lines[0]
+    assert lines[0].startswith("pmplan") and "error:" in lines[0]
     assert match in lines[0], lines[0]
 
 
@@ -74,7 +74,7 @@ def test_plan_samples(tmp_path, capsys, k):
 
 def test_plan_samples_must_be_at_least_two(tmp_path, capsys):
     status, out, err = run(capsys, "plan", write_json(tmp_path, QUERY), "--samples", "1")
-    assert_one_line_error(status, out, err, "--samples must be at least 2")
+    assert_one_line_error(status, out, err, "argument --samples: must be between 2 and 100,000")
 
 
 def test_plan_from_stdin(monkeypatch, capsys):
@@ -270,20 +270,19 @@ def test_info(capsys, d, n, m, r):
     assert rec.planner in out and f"TC:       {tc}" in out
 
 
-def test_info_unsupported(capsys):
-    status, out, _ = run(capsys, "info", "--d", "2", "--n", "1", "--m", "1")
-    assert status == 1 and "m >= 2" in out
+@pytest.mark.parametrize("json_flag", [[], ["--json"]])
+def test_info_unsupported_is_an_error(capsys, json_flag):
+    status, out, err = run(capsys, "info", "--d", "2", "--n", "1", "--m", "1", *json_flag)
+    assert_one_line_error(status, out, err, "no planner covers m = 1")
 
 
 def test_help_lists_every_command_with_an_example(capsys):
-    with pytest.raises(SystemExit) as exc:
-        main(["--help"])
-    assert exc.value.code == 0
+    assert main(["--help"]) == 0
     out = capsys.readouterr().out
     for cmd in ("plan", "batch", "demo", "info", "figures", "animate", "verify"):
         assert any(line.strip().startswith(f"pmplan {cmd}") for line in out.splitlines()), cmd
-    assert main([]) == 2  # no command: help, status 2
-    capsys.readouterr()
+    status, out, err = run(capsys)  # no command: one line on stderr, status 2
+    assert_one_line_error(status, out, err, "no command given")
 
 
 def test_demo_writes_png_and_one_row_per_domain(tmp_path, capsys):
@@ -301,7 +300,7 @@ def test_demo_writes_png_and_one_row_per_domain(tmp_path, capsys):
 
 def test_demo_bad_n(tmp_path, capsys):
     status, out, err = run(capsys, "demo", "--n", "0", "--out", str(tmp_path / "x.png"))
-    assert_one_line_error(status, out, err, "1 <= n <= 8")
+    assert_one_line_error(status, out, err, "argument --n: must be between 1 and 8, got 0")
 
 
 # --------------------------------------------------------------------------------------------
@@ -320,3 +319,312 @@ def test_subprocess_plan_and_error(tmp_path):
     assert res.returncode == 2
     assert res.stdout == "" and len(res.stderr.strip().splitlines()) == 1
     assert "Traceback" not in res.stderr
+
+
+# --------------------------------------------------------------------------------------------
+# every option: help text, validation (one line, exit 2), --version, --lift
+
+
+def _subparsers():
+    import argparse
+
+    from pmplan.cli import build_parser
+
+    parser = build_parser()
+    action = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return parser, action.choices
+
+
+def test_every_option_of_every_command_has_help():
+    parser, commands = _subparsers()
+    assert set(commands) == {"plan", "batch", "demo", "info", "figures", "animate", "verify"}
+    for name, sub in [("pmplan", parser), *commands.items()]:
+        for action in sub._actions:
+            if action.dest == "command":
+                continue
+            assert action.help and len(action.help) > 8, (name, action.option_strings, action.dest)
+
+
+def test_version(capsys):
+    from importlib.metadata import version
+
+    assert main(["--version"]) == 0
+    out = capsys.readouterr().out.strip()
+    assert out == f"pmplan {version('pmplan')}" == f"pmplan {pmplan.__version__}"
+
+
+def test_lift_is_an_option_wherever_a_planner_runs():
+    _, commands = _subparsers()
+    for name in ("plan", "batch", "animate", "verify", "demo"):
+        assert "--lift" in commands[name]._option_string_actions, name
+
+
+BAD_OPTIONS = [
+    (["plan", "Q", "--samples", "1000000000"], "argument --samples: must be between 2 and 100,000"),
+    (["plan", "Q", "--samples", "0"], "argument --samples: must be between 2 and 100,000, got 0"),
+    (["plan", "Q", "--samples", "ten"], "argument --samples: expected an integer, got 'ten'"),
+    (["plan", "Q", "--indent", "-1"], "argument --indent: must be between 0 and 16"),
+    (["plan", "Q", "--lift", "high"], "argument --lift: expected a positive number or the word"),
+    (["plan", "Q", "--lift", "-1"], "`lift` must be"),  # the API's message
+    (["plan", "Q", "--lift", "nan"], "`lift` must be"),
+    (["plan", "Q", "--planner", "rrt"], "argument --planner: invalid choice: 'rrt'"),
+    (["plan", "Q", "--bogus"], "unrecognized arguments: --bogus"),
+    (["plan"], "the following arguments are required: query"),
+    (["batch", "Q"], "the following arguments are required: --out"),
+    (["batch", "Q", "--out", "p.npz", "--workers", "0"], "argument --workers: must be at least 1 or -1"),
+    (["batch", "Q", "--out", "p.npz", "--workers", "-2"], "must be at least 1 or -1, got -2"),
+    (["animate", "Q", "--frames", "1"], "argument --frames: must be between 2 and 1,000, got 1"),
+    (["animate", "Q", "--frames", "100000"], "argument --frames: must be between 2 and 1,000"),
+    (["animate", "Q", "--fps", "0"], "argument --fps: must be between 1 and 100, got 0"),
+    (["verify", "--queries", "-5"], "argument --queries: must be between 10 and 100,000, got -5"),
+    (["verify", "--queries", "0"], "argument --queries: must be between 10 and 100,000, got 0"),
+    (["verify", "--queries", "1000000000"], "argument --queries: must be between 10 and 100,000"),
+    (["verify", "--seed", "-1"], "argument --seed: must be at least 0, got -1"),
+    (["verify", "--d", "1"], "argument --d: must be between 2 and 10,000, got 1"),
+    (["verify", "--n", "40", "--m", "40", "--d", "40"], "more than 200,000,000: use fewer"),
+    (["demo", "--n", "9"], "argument --n: must be between 1 and 8, got 9"),
+    (["info", "--d", "2", "--n", "10000000000", "--m", "2"], "argument --n: must be between 0"),
+    (["info", "--d", "2", "--n", "1", "--m", "2", "--r", "1"], "r = 1: a motion needs r >= 2"),
+    (["info", "--d", "2", "--n", "10000", "--m", "2", "--r", "10000"], "more than pmplan info lists"),
+    (["frobnicate"], "argument COMMAND: invalid choice: 'frobnicate'"),
+]
+
+
+@pytest.mark.parametrize("argv, match", BAD_OPTIONS, ids=lambda v: " ".join(v) if isinstance(v, list) else None)
+def test_bad_options_are_one_line_errors(tmp_path, capsys, argv, match):
+    q = write_json(tmp_path, QUERY)
+    status, out, err = run(capsys, *[q if a == "Q" else a for a in argv])
+    assert_one_line_error(status, out, err, match)
+
+
+def test_argparse_errors_in_a_real_process_are_one_line(tmp_path):
+    res = subprocess.run([sys.executable, "-m", "pmplan", "verify", "--queries", "-5"],
+                         capture_output=True, text=True, timeout=120)
+    assert res.returncode == 2 and res.stdout == ""
+    assert res.stderr.strip().splitlines() == [
+        "pmplan verify: error: argument --queries: must be between 10 and 100,000, got -5 "
+        "(see pmplan verify --help)"]
+
+
+def test_plan_lift_option(tmp_path, capsys):
+    status, out, _ = run(capsys, "plan", write_json(tmp_path, QUERY), "--lift", "2.5")
+    assert status == 0
+    ref = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"], lift=2.5)
+    np.testing.assert_array_equal(json.loads(out)["waypoints"], ref.path.waypoints)
+    assert not np.array_equal(  # and it is not the default lift
+        ref.path.waypoints, pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"]).path.waypoints)
+
+
+@pytest.mark.parametrize("command", ["plan", "animate"])
+def test_lift_scene_is_passed_to_the_api_as_the_string(tmp_path, capsys, monkeypatch, command):
+    """``--lift scene`` reaches the API as the string "scene" (the API decides what it means)."""
+    from pmplan import api
+
+    seen = []
+    real = api.plan_query
+
+    def spy(q, planner=None):
+        seen.append(q["lift"])
+        return real(dict(q, lift=1.0), planner)
+
+    monkeypatch.setattr(api, "plan_query", spy)
+    argv = [command, write_json(tmp_path, QUERY), "--lift", "scene"]
+    if command == "animate":
+        argv += ["--out", str(tmp_path / "m.gif"), "--frames", "2"]
+    status, _, err = run(capsys, *argv)
+    assert status == 0, err
+    assert seen == ["scene"]
+
+
+def test_batch_lift_scene_is_passed_to_the_api_as_the_string(tmp_path, capsys, monkeypatch):
+    from pmplan import api
+
+    seen = []
+    real = api.plan_batch
+    monkeypatch.setattr(api, "plan_batch",
+                        lambda *a, lift, **k: seen.append(lift) or real(*a, lift=1.0, **k))
+    src = tmp_path / "q.npz"
+    np.savez(src, **random_batch())
+    status, _, err = run(capsys, "batch", str(src), "--out", str(tmp_path / "p"), "--lift",
+                         "scene", "--no-progress")
+    assert status == 0, err
+    assert seen == ["scene"]
+
+
+def test_option_and_file_must_agree(tmp_path, capsys):
+    path = write_json(tmp_path, dict(QUERY, lift=3, planner="obstacle_line"))
+    status, out, err = run(capsys, "plan", path, "--lift", "2")
+    assert_one_line_error(status, out, err, '--lift 2.0 contradicts "lift": 3')
+    status, out, err = run(capsys, "plan", path, "--planner", "planar_three")
+    assert_one_line_error(status, out, err, "--planner planar_three contradicts")
+    status, out, _ = run(capsys, "plan", path, "--lift", "3", "--planner", "obstacle_line")
+    assert status == 0  # the same value twice is fine
+    ref = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"], lift=3.0)
+    np.testing.assert_array_equal(json.loads(out)["waypoints"], ref.path.waypoints)
+
+
+def test_plan_to_dict_bounds_the_samples():
+    p = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"])
+    with pytest.raises(pmplan.InputError, match="from 2 to 100,000"):
+        io.plan_to_dict(p, samples=10**9)
+    with pytest.raises(pmplan.InputError, match="from 2 to 100,000"):
+        io.plan_to_dict(p, samples=True)
+    big = pmplan.plan([[0, 0], [1, 0]], [[k, 1.0] for k in range(2, 1000)],
+                      [[k, -1.0] for k in range(2, 1000)])
+    with pytest.raises(pmplan.InputError, match="ask for at most 5,000 samples"):
+        io.plan_to_dict(big, samples=100_000)  # 100,000 x 1000 points x 2 > 10,000,000 numbers
+    assert len(io.plan_to_dict(big, samples=5_000)["samples"]) == 5_000
+
+
+def test_plan_a_single_query_from_npz(tmp_path, capsys):
+    src = tmp_path / "q.npz"
+    np.savez(src, obstacles=np.array(QUERY["obstacles"]), start=np.array(QUERY["start"]),
+             goal=np.array(QUERY["goal"]))
+    status, out, err = run(capsys, "plan", str(src), "--samples", "5")
+    assert status == 0 and err == ""
+    res = json.loads(out)
+    ref = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"])
+    assert (res["domain"], res["stratum"], res["clearance"]) == (ref.domain, ref.stratum,
+                                                                 ref.clearance)
+    np.testing.assert_array_equal(res["samples"], ref.path(np.linspace(0, 1, 5)))
+    np.savez(src, obstacles=np.array(QUERY["obstacles"]), start=np.array(QUERY["start"]))
+    status, out, err = run(capsys, "plan", str(src))
+    assert_one_line_error(status, out, err, "missing key(s) ['goal']")
+
+
+# --------------------------------------------------------------------------------------------
+# pmplan batch: the file written, B = 0, per-query options honoured or refused
+
+
+def test_batch_reports_the_file_it_wrote(tmp_path, capsys):
+    src = tmp_path / "q.npz"
+    np.savez(src, **random_batch())
+    status, out, _ = run(capsys, "batch", str(src), "--out", str(tmp_path / "plans"),
+                         "--no-progress")
+    assert status == 0
+    assert (tmp_path / "plans.npz").is_file() and not (tmp_path / "plans").exists()
+    assert out.rstrip().endswith(f"wrote {tmp_path / 'plans.npz'}")
+
+
+def test_batch_of_zero_queries(tmp_path, capsys):
+    src, dst = tmp_path / "empty.npz", tmp_path / "plans.npz"
+    np.savez(src, obstacles=np.zeros((0, 2, 2)), start=np.zeros((0, 3, 2)),
+             goal=np.zeros((0, 3, 2)))
+    status, out, err = run(capsys, "batch", str(src), "--out", str(dst), "--no-progress")
+    assert status == 0 and "Traceback" not in err
+    assert out.startswith("planned 0 queries with obstacle_line;")
+    with np.load(dst) as res:
+        assert res["domain"].shape == (0,) and res["clearance"].shape == (0,)
+        assert res["waypoints"].shape[0] == 0 and res["waypoints"].shape[2:] == (5, 2)
+        assert res["stratum"].shape == (0,)
+
+
+def _batch_json(tmp_path, capsys, items, *options):
+    src = write_json(tmp_path, items, "qs.json")
+    dst = tmp_path / "p.npz"
+    status, out, err = run(capsys, "batch", src, "--out", str(dst), "--no-progress", *options)
+    return status, out, err, dst
+
+
+QUERY2 = dict(QUERY, goal=[[3, 1], [5, 5]])
+
+
+def _stack(*qs):
+    return [np.array([q[k] for q in qs], dtype=float) for k in ("obstacles", "start", "goal")]
+
+
+def test_batch_json_common_lift_and_planner_are_honoured(tmp_path, capsys):
+    items = [dict(QUERY, lift=2.5, planner="obstacle_line"),
+             dict(QUERY2, lift=2.5, planner="obstacle_line")]
+    status, _, err, dst = _batch_json(tmp_path, capsys, items)
+    assert status == 0, err
+    ref = pmplan.plan_batch(*_stack(QUERY, QUERY2), lift=2.5)
+    default = pmplan.plan_batch(*_stack(QUERY, QUERY2))
+    assert not np.array_equal(ref.waypoints, default.waypoints)
+    with np.load(dst) as res:
+        np.testing.assert_array_equal(res["waypoints"], ref.waypoints)
+
+
+def test_batch_json_common_via_is_a_sequence_batch(tmp_path, capsys):
+    items = [dict(QUERY, via=[[[1, 2], [3, 2]]]), dict(QUERY2, via=[[[2, 3], [1, -2]]])]
+    status, _, err, dst = _batch_json(tmp_path, capsys, items)
+    assert status == 0, err
+    o, s, g = _stack(QUERY, QUERY2)
+    via = np.array([items[0]["via"][0], items[1]["via"][0]], dtype=float)
+    ref = pmplan.plan_sequence_batch(o, [s, via, g])
+    with np.load(dst) as res:
+        np.testing.assert_array_equal(res["waypoints"], ref.waypoints)
+        np.testing.assert_array_equal(res["domain"], ref.domain)
+
+
+BAD_BATCH_JSON = {
+    "lift differs": ([dict(QUERY, lift=2), dict(QUERY2, lift=3)],
+                     'query 1 has "lift": 3'),
+    "lift missing": ([dict(QUERY, lift=2), QUERY2, dict(QUERY2, lift=2)],
+                     'query 0 gives "lift" but query 1 does not'),
+    "planner differs": ([dict(QUERY, planner="obstacle_line"),
+                         dict(QUERY2, planner="planar_three")],
+                        'query 1 has "planner": \'planar_three\''),
+    "via missing": ([QUERY, dict(QUERY2, via=[[[2, 3], [1, -2]]])],
+                    'query 1 has "via" but query 0 does not'),
+    "via count": ([dict(QUERY, via=[[[1, 2], [3, 2]]]),
+                   dict(QUERY2, via=[[[1, 2], [3, 2]], [[2, 3], [1, -2]]])],
+                  "query 1 has 2 intermediate configuration(s)"),
+    "via shape": ([dict(QUERY, via=[[[1, 2], [3, 2]]]), dict(QUERY2, via=[[[1, 2, 0], [3, 2, 0]]])],
+                  "query 1 has via[0] of shape (2, 3)"),
+    "via planner": ([dict(QUERY, via=[[[1, 2], [3, 2]]], planner="planar_three")] * 2,
+                    "planned by the obstacle_line planner"),
+    "empty list": ([], "holds an empty list"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_BATCH_JSON))
+def test_batch_json_options_that_differ_are_refused(tmp_path, capsys, case):
+    items, match = BAD_BATCH_JSON[case]
+    status, out, err, dst = _batch_json(tmp_path, capsys, items)
+    assert_one_line_error(status, out, err, match)
+    assert not dst.exists()
+
+
+def test_batch_option_conflicting_with_the_file_is_refused(tmp_path, capsys):
+    items = [dict(QUERY, lift=2), dict(QUERY2, lift=2)]
+    status, out, err, _ = _batch_json(tmp_path, capsys, items, "--lift", "3")
+    assert_one_line_error(status, out, err, '--lift 3.0 contradicts "lift": 2')
+    status, out, err, _ = _batch_json(tmp_path, capsys, items, "--lift", "2")
+    assert status == 0, err
+
+
+def test_batch_npz_options(tmp_path, capsys):
+    o, s, g = _stack(QUERY, QUERY2)
+    via = np.array([[[[1, 2], [3, 2]]], [[[2, 3], [1, -2]]]], dtype=float)  # (B, k=1, n, d)
+    src, dst = tmp_path / "q.npz", tmp_path / "p.npz"
+    np.savez(src, obstacles=o, start=s, goal=g, via=via, lift=2.0)
+    status, _, err = run(capsys, "batch", str(src), "--out", str(dst), "--no-progress")
+    assert status == 0, err
+    ref = pmplan.plan_sequence_batch(o, [s, via[:, 0], g], lift=2.0)
+    with np.load(dst) as res:
+        np.testing.assert_array_equal(res["waypoints"], ref.waypoints)
+    np.savez(src, obstacles=o, start=s, goal=g, planner="planar_three")
+    status, out, err = run(capsys, "batch", str(src), "--out", str(dst))
+    assert_one_line_error(status, out, err, "planner 'planar_three' does not apply")
+    for extra, match in ((dict(lift=np.array([1.0, 2.0])), "`lift` in"),
+                         (dict(lift=True), "`lift` in"),
+                         (dict(via=via[:, :, :1]), "array `via`"),
+                         (dict(weights=np.ones(2)), "unknown array(s) ['weights']")):
+        np.savez(src, obstacles=o, start=s, goal=g, **extra)
+        status, out, err = run(capsys, "batch", str(src), "--out", str(dst))
+        assert_one_line_error(status, out, err, match)
+
+
+def test_npy_and_bad_list_items_are_one_line_errors(tmp_path, capsys):
+    npy = tmp_path / "a.npy"
+    np.save(npy, np.zeros(3))
+    disguised = tmp_path / "a.npz"
+    disguised.write_bytes(npy.read_bytes())
+    for command, src in (("batch", npy), ("batch", disguised), ("plan", disguised)):
+        extra = ["--out", str(tmp_path / "p")] if command == "batch" else []
+        status, out, err = run(capsys, command, str(src), *extra)
+        assert_one_line_error(status, out, err, "holds a single array (.npy)")
+    src = write_json(tmp_path, [QUERY, 5], "qs.json")
+    status, out, err = run(capsys, "batch", src, "--out", str(tmp_path / "p"))
+    assert_one_line_error(status, out, err, "qs.json: query 1: a query must be a JSON object")

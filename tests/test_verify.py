@@ -224,3 +224,111 @@ def test_query_distance_is_the_largest_displacement():
     y[0, 1] += [3.0, 4.0]
     y[1, 0] += [0.0, -2.0]
     np.testing.assert_allclose(query_distance((o, x, x), (o, y, x)), [5.0, 2.0])
+
+
+# --------------------------------------------------------------------------------------------
+# the branches of the continuity step: perturbed queries refused, labels changed
+
+
+def _leave_the_stratum(rng, planner, q, delta):
+    """A wrong "stratum-preserving" move: every robot off its column by ~delta (generic)."""
+    o, s, g = (np.array(a, dtype=float) for a in q)
+    return o, s + delta * rng.normal(size=s.shape), g + delta * rng.normal(size=g.shape)
+
+
+def test_a_label_change_under_perturbation_is_a_problem(monkeypatch):
+    """Perturbations that leave the stratum change the label of degenerate queries: verify must
+    say so (and not count them in the continuity modulus)."""
+    import pmplan.verify as V
+
+    monkeypatch.setattr(V, "_perturb", _leave_the_stratum)
+    r = verify(d=2, n=2, m=2, queries=40, seed=0, progress=False)
+    assert not r.ok
+    (problem,) = [p for p in r.problems if "changed the label" in p]
+    count, rest = problem.split(" ", 1)
+    a, b = (int(x) for x in rest.split("(e.g. ")[1].rstrip(")").split(" -> "))
+    assert int(count) > 0 and a != b and {a, b} <= set(r.labels)
+    assert r.to_text().splitlines()[-1] == "NOT OK"
+    assert f"problem: {problem}" in r.to_text()
+
+
+def test_refused_perturbations_that_double_precision_can_represent_are_failures(broken,
+                                                                                monkeypatch):
+    """The broken planner refuses even domains; moved off their strata, queries of odd domains
+    land in the even domain 8 (generic), so the perturbed family is refused: failures."""
+    import pmplan.verify as V
+
+    monkeypatch.setattr(V, "_perturb", _leave_the_stratum)
+    r = verify(planner=broken, d=2, n=2, m=2, queries=40, seed=0, progress=False)
+    perturbed = [f for f in r.failures if f["family"] == "perturbed"]
+    assert perturbed and all(f["rho"] >= RHO_MIN for f in perturbed)
+    assert all(f["error"] == "CertificationError" for f in perturbed)
+    assert all(f["stratum"] == "T_{4,4}" for f in perturbed)  # generic: the domain W_8
+    assert not r.ok and "certificate failure" in r.problems[0]
+    text = r.to_text()
+    assert sum(line.startswith("FAILED: ") for line in text.splitlines()) == min(10, len(r.failures))
+    assert len(r.failures) <= 10 or f"and {len(r.failures) - 10} more failures" in text
+
+
+def test_refused_nearly_degenerate_perturbations_are_excused(monkeypatch):
+    """A perturbed query that double precision cannot represent (rho < 2^-26) may be refused:
+    not a failure, and no modulus is computed from it."""
+    import pmplan.verify as V
+
+    near = (np.array([[0.0, 0.0], [1.0, 2.0]]), np.array([[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]]),
+            np.array([[5.0, 5.0], [6.0, -7.0]]))
+    assert degeneracy_ratio(*(a[None] for a in near))[0] < RHO_MIN
+    with pytest.raises(pmplan.CertificationError):
+        pmplan.plan(*near)
+    monkeypatch.setattr(V, "_perturb", lambda rng, planner, q, delta: near)
+    r = verify(d=2, n=2, m=2, queries=40, seed=0, progress=False)
+    assert r.ok, r.problems
+    assert not [f for f in r.failures if f["family"] in ("perturbed", "exact+random")]
+    assert all(d.perturbations == 0 and d.modulus is None for d in r.domains)
+
+
+# --------------------------------------------------------------------------------------------
+# odd d: the note on the pole, and the figures it states
+
+
+def test_odd_d_report_carries_the_pole_note(reports):
+    from pmplan.verify import POLE_NOTE
+
+    odd = _report(reports, ("obstacle_line", 3, 1, 2))
+    assert odd.notes == [POLE_NOTE]
+    assert f"note: {POLE_NOTE}" in odd.to_text()
+    assert json.loads(odd.to_json())["notes"] == [POLE_NOTE]
+    assert Report.from_json(odd.to_json()) == odd
+    even = _report(reports, ("obstacle_line", 2, 2, 2))
+    assert even.notes == [] and "note:" not in even.to_text()
+
+
+def _pole_modulus(angle, eps=1e-9, lift=1.0):
+    """sup |path - path'| when o2 turns by eps about N at ``angle`` from N (d = 3, n = 2)."""
+    start = np.array([[0.6, -1.3, 0.4], [-0.9, 0.5, 1.7]])
+    goal = np.array([[1.1, 0.8, -0.6], [-0.4, -1.5, 0.9]])
+    o = np.array([[0.0, 0.0, 0.0], [np.sin(angle), 0.0, np.cos(angle)]])
+    o2 = o.copy()
+    o2[1, 1] = eps
+    a, b = (pmplan.plan(obs, start, goal, lift=lift) for obs in (o, o2))
+    assert a.domain == b.domain  # one domain: this is continuity inside it, not a jump
+    return path_distance(*(PiecewiseLinearPath(p.path.times, p.path.waypoints[None])
+                           for p in (a, b)))[0]
+
+
+def test_odd_d_modulus_near_the_pole_grows_like_one_over_the_angle():
+    """The figures of POLE_NOTE (README, tutorial): about 2 n lambda / angle; 0.4 at 1e-8 rad."""
+    for angle in (1e-2, 1e-4, 1e-6, 1e-8):
+        ratio = _pole_modulus(angle) / 1e-9
+        assert 3.9 < angle * ratio < 4.1, (angle, ratio)  # 2 n lambda = 2 * 2 * 1
+    assert 0.35 < _pole_modulus(1e-8) < 0.45
+    assert 7.8 < 1e-6 * _pole_modulus(1e-6, lift=2.0) / 1e-9 < 8.2  # lambda = lift here
+
+
+def test_verify_refuses_bad_sizes():
+    with pytest.raises(pmplan.InputError, match="`queries` must be an integer from 10 to 100,000"):
+        verify(queries=5, progress=False)
+    with pytest.raises(pmplan.InputError, match="`seed` must be an integer at least 0"):
+        verify(seed=-1, progress=False)
+    with pytest.raises(pmplan.InputError, match="more than 200,000,000"):
+        verify(d=40, n=40, m=40, progress=False)

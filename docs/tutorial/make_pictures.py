@@ -39,7 +39,7 @@ def _overlay(ax, plans, styles, labels, title):
     ts = np.union1d(np.linspace(0, 1, 400), np.concatenate([p.path.times for p in plans]))
     ax.plot(OBSTACLES[:, 0], OBSTACLES[:, 1], "s", color="black", ms=9, zorder=5)
     for k, o in enumerate(OBSTACLES):
-        ax.annotate(f"o{k + 1}", o, xytext=(4, 4), textcoords="offset points", fontsize=8)
+        ax.annotate(f"$o_{k + 1}$", o, xytext=(4, 4), textcoords="offset points", fontsize=9)
     for p, (color, ls), label in zip(plans, styles, labels):
         tr = p.path(ts)[:, 2]
         ax.plot(tr[:, 0], tr[:, 1], ls, color=color, lw=2, label=label, alpha=0.9)
@@ -62,13 +62,13 @@ def domains_picture(out: Path) -> None:
     other = pmplan.plan(OBSTACLES, [[0.15, 1.0]], goal)  # moved off the column: W_6
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.3))
     def name(x, p):
-        return f"x = {x}: W_{p.domain} {p.stratum}"
+        return f"x = {x}: $W_{{{p.domain}}}$, ${p.stratum}$"
 
     _overlay(axes[0], [q, same], [("tab:blue", "-"), ("tab:orange", "--")],
              [name("(0, 1)", q), name("(0, 1.15)", same)], "same domain: paths 0.15 apart")
     _overlay(axes[1], [q, other], [("tab:blue", "-"), ("tab:red", "--")],
              [name("(0, 1)", q), name("(0.15, 1)", other)], "different domains: paths ~2 apart")
-    fig.suptitle("Moving the start by 0.15: along the column of o1 (left), off it (right)",
+    fig.suptitle("Moving the start by 0.15: along the column of $o_1$ (left), off it (right)",
                  fontsize=10)
     fig.tight_layout()
     fig.savefig(out, dpi=90)
@@ -83,7 +83,7 @@ def strip_picture(plan, out: Path) -> None:
     for ax, t in zip(axes.flat, ts):
         draw_frame(plan, float(t), ax=ax)
         ax.set_title(f"t = {t:.3f}", fontsize=9)
-    fig.suptitle(f"W_{plan.domain} {plan.stratum}: one frame per phase of the construction",
+    fig.suptitle(f"$W_{{{plan.domain}}}$, ${plan.stratum}$: one frame per phase of the construction",
                  fontsize=11)
     fig.tight_layout()
     fig.savefig(out, dpi=65)

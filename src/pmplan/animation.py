@@ -43,6 +43,8 @@ from .errors import InputError, UnsupportedError
 from .frame import Frame
 
 __all__ = [
+    "MAX_FRAMES",
+    "MAX_FPS",
     "OBSTACLE_LINE_PHASES",
     "Phase",
     "phase_at",
@@ -63,6 +65,11 @@ OBSTACLE_LINE_PHASES: tuple[tuple[str, str], ...] = (
     ("projection reversed", "robots lift back off the line to F(C', 1)"),
     ("desingularization reversed", "robots step back along e to C', (desin) reversed"),
 )
+
+#: most frames in one animation (a .gif holds them all in memory while it is written)
+MAX_FRAMES = 1000
+#: highest frame rate (GIF delays are counted in hundredths of a second)
+MAX_FPS = 100
 
 _FIGSIZE = (4.8, 4.4)
 _BAR = (0.02, 0.98, 0.015)  # timeline: from x0 to x1 (axes fraction) at height y
@@ -197,8 +204,6 @@ def frame_coordinates(plan, points: np.ndarray) -> tuple[np.ndarray, np.ndarray 
     return np.stack([s, h], axis=-1).reshape(shape + (2,)), rest.reshape(shape)
 
 
-def _domain_name(plan) -> str:
-    return f"W{plan.domain}" if plan.planner == "planar_three" else f"W_{plan.domain}"
 
 
 class _FrameArtists:
@@ -271,8 +276,8 @@ class _FrameArtists:
         ax.set_aspect("equal", adjustable="box")
         ax.grid(alpha=0.3)
         ax.tick_params(labelsize=7)
-        ax.set_title(f"{_domain_name(plan)}  {plan.stratum}  ({plan.planner}, d={d}, n={n}, m={m})",
-                     fontsize=8)
+        ax.set_title(f"$W_{{{plan.domain}}}$: ${plan.stratum}$  ({plan.planner}, d={d}, n={n}, "
+                     f"m={m})", fontsize=8)
 
     def _sizes(self, rest, base: float):
         if rest is None:
@@ -445,9 +450,9 @@ def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
         ``.gif`` (frames from :func:`render_frames`, written with Pillow) or ``.mp4``
         (``FuncAnimation.save`` with matplotlib's ffmpeg writer, when ffmpeg is installed).
     frames : int
-        Number of frames (>= 2).
+        Number of frames, 2 to :data:`MAX_FRAMES`.
     fps : int
-        Frames per second (>= 1).
+        Frames per second, 1 to :data:`MAX_FPS`.
     planner : str, optional
         Planner name; overrides ``q["planner"]``.
 
@@ -459,7 +464,7 @@ def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
     Raises
     ------
     InputError
-        For another suffix, or frames < 2 or fps < 1.
+        For another suffix, or frames or fps out of range.
     UnsupportedError
         For ``.mp4`` when ffmpeg is not available.
     """
@@ -472,10 +477,10 @@ def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
     suffix = out.suffix.lower()
     if suffix not in (".gif", ".mp4"):
         raise InputError(f"cannot write an animation to {out.name!r}: use a .gif or .mp4 file name")
-    if int(fps) < 1:
-        raise InputError(f"fps must be at least 1, got {fps}")
-    if int(frames) < 2:
-        raise InputError(f"an animation needs at least 2 frames, got {frames}")
+    for name, value, lo, hi in (("fps", fps, 1, MAX_FPS), ("frames", frames, 2, MAX_FRAMES)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+                or not lo <= value <= hi:
+            raise InputError(f"`{name}` must be an integer from {lo} to {hi:,}, got {value!r}")
     if suffix == ".mp4":
         if not manim.writers.is_available("ffmpeg"):
             raise UnsupportedError(

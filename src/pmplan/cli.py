@@ -11,13 +11,16 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
+
 __all__ = ["main", "build_parser"]
 
 EPILOG = """\
 commands and examples:
   pmplan demo                              plan one query per domain, print a table, draw a PNG
-  pmplan plan query.json                   plan one query (JSON in, JSON out)
+  pmplan plan query.json                   plan one query (JSON or npz in, JSON out)
   pmplan plan query.json --samples 50      ... printing 50 equally spaced samples
+  pmplan plan query.json --lift scene      ... with the scene-scaled unit instead of lift 1
   pmplan batch queries.npz --out plans.npz plan many queries (npz arrays obstacles/start/goal)
   pmplan info --d 2 --n 3 --m 2 [--r 3]    planner, number of domains, TC, optimality
   pmplan figures --out docs/figures        the paper's Section 4 figures from the planner
@@ -26,74 +29,161 @@ commands and examples:
 
 query.json: {"obstacles": [[0,0],[4,0]], "start": [[1,1]], "goal": [[3,-1]]}
   optional: "via": [[[2,2]]] (intermediate configurations), "lift": 1.0, "planner": "..."
+A command-line option and the same key in the file must agree (or give only one of them).
+Errors: one line on standard error, exit status 2.
 """
+
+LIFT_HELP = ("unit of the lift: a positive number (default 1, the paper's unit) or 'scene' "
+             "(a unit scaled with the obstacles)")
+
+
+class _Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are one line on stderr with exit status 2."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _int_in(lo: int, hi: int | None = None, *, also: tuple[int, ...] = ()):
+    """An argparse ``type``: an integer in [lo, hi] (or one of ``also``), else one clear line."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if value in also or (value >= lo and (hi is None or value <= hi)):
+            return value
+        rng = f"at least {lo}" if hi is None else f"between {lo} and {hi:,}"
+        extra = "".join(f" or {a}" for a in also)
+        raise argparse.ArgumentTypeError(f"must be {rng}{extra}, got {value:,}")
+
+    return parse
+
+
+def _lift(text: str):
+    """An argparse ``type`` for ``--lift``: the word ``scene``, or a number (the API checks it)."""
+    if text == "scene":
+        return "scene"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected a positive number or the word 'scene', got {text!r}") from None
+
+
+def _version() -> str:
+    """The installed distribution's version (importlib.metadata), else ``pmplan.__version__``."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("pmplan")
+    except PackageNotFoundError:
+        from . import __version__
+
+        return __version__
 
 
 def build_parser() -> argparse.ArgumentParser:
     """Return the argument parser of ``pmplan``."""
-    parser = argparse.ArgumentParser(
+    from .animation import MAX_FPS, MAX_FRAMES
+    from .api import planner_names
+    from .io import MAX_POINTS, MAX_SAMPLES
+    from .verify import MAX_QUERIES, MIN_QUERIES
+
+    parser = _Parser(
         prog="pmplan",
         description="Optimal parametrised motion planners for point robots among point "
         "obstacles (Zapata & Gonzalez), exact and certified.",
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    parser.add_argument("--version", action="version", version=f"pmplan {_version()}",
+                        help="print the version of pmplan and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    names = planner_names()
+    planner_help = ("planner name (default: chosen from d, n, m: planar_three for one robot "
+                    "among three obstacles in the plane, obstacle_line otherwise)")
 
-    p = sub.add_parser("plan", help="plan one query from a JSON file",
+    p = sub.add_parser("plan", help="plan one query from a JSON (or npz) file",
                        description="Plan one query. Example: pmplan plan query.json --samples 20")
-    p.add_argument("query", help="query JSON file ('-' for standard input)")
-    p.add_argument("--samples", type=int, default=None, metavar="K",
-                   help="print K equally spaced samples instead of the waypoints")
-    p.add_argument("--planner", default=None, help="planner name (default: chosen from d, n, m)")
-    p.add_argument("--indent", type=int, default=None, help="indent the JSON output")
+    p.add_argument("query", help="query JSON file ('-' for standard input), or an npz with "
+                   "arrays obstacles (m, d), start (n, d), goal (n, d)")
+    p.add_argument("--samples", type=_int_in(2, MAX_SAMPLES), default=None, metavar="K",
+                   help=f"print K equally spaced samples instead of the waypoints "
+                   f"(2 <= K <= {MAX_SAMPLES:,})")
+    p.add_argument("--planner", default=None, choices=names, help=planner_help)
+    p.add_argument("--lift", type=_lift, default=None, metavar="LIFT", help=LIFT_HELP)
+    p.add_argument("--indent", type=_int_in(0, 16), default=None, metavar="N",
+                   help="indent the JSON output by N spaces (default: one line)")
 
     p = sub.add_parser("batch", help="plan a batch of queries (npz or JSON list) into an npz",
                        description="Example: pmplan batch queries.npz --out plans.npz")
-    p.add_argument("queries", help="npz with arrays obstacles (B,m,d), start (B,n,d), goal (B,n,d)")
-    p.add_argument("--out", required=True, help="output npz")
-    p.add_argument("--planner", default=None)
-    p.add_argument("--lift", type=float, default=1.0)
+    p.add_argument("queries", help="npz with arrays obstacles (B,m,d), start (B,n,d), goal "
+                   "(B,n,d) and optional via (B,k,n,d), lift, planner; or a JSON list of queries")
+    p.add_argument("--out", required=True, metavar="PLANS.npz",
+                   help="output npz (the suffix .npz is added when missing)")
+    p.add_argument("--planner", default=None, choices=names, help=planner_help)
+    p.add_argument("--lift", type=_lift, default=None, metavar="LIFT", help=LIFT_HELP)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--workers", type=int, default=1,
+    p.add_argument("--workers", type=_int_in(1, also=(-1,)), default=1, metavar="W",
                    help="threads planning in parallel (-1: one per CPU; default 1)")
 
     p = sub.add_parser("demo", help="the main job: one query per domain, table and picture",
                        description="Example: pmplan demo --out demo.png")
-    p.add_argument("--n", type=int, default=3, help="number of robots (default 3)")
-    p.add_argument("--out", default="pmplan-demo.png", help="PNG to write")
+    p.add_argument("--n", type=_int_in(1, 8), default=3,
+                   help="number of robots among the two obstacles, 1 to 8 (default 3)")
+    p.add_argument("--out", default="pmplan-demo.png", metavar="FILE",
+                   help="picture to write: .png (default pmplan-demo.png), .pdf or .svg")
+    p.add_argument("--lift", type=_lift, default=1.0, metavar="LIFT", help=LIFT_HELP)
 
     p = sub.add_parser("info", help="which planner applies to (d, n, m, r) and its optimality",
                        description="Example: pmplan info --d 3 --n 2 --m 4 --r 3")
-    p.add_argument("--d", type=int, required=True)
-    p.add_argument("--n", type=int, required=True)
-    p.add_argument("--m", type=int, required=True)
-    p.add_argument("--r", type=int, default=2)
-    p.add_argument("--planner", default=None)
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--d", type=_int_in(0, MAX_POINTS), required=True,
+                   help="dimension of the space (planners need d >= 2)")
+    p.add_argument("--n", type=_int_in(0, MAX_POINTS), required=True, help="number of robots")
+    p.add_argument("--m", type=_int_in(0, MAX_POINTS), required=True,
+                   help="number of obstacles (planners need m >= 2)")
+    p.add_argument("--r", type=_int_in(0, MAX_POINTS), default=2,
+                   help="number of configurations of a sequential motion (default 2: start "
+                   "and goal)")
+    p.add_argument("--planner", default=None, choices=names, help=planner_help)
+    p.add_argument("--json", action="store_true", help="print the record as JSON")
 
     p = sub.add_parser("figures", help="draw the paper's Section 4 figures from the planner",
                        description="Example: pmplan figures --out docs/figures")
-    p.add_argument("--out", default="docs/figures")
+    p.add_argument("--out", default="docs/figures", metavar="DIR",
+                   help="directory for the 13 PNGs (created if missing; default docs/figures)")
 
     p = sub.add_parser("animate", help="animate a planned motion",
                        description="Example: pmplan animate query.json --out motion.gif")
-    p.add_argument("query")
-    p.add_argument("--out", default="motion.gif", help=".gif (or .mp4 when ffmpeg is present)")
-    p.add_argument("--frames", type=int, default=120)
-    p.add_argument("--fps", type=int, default=30)
-    p.add_argument("--planner", default=None)
+    p.add_argument("query", help="query JSON file ('-' for standard input) or npz, as for "
+                   "pmplan plan")
+    p.add_argument("--out", default="motion.gif", metavar="FILE",
+                   help=".gif (default motion.gif) or .mp4 (needs ffmpeg)")
+    p.add_argument("--frames", type=_int_in(2, MAX_FRAMES), default=120,
+                   help=f"number of frames, 2 to {MAX_FRAMES:,} (default 120)")
+    p.add_argument("--fps", type=_int_in(1, MAX_FPS), default=30,
+                   help=f"frames per second, 1 to {MAX_FPS} (default 30)")
+    p.add_argument("--planner", default=None, choices=names, help=planner_help)
+    p.add_argument("--lift", type=_lift, default=None, metavar="LIFT", help=LIFT_HELP)
 
     p = sub.add_parser("verify", help="check certificates and continuity, domain by domain",
                        description="Example: pmplan verify --d 2 --n 3 --m 2 --queries 500")
-    p.add_argument("--planner", default=None)
-    p.add_argument("--d", type=int, default=2)
-    p.add_argument("--n", type=int, default=2)
-    p.add_argument("--m", type=int, default=2)
-    p.add_argument("--queries", type=int, default=400)
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--json", action="store_true")
-    p.add_argument("--no-progress", action="store_true")
+    p.add_argument("--planner", default=None, choices=names, help=planner_help)
+    p.add_argument("--d", type=_int_in(2, MAX_POINTS), default=2,
+                   help="dimension of the space (default 2)")
+    p.add_argument("--n", type=_int_in(1, MAX_POINTS), default=2,
+                   help="number of robots (default 2)")
+    p.add_argument("--m", type=_int_in(2, MAX_POINTS), default=2,
+                   help="number of obstacles (default 2)")
+    p.add_argument("--lift", type=_lift, default=1.0, metavar="LIFT", help=LIFT_HELP)
+    p.add_argument("--queries", type=_int_in(MIN_QUERIES, MAX_QUERIES), default=400,
+                   help=f"size of the base families of queries, {MIN_QUERIES} to "
+                   f"{MAX_QUERIES:,} (default 400)")
+    p.add_argument("--seed", type=_int_in(0), default=0,
+                   help="seed of the random queries, a non-negative integer (default 0)")
+    p.add_argument("--json", action="store_true", help="print the report as JSON")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
 
 
@@ -109,53 +199,81 @@ def _read_query_arg(path: str) -> dict:
     return read_query(path)
 
 
+def _source(path: str) -> str:
+    return "standard input" if path == "-" else path
+
+
+def _with_options(q: dict, args, source: str) -> dict:
+    """Return the query ``q`` with the command line's ``--planner`` and ``--lift`` applied.
+
+    An option and the same key in the file must agree: a contradiction is an InputError,
+    never silently resolved.
+    """
+    from .errors import InputError
+
+    q = dict(q)
+    for key in ("planner", "lift"):
+        value = getattr(args, key, None)
+        if value is None:
+            continue
+        if key in q and q[key] != value:
+            raise InputError(
+                f"--{key} {value} contradicts \"{key}\": {q[key]!r} in {source}; "
+                f"give only one of them, or the same value"
+            )
+        q[key] = value
+    return q
+
+
 def cmd_plan(args) -> int:
+    from .api import plan_query
     from .io import plan_to_dict
 
-    q = _read_query_arg(args.query)
-    from .api import plan_query
-
-    result = plan_query(q, args.planner)
+    q = _with_options(_read_query_arg(args.query), args, _source(args.query))
+    result = plan_query(q)
     print(json.dumps(plan_to_dict(result, samples=args.samples), indent=args.indent))
     return 0
 
 
 def cmd_batch(args) -> int:
     from . import api
+    from .errors import UnsupportedError
     from .io import read_queries, write_plans
 
-    q = read_queries(args.queries)
-    batch = api.plan_batch(q["obstacles"], q["start"], q["goal"], planner=args.planner,
-                           lift=args.lift, progress=not args.no_progress,
-                           workers=args.workers)
-    write_plans(args.out, batch)
-    counts = {int(k): int(v) for k, v in zip(*_unique(batch.domain))}
-    print(f"planned {len(batch)} queries with {batch.planner}; domains {counts}; "
-          f"min clearance {batch.clearance.min():.3g}; wrote {args.out}")
+    q = _with_options(read_queries(args.queries), args, args.queries)
+    lift = q.get("lift", 1.0)
+    common = dict(lift=lift, progress=not args.no_progress, workers=args.workers)
+    if "via" in q:
+        if q.get("planner") not in (None, "obstacle_line"):
+            raise UnsupportedError("a query with 'via' is planned by the obstacle_line planner")
+        configs = [q["start"], *np.moveaxis(q["via"], 1, 0), q["goal"]]
+        batch = api.plan_sequence_batch(q["obstacles"], configs, **common)
+    else:
+        batch = api.plan_batch(q["obstacles"], q["start"], q["goal"], planner=q.get("planner"),
+                               **common)
+    written = write_plans(args.out, batch)
+    if len(batch):
+        counts = {int(k): int(v) for k, v in zip(*np.unique(batch.domain, return_counts=True))}
+        what = f"; domains {counts}; min clearance {batch.clearance.min():.3g}"
+    else:
+        what = ""
+    print(f"planned {len(batch)} queries with {batch.planner}{what}; wrote {written}")
     return 0
-
-
-def _unique(a):
-    import numpy as np
-
-    return np.unique(a, return_counts=True)
 
 
 def cmd_demo(args) -> int:
     from . import api
     from .examples import obstacle_line_examples
 
-    if args.n < 1 or args.n > 8:
-        from .errors import UnsupportedError
-        raise UnsupportedError(f"demo takes 1 <= n <= 8 robots, got {args.n}")
+    out = _picture_path(args.out)
     print("pmplan demo: planning... (the first run after installing compiles pmplan's numba "
           "kernels, about half a minute; they are cached for later runs)", file=sys.stderr)
     rows, plans = [], []
     for obstacles, start, goal in obstacle_line_examples(args.n):
-        p = api.plan(obstacles, start, goal)
+        p = api.plan(obstacles, start, goal, lift=args.lift)
         plans.append(p)
         rows.append(("obstacle_line", f"W_{p.domain}", p.stratum, p.path.length(), p.clearance))
-    extra = _planar_three_demo()
+    extra = _planar_three_demo(args.lift)
     for p in extra:
         rows.append(("planar_three", f"W{p.domain}", p.stratum, p.path.length(), p.clearance))
     print(f"pmplan demo: {args.n} robots among 2 obstacles in the plane "
@@ -168,37 +286,61 @@ def cmd_demo(args) -> int:
     import matplotlib
 
     matplotlib.use("Agg")
-    allp = plans + extra
-    titles = [f"W_{p.domain}: {p.stratum}" if p.planner == "obstacle_line"
-              else f"W{p.domain}: {p.stratum}" for p in allp]
-    fig = plan_grid(allp, titles, ncols=4)
-    fig.suptitle("pmplan demo: one certified motion per domain of continuity", y=1.0)
-    fig.savefig(args.out, dpi=110, bbox_inches="tight")
-    print(f"wrote {Path(args.out).resolve()}")
+    what = f"{args.n} robot{'s' if args.n > 1 else ''} among 2 obstacles (obstacle_line)" + (
+        ", 1 robot among 3 obstacles (planar_three, paper Section 4)" if extra else "")
+    fig = plan_grid(plans + extra, ncols=4, suptitle="pmplan demo: one certified motion per "
+                    f"domain of continuity $W_l$\n{what}")
+    fig.savefig(out, dpi=110)
+    print(f"wrote {out.resolve()}")
     return 0
 
 
-def _planar_three_demo():
+#: most domains ``pmplan info`` lists (it prints every label with --json)
+MAX_INFO_LABELS = 1_000_000
+
+#: picture formats ``pmplan demo --out`` writes (by suffix)
+PICTURE_SUFFIXES = (".png", ".pdf", ".svg")
+
+
+def _picture_path(out: str) -> Path:
+    """The file ``pmplan demo`` writes for ``--out``: ``.png`` added when there is no suffix."""
+    from .errors import InputError
+
+    path = Path(out)
+    if path.suffix == "":
+        path = path.with_name(path.name + ".png")
+    if path.suffix.lower() not in PICTURE_SUFFIXES:
+        raise InputError(f"cannot draw the demo into {path.name!r}: use a file name ending in "
+                         f"{', '.join(PICTURE_SUFFIXES)}")
+    return path
+
+
+def _planar_three_demo(lift=1.0):
     from . import api
 
     try:
         from .planners.planar_three import demo_examples
     except ImportError:
         return []
-    return [api.plan(o, s, g) for o, s, g in demo_examples()]
+    return [api.plan(o, s, g, lift=lift) for o, s, g in demo_examples()]
 
 
 def cmd_info(args) -> int:
     from . import api
 
+    from .errors import InputError, UnsupportedError
+
+    if args.r * args.n + args.m > MAX_INFO_LABELS:
+        raise InputError(f"(d, n, m, r) = ({args.d}, {args.n}, {args.m}, {args.r}) has about "
+                         f"r n + m = {args.r * args.n + args.m:,} domains, more than pmplan info "
+                         f"lists ({MAX_INFO_LABELS:,}): ask for fewer robots or configurations")
     i = api.info(args.d, args.n, args.m, r=args.r, planner=args.planner)
+    if i.planner is None:
+        raise UnsupportedError(f"(d, n, m, r) = ({i.d}, {i.n}, {i.m}, {i.r}): {i.message}")
     if args.json:
         from dataclasses import asdict
         print(json.dumps(asdict(i)))
         return 0
-    if i.planner is None:
-        print(f"(d, n, m, r) = ({i.d}, {i.n}, {i.m}, {i.r}): {i.message}")
-        return 1
     print(f"(d, n, m, r) = ({i.d}, {i.n}, {i.m}, {i.r})")
     print(f"planner:  {i.planner} -- {i.message}")
     print(f"domains:  {i.domains} (labels {i.labels[0]}..{i.labels[-1]})")
@@ -213,24 +355,24 @@ def cmd_figures(args) -> int:
 
     paths = make_figures(args.out)
     for p in paths:
-        print(p)
+        print(p.resolve())
     return 0
 
 
 def cmd_animate(args) -> int:
     from .animation import animate_query
 
-    q = _read_query_arg(args.query)
-    out = animate_query(q, args.out, frames=args.frames, fps=args.fps, planner=args.planner)
-    print(f"wrote {out}")
+    q = _with_options(_read_query_arg(args.query), args, _source(args.query))
+    out = animate_query(q, args.out, frames=args.frames, fps=args.fps)
+    print(f"wrote {out.resolve()}")
     return 0
 
 
 def cmd_verify(args) -> int:
     from .verify import verify
 
-    report = verify(planner=args.planner, d=args.d, n=args.n, m=args.m, queries=args.queries,
-                    seed=args.seed, progress=not args.no_progress)
+    report = verify(planner=args.planner, d=args.d, n=args.n, m=args.m, lift=args.lift,
+                    queries=args.queries, seed=args.seed, progress=not args.no_progress)
     print(report.to_json() if args.json else report.to_text())
     return 0 if report.ok else 1
 
@@ -247,13 +389,21 @@ COMMANDS = {
 
 
 def main(argv=None) -> int:
-    """Run the command line; return the exit status (2 for bad input, one line on stderr)."""
+    """Run the command line; return the exit status.
+
+    0 on success, 1 when ``pmplan verify`` finds a problem, 2 for bad input or options (one
+    line on stderr, no traceback); ``--help`` and ``--version`` print and return 0.
+    """
     from .errors import PmplanError
 
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version (0) or a bad option (2, one line on stderr)
+        return exc.code if isinstance(exc.code, int) else 2
     if args.command is None:
-        parser.print_help()
+        print(f"pmplan: error: no command given; choose one of {', '.join(COMMANDS)} "
+              "(see pmplan --help)", file=sys.stderr)
         return 2
     try:
         return COMMANDS[args.command](args)

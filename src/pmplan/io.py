@@ -27,6 +27,8 @@ from .errors import InputError
 
 __all__ = [
     "MAX_POINTS",
+    "MAX_SAMPLES",
+    "MAX_OUTPUT_NUMBERS",
     "read_query",
     "parse_query",
     "plan_to_dict",
@@ -36,6 +38,10 @@ __all__ = [
 
 #: largest number of points (m + n) accepted in one query read from a file
 MAX_POINTS = 10_000
+#: largest number of samples of a path (``plan_to_dict(samples=K)``, ``pmplan plan --samples``)
+MAX_SAMPLES = 100_000
+#: largest number of coordinates K * (m + n) * d in the samples of one path
+MAX_OUTPUT_NUMBERS = 10_000_000
 _KEYS = {"obstacles", "start", "goal", "via", "lift", "planner"}
 
 
@@ -113,12 +119,25 @@ def parse_query(obj) -> dict:
     return out
 
 
-def _read_query_npz(path: Path) -> dict:
+def _load_npz(path: Path) -> dict:
+    """The arrays of an npz file by name; an InputError for anything that is not one
+    (a missing file, a .npy, a pickle, a truncated zip)."""
     try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {k: np.asarray(data[k]) for k in data.files}
+        data = np.load(path, allow_pickle=False)
     except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
         raise InputError(f"cannot read {path} as npz: {exc}") from None
+    if not isinstance(data, np.lib.npyio.NpzFile):
+        raise InputError(f"cannot read {path} as npz: it holds a single array (.npy), not "
+                         "named arrays (write it with numpy.savez)")
+    try:
+        with data:
+            return {k: np.asarray(data[k]) for k in data.files}
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
+        raise InputError(f"cannot read {path} as npz: {exc}") from None
+
+
+def _read_query_npz(path: Path) -> dict:
+    arrays = _load_npz(path)
     obj = {}
     for key, arr in arrays.items():
         if key in ("lift",) and arr.ndim == 0:
@@ -162,8 +181,18 @@ def plan_to_dict(plan, samples: int | None = None) -> dict:
         "clearance": plan.clearance,
     }
     if samples is not None:
-        if samples < 2:
-            raise InputError(f"--samples must be at least 2, got {samples}")
+        if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) \
+                or not 2 <= samples <= MAX_SAMPLES:
+            raise InputError(f"--samples must be an integer from 2 to {MAX_SAMPLES:,}, "
+                             f"got {samples!r}")
+        d, n, m = plan.dims
+        numbers = int(samples) * (m + n) * d
+        if numbers > MAX_OUTPUT_NUMBERS:
+            raise InputError(
+                f"{samples:,} samples of {m + n} points in d = {d} are {numbers:,} numbers, "
+                f"more than the limit {MAX_OUTPUT_NUMBERS:,}: ask for at most "
+                f"{MAX_OUTPUT_NUMBERS // ((m + n) * d):,} samples"
+            )
         ts = np.linspace(0.0, 1.0, samples)
         out["times"] = ts.tolist()
         out["samples"] = plan.path(ts).tolist()
@@ -173,10 +202,80 @@ def plan_to_dict(plan, samples: int | None = None) -> dict:
     return out
 
 
-def read_queries(path: str | Path) -> dict:
-    """Read a batch of queries from npz (arrays ``obstacles``, ``start``, ``goal``) or JSON.
+#: per-query options of a batch: honoured when every query gives the same value, else refused
+_BATCH_OPTIONS = ("lift", "planner")
 
-    A JSON file may hold one query object or a list of query objects with equal (m, n, d).
+
+def _common_options(path: Path, qs: list[dict]) -> dict:
+    """The options (``lift``, ``planner``) and stacked ``via`` of a JSON list of queries.
+
+    A batch is planned with one lift and one planner, and a ``via`` needs the same number of
+    intermediate configurations in every query (:func:`pmplan.plan_sequence_batch`). So an
+    option must be given by every query with the same value, or by none; anything else is an
+    InputError naming the first query that differs -- never silently ignored.
+    """
+    out: dict = {}
+    for key in _BATCH_OPTIONS:
+        given = [i for i, q in enumerate(qs) if key in q]
+        if not given:
+            continue
+        if len(given) < len(qs):
+            i = next(i for i, q in enumerate(qs) if key not in q)
+            raise InputError(
+                f"{path}: query {given[0]} gives \"{key}\" but query {i} does not; a batch is "
+                f"planned with one {key}: give every query the same \"{key}\", or none (and use "
+                f"--{key})"
+            )
+        first = qs[0][key]
+        for i, q in enumerate(qs):
+            if q[key] != first:
+                raise InputError(
+                    f"{path}: query {i} has \"{key}\": {q[key]!r} but query 0 has {first!r}; a "
+                    f"batch is planned with one {key}: split the file by {key}"
+                )
+        out[key] = first
+    with_via = [i for i, q in enumerate(qs) if "via" in q]
+    if with_via:
+        if len(with_via) < len(qs):
+            i = next(i for i, q in enumerate(qs) if "via" not in q)
+            raise InputError(
+                f"{path}: query {with_via[0]} has \"via\" but query {i} does not; plan queries "
+                f"with and without intermediate configurations in separate batches"
+            )
+        n_via = len(qs[0]["via"])
+        for i, q in enumerate(qs):
+            if len(q["via"]) != n_via:
+                raise InputError(
+                    f"{path}: query {i} has {len(q['via'])} intermediate configuration(s) in "
+                    f"\"via\" but query 0 has {n_via}; a batch needs the same number in every "
+                    f"query: split the file"
+                )
+            for k, c in enumerate(q["via"]):
+                if np.shape(c) != q["start"].shape:
+                    raise InputError(
+                        f"{path}: query {i} has via[{k}] of shape {np.shape(c)}; expected the "
+                        f"shape (n, d) = {q['start'].shape} of its start"
+                    )
+        out["via"] = np.array([[np.asarray(c, dtype=float) for c in q["via"]] for q in qs],
+                              dtype=float).reshape(len(qs), n_via, *qs[0]["start"].shape)
+    return out
+
+
+def read_queries(path: str | Path) -> dict:
+    """Read a batch of queries from npz or JSON.
+
+    npz: arrays ``obstacles`` (B, m, d), ``start`` (B, n, d), ``goal`` (B, n, d) and optional
+    ``via`` (B, k, n, d) (k intermediate configurations), ``lift`` (scalar: a number or the
+    string ``scene``) and ``planner`` (scalar string). A JSON file may hold one query object or
+    a list of query objects with equal (m, n, d); a per-query ``lift``, ``planner`` or ``via``
+    is honoured when every query gives it (the same ``lift`` and ``planner``; ``via`` with the
+    same number of configurations) and refused otherwise.
+
+    Returns
+    -------
+    dict
+        ``obstacles``, ``start``, ``goal`` (arrays with a leading batch axis B >= 0) and the
+        optional keys ``via`` (B, k, n, d), ``lift``, ``planner``.
     """
     path = Path(path)
     if path.suffix == ".json":
@@ -187,32 +286,69 @@ def read_queries(path: str | Path) -> dict:
         except json.JSONDecodeError as exc:
             raise InputError(f"{path} is not valid JSON: {exc.msg} at line {exc.lineno}") from None
         items = obj if isinstance(obj, list) else [obj]
-        qs = [parse_query(q) for q in items]
+        if not items:
+            raise InputError(f"{path} holds an empty list; an empty batch needs its shapes: "
+                             "write it as an npz with arrays of shapes (0, m, d), (0, n, d)")
+        qs = []
+        for i, item in enumerate(items):
+            try:
+                qs.append(parse_query(item))
+            except InputError as exc:
+                if len(items) == 1:
+                    raise
+                raise type(exc)(f"{path}: query {i}: {exc}") from None
         try:
-            return {k: np.stack([q[k] for q in qs]) for k in ("obstacles", "start", "goal")}
+            out = {k: np.stack([q[k] for q in qs]) for k in ("obstacles", "start", "goal")}
         except ValueError:
             raise InputError(f"{path}: the queries do not all have the same (m, n, d)") from None
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            missing = {"obstacles", "start", "goal"} - set(data.files)
-            if missing:
-                raise InputError(
-                    f"{path} lacks array(s) {sorted(missing)}; expected obstacles (B, m, d), "
-                    "start (B, n, d), goal (B, n, d)"
-                )
-            out = {k: np.asarray(data[k]) for k in ("obstacles", "start", "goal")}
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-        if isinstance(exc, InputError):
-            raise
-        raise InputError(f"cannot read {path} as npz: {exc}") from None
-    for k, v in out.items():
-        if v.dtype.kind not in "iuf":
-            raise InputError(f"array `{k}` in {path} must be numeric, got dtype {v.dtype}")
+        out.update(_common_options(path, qs))
+        return out
+    out = _load_npz(path)
+    missing = {"obstacles", "start", "goal"} - set(out)
+    if missing:
+        raise InputError(
+            f"{path} lacks array(s) {sorted(missing)}; expected obstacles (B, m, d), "
+            "start (B, n, d), goal (B, n, d)"
+        )
+    unknown = set(out) - {"obstacles", "start", "goal", "via", "lift", "planner"}
+    if unknown:
+        raise InputError(
+            f"{path} has unknown array(s) {sorted(unknown)}; expected obstacles, start, "
+            "goal and optional via, lift, planner"
+        )
+    for k in ("obstacles", "start", "goal", "via"):
+        if k in out and out[k].dtype.kind not in "iuf":
+            raise InputError(f"array `{k}` in {path} must be numeric, got dtype {out[k].dtype}")
+    if "via" in out:
+        via, start = out["via"], out["start"]
+        if via.ndim != 4 or via.shape[0] != start.shape[0] or via.shape[2:] != start.shape[1:]:
+            raise InputError(
+                f"array `via` in {path} has shape {via.shape}; expected (B, k, n, d) = "
+                f"({start.shape[0]}, k, {', '.join(map(str, start.shape[1:]))})"
+            )
+    for k, kinds, what in (("lift", "iufU", "a number or the string 'scene'"),
+                           ("planner", "U", "a string")):
+        if k in out:
+            if out[k].ndim != 0 or out[k].dtype.kind not in kinds:
+                raise InputError(f"array `{k}` in {path} must be a scalar, {what}; got shape "
+                                 f"{out[k].shape} and dtype {out[k].dtype}")
+            out[k] = out[k].item()
     return out
 
 
-def write_plans(path: str | Path, batch) -> None:
-    """Write a :class:`~pmplan.api.PlanBatch` to an npz file (see the module docstring)."""
+def write_plans(path: str | Path, batch) -> Path:
+    """Write a :class:`~pmplan.api.PlanBatch` to an npz file (see the module docstring).
+
+    ``.npz`` is appended to a name without that suffix (as :func:`numpy.savez` does).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
+    path = Path(path)
+    if path.suffix != ".npz":
+        path = path.with_name(path.name + ".npz")
     np.savez(
         path,
         domain=batch.domain,
@@ -223,3 +359,4 @@ def write_plans(path: str | Path, batch) -> None:
         stratum=batch.stratum.astype(str),
         planner=np.array(batch.planner),
     )
+    return path

@@ -44,6 +44,13 @@ gathers the evidence for one (d, n, m):
    order of ``1/delta`` (a path at distance O(1) from a query at distance delta): the evidence
    that one continuous rule cannot serve both domains, while the modulus stays O(1) inside each.
 
+5. **Odd d near the pole** (SPEC 4a). The lift direction nu(e) is a continuous unit tangent
+   field on ``S^{d-1}`` minus N = e_d; such a field must wind around N (index 2 = the Euler
+   characteristic of the sphere), so close to N the modulus inside a domain grows like
+   ``2 n lambda / angle`` (measured: ``benchmarks/odd_d_pole.py``). Random and exact queries
+   rarely come near N, so the report states it as a note (:data:`POLE_NOTE`, ``Report.notes``)
+   for odd d rather than measuring it.
+
 Norms: ``|Q - Q'|`` is the largest Euclidean displacement of one of the m + 2n points (obstacles,
 start and goal robots), and ``sup_t |Gamma(t) - Gamma'(t)|`` the largest Euclidean distance between
 corresponding points at equal times; it is computed exactly for piecewise-linear paths (the
@@ -60,7 +67,7 @@ import numpy as np
 
 from . import api
 from . import generators as gen
-from .errors import CertificationError
+from .errors import CertificationError, InputError
 from .frame import Frame
 from .path import PiecewiseLinearPath
 from .predicates import projection_classes
@@ -68,6 +75,10 @@ from .predicates import projection_classes
 __all__ = [
     "RHO_MIN",
     "DELTA",
+    "MIN_QUERIES",
+    "MAX_QUERIES",
+    "MAX_NUMBERS",
+    "POLE_NOTE",
     "DomainReport",
     "Report",
     "path_distance",
@@ -82,6 +93,19 @@ RHO_MIN = 2.0**-26
 DELTA = 1e-6
 #: scales at which the near-degenerate family breaks exact ties
 NEAR_SCALES = (1e-9, 1e-15)
+#: bounds of ``queries`` (the size of the base families)
+MIN_QUERIES = 10
+MAX_QUERIES = 100_000
+#: most coordinates one family may hold in its pairwise-distance array (queries * P**2 * d)
+MAX_NUMBERS = 200_000_000
+#: what ``verify`` says for odd d (measured by ``benchmarks/odd_d_pole.py``; README, "Odd d")
+POLE_NOTE = (
+    "odd d: near the pole N = e_d the modulus of continuity grows like 1/angle, about "
+    "2 n lambda / angle (lambda = lift + max_k |r(o_k)|); measured for d = 3, n = 2, lift 1: a "
+    "1e-9 move at 1e-8 rad from N moves the path by 0.4. Forced by topology (nu(e) is a unit "
+    "tangent field on S^(d-1) minus N and must wind around N), not a bug; the moduli above come "
+    "from queries away from N."
+)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -268,6 +292,10 @@ class Report:
         ``error`` (the exception's name).
     problems : list of str
         Why ``ok`` is False (empty when it is True).
+    notes : list of str
+        Facts to read the numbers by: for odd d, :data:`POLE_NOTE`.
+    lift : float or str
+        The lift the queries were planned with.
     """
 
     ok: bool
@@ -281,6 +309,8 @@ class Report:
     families: dict
     failures: list
     problems: list
+    notes: list = field(default_factory=list)
+    lift: float | str = 1.0
 
     def to_dict(self) -> dict:
         """Return the report as plain JSON-ready data."""
@@ -318,7 +348,8 @@ class Report:
         w = "W" if self.planner == "planar_three" else "W_"
         fam = ", ".join(f"{k} {v['queries']}" for k, v in self.families.items())
         lines = [
-            f"pmplan verify: {self.planner} planner, (d, n, m) = ({d}, {n}, {m}), seed {self.seed}",
+            f"pmplan verify: {self.planner} planner, (d, n, m) = ({d}, {n}, {m}), "
+            + ("" if self.lift == 1.0 else f"lift {self.lift}, ") + f"seed {self.seed}",
             f"queries: {fam}; perturbation size delta = {self.delta:g}",
             "",
             f"{'domain':<7} {'queries':>7} {'strata':>6}  {'min clearance':>13}  "
@@ -364,6 +395,8 @@ class Report:
             )
         if len(self.failures) > 10:
             lines.append(f"... and {len(self.failures) - 10} more failures (see --json)")
+        for note in self.notes:
+            lines.append(f"note: {note}")
         for p in self.problems:
             lines.append(f"problem: {p}")
         lines.append("OK" if self.ok else "NOT OK")
@@ -479,14 +512,15 @@ def _perturb(rng, planner: str, q, delta: float):
 # planning that survives certificate failures
 
 
-def _plan_each(q, planner: str):
+def _plan_each(q, planner: str, lift=1.0):
     """Plan a batch, dropping queries whose certificate fails; return (batch, kept, refused)."""
     obs, st, go = (np.asarray(a, dtype=float) for a in q)
     keep = np.arange(obs.shape[0])
     refused: list[tuple[int, str]] = []
     while keep.size:
         try:
-            return api.plan_batch(obs[keep], st[keep], go[keep], planner=planner), keep, refused
+            return (api.plan_batch(obs[keep], st[keep], go[keep], planner=planner, lift=lift),
+                    keep, refused)
         except CertificationError as exc:
             bad = np.asarray(exc.indices, dtype=np.int64)
             if bad.size == 0:  # pragma: no cover - plan_batch always names the queries
@@ -517,8 +551,9 @@ def _take(q, idx):
 # verify
 
 
-def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2, queries: int = 400,
-           seed: int = 0, progress: bool = True) -> Report:
+def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
+           lift: float | str = 1.0, queries: int = 400, seed: int = 0,
+           progress: bool = True) -> Report:
     """Check a planner on (d, n, m): certificates, labels, continuity modulus and jumps.
 
     Parameters
@@ -528,12 +563,14 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2, qu
         :func:`pmplan.plan`.
     d, n, m : int
         Dimension, robots, obstacles.
+    lift : float or str
+        Passed to :func:`pmplan.plan_batch` (default 1, the paper's unit).
     queries : int
-        Size of the base families: 40% exact degenerate (at least one per stratum), 30% random,
+        From :data:`MIN_QUERIES` to :data:`MAX_QUERIES`. Size of the base families: 40% exact degenerate (at least one per stratum), 30% random,
         30% nearly degenerate; plus perturbed copies of half of the exact (at least one per
         stratum) and a third of the random queries, and one generic neighbour of each exact query.
     seed : int
-        Seed of the random generator (the report is reproducible).
+        Seed of the random generator, >= 0 (the report is reproducible).
     progress : bool
         Show a progress bar (tqdm, on stderr).
 
@@ -543,6 +580,12 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2, qu
         ``ok``, per-domain results, ``to_text()``, ``to_json()``; see the module docstring for
         what is checked and the rule that excuses refusals of nearly degenerate queries.
 
+    Raises
+    ------
+    InputError
+        ``queries`` or ``seed`` out of range, or a case so large that one family would hold
+        more than :data:`MAX_NUMBERS` numbers at once.
+
     Examples
     --------
     >>> r = verify(d=2, n=1, m=2, queries=40, progress=False)
@@ -551,11 +594,25 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2, qu
     """
     from tqdm import tqdm
 
+    for what, value, lo, hi in (("queries", queries, MIN_QUERIES, MAX_QUERIES),
+                                ("seed", seed, 0, None)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo \
+                or (hi is not None and value > hi):
+            bound = f"from {lo} to {hi:,}" if hi is not None else f"at least {lo}"
+            raise InputError(f"`{what}` must be an integer {bound}, got {value!r}")
     p = api.choose_planner(d, n, m, planner)
     name = p.name
     labels = [int(v) for v in api.info(d, n, m, planner=name).labels]
+    # the exact family has at least one query per stratum: (m - 1) (n + 1)^2, twice for odd d
+    largest = max(int(queries), (m - 1) * (n + 1) ** 2 * (2 if d % 2 else 1))
+    numbers = largest * (m + n) ** 2 * d
+    if numbers > MAX_NUMBERS:
+        raise InputError(
+            f"verify on (d, n, m) = ({d}, {n}, {m}) with {largest:,} queries in a family would "
+            f"hold about {numbers:,} numbers at once, more than {MAX_NUMBERS:,}: use fewer "
+            "queries, or fewer robots, obstacles or dimensions"
+        )
     rng = np.random.default_rng(seed)
-    queries = max(int(queries), 10)
     n_exact = int(0.4 * queries)
     n_random = int(0.3 * queries)
     n_near = queries - n_exact - n_random
@@ -588,7 +645,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2, qu
     problems: list[str] = []
     planned: dict[str, tuple] = {}
     for fname, q in families.items():
-        batch, kept, refused = _plan_each(q, name)
+        batch, kept, refused = _plan_each(q, name, lift)
         rho = degeneracy_ratio(*q, heights=heights)
         excused = [i for i, _ in refused if rho[i] < RHO_MIN]
         failed = [(i, msg) for i, msg in refused if not rho[i] < RHO_MIN]
@@ -634,8 +691,8 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2, qu
         dist = query_distance(base, moved)
         use = dist > 0
         base, moved, dist = _take(base, use), _take(moved, use), dist[use]
-        b0, k0, r0 = _plan_each(base, name)
-        b1, k1, r1 = _plan_each(moved, name)
+        b0, k0, r0 = _plan_each(base, name, lift)
+        b1, k1, r1 = _plan_each(moved, name, lift)
         for fam_name, refused, qq in (("exact+random", r0, base), ("perturbed", r1, moved)):
             rho = degeneracy_ratio(*qq, heights=heights)
             for i, msg in refused:
@@ -676,7 +733,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2, qu
         noise = [rng.normal(size=a.shape) for a in q[1:]]
         scale = np.maximum(*(np.sqrt((z * z).sum(-1)).max(axis=1) for z in noise))
         near_q = (q[0], *(a + DELTA * z / scale[:, None, None] for a, z in zip(q[1:], noise)))
-        b1, k1, _ = _plan_each(near_q, name)  # refusals here are not failures: Q' is not exact
+        b1, k1, _ = _plan_each(near_q, name, lift)  # refusals here are not failures: Q' is not exact
         if b1 is not None:
             la = batch.domain[k1]
             lb = b1.domain
@@ -723,4 +780,6 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2, qu
         families=fam_stats,
         failures=failures,
         problems=problems,
+        notes=[POLE_NOTE] if d % 2 == 1 and name == "obstacle_line" else [],
+        lift=lift,
     )
