@@ -16,8 +16,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import magnitude
 from . import planners as _planners  # noqa: F401  (registers the planners)
-from .certify import certify
+from ._check import check as _check_paths
+from ._check import check_one as _check_one
+from .certify import CLEARANCE, certificate, describe
 from .configuration import as_points, check_query, check_same_obstacles
 from .errors import CertificationError, InputError, PmplanError, ShapeError, UnsupportedError
 from .path import PiecewiseLinearPath, _unchecked_path
@@ -220,15 +223,95 @@ def _check_backend(backend) -> None:
         raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
 
 
-def _raise_certificate(bad: np.ndarray, batched: bool) -> None:
+def _raise_certificate(bad: np.ndarray, batched: bool, codes: np.ndarray | None = None,
+                       obstacles: np.ndarray | None = None, configs=None,
+                       lift=None) -> None:
+    """Raise the :class:`CertificationError` of the queries ``bad`` (bool, (B,)).
+
+    ``codes`` (B,) are the clauses of :data:`pmplan.certify.CLAUSES` that failed (0 where only
+    the kernel's clearance failed); with the query (``obstacles``, ``configs``, ``lift``) the
+    message also says when the magnitudes, not the geometry, are the cause, and what to do.
+    """
     idx = np.flatnonzero(bad)
     where = f" for queries {idx[:10].tolist()}{'...' if idx.size > 10 else ''}" if batched else ""
+    first = idx[0] if idx.size else 0
+    clause = int(codes[first]) if codes is not None and idx.size else 0
+    clause = clause or CLEARANCE
+    what = describe(clause)
+    hint = None
+    if obstacles is not None and idx.size:
+        hint = _magnitude_hint(clause, obstacles[first], [c[first] for c in configs],
+                               np.broadcast_to(np.asarray(lift, dtype=float),
+                                               bad.shape)[first])
+    if hint is None:
+        hint = ("the query is too nearly degenerate for double precision (two points would meet "
+                "or the path is not finite)")
     raise CertificationError(
-        f"the planned path failed its certificate{where}: the query is too nearly degenerate "
-        "for double precision (two points would meet or the path is not finite); "
-        "nothing was returned",
+        f"the planned path failed its certificate{where}: {what}; {hint}; nothing was returned",
         indices=idx,
     )
+
+
+def _magnitude_hint(clause: int, obstacles: np.ndarray, configs, lift: float) -> str | None:
+    """Why a query at an extreme magnitude has no representable certified path, and what to do
+    (None for a query of ordinary magnitude)."""
+    with np.errstate(all="ignore"):
+        size = float(max(np.abs(obstacles).max(), *(np.abs(c).max() for c in configs)))
+    if clause in (1, 5) and size > 2.0**LARGE:
+        return (f"the path leaves the range of double precision (coordinates up to {size:.3g}, "
+                f"lift {lift:.3g}): scale the scene down, or use a smaller `lift`")
+    if size > 0 and lift < size * 2.0**-RESOLUTION:
+        return (f"`lift` = {lift:.3g} is below the resolution of the coordinates (up to "
+                f"{size:.3g}), so the lifted robots cannot leave the line: use a larger `lift` "
+                "(of the order of the scene's size, or lift=\"scene\", a unit that scales with the "
+                "obstacles)")
+    if lift > size * 2.0**RESOLUTION:
+        return (f"the coordinates (up to {size:.3g}) are below the resolution of `lift` = "
+                f"{lift:.3g}, so the lifted motion cannot be represented: use a smaller `lift` "
+                "(of the order of the scene's size, or lift=\"scene\", a unit that scales with the "
+                "obstacles)")
+    return None
+
+
+#: a path may overflow when the coordinates exceed 2**LARGE
+LARGE = 1000
+#: a lift below 2**-RESOLUTION times the largest coordinate (or above 2**RESOLUTION times) is
+#: lost in rounding
+RESOLUTION = 50
+
+
+def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
+    """Plan the queries of a chunk each at its power of two ``2**-k`` (:mod:`pmplan.magnitude`).
+
+    ``call(idx, obstacles, configs, lift)`` plans the rows ``idx`` of the chunk (given scaled)
+    into new arrays and returns ``(arrays, ok)`` where ``arrays`` has ``waypoints``,
+    ``clearance`` and the other outputs for those rows; the waypoints of scaled rows are scaled
+    back by ``2**k`` and their clearance is recomputed on what is returned
+    (:func:`pmplan.certify.clearance`). Yields ``(idx, arrays, ok)`` per group.
+    """
+    from .certify import clearance as certified_clearance
+
+    m = obstacles.shape[1]
+    lift_arr = np.asarray(lift, dtype=float)
+    for kg in np.unique(k):
+        idx = np.flatnonzero(k == kg)
+        kg = int(kg)
+        if kg == 0:
+            if lift_arr.ndim:
+                lift_g = lift_arr[idx]
+            else:
+                lift_g = lift
+            with np.errstate(all="ignore"):  # an extreme query planned as given: certified below
+                arrays, ok = call(idx, obstacles[idx], [c[idx] for c in configs], lift_g)
+            yield idx, arrays, ok
+            continue
+        lift_g = np.ldexp(lift_arr[idx], -kg) if lift_arr.ndim else float(np.ldexp(lift, -kg))
+        arrays, ok = call(idx, np.ldexp(obstacles[idx], -kg),
+                          [np.ldexp(c[idx], -kg) for c in configs], lift_g)
+        with np.errstate(over="ignore", under="ignore"):
+            arrays["waypoints"] = np.ldexp(arrays["waypoints"], kg)
+        arrays["clearance"] = certified_clearance(arrays["waypoints"], m)
+        yield idx, arrays, ok & (arrays["clearance"] > 0)
 
 
 def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, sequential: bool,
@@ -256,25 +339,24 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
         hi = min(b, lo + CHUNK)
         obs = obstacles[lo:hi]
         cfg = [c[lo:hi] for c in configs]
-        if sequential:
-            raw: RawPlan = planner.plan_sequence(obs, cfg, lift=lift)
-        else:
-            raw = planner.plan(obs, cfg[0], cfg[1], lift=lift)
+        with np.errstate(all="ignore"):  # whatever overflows fails the certificate below
+            if sequential:
+                raw: RawPlan = planner.plan_sequence(obs, cfg, lift=lift)
+            else:
+                raw = planner.plan(obs, cfg[0], cfg[1], lift=lift)
         wp = raw.path.waypoints
         start = np.concatenate([obs, cfg[0]], axis=1)
         goal = np.concatenate([obs, cfg[-1]], axis=1)
-        clr, ok = certify(wp, start, goal, obs.shape[1])
-        if sequential and len(cfg) > 2:
-            # the path must also pass through every intermediate configuration
-            r = len(cfg)
-            tk = np.arange(r) / (r - 1)
-            for k in range(1, r - 1):
-                at = PiecewiseLinearPath(raw.path.times, wp)(tk[k])
-                ok &= np.all(at == np.concatenate([obs, cfg[k]], axis=1), axis=(1, 2))
+        r = len(cfg)
+        via = [(k / (r - 1), np.concatenate([obs, cfg[k]], axis=1)) for k in range(1, r - 1)]
+        clr, codes = certificate(wp, start, goal, obs.shape[1], times=raw.path.times, via=via)
+        ok = codes == 0
         if not ok.all():
             bad = np.zeros(b, dtype=bool)
             bad[lo:hi] = ~ok
-            _raise_certificate(bad, batched)
+            full = np.zeros(b, np.uint8)
+            full[lo:hi] = codes
+            _raise_certificate(bad, batched, full, obstacles, configs, lift)
         if out is None:
             times = raw.path.times
             out = dict(
@@ -313,17 +395,42 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
     out = planner.allocate(b, len(configs), m, n, d) if into is None else into
     per_query_times = out["times"].ndim == 2
 
-    def chunk(lo: int) -> tuple[int, int, np.ndarray]:
+    r = len(configs)
+    via_rows = getattr(planner, "via_rows", lambda r: [])(r)
+
+    def chunk(lo: int) -> tuple[int, int, np.ndarray, np.ndarray]:
         hi = min(b, lo + CHUNK)
-        extra = {"times": out["times"][lo:hi]} if per_query_times else {}
-        if validate:
-            extra["validate"] = True
-        ok = planner.plan_certified(
-            obstacles[lo:hi], [c[lo:hi] for c in configs], lift, out["waypoints"][lo:hi],
-            out["domain"][lo:hi], out["strata"][lo:hi], out["clearance"][lo:hi], backend=backend,
-            **extra,
-        )
-        return lo, hi, ok
+        obs = obstacles[lo:hi]
+        cfg = [c[lo:hi] for c in configs]
+        wp, times = out["waypoints"][lo:hi], out["times"]
+        if per_query_times:
+            times = times[lo:hi]
+        k = None
+        if magnitude.needs_scaling([obs, *cfg], lift):
+            k = magnitude.exponents([obs, *cfg], lift)
+            if not getattr(planner, "equivariant", False):
+                k[:] = 0
+        if k is None:
+            extra = {"times": times} if per_query_times else {}
+            if validate:
+                extra["validate"] = True
+            ok = planner.plan_certified(
+                obs, cfg, lift, wp, out["domain"][lo:hi], out["strata"][lo:hi],
+                out["clearance"][lo:hi], backend=backend, **extra,
+            )
+        else:
+            ok = np.empty(hi - lo, dtype=bool)
+            for idx, arrays, ok_g in _scaled_call(planner, obs, cfg, lift, k, _fused_call(
+                    planner, r, m, n, d, per_query_times, validate, backend)):
+                wp[idx] = arrays["waypoints"]
+                out["domain"][lo + idx] = arrays["domain"]
+                out["strata"][lo + idx] = arrays["strata"]
+                out["clearance"][lo + idx] = arrays["clearance"]
+                if per_query_times:
+                    times[idx] = arrays["times"]
+                ok[idx] = ok_g
+        codes = _check_paths(times, wp, obs, cfg, via_rows)
+        return lo, hi, ok & (codes == 0), codes
 
     starts = range(0, b, CHUNK)
     bar = None
@@ -338,7 +445,7 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
         pool = ThreadPoolExecutor(min(workers, len(starts)))
     try:
         done = map(chunk, starts) if pool is None else pool.map(chunk, starts)
-        for lo, hi, ok in done:
+        for lo, hi, ok, codes in done:
             if bar is not None:
                 bar.update()
             if not ok.all():
@@ -346,13 +453,33 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
                     check_query(obstacles, configs[0], configs[-1], batched=True)
                 bad = np.zeros(b, dtype=bool)
                 bad[lo:hi] = ~ok
-                _raise_certificate(bad, batched)
+                full = np.zeros(b, np.uint8)
+                full[lo:hi] = codes
+                _raise_certificate(bad, batched, full, obstacles, configs, lift)
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
         if bar is not None:
             bar.close()
     return out
+
+
+def _fused_call(planner, r: int, m: int, n: int, d: int, per_query_times: bool, validate: bool,
+                backend):
+    """``call(idx, obstacles, configs, lift) -> (arrays, ok)`` for :func:`_scaled_call`: the
+    fused planner planning rows into new arrays (:meth:`allocate`, :meth:`plan_certified`)."""
+
+    def call(idx, obstacles, configs, lift):
+        arrays = planner.allocate(idx.size, r, m, n, d)
+        extra = {"times": arrays["times"]} if per_query_times else {}
+        if validate:
+            extra["validate"] = True
+        ok = planner.plan_certified(obstacles, configs, lift, arrays["waypoints"],
+                                    arrays["domain"], arrays["strata"], arrays["clearance"],
+                                    backend=backend, **extra)
+        return arrays, ok
+
+    return call
 
 
 def _check_workers(workers) -> int:
@@ -566,15 +693,24 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
     if entry is None:
         return None
     run, p, dims, names = entry
-    return _fast_answer(run(o, s, g, lift), p, dims, names)
+    return _fast_answer(run(o, s, g, lift), p, dims, names, o, (s, g))
 
 
-def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict) -> Plan | None:
+def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict, obstacles,
+                 configs) -> Plan | None:
     """The :class:`Plan` of a fast-path kernel result ``(times, waypoints, domain, row,
-    clearance)``, or None when the kernel declined (``res`` is None)."""
+    clearance)``, or None when the kernel declined (``res`` is None).
+
+    The kernel certified the clearance; clauses 1-9 of the certificate are checked here on
+    what is returned (:func:`pmplan._check.check_one`), and a path failing one raises the
+    :class:`CertificationError` naming it."""
     if res is None:
         return None
     times, wp, domain, row, clearance = res
+    code = _check_one(times, wp, obstacles, configs, p)
+    if code:
+        _raise_certificate(np.ones(1, dtype=bool), False, np.array([code]), obstacles[None],
+                           [c[None] for c in configs], math.nan)
     stratum = names.get(row)
     if stratum is None:
         stratum = _stratum_name(p, row, dims, names)
@@ -787,7 +923,7 @@ def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
     if entry is None:
         return None
     run, p, dims, names = entry
-    return _fast_answer(run(o, cs, lift), p, dims, names)
+    return _fast_answer(run(o, cs, lift), p, dims, names, o, cs)
 
 
 def _sequence_entry(key: tuple):

@@ -1,12 +1,21 @@
 """The certificate of a piecewise-linear motion (SPEC section 5).
 
-A path with waypoints ``P_0..P_K`` at times ``0 = t_0 < ... < t_K = 1`` is *certified* for the
-query (C, C') when
+A path with waypoints ``P_0..P_K`` at times ``t_0..t_K`` is *certified* for the query
+(C, C') -- through the intermediate configurations C_k at tau_k, for a sequence (SPEC 4c) --
+when every clause of :data:`CLAUSES` holds, checked in this order:
 
-* ``P_0 == C`` and ``P_K == C'`` exactly,
-* the obstacle rows are the same in every waypoint (obstacles fixed), and
-* its *clearance* -- the minimum over pieces and over pairs of points of the distance between
-  the two linearly moving points -- is > 0.
+1. the times are finite, 2. ``t_0 == 0``, 3. ``t_K == 1``, 4. they never decrease;
+5. the waypoints are finite;
+6. ``P_0 == C`` and 7. ``P_K == C'`` exactly, 8. ``path(tau_k) == C_k`` exactly;
+9. the obstacle rows are the same in every waypoint (obstacles fixed);
+10. its *clearance* -- the minimum over pieces and over pairs of points of the distance between
+    the two linearly moving points -- is > 0.
+
+:func:`certificate` returns the clearance and the number of the first clause that fails (0: the
+path is certified); :func:`describe` names a clause. Every entry point of :mod:`pmplan.api`
+runs the whole certificate on what it returns (the fused kernels compute the clearance
+themselves; :mod:`pmplan._check` runs clauses 1-9 after them), so a path failing any clause is
+never returned.
 
 On one piece the relative position of two points is ``r(t) = r0 + t v`` (``t in [0, 1]``), so
 its squared norm is a quadratic in t minimised in closed form at
@@ -23,10 +32,110 @@ from fractions import Fraction
 
 import numpy as np
 
-__all__ = ["segment_clearance", "clearance", "certify"]
+__all__ = [
+    "CLAUSES",
+    "describe",
+    "check_paths",
+    "segment_clearance",
+    "clearance",
+    "certificate",
+    "certify",
+]
 
 # a float minimum below _REL * (scale of the pair on that piece) is re-decided exactly
 _REL = 1e-9
+# beyond these magnitudes a squared distance may overflow / lose bits to underflow: re-decided
+# exactly (the float value is not trusted)
+_HUGE = 2.0**480
+_TINY = 2.0**-480
+_MAXF = 1.7976931348623157e308  # the largest finite float
+
+#: the clauses of the certificate, by number (0: certified); :func:`certificate` reports the
+#: first one that fails
+CLAUSES: dict[int, str] = {
+    1: "a breakpoint time is not finite",
+    2: "the times do not start at 0",
+    3: "the times do not end at 1",
+    4: "the times decrease",
+    5: "a waypoint is not finite",
+    6: "the path does not begin exactly at the start",
+    7: "the path does not end exactly at the goal",
+    8: "the path does not pass exactly through an intermediate configuration",
+    9: "an obstacle moves",
+    10: "two points meet (the clearance is not positive)",
+}
+#: the clause number of the clearance (the only one not decided by :func:`check_paths`)
+CLEARANCE = 10
+
+
+def describe(clause: int) -> str:
+    """Return the text of clause number ``clause`` (see :data:`CLAUSES`)."""
+    return CLAUSES.get(int(clause), "certified") if clause else "certified"
+
+
+def check_paths(times, waypoints, start, goal, m: int, via=()) -> np.ndarray:
+    """Return, per path, the first failing clause among 1-9 of :data:`CLAUSES` (0: all hold).
+
+    Parameters
+    ----------
+    times : ndarray, shape (K,) or (B, K)
+    waypoints : ndarray, shape (B, K, P, d)
+    start, goal : ndarray, shape (B, P, d)
+        The query configurations C and C' (obstacles first).
+    m : int
+        Number of obstacles.
+    via : sequence of (float, ndarray (B, P, d))
+        Intermediate configurations ``C_k`` the path must pass through exactly at ``tau_k``.
+
+    Returns
+    -------
+    ndarray of uint8, shape (B,)
+
+    Examples
+    --------
+    >>> wp = np.array([[[[0.0, 0.0], [0.0, 1.0]], [[0.0, 0.0], [1.0, 1.0]]]])
+    >>> check_paths(np.array([0.0, 1.0]), wp, wp[:, 0], wp[:, -1], 1)
+    array([0], dtype=uint8)
+    >>> check_paths(np.array([0.0, np.nan]), wp, wp[:, 0], wp[:, -1], 1)
+    array([1], dtype=uint8)
+    """
+    wp = np.asarray(waypoints, dtype=float)
+    t = np.asarray(times, dtype=float)
+    b, k = wp.shape[:2]
+    t = np.broadcast_to(t, (b, k)) if t.ndim == 1 else t
+    codes = np.zeros(b, np.uint8)
+    start = np.asarray(start, dtype=float)
+    goal = np.asarray(goal, dtype=float)
+    if k == 0 or t.shape != (b, k):  # no breakpoints, or not one per waypoint
+        codes[:] = 1
+        return codes
+    finite_t = np.isfinite(t).all(axis=1)
+    clauses = [
+        (1, finite_t),
+        (2, t[:, 0] == 0.0),
+        (3, t[:, -1] == 1.0),
+        (4, (np.diff(t, axis=1) >= 0).all(axis=1)),
+        (5, np.isfinite(wp).all(axis=(1, 2, 3))),
+        (6, (wp[:, 0] == start).all(axis=(1, 2))),
+        (7, (wp[:, -1] == goal).all(axis=(1, 2))),
+    ]
+    if via:
+        hold = np.ones(b, dtype=bool)
+        good = finite_t & (t[:, 0] == 0.0) & (t[:, -1] == 1.0)
+        if good.any():
+            from .path import PiecewiseLinearPath
+
+            g = np.flatnonzero(good)
+            path = PiecewiseLinearPath(t[g], wp[g])
+            for tau, conf in via:
+                with np.errstate(all="ignore"):  # a non-finite waypoint fails clause 5 first
+                    at = path(float(tau))
+                hold[g] &= (at == np.asarray(conf, dtype=float)[g]).all(axis=(1, 2))
+        clauses.append((8, hold))
+    clauses.append((9, (wp[:, :, :m] == wp[:, :1, :m]).all(axis=(1, 2, 3))))
+    for number, holds in reversed(clauses):
+        codes[~holds] = number
+    return codes
 
 
 def _pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray]:
@@ -66,8 +175,11 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
     except OverflowError:
         val = math.inf
     if val == 0.0 or not math.isfinite(val):  # outside the float range: go through logarithms
-        val = math.exp(0.5 * (math.log(sq.numerator) - math.log(sq.denominator)))
-    if val == 0.0:  # positive but below the float range: report the smallest positive float
+        half_log = 0.5 * (math.log(sq.numerator) - math.log(sq.denominator))
+        # above the largest double (two points ~1e308 apart): report the largest double, a
+        # lower bound; positive but below the float range: the smallest positive double
+        val = _MAXF if half_log > 709.0 else math.exp(half_log)
+    if val == 0.0:
         val = 5e-324
     return val
 
@@ -103,7 +215,8 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
     out = np.full(b, np.inf)
     if pi.size == 0:
         return out
-    rel = wp[:, :, pi, :] - wp[:, :, pj, :]  # (B, K, pairs, d)
+    with np.errstate(over="ignore", invalid="ignore"):  # re-decided exactly below
+        rel = wp[:, :, pi, :] - wp[:, :, pj, :]  # (B, K, pairs, d)
     r0, r1 = rel[:, :-1], rel[:, 1:]
     dist = segment_clearance(r0, r1)  # (B, K-1, pairs)
     scale = np.maximum(np.abs(r0).max(-1), np.abs(r1).max(-1))
@@ -111,9 +224,15 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
         np.maximum(np.abs(wp[:, :-1, pi]).max(-1), np.abs(wp[:, :-1, pj]).max(-1)),
         np.maximum(np.abs(wp[:, 1:, pi]).max(-1), np.abs(wp[:, 1:, pj]).max(-1)),
     )
-    finite = np.isfinite(r0).all(-1) & np.isfinite(r1).all(-1)
-    suspect = ~(dist > _REL * np.maximum(scale, absval * 1e-6)) & finite
-    dist[~finite] = np.nan  # not a path: its certificate fails below
+    # a waypoint that is not finite is not a path: its certificate fails below. A relative
+    # position that overflows (finite waypoints ~1e308 apart), a square that overflows or
+    # underflows, and a small float minimum are re-decided exactly.
+    finite = np.isfinite(wp[:, :-1, pi]).all(-1) & np.isfinite(wp[:, :-1, pj]).all(-1) \
+        & np.isfinite(wp[:, 1:, pi]).all(-1) & np.isfinite(wp[:, 1:, pj]).all(-1)
+    with np.errstate(invalid="ignore", over="ignore"):
+        extreme = ~((scale < _HUGE) & (scale > _TINY)) | ~np.isfinite(dist)
+        suspect = (~(dist > _REL * np.maximum(scale, absval * 1e-6)) | extreme) & finite
+    dist[~finite] = np.nan
     for bi, ki, qi in zip(*np.nonzero(suspect)):
         dist[bi, ki, qi] = _exact_segment_clearance(
             wp[bi, ki, pi[qi]], wp[bi, ki, pj[qi]], wp[bi, ki + 1, pi[qi]], wp[bi, ki + 1, pj[qi]]
@@ -122,13 +241,22 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
     out[np.isnan(dist.reshape(b, -1)).any(axis=1)] = np.nan
     if m >= 2:
         oi, oj = np.triu_indices(m, k=1)
-        od = wp[:, 0, oi] - wp[:, 0, oj]
-        out = np.minimum(out, np.sqrt((od * od).sum(-1)).min(axis=1))
+        with np.errstate(over="ignore", invalid="ignore"):
+            od = wp[:, 0, oi] - wp[:, 0, oj]
+            odist = np.sqrt((od * od).sum(-1))  # (B, pairs)
+            odscale = np.abs(od).max(-1)
+            bad = ~((odscale < _HUGE) & (odscale > _TINY)) & np.isfinite(wp[:, 0, oi]).all(-1) \
+                & np.isfinite(wp[:, 0, oj]).all(-1)
+        for bi, qi in zip(*np.nonzero(bad)):  # out of the float range of a square: exactly
+            a, c = wp[bi, 0, oi[qi]], wp[bi, 0, oj[qi]]
+            odist[bi, qi] = _exact_segment_clearance(a, c, a, c)
+        out = np.minimum(out, odist.min(axis=1))
     return out
 
 
-def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int):
-    """Check the whole certificate of SPEC section 5 for a batch of paths.
+def certificate(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, *,
+                times=None, via=()) -> tuple[np.ndarray, np.ndarray]:
+    """Check the whole certificate of SPEC section 5 for a batch of paths, clause by clause.
 
     Parameters
     ----------
@@ -137,17 +265,41 @@ def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int):
         The query configurations C and C' (obstacles first).
     m : int
         Number of obstacles.
+    times : ndarray, shape (K,) or (B, K), optional
+        The breakpoints; default ``linspace(0, 1, K)`` (for a bare list of waypoints).
+    via : sequence of (float, ndarray (B, P, d))
+        Intermediate configurations and the times the path must pass through them.
+
+    Returns
+    -------
+    clearance : ndarray, shape (B,)
+        The certified clearance (NaN where a waypoint is not finite).
+    clause : ndarray of uint8, shape (B,)
+        The first clause of :data:`CLAUSES` that fails, 0 where the path is certified.
+    """
+    wp = np.asarray(waypoints, dtype=float)
+    if times is None:
+        times = np.linspace(0.0, 1.0, wp.shape[1])
+    clause = check_paths(times, wp, start, goal, m, via)
+    clr = clearance(wp, m)
+    clause[(clause == 0) & ~(clr > 0)] = CLEARANCE
+    return clr, clause
+
+
+def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, *,
+            times=None, via=()) -> tuple[np.ndarray, np.ndarray]:
+    """Check the whole certificate of SPEC section 5 for a batch of paths.
+
+    Parameters are those of :func:`certificate`.
 
     Returns
     -------
     clearance : ndarray, shape (B,)
         The certified clearance.
     ok : ndarray of bool, shape (B,)
-        True where endpoints match exactly, obstacles stay fixed and clearance > 0.
+        True where every clause of :data:`CLAUSES` holds: finite times from 0 to 1 that never
+        decrease, finite waypoints beginning exactly at the start and ending exactly at the
+        goal (through the ``via`` configurations), obstacles fixed and clearance > 0.
     """
-    wp = np.asarray(waypoints, dtype=float)
-    ends = (wp[:, 0] == start).all(axis=(1, 2)) & (wp[:, -1] == goal).all(axis=(1, 2))
-    fixed = (wp[:, :, :m] == wp[:, :1, :m]).all(axis=(1, 2, 3))
-    clr = clearance(wp, m)
-    ok = ends & fixed & (clr > 0) & np.isfinite(wp).all(axis=(1, 2, 3))
-    return clr, ok
+    clr, clause = certificate(waypoints, start, goal, m, times=times, via=via)
+    return clr, clause == 0
