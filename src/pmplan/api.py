@@ -18,9 +18,7 @@ import numpy as np
 
 from . import magnitude
 from . import planners as _planners  # noqa: F401  (registers the planners)
-from ._check import check as _check_paths
-from ._check import check_one as _check_one
-from .certify import CLEARANCE, certificate, describe
+from .certify import CLEARANCE, certificate, check_times, describe
 from .configuration import as_points, check_query, check_same_obstacles
 from .errors import CertificationError, InputError, PmplanError, ShapeError, UnsupportedError
 from .path import PiecewiseLinearPath, _unchecked_path
@@ -286,11 +284,10 @@ def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
     ``call(idx, obstacles, configs, lift)`` plans the rows ``idx`` of the chunk (given scaled)
     into new arrays and returns ``(arrays, ok)`` where ``arrays`` has ``waypoints``,
     ``clearance`` and the other outputs for those rows; the waypoints of scaled rows are scaled
-    back by ``2**k`` and their clearance is recomputed on what is returned
-    (:func:`pmplan.certify.clearance`). Yields ``(idx, arrays, ok)`` per group.
+    back by ``2**k`` and the whole certificate is checked again on what is returned
+    (:func:`pmplan.certify.certificate`, which also gives the clearance). Yields ``(idx,
+    arrays, ok)`` per group.
     """
-    from .certify import clearance as certified_clearance
-
     m = obstacles.shape[1]
     lift_arr = np.asarray(lift, dtype=float)
     for kg in np.unique(k):
@@ -310,8 +307,13 @@ def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
                           [np.ldexp(c[idx], -kg) for c in configs], lift_g)
         with np.errstate(over="ignore", under="ignore"):
             arrays["waypoints"] = np.ldexp(arrays["waypoints"], kg)
-        arrays["clearance"] = certified_clearance(arrays["waypoints"], m)
-        yield idx, arrays, ok & (arrays["clearance"] > 0)
+        r = len(configs)
+        full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
+        via = [(j / (r - 1), full[j]) for j in range(1, r - 1)]
+        times = arrays["times"] if "times" in arrays else planner.path_times(r)
+        arrays["clearance"], clause = certificate(arrays["waypoints"], full[0], full[-1], m,
+                                                  times=times, via=via)
+        yield idx, arrays, ok & (clause == 0)
 
 
 def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, sequential: bool,
@@ -396,15 +398,15 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
     per_query_times = out["times"].ndim == 2
 
     r = len(configs)
-    via_rows = getattr(planner, "via_rows", lambda r: [])(r)
+    # the breakpoints: shared ones are checked once here, per-query ones chunk by chunk
+    shared_times = 0 if per_query_times else int(check_times(out["times"]))
 
-    def chunk(lo: int) -> tuple[int, int, np.ndarray, np.ndarray]:
+    def chunk(lo: int) -> tuple[int, int, np.ndarray]:
         hi = min(b, lo + CHUNK)
         obs = obstacles[lo:hi]
         cfg = [c[lo:hi] for c in configs]
-        wp, times = out["waypoints"][lo:hi], out["times"]
-        if per_query_times:
-            times = times[lo:hi]
+        wp = out["waypoints"][lo:hi]
+        times = out["times"][lo:hi] if per_query_times else out["times"]
         k = None
         if magnitude.needs_scaling([obs, *cfg], lift):
             k = magnitude.exponents([obs, *cfg], lift)
@@ -420,8 +422,8 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
             )
         else:
             ok = np.empty(hi - lo, dtype=bool)
-            for idx, arrays, ok_g in _scaled_call(planner, obs, cfg, lift, k, _fused_call(
-                    planner, r, m, n, d, per_query_times, validate, backend)):
+            call = _fused_call(planner, r, m, n, d, per_query_times, validate, backend)
+            for idx, arrays, ok_g in _scaled_call(planner, obs, cfg, lift, k, call):
                 wp[idx] = arrays["waypoints"]
                 out["domain"][lo + idx] = arrays["domain"]
                 out["strata"][lo + idx] = arrays["strata"]
@@ -429,8 +431,13 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
                 if per_query_times:
                     times[idx] = arrays["times"]
                 ok[idx] = ok_g
-        codes = _check_paths(times, wp, obs, cfg, via_rows)
-        return lo, hi, ok & (codes == 0), codes
+        # the kernels certified the waypoints (clauses 5-10, read back from their outputs), the
+        # reference and the scaled rows by pmplan.certify; the breakpoints are checked here
+        if per_query_times:
+            ok &= check_times(times) == 0
+        elif shared_times:
+            ok[:] = False
+        return lo, hi, ok
 
     starts = range(0, b, CHUNK)
     bar = None
@@ -445,7 +452,7 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
         pool = ThreadPoolExecutor(min(workers, len(starts)))
     try:
         done = map(chunk, starts) if pool is None else pool.map(chunk, starts)
-        for lo, hi, ok, codes in done:
+        for lo, hi, ok in done:
             if bar is not None:
                 bar.update()
             if not ok.all():
@@ -453,15 +460,31 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
                     check_query(obstacles, configs[0], configs[-1], batched=True)
                 bad = np.zeros(b, dtype=bool)
                 bad[lo:hi] = ~ok
-                full = np.zeros(b, np.uint8)
-                full[lo:hi] = codes
-                _raise_certificate(bad, batched, full, obstacles, configs, lift)
+                _raise_certificate(bad, batched, _failed_clauses(planner, out, bad, obstacles,
+                                                                 configs),
+                                   obstacles, configs, lift)
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
         if bar is not None:
             bar.close()
     return out
+
+
+def _failed_clauses(planner, out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarray:
+    """The clause of the certificate (:func:`pmplan.certify.certificate`) that each failing
+    query (``bad``) of a fused run fails, for the error message; (B,) uint8."""
+    idx = np.flatnonzero(bad)[:10]
+    times = out["times"][idx] if out["times"].ndim == 2 else out["times"]
+    m, r = obstacles.shape[1], len(configs)
+    full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
+    via = [(k / (r - 1), full[k]) for k in range(1, r - 1)]
+    with np.errstate(all="ignore"):
+        _, clause = certificate(out["waypoints"][idx], full[0], full[-1], m, times=times,
+                                via=via)
+    codes = np.zeros(bad.shape[0], np.uint8)
+    codes[idx] = clause
+    return codes
 
 
 def _fused_call(planner, r: int, m: int, n: int, d: int, per_query_times: bool, validate: bool,
@@ -693,24 +716,20 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
     if entry is None:
         return None
     run, p, dims, names = entry
-    return _fast_answer(run(o, s, g, lift), p, dims, names, o, (s, g))
+    return _fast_answer(run(o, s, g, lift), p, dims, names)
 
 
-def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict, obstacles,
-                 configs) -> Plan | None:
+def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict) -> Plan | None:
     """The :class:`Plan` of a fast-path kernel result ``(times, waypoints, domain, row,
     clearance)``, or None when the kernel declined (``res`` is None).
 
-    The kernel certified the clearance; clauses 1-9 of the certificate are checked here on
-    what is returned (:func:`pmplan._check.check_one`), and a path failing one raises the
-    :class:`CertificationError` naming it."""
+    The kernel certified the path: every clause of :data:`pmplan.certify.CLAUSES`, read back
+    from its outputs (a failing one is flagged, and the kernel declines); the obstacle-line
+    breakpoints are the constant :func:`~pmplan.planners.obstacle_line.path_times`, checked
+    once (:func:`_fast_entry`)."""
     if res is None:
         return None
     times, wp, domain, row, clearance = res
-    code = _check_one(times, wp, obstacles, configs, p)
-    if code:
-        _raise_certificate(np.ones(1, dtype=bool), False, np.array([code]), obstacles[None],
-                           [c[None] for c in configs], math.nan)
     stratum = names.get(row)
     if stratum is None:
         stratum = _stratum_name(p, row, dims, names)
@@ -755,11 +774,19 @@ def _fast_entry(key: tuple):
         if p is not None and p.supports(d, n, m) is None:
             run = p.plan_one_for(m, n, d) if hasattr(p, "plan_one_for") \
                 else getattr(p, "plan_one", None)
-            if run is not None:
+            if run is not None and _times_certified(p, 2):
                 entry = (run, p, (d, n, m), {})
     if len(_FAST) < 1024:
         _FAST[key] = entry
     return entry
+
+
+def _times_certified(p: Planner, r: int) -> bool:
+    """Whether the planner's shared breakpoints for r configurations (if it has them) pass
+    clauses 1-4 of the certificate -- checked once per fast-path entry, not per call. A
+    planner with per-query breakpoints checks them in its kernel (flag ``BROKEN``)."""
+    times = p.path_times(r) if hasattr(p, "path_times") else None
+    return times is None or check_times(times) == 0
 
 
 def _stratum_name(p: Planner, row: tuple, dims: tuple[int, int, int], names: dict) -> str:
@@ -923,7 +950,7 @@ def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
     if entry is None:
         return None
     run, p, dims, names = entry
-    return _fast_answer(run(o, cs, lift), p, dims, names, o, cs)
+    return _fast_answer(run(o, cs, lift), p, dims, names)
 
 
 def _sequence_entry(key: tuple):
@@ -936,7 +963,7 @@ def _sequence_entry(key: tuple):
         p = REGISTRY["obstacle_line"]
         if p.supports(d, n, m) is None:
             run = p.plan_sequence_one_for(r, m, n, d)
-            if run is not None:
+            if run is not None and _times_certified(p, r):
                 entry = (run, p, (d, n, m), {})
     if len(_FAST_SEQUENCE) < 1024:
         _FAST_SEQUENCE[key] = entry

@@ -35,6 +35,7 @@ import numpy as np
 __all__ = [
     "CLAUSES",
     "describe",
+    "check_times",
     "check_paths",
     "segment_clearance",
     "clearance",
@@ -71,6 +72,37 @@ CLEARANCE = 10
 def describe(clause: int) -> str:
     """Return the text of clause number ``clause`` (see :data:`CLAUSES`)."""
     return CLAUSES.get(int(clause), "certified") if clause else "certified"
+
+
+def check_times(times) -> np.ndarray:
+    """Return the first failing clause among 1-4 of :data:`CLAUSES` (0: all hold).
+
+    ``times`` of shape (K,) gives a scalar, (B, K) one code per path (uint8).
+
+    Examples
+    --------
+    >>> check_times(np.array([0.0, 0.5, 1.0])), check_times(np.array([0.0, np.nan, 1.0]))
+    (np.uint8(0), np.uint8(1))
+    >>> check_times(np.array([[0.0, 1.0], [1e-300, 1.0], [0.0, 0.5], [0.0, -1.0]])).tolist()
+    [0, 2, 3, 3]
+    """
+    t = np.asarray(times, dtype=float)
+    single = t.ndim == 1
+    t = t.reshape(1, -1) if single else t
+    codes = np.zeros(t.shape[0], np.uint8)
+    if t.shape[1] == 0:
+        codes[:] = 1
+    else:
+        with np.errstate(invalid="ignore"):
+            clauses = [
+                (1, np.isfinite(t).all(axis=1)),
+                (2, t[:, 0] == 0.0),
+                (3, t[:, -1] == 1.0),
+                (4, (t[:, 1:] >= t[:, :-1]).all(axis=1)),
+            ]
+        for number, holds in reversed(clauses):
+            codes[~holds] = number
+    return codes[0] if single else codes
 
 
 def check_paths(times, waypoints, start, goal, m: int, via=()) -> np.ndarray:
@@ -111,10 +143,6 @@ def check_paths(times, waypoints, start, goal, m: int, via=()) -> np.ndarray:
         return codes
     finite_t = np.isfinite(t).all(axis=1)
     clauses = [
-        (1, finite_t),
-        (2, t[:, 0] == 0.0),
-        (3, t[:, -1] == 1.0),
-        (4, (np.diff(t, axis=1) >= 0).all(axis=1)),
         (5, np.isfinite(wp).all(axis=(1, 2, 3))),
         (6, (wp[:, 0] == start).all(axis=(1, 2))),
         (7, (wp[:, -1] == goal).all(axis=(1, 2))),
@@ -135,6 +163,8 @@ def check_paths(times, waypoints, start, goal, m: int, via=()) -> np.ndarray:
     clauses.append((9, (wp[:, :, :m] == wp[:, :1, :m]).all(axis=(1, 2, 3))))
     for number, holds in reversed(clauses):
         codes[~holds] = number
+    tcodes = check_times(t)  # clauses 1-4 come first
+    codes[tcodes != 0] = tcodes[tcodes != 0]
     return codes
 
 

@@ -264,7 +264,7 @@ def _store_reference(raw: RawPlan, obstacles, configs, idx, wp, domain, strata, 
         f = np.flatnonzero(finite)
         start = np.concatenate([obstacles[f], configs[0][f]], axis=1)
         goal = np.concatenate([obstacles[f], configs[-1][f]], axis=1)
-        clr[f], ok[f] = certify(pw[f], start, goal, m)
+        clr[f], ok[f] = certify(pw[f], start, goal, m, times=raw.path.times)
         for k in range(1, len(configs) - 1):  # passes through C_k at tau = k/(r-1), waypoint 7k
             ok[f] &= (pw[f, 7 * k] == np.concatenate([obstacles[f], configs[k][f]], axis=1)
                       ).all(axis=(1, 2))

@@ -663,7 +663,7 @@ def _fused(obstacles, start, goal, times, wp, domain, strata, clearance, *,
     sus = np.flatnonzero(flags == KP.SUSPECT)
     if sus.size:
         clearance[sus] = certified_clearance(wp[sus], 3)
-    ok = clearance > 0
+    ok = (clearance > 0) & ((flags & KP.BROKEN) == 0)
     if idx.size:
         ok[idx] = _store_reference(obstacles, start, goal, idx, times, wp, domain, strata,
                                    clearance)
@@ -674,13 +674,15 @@ def _store_reference(obstacles, start, goal, idx, times, wp, domain, strata, cle
     """Plan rows ``idx`` with the numpy reference, certify them (:func:`pmplan.certify.certify`,
     as :func:`pmplan.api.plan_batch` certifies a RawPlan) and store them; return the certificate."""
     obs, s, g = obstacles[idx], start[idx], goal[idx]
-    raw = PLANAR_THREE.plan(obs, s, g, backend="numpy")
+    with np.errstate(all="ignore"):  # what overflows (coordinates ~1e308) fails the certificate
+        raw = PLANAR_THREE.plan(obs, s, g, backend="numpy")
     pw = raw.path.waypoints
     times[idx] = raw.path.times
     wp[idx] = pw
     domain[idx] = raw.domain
     strata[idx] = raw.strata
-    clr, ok = certify(pw, np.concatenate([obs, s], axis=1), np.concatenate([obs, g], axis=1), 3)
+    clr, ok = certify(pw, np.concatenate([obs, s], axis=1), np.concatenate([obs, g], axis=1), 3,
+                      times=raw.path.times)
     clearance[idx] = clr
     return ok
 
