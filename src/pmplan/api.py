@@ -962,7 +962,8 @@ def _sequence_entry(key: tuple):
         (m, d), n = oshape, cshape[0]
         p = REGISTRY["obstacle_line"]
         if p.supports(d, n, m) is None:
-            run = p.plan_sequence_one_for(r, m, n, d)
+            make = getattr(p, "plan_sequence_one_for", None)
+            run = None if make is None else make(r, m, n, d)
             if run is not None and _times_certified(p, r):
                 entry = (run, p, (d, n, m), {})
     if len(_FAST_SEQUENCE) < 1024:
