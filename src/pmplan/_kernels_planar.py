@@ -70,6 +70,7 @@ from ._kernels import (
     _TINY,
     _U,
     _MAXF,
+    _OBSTACLE_TINY2,
     AVAILABLE,
     BROKEN,
     FALLBACK,
@@ -546,6 +547,8 @@ def plan_planar(obstacles, start, goal, even, validate, times, wp, domain, strat
                 best = dist2 if dist2 < best else best  # noqa: FURB136
         for dx, dy in ((o1x - o2x, o1y - o2y), (o1x - o3x, o1y - o3y), (o2x - o3x, o2y - o3y)):
             dist2 = dx * dx + dy * dy
+            if not dist2 >= _OBSTACLE_TINY2:  # the square may have underflowed
+                fl |= SUSPECT
             best = dist2 if dist2 < best else best  # noqa: FURB136
         clearance[b] = math.sqrt(best)
         flags[b] = fl

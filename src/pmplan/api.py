@@ -255,7 +255,7 @@ def _magnitude_hint(clause: int, obstacles: np.ndarray, configs, lift: float) ->
     (None for a query of ordinary magnitude)."""
     with np.errstate(all="ignore"):
         size = float(max(np.abs(obstacles).max(), *(np.abs(c).max() for c in configs)))
-    if clause in (1, 5) and size > 2.0**LARGE:
+    if clause in (1, 5) and max(size, lift) > 2.0**LARGE:
         return (f"the path leaves the range of double precision (coordinates up to {size:.3g}, "
                 f"lift {lift:.3g}): scale the scene down, or use a smaller `lift`")
     if size > 0 and lift < size * 2.0**-RESOLUTION:
@@ -263,19 +263,19 @@ def _magnitude_hint(clause: int, obstacles: np.ndarray, configs, lift: float) ->
                 f"{size:.3g}), so the lifted robots cannot leave the line: use a larger `lift` "
                 "(of the order of the scene's size, or lift=\"scene\", a unit that scales with the "
                 "obstacles)")
-    if lift > size * 2.0**RESOLUTION:
-        return (f"the coordinates (up to {size:.3g}) are below the resolution of `lift` = "
-                f"{lift:.3g}, so the lifted motion cannot be represented: use a smaller `lift` "
-                "(of the order of the scene's size, or lift=\"scene\", a unit that scales with the "
-                "obstacles)")
+    if 0 < size < 2.0**TINY:
+        return (f"the coordinates (up to {size:.3g}) are at the bottom of the range of double "
+                "precision, where the planner's constructions (e.g. eps(C), a gap divided by "
+                "m + n) lose their bits: scale the scene up (by a power of two, which is exact)")
     return None
 
 
 #: a path may overflow when the coordinates exceed 2**LARGE
 LARGE = 1000
-#: a lift below 2**-RESOLUTION times the largest coordinate (or above 2**RESOLUTION times) is
-#: lost in rounding
+#: a lift below 2**-RESOLUTION times the largest coordinate is lost in rounding
 RESOLUTION = 50
+#: coordinates below 2**TINY are near the subnormal range
+TINY = -1000
 
 
 def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
@@ -702,7 +702,7 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
     """
     if type(lift) is not float:
         lift = _fast_lift(lift)
-    if not 0.0 < lift < math.inf:  # False for NaN
+    if not _LIFT_LOW <= lift < _LIFT_HIGH:  # False for NaN; extreme lifts: the general path
         return None
     o = _fast_array(obstacles)
     s = _fast_array(start)
@@ -809,6 +809,10 @@ def _new_plan(domain: int, stratum: str, clearance: float, path: PiecewiseLinear
 
 
 _F64 = np.dtype(np.float64)
+#: the single-query fast paths plan only lifts in this range (and, as the kernels check,
+#: coordinates below 2**LIMIT): the other queries may need scaling (:mod:`pmplan.magnitude`)
+_LIFT_LOW = 2.0**-magnitude.LIMIT
+_LIFT_HIGH = 2.0**magnitude.LIMIT
 _NEW = object.__new__
 _SETATTR = object.__setattr__
 _UNSEEN = object()
@@ -931,7 +935,7 @@ def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
     """
     if type(lift) is not float:
         lift = _fast_lift(lift)
-    if not 0.0 < lift < math.inf or not (
+    if not _LIFT_LOW <= lift < _LIFT_HIGH or not (
         type(configs) in (list, tuple) or type(configs) is np.ndarray and configs.ndim == 3
     ):
         return None

@@ -45,11 +45,12 @@ __all__ = [
 
 # a float minimum below _REL * (scale of the pair on that piece) is re-decided exactly
 _REL = 1e-9
-# beyond these magnitudes a squared distance may overflow / lose bits to underflow: re-decided
-# exactly (the float value is not trusted)
-_HUGE = 2.0**480
-_TINY = 2.0**-480
 _MAXF = 1.7976931348623157e308  # the largest finite float
+# an obstacle pair whose squared distance is below this (it may have underflowed), or not finite
+# (it overflowed), is measured exactly (the kernels flag it SUSPECT)
+_OBSTACLE_TINY2 = 2.0**-1000
+# paths with waypoints outside [2**-_RANGE, 2**_RANGE) are measured scaled by a power of two
+_RANGE = 500
 
 #: the clauses of the certificate, by number (0: certified); :func:`certificate` reports the
 #: first one that fails
@@ -214,6 +215,40 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
     return val
 
 
+def _scaled_rows(wp: np.ndarray, m: int):
+    """The clearance of the paths whose waypoints lie outside ``[2**-_RANGE, 2**_RANGE)``
+    (squares would underflow or overflow), computed on the path scaled by the power of two that
+    brings them into ``[0.5, 1)`` and scaled back -- exact, since distances scale exactly; a
+    positive value below the float range is reported as the smallest positive double. Returns
+    ``(rows, values)``, or None when no row needs it (or the scaling is not exact)."""
+    b = wp.shape[0]
+    if b == 0 or wp.size == 0:
+        return None
+    with np.errstate(invalid="ignore"):
+        amax = np.abs(wp).reshape(b, -1).max(axis=1)
+        extreme = np.isfinite(amax) & (amax > 0) & ~((amax >= 2.0**-_RANGE) & (amax < 2.0**_RANGE))
+    if not extreme.any():
+        return None
+    rows, values = [], []
+    for i in np.flatnonzero(extreme):
+        _, e = np.frexp(amax[i])
+        ws = np.ldexp(wp[i], -e)
+        if not np.array_equal(np.ldexp(ws, e), wp[i]):
+            continue  # bits below the range: the float path decides (exactly where small)
+        c = float(clearance(ws[None], m)[0])
+        with np.errstate(over="ignore", under="ignore"):
+            v = float(np.ldexp(c, e)) if np.isfinite(c) else c
+        if c > 0 and v == 0.0:
+            v = 5e-324  # positive below the float range (as _exact_segment_clearance)
+        if np.isfinite(c) and v == np.inf:
+            v = _MAXF  # above the float range: the largest double, a lower bound
+        rows.append(i)
+        values.append(v)
+    if not rows:
+        return None
+    return np.array(rows), np.array(values)
+
+
 def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
     """Return the exact-where-it-matters clearance of a batch of paths.
 
@@ -245,6 +280,15 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
     out = np.full(b, np.inf)
     if pi.size == 0:
         return out
+    scaled = _scaled_rows(wp, m)
+    if scaled is not None:
+        rows, values = scaled
+        keep = np.ones(b, dtype=bool)
+        keep[rows] = False
+        if keep.any():
+            out[keep] = clearance(wp[keep], m)
+        out[rows] = values
+        return out
     with np.errstate(over="ignore", invalid="ignore"):  # re-decided exactly below
         rel = wp[:, :, pi, :] - wp[:, :, pj, :]  # (B, K, pairs, d)
     r0, r1 = rel[:, :-1], rel[:, 1:]
@@ -255,13 +299,13 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
         np.maximum(np.abs(wp[:, 1:, pi]).max(-1), np.abs(wp[:, 1:, pj]).max(-1)),
     )
     # a waypoint that is not finite is not a path: its certificate fails below. A relative
-    # position that overflows (finite waypoints ~1e308 apart), a square that overflows or
-    # underflows, and a small float minimum are re-decided exactly.
+    # position or a square that overflows (finite waypoints beyond ~1e154) and a small float
+    # minimum are re-decided exactly.
     finite = np.isfinite(wp[:, :-1, pi]).all(-1) & np.isfinite(wp[:, :-1, pj]).all(-1) \
         & np.isfinite(wp[:, 1:, pi]).all(-1) & np.isfinite(wp[:, 1:, pj]).all(-1)
     with np.errstate(invalid="ignore", over="ignore"):
-        extreme = ~((scale < _HUGE) & (scale > _TINY)) | ~np.isfinite(dist)
-        suspect = (~(dist > _REL * np.maximum(scale, absval * 1e-6)) | extreme) & finite
+        suspect = (~(dist > _REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(dist)) \
+            & finite
     dist[~finite] = np.nan
     for bi, ki, qi in zip(*np.nonzero(suspect)):
         dist[bi, ki, qi] = _exact_segment_clearance(
@@ -273,11 +317,11 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
         oi, oj = np.triu_indices(m, k=1)
         with np.errstate(over="ignore", invalid="ignore"):
             od = wp[:, 0, oi] - wp[:, 0, oj]
-            odist = np.sqrt((od * od).sum(-1))  # (B, pairs)
-            odscale = np.abs(od).max(-1)
-            bad = ~((odscale < _HUGE) & (odscale > _TINY)) & np.isfinite(wp[:, 0, oi]).all(-1) \
+            od2 = (od * od).sum(-1)  # (B, pairs), summed as the kernels sum it
+            odist = np.sqrt(od2)
+            bad = ~(od2 >= _OBSTACLE_TINY2) & np.isfinite(wp[:, 0, oi]).all(-1) \
                 & np.isfinite(wp[:, 0, oj]).all(-1)
-        for bi, qi in zip(*np.nonzero(bad)):  # out of the float range of a square: exactly
+        for bi, qi in zip(*np.nonzero(bad)):  # the square overflowed or may have underflowed
             a, c = wp[bi, 0, oi[qi]], wp[bi, 0, oj[qi]]
             odist[bi, qi] = _exact_segment_clearance(a, c, a, c)
         out = np.minimum(out, odist.min(axis=1))
