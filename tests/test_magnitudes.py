@@ -16,7 +16,7 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import assume, given
+from hypothesis import assume, event, given
 from hypothesis import strategies as st
 from strategies import queries
 
@@ -102,6 +102,7 @@ def test_power_of_two_scaling_is_exact(data, shape, k):
         q = [np.ldexp(a, k) for a in (o, s, g)]
     assume(all(np.array_equal(np.ldexp(a, -k), b) for a, b in zip(q, (o, s, g))))
     lift = float(np.ldexp(1.0, k))
+    event(f"the scaled path is representable: {exact}")
     for backend in ("numba", "numpy"):
         for p in (_outcome(pmplan.plan, *q, lift=lift, backend=backend),
                   _outcome(lambda: pmplan.plan_batch(*(a[None] for a in q), lift=lift,
