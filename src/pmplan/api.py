@@ -610,7 +610,19 @@ def plan_batch(
     InputError
         (a ValueError) for malformed input: see :mod:`pmplan.errors`.
     CertificationError
-        If a path would not be collision-free in double precision.
+        If a path fails a clause of its certificate (:data:`pmplan.certify.CLAUSES`, named in
+        the message): e.g. it would not be collision-free in double precision, or it is not
+        representable at the query's magnitude (the message says what to do).
+
+    Notes
+    -----
+    Every returned path passes the whole certificate of :mod:`pmplan.certify` (finite times
+    from 0 to 1 that never decrease; finite waypoints from exactly the start to exactly the
+    goal; obstacles fixed; clearance > 0). Any finite input, from 5e-324 to 1.8e308, gets a
+    certified path or a pmplan error: queries beyond ``2**430`` (or, with ``lift``, below
+    ``2**-430``) are planned scaled by a power of two, which is exact, and scaled back
+    (:mod:`pmplan.magnitude`); ordinary queries are not touched. ``B = 0`` is a valid empty
+    batch.
 
     Examples
     --------
@@ -663,6 +675,11 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float = 1.
     -------
     Plan
         ``domain``, ``stratum``, ``clearance`` and ``path`` (waypoints (K, m+n, d)).
+
+    Raises
+    ------
+    InputError, CertificationError
+        As :func:`plan_batch` (whose Notes describe the certificate and extreme magnitudes).
 
     Examples
     --------
