@@ -398,6 +398,10 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
     per_query_times = out["times"].ndim == 2
 
     r = len(configs)
+    # only a planner that maps 2**k C (with lift 2**k) to 2**k times the path of C is scaled;
+    # another one plans extreme queries as given (its reference under np.errstate) and its
+    # certificate decides
+    equivariant = getattr(planner, "equivariant", False)
     # the breakpoints: shared ones are checked once here, per-query ones chunk by chunk
     shared_times = 0 if per_query_times else int(check_times(out["times"]))
 
@@ -408,10 +412,9 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
         wp = out["waypoints"][lo:hi]
         times = out["times"][lo:hi] if per_query_times else out["times"]
         k = None
-        if magnitude.needs_scaling([obs, *cfg], lift):
-            k = magnitude.exponents([obs, *cfg], lift)
-            if not getattr(planner, "equivariant", False):
-                k[:] = 0
+        lift_c = lift[lo:hi] if np.ndim(lift) else lift  # a per-query lift scales too
+        if equivariant and magnitude.needs_scaling([obs, *cfg], lift_c):
+            k = magnitude.exponents([obs, *cfg], lift_c)
         if k is None:
             extra = {"times": times} if per_query_times else {}
             if validate:
@@ -423,7 +426,7 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
         else:
             ok = np.empty(hi - lo, dtype=bool)
             call = _fused_call(planner, r, m, n, d, per_query_times, validate, backend)
-            for idx, arrays, ok_g in _scaled_call(planner, obs, cfg, lift, k, call):
+            for idx, arrays, ok_g in _scaled_call(planner, obs, cfg, lift_c, k, call):
                 wp[idx] = arrays["waypoints"]
                 out["domain"][lo + idx] = arrays["domain"]
                 out["strata"][lo + idx] = arrays["strata"]
