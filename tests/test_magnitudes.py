@@ -189,6 +189,14 @@ def test_lift_below_the_resolution_says_what_to_do():
         assert _certified(p, o, [s, g], 2)
 
 
+def test_a_lift_far_above_the_scene_is_planned():
+    o, s, g = [[0.0, 0.0], [2.0, 0.0]], [[0.0, 1.0]], [[1.0, -1.0]]
+    for lift in (1e300, 1e307):
+        p = pmplan.plan(o, s, g, lift=lift)
+        assert _certified(p, o, [s, g], 2)
+        assert p.path.waypoints[:, 2, 1].max() == lift  # lifted by exactly lift
+
+
 def test_a_tiny_scene_with_the_default_lift_is_planned():
     t = 2.0**-1000
     o, s = [[0.0, 0.0], [4 * t, 4 * t]], [[t, t], [2 * t, 2 * t]]
@@ -236,6 +244,8 @@ def test_exponents_scale_only_what_needs_it_and_only_exactly():
     k = magnitude.exponents([q], 1.0)
     assert k.tolist() == [1024, 0, 0, 0]  # the last one does not survive 2**-1024 exactly
     assert magnitude.exponents([q], 1e-300).tolist()[2] == -960
+    # a lift 1e300 times the scene: the coordinates stay in [2**-430, 2**430), not subnormal
+    assert magnitude.exponents([q], 1e300).tolist() == [1024, 384, 0, 0]
     assert not magnitude.needs_scaling([q[1:2]], 1.0)
     assert magnitude.needs_scaling([q[:1]], 1.0)
     assert magnitude.needs_scaling([q[1:2]], 1e-200)

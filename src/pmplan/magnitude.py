@@ -38,6 +38,16 @@ def _max_abs(arrays) -> np.ndarray:
     return out
 
 
+def _up(e):
+    """The multiple of STEP at or above e (integer arrays)."""
+    return -((-e) // STEP) * STEP
+
+
+def _down(e):
+    """The multiple of STEP at or below e."""
+    return (e // STEP) * STEP
+
+
 def needs_scaling(arrays, lift) -> bool:
     """Cheap test over a whole chunk: may some query need scaling (see :func:`exponents`)?
 
@@ -61,7 +71,9 @@ def exponents(arrays, lift) -> np.ndarray:
 
     0 for a query whose ``S = max(max |coordinate|, lift)`` lies in ``[2**-LIMIT, 2**LIMIT)``
     and for one that does not survive the scaling exactly; otherwise a multiple of :data:`STEP`
-    with ``S * 2**-k`` in ``[2**-STEP, 1)``.
+    with ``S * 2**-k`` in ``[2**-STEP, 1)`` -- or, if that takes the coordinates or the lift out
+    of ``[2**-LIMIT, 2**LIMIT)``, the nearest that keeps both in it (when none does, the
+    coordinates in it: they are what the exact predicates read).
 
     Examples
     --------
@@ -71,17 +83,31 @@ def exponents(arrays, lift) -> np.ndarray:
     """
     b = arrays[0].shape[0]
     lift_b = np.broadcast_to(np.asarray(lift, dtype=float), (b,))
-    s = np.maximum(_max_abs(arrays), lift_b)
+    size = _max_abs(arrays)
+    s = np.maximum(size, lift_b)
     hi = 2.0**LIMIT
     extreme = ~((s < hi) & (s >= 1.0 / hi))
     k = np.zeros(b, np.int64)
     if not extreme.any():
         return k
     _, e = np.frexp(s[extreme])  # s = f 2**e, f in [0.5, 1)
-    k[extreme] = -((-e) // STEP) * STEP  # the multiple of STEP at or above e
+    _, e_size = np.frexp(size[extreme])
+    _, e_lift = np.frexp(lift_b[extreme])
+    want = _up(e)  # the multiple of STEP at or above e: S 2**-k in [2**-STEP, 1)
+
+    def band(ex):  # the k (multiples of STEP) that bring 2**(ex-1)..2**ex into the band
+        return _up(ex - LIMIT), _down(ex - 1 + LIMIT)
+
+    lo_s, hi_s = band(e_size)
+    lo_l, hi_l = band(e_lift)
+    lo, hi_ = np.maximum(lo_s, lo_l), np.minimum(hi_s, hi_l)
+    # both in the band if possible, else the coordinates (the predicates' inputs) first
+    meet = lo <= hi_
+    k[extreme] = np.where(meet, np.clip(want, lo, np.maximum(lo, hi_)), np.clip(want, lo_s, hi_s))
     # exact round trip of every coordinate and of the lift
     for i in np.flatnonzero(extreme):
         vals = [np.asarray(a[i], dtype=float) for a in arrays] + [lift_b[i : i + 1]]
-        if not all(np.array_equal(np.ldexp(np.ldexp(v, -k[i]), k[i]), v) for v in vals):
-            k[i] = 0
+        with np.errstate(over="ignore", under="ignore"):
+            if not all(np.array_equal(np.ldexp(np.ldexp(v, -k[i]), k[i]), v) for v in vals):
+                k[i] = 0
     return k
