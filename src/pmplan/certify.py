@@ -219,11 +219,16 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
         val = math.sqrt(float(sq))
     except OverflowError:
         val = math.inf
-    if val == 0.0 or not math.isfinite(val):  # outside the float range: go through logarithms
-        half_log = 0.5 * (math.log(sq.numerator) - math.log(sq.denominator))
-        # above the largest double (two points ~1e308 apart): report the largest double, a
-        # lower bound; positive but below the float range: the smallest positive double
-        val = _MAXF if half_log > 709.0 else math.exp(half_log)
+    if val == 0.0 or not math.isfinite(val):
+        # outside the float range: the square root of sq 4**j (exact scaling into the range),
+        # scaled back by 2**-j. Above the largest double (two points ~1e308 apart): the largest
+        # double, a lower bound; positive but below the float range: the smallest positive one
+        j = (sq.denominator.bit_length() - sq.numerator.bit_length()) // 2
+        root = math.sqrt(float(sq * Fraction(4) ** j if j >= 0 else sq / Fraction(4) ** -j))
+        try:
+            val = math.ldexp(root, -j)
+        except OverflowError:
+            val = _MAXF
     if val == 0.0:
         val = 5e-324
     return val
