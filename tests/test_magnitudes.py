@@ -251,3 +251,24 @@ def test_exponents_scale_only_what_needs_it_and_only_exactly():
     assert magnitude.needs_scaling([q[1:2]], 1e-200)
     assert magnitude.needs_scaling([q[1:2]], 1e200)
     assert magnitude.needs_scaling([q[1:2]], np.array([1.0, 1e200]))  # a per-query lift
+
+
+@given(data=st.data(), k=st.integers(-1074, 1023))
+def test_planar_labels_do_not_change_under_power_of_two_scaling(data, k):
+    """The planar planner's classification is exact, so a degenerate integer query scaled by
+    2**k keeps its domain and stratum whenever a certified path is returned (its unit is
+    absolute, so the path itself is the scaled one only for strata that do not use it)."""
+    o, s, g = data.draw(queries(2, 3, 1, degenerate=True, grid="int"))
+    base = pmplan.plan(o, s, g)
+    with np.errstate(over="ignore", under="ignore"):
+        q = [np.ldexp(a, k) for a in (o, s, g)]
+    assume(all(np.array_equal(np.ldexp(a, -k), b) for a, b in zip(q, (o, s, g))))
+    for backend in ("numba", "numpy"):
+        p = _outcome(pmplan.plan, *q, backend=backend)
+        assert isinstance(p, (pmplan.Plan, CertificationError)), p
+        if isinstance(p, pmplan.Plan):
+            assert (p.domain, p.stratum) == (base.domain, base.stratum)
+            assert _certified(p, q[0], q[1:], 3)
+            event("certified")
+        else:
+            event("refused")
