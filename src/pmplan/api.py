@@ -463,8 +463,7 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
                     check_query(obstacles, configs[0], configs[-1], batched=True)
                 bad = np.zeros(b, dtype=bool)
                 bad[lo:hi] = ~ok
-                _raise_certificate(bad, batched, _failed_clauses(planner, out, bad, obstacles,
-                                                                 configs),
+                _raise_certificate(bad, batched, _failed_clauses(out, bad, obstacles, configs),
                                    obstacles, configs, lift)
     finally:
         if pool is not None:
@@ -474,7 +473,7 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
     return out
 
 
-def _failed_clauses(planner, out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarray:
+def _failed_clauses(out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarray:
     """The clause of the certificate (:func:`pmplan.certify.certificate`) that each failing
     query (``bad``) of a fused run fails, for the error message; (B,) uint8."""
     idx = np.flatnonzero(bad)[:10]
