@@ -272,3 +272,22 @@ def test_planar_labels_do_not_change_under_power_of_two_scaling(data, k):
             event("certified")
         else:
             event("refused")
+
+
+def test_paths_at_the_top_of_the_range_evaluate_without_overflow():
+    """Sampling, resampling and the length of a certified path whose waypoints are ~1e308
+    apart: exact at the breakpoints, finite in between, no warning."""
+    p = _outcome(pmplan.plan, [[0, 0], [1e308, 0]], [[5e307, 1e308]], [[1e308, -1e308]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        at = p.path(p.path.times)
+        np.testing.assert_array_equal(at, p.path.waypoints)
+        mid = p.path(np.linspace(0.0, 1.0, 33))
+        assert np.isfinite(mid).all()
+        assert np.isfinite(p.path.resample(9).waypoints).all()
+        legs = p.path.leg_lengths()
+        assert np.isfinite(legs).all() and (legs >= 0).all()
+        assert p.path.length() == np.inf or np.isfinite(p.path.length())
+        # times proportional to length, computed without overflow
+        t = p.path.arc_length_reparametrised().times
+        assert np.isfinite(t).all() and t[0] == 0.0 and t[-1] == 1.0 and (np.diff(t) >= 0).all()

@@ -153,7 +153,13 @@ class PiecewiseLinearPath:
             a, b = wp[bidx, idx], wp[bidx, idx + 1]
         f = frac[..., None, None]
         # exact at the breakpoints: t_k gives P_k and t_{k+1} gives P_{k+1} bit for bit
-        out = np.where(f == 1.0, b, a + f * (b - a))
+        with np.errstate(over="ignore", invalid="ignore"):
+            step = b - a
+            out = np.where(f == 1.0, b, a + f * step)
+            wide = ~np.isfinite(step) & np.isfinite(a) & np.isfinite(b)
+            if wide.any():  # waypoints ~1e308 apart: the same point from the halves, exactly
+                half = 2.0 * (0.5 * a + f * (0.5 * b - 0.5 * a))
+                out = np.where(wide & (f != 1.0), half, out)
         if scalar:
             return out[..., 0, :, :]
         return out.reshape(out.shape[:-3] + tshape + out.shape[-2:])
