@@ -162,6 +162,17 @@ def test_every_clause_has_a_text_and_the_order_is_the_documented_one():
     assert check_paths(t, w, full[0], full[2], 2).tolist() == [1]
 
 
+@pytest.mark.parametrize("row", [0, 3, 6])
+@pytest.mark.parametrize("clause", TIME_CLAUSES)
+def test_time_clauses_find_the_one_broken_row_of_a_batch(row, clause):
+    t = np.tile(OL.path_times(2), (7, 1))
+    CORRUPT[clause](t[row : row + 1], np.zeros((1, t.shape[1], 3, 2)), 2)
+    want = [clause if i == row else 0 for i in range(7)]
+    assert check_times(t).tolist() == want
+    assert check_times(t[row]) == clause
+    assert check_times(np.delete(t, row, axis=0)).tolist() == [0] * 6
+
+
 def test_times_without_breakpoints_fail():
     assert check_times(np.empty((1, 0))).tolist() == [1]
 
