@@ -291,3 +291,17 @@ def test_paths_at_the_top_of_the_range_evaluate_without_overflow():
         # times proportional to length, computed without overflow
         t = p.path.arc_length_reparametrised().times
         assert np.isfinite(t).all() and t[0] == 0.0 and t[-1] == 1.0 and (np.diff(t) >= 0).all()
+
+
+@pytest.mark.parametrize("backend", ["numba", "numpy"])
+def test_planar_unit_below_the_resolution_says_so(backend):
+    """T1_11 on the diagonal at scale 2**702: the W1 path runs one unit above L_C, which is
+    below the resolution of the coordinates, so it would pass through o3."""
+    sc = 2.0**700
+    o = np.array([[0, 0], [4, 4], [2, 2]]) * sc
+    s, g = np.array([[1.0, 1.0]]) * sc, np.array([[3.0, 3.0]]) * sc
+    with pytest.raises(CertificationError, match="below the resolution") as info:
+        pmplan.plan(o, s, g, backend=backend)
+    assert CLAUSES[10] in str(info.value)
+    p = pmplan.plan(o / sc, s / sc, g / sc, backend=backend)  # the same query at scale 4
+    assert _certified(p, o / sc, [s / sc, g / sc], 3)

@@ -223,12 +223,13 @@ def _check_backend(backend) -> None:
 
 def _raise_certificate(bad: np.ndarray, batched: bool, codes: np.ndarray | None = None,
                        obstacles: np.ndarray | None = None, configs=None,
-                       lift=None) -> None:
+                       lift=None, lift_is_unit: bool = True) -> None:
     """Raise the :class:`CertificationError` of the queries ``bad`` (bool, (B,)).
 
     ``codes`` (B,) are the clauses of :data:`pmplan.certify.CLAUSES` that failed (0 where only
     the kernel's clearance failed); with the query (``obstacles``, ``configs``, ``lift``) the
-    message also says when the magnitudes, not the geometry, are the cause, and what to do.
+    message also says when the magnitudes, not the geometry, are the cause, and what to do
+    (``lift_is_unit``: the planner's unit is ``lift``; else it is the paper's absolute 1).
     """
     idx = np.flatnonzero(bad)
     where = f" for queries {idx[:10].tolist()}{'...' if idx.size > 10 else ''}" if batched else ""
@@ -238,9 +239,9 @@ def _raise_certificate(bad: np.ndarray, batched: bool, codes: np.ndarray | None 
     what = describe(clause)
     hint = None
     if obstacles is not None and idx.size:
-        hint = _magnitude_hint(clause, obstacles[first], [c[first] for c in configs],
-                               np.broadcast_to(np.asarray(lift, dtype=float),
-                                               bad.shape)[first])
+        unit = np.broadcast_to(np.asarray(lift, dtype=float), bad.shape)[first] \
+            if lift_is_unit else None
+        hint = _magnitude_hint(clause, obstacles[first], [c[first] for c in configs], unit)
     if hint is None:
         hint = ("the query is too nearly degenerate for double precision (two points would meet "
                 "or the path is not finite)")
@@ -250,15 +251,22 @@ def _raise_certificate(bad: np.ndarray, batched: bool, codes: np.ndarray | None 
     )
 
 
-def _magnitude_hint(clause: int, obstacles: np.ndarray, configs, lift: float) -> str | None:
+def _magnitude_hint(clause: int, obstacles: np.ndarray, configs, lift: float | None
+                    ) -> str | None:
     """Why a query at an extreme magnitude has no representable certified path, and what to do
-    (None for a query of ordinary magnitude)."""
+    (None for a query of ordinary magnitude). ``lift`` None: the planner's unit is the paper's
+    absolute 1, not ``lift``."""
     with np.errstate(all="ignore"):
         size = float(max(np.abs(obstacles).max(), *(np.abs(c).max() for c in configs)))
-    if clause in (1, 5) and max(size, lift) > 2.0**LARGE:
+    unit = 1.0 if lift is None else lift
+    if clause in (1, 5) and max(size, unit) > 2.0**LARGE:
+        more = "" if lift is None else ", or use a smaller `lift`"
         return (f"the path leaves the range of double precision (coordinates up to {size:.3g}, "
-                f"lift {lift:.3g}): scale the scene down, or use a smaller `lift`")
-    if size > 0 and lift < size * 2.0**-RESOLUTION:
+                f"unit {unit:.3g}): scale the scene down{more}")
+    if lift is None and size > 0 and unit < size * 2.0**-RESOLUTION:
+        return (f"the planner's unit (the paper's 1) is below the resolution of the coordinates "
+                f"(up to {size:.3g}): scale the scene down (by a power of two, which is exact)")
+    if size > 0 and unit < size * 2.0**-RESOLUTION:
         return (f"`lift` = {lift:.3g} is below the resolution of the coordinates (up to "
                 f"{size:.3g}), so the lifted robots cannot leave the line: use a larger `lift` "
                 "(of the order of the scene's size, or lift=\"scene\", a unit that scales with the "
@@ -358,7 +366,8 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
             bad[lo:hi] = ~ok
             full = np.zeros(b, np.uint8)
             full[lo:hi] = codes
-            _raise_certificate(bad, batched, full, obstacles, configs, lift)
+            _raise_certificate(bad, batched, full, obstacles, configs, lift,
+                               getattr(planner, "equivariant", False))
         if out is None:
             times = raw.path.times
             out = dict(
@@ -464,7 +473,7 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
                 bad = np.zeros(b, dtype=bool)
                 bad[lo:hi] = ~ok
                 _raise_certificate(bad, batched, _failed_clauses(out, bad, obstacles, configs),
-                                   obstacles, configs, lift)
+                                   obstacles, configs, lift, equivariant)
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
