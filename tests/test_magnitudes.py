@@ -76,14 +76,18 @@ def test_every_magnitude_gets_a_certified_answer_or_a_pmplan_error(data, shape, 
             assert _certified(single, o, [s, g], m)
         batch = _outcome(pmplan.plan_batch, o[None], s[None], g[None], lift=lift_value,
                          backend=backend)
-        assert type(batch) is type(single) or isinstance(batch, pmplan.PlanBatch) == isinstance(
-            single, pmplan.Plan)
+        assert isinstance(batch, pmplan.PlanBatch) == isinstance(single, pmplan.Plan)
         if isinstance(batch, pmplan.PlanBatch):
             assert _certified(batch[0], o, [s, g], m)
         if (d, n, m) != (2, 1, 3):
             seq = _outcome(pmplan.plan_sequence, o, [s, g, s], lift=lift_value, backend=backend)
             if isinstance(seq, pmplan.Plan):
                 assert _certified(seq, o, [s, g, s], m)
+            seqs = _outcome(pmplan.plan_sequence_batch, o[None], [s[None], g[None], s[None]],
+                            lift=lift_value, backend=backend)
+            assert isinstance(seqs, pmplan.PlanBatch) == isinstance(seq, pmplan.Plan)
+            if isinstance(seqs, pmplan.PlanBatch):
+                np.testing.assert_array_equal(seqs.waypoints[0], seq.path.waypoints)
 
 
 @given(data=st.data(), shape=st.sampled_from(SHAPES[:5]), k=st.integers(-1074, 1023))
