@@ -57,9 +57,12 @@ reference code:
     a configuration needs the exact rational (``fractions.Fraction``) stage of
     ``projection_classes``: an undecided pair the error-free stage cannot settle, a run of
     undecided neighbours that is not all-equal, or a non-finite projection bound. The whole query
-    is recomputed with the numpy reference.
+    is recomputed with the numpy reference. Also (only when asked to validate: the single-query
+    paths) a coordinate beyond ``2**430``, where :mod:`pmplan.api` plans the query scaled by a
+    power of two (:mod:`pmplan.magnitude`); nothing is computed.
 ``SUSPECT``
-    a float minimum distance is below ``certify``'s threshold ``1e-9 * scale``: the clearance of
+    a float minimum distance is below ``certify``'s threshold ``1e-9 * scale``, or the squared
+    distance of two obstacles is below ``2**-1000`` (it may have underflowed): the clearance of
     the query is recomputed by :func:`pmplan.certify.clearance` (exact on that pair).
 ``NONFINITE``
     a waypoint is not finite: the certificate fails.
@@ -123,6 +126,12 @@ _REL = 1e-9  # as in pmplan.certify
 _BIG = 2.0**900  # TwoProduct's split overflows beyond this (as in pmplan.predicates)
 _SMALL = 2.0**-900  # below this TwoProduct's error term may underflow (as in pmplan.predicates)
 _MAXF = 1.7976931348623157e308  # the largest finite float
+#: (validating) a coordinate beyond this is flagged FALLBACK: such queries are planned scaled
+#: by a power of two (2**pmplan.magnitude.LIMIT)
+_EXTREME = 2.0**430
+#: an obstacle pair whose squared distance is below this is SUSPECT (the square may have
+#: underflowed; pmplan.certify.clearance decides it exactly, as _OBSTACLE_TINY2 there)
+_OBSTACLE_TINY2 = 2.0**-1000
 
 
 #: chunks smaller than this are planned query by query (:func:`_plan`), larger ones mostly
@@ -592,11 +601,14 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
                 for c in range(d):
                     y[k, m + j, c] = middle[k - 1, b, j, c]
         if validate:
+            extreme = False
             for k in range(r):
                 for i in range(p):
                     for c in range(d):
                         if not math.isfinite(y[k, i, c]):
                             fl = INVALID
+                        elif not abs(y[k, i, c]) < _EXTREME:
+                            extreme = True
                     for j in range(i):
                         same = True
                         for c in range(d):
@@ -606,6 +618,9 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
                             fl = INVALID
             if fl:
                 flags[b] = fl
+                continue
+            if extreme:  # planned scaled by a power of two by the caller (pmplan.magnitude)
+                flags[b] = FALLBACK
                 continue
         # --- frame (pmplan.frame): w = o2 - o1, e, |w|, nu(e), e == N ------------------------
         for c in range(d):
@@ -748,6 +763,8 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
                 for c in range(d):
                     dc = wf[b, i * d + c] - wf[b, j * d + c]
                     dist2 += dc * dc
+                if not dist2 >= _OBSTACLE_TINY2:  # the square may have underflowed
+                    fl |= SUSPECT
                 if dist2 < best:  # noqa: PLR1730 (explicit compare: NaN is never selected)
                     best = dist2
         clearance[b] = math.sqrt(best)
@@ -1206,6 +1223,8 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     for l in range(L):
                         dc = S[i * d + c, l] - S[j * d + c, l]
                         T[ACC, l] += dc * dc
+                for l in range(L):  # a square that may have underflowed: the scalar path
+                    T[BAD, l] += 0.0 if T[ACC, l] >= _OBSTACLE_TINY2 else 1.0
                 _fold_min(T, ACC, mn, mn2)
                 mn, mn2 = mn2, mn
         # --- write the waypoints (query after query) and the decided queries' records -------

@@ -41,6 +41,9 @@ caller re-decides:
 ``INVALID``
     (only when asked to validate) a coordinate is not finite or two points of a configuration
     coincide: nothing is computed, the caller's validation raises the error.
+``BROKEN``
+    the breakpoints or the endpoints read back from the outputs fail a clause of the
+    certificate (never expected: a safety net, the certificate fails).
 
 Numba compiles each kernel once for one signature (float64 C-contiguous arrays) and caches the
 machine code on disk (``cache=True``); the kernels release the GIL (``nogil=True``).
@@ -66,7 +69,10 @@ from ._kernels import (
     _SMALL,
     _TINY,
     _U,
+    _MAXF,
+    _OBSTACLE_TINY2,
     AVAILABLE,
+    BROKEN,
     FALLBACK,
     INVALID,
     SUSPECT,
@@ -78,6 +84,7 @@ from ._kernels import (
 
 __all__ = [
     "AVAILABLE",
+    "BROKEN",
     "CODE_LUT",
     "FALLBACK",
     "INVALID",
@@ -514,6 +521,19 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
             wp[b, t, 3, 1] = qy[src]
         for t in range(kk):
             amax = max(amax, abs(qx[t]), abs(qy[t]))
+        # --- clauses 1-9 of the certificate (pmplan.certify.CLAUSES), read back from what was
+        # written: finite times from 0 to 1 that never decrease, the start and the goal exactly
+        # (the waypoints are finite: checked above; the obstacles are copied from the input)
+        fl = 0
+        brk = not (times[b, 0] == 0.0 and times[b, K - 1] == 1.0)
+        for t in range(K):
+            brk |= not abs(times[b, t]) <= _MAXF
+            if t > 0:
+                brk |= not times[b, t] >= times[b, t - 1]
+        brk |= not (wp[b, 0, 3, 0] == xx and wp[b, 0, 3, 1] == xy and wp[b, K - 1, 3, 0] == gx
+                    and wp[b, K - 1, 3, 1] == gy)
+        if brk:
+            fl = BROKEN
         domain[b] = _DOMAIN[code]
         strata[b, 0] = _FAMILY[fam]
         strata[b, 1] = ci
@@ -527,7 +547,6 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
         thr2 = np.inf
         if 1e-130 < amax < 1e130:
             thr2 = (2.1e-9 * amax) * (2.1e-9 * amax)
-        fl = 0
         best = np.inf
         for t in range(kk if kk < K else kk - 1):
             x0 = qx[t]
@@ -550,6 +569,8 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
                 best = dist2 if dist2 < best else best  # noqa: FURB136
         for dx, dy in ((o1x - o2x, o1y - o2y), (o1x - o3x, o1y - o3y), (o2x - o3x, o2y - o3y)):
             dist2 = dx * dx + dy * dy
+            if not dist2 >= _OBSTACLE_TINY2:  # the square may have underflowed
+                fl |= SUSPECT
             best = dist2 if dist2 < best else best  # noqa: FURB136
         clearance[b] = math.sqrt(best)
         flags[b] = fl

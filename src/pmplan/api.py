@@ -16,12 +16,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import magnitude
 from . import planners as _planners  # noqa: F401  (registers the planners)
-from .certify import certify
+from .certify import CLEARANCE, certificate, check_times, describe
 from .configuration import _plain, as_lift, as_points, as_real, check_query, check_same_obstacles
 from .errors import CertificationError, InputError, PmplanError, ShapeError, UnsupportedError
 from .path import PiecewiseLinearPath, _unchecked_path
-from .planners.base import REGISTRY, Planner, RawPlan, lift_code
+from .planners.base import REGISTRY, SCENE_CODE, Planner, RawPlan, lift_code, scene_unit
 from .planners.obstacle_line import BACKENDS
 
 __all__ = [
@@ -216,15 +217,112 @@ def _check_backend(backend) -> None:
         raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
 
 
-def _raise_certificate(bad: np.ndarray, batched: bool) -> None:
+def _raise_certificate(bad: np.ndarray, batched: bool, codes: np.ndarray | None = None,
+                       obstacles: np.ndarray | None = None, configs=None,
+                       lift=None, lift_is_unit: bool = True) -> None:
+    """Raise the :class:`CertificationError` of the queries ``bad`` (bool, (B,)).
+
+    ``codes`` (B,) are the clauses of :data:`pmplan.certify.CLAUSES` that failed (0 where only
+    the kernel's clearance failed); with the query (``obstacles``, ``configs``, ``lift``) the
+    message also says when the magnitudes, not the geometry, are the cause, and what to do
+    (``lift_is_unit``: the planner's unit is ``lift``; else it is the paper's absolute 1).
+    """
     idx = np.flatnonzero(bad)
     where = f" for queries {idx[:10].tolist()}{'...' if idx.size > 10 else ''}" if batched else ""
+    first = idx[0] if idx.size else 0
+    clause = int(codes[first]) if codes is not None and idx.size else 0
+    clause = clause or CLEARANCE
+    what = describe(clause)
+    hint = None
+    if obstacles is not None and idx.size:
+        unit = np.broadcast_to(np.asarray(lift, dtype=float), bad.shape)[first] \
+            if lift_is_unit else None
+        if unit is not None and unit == SCENE_CODE:  # lift="scene": the query's own unit
+            o = obstacles[first:first + 1]
+            _, e = np.frexp(np.abs(o).max())  # measured at 2**-e: no square under/overflows
+            with np.errstate(all="ignore"):
+                unit = float(np.ldexp(scene_unit(np.ldexp(o, -e))[0], e))
+        hint = _magnitude_hint(clause, obstacles[first], [c[first] for c in configs], unit)
+    if hint is None:
+        hint = ("the query is too nearly degenerate for double precision (two points would meet "
+                "or the path is not finite)")
     raise CertificationError(
-        f"the planned path failed its certificate{where}: the query is too nearly degenerate "
-        "for double precision (two points would meet or the path is not finite); "
-        "nothing was returned",
+        f"the planned path failed its certificate{where}: {what}; {hint}; nothing was returned",
         indices=idx,
     )
+
+
+def _magnitude_hint(clause: int, obstacles: np.ndarray, configs, lift: float | None
+                    ) -> str | None:
+    """Why a query at an extreme magnitude has no representable certified path, and what to do
+    (None for a query of ordinary magnitude). ``lift`` None: the planner's unit is the paper's
+    absolute 1, not ``lift``."""
+    with np.errstate(all="ignore"):
+        size = float(max(np.abs(obstacles).max(), *(np.abs(c).max() for c in configs)))
+    unit = 1.0 if lift is None else lift
+    if clause in (1, 5) and max(size, unit) > 2.0**LARGE:
+        more = "" if lift is None else ", or use a smaller `lift`"
+        return (f"the path leaves the range of double precision (coordinates up to {size:.3g}, "
+                f"unit {unit:.3g}): scale the scene down{more}")
+    if lift is None and size > 0 and unit < size * 2.0**-RESOLUTION:
+        return (f"the planner's unit (the paper's 1) is below the resolution of the coordinates "
+                f"(up to {size:.3g}): scale the scene down (by a power of two, which is exact)")
+    if size > 0 and unit < size * 2.0**-RESOLUTION:
+        return (f"`lift` = {lift:.3g} is below the resolution of the coordinates (up to "
+                f"{size:.3g}), so the lifted robots cannot leave the line: use a larger `lift` "
+                "(of the order of the scene's size, or lift=\"scene\", a unit that scales with the "
+                "obstacles)")
+    if 0 < size < 2.0**TINY:
+        return (f"the coordinates (up to {size:.3g}) are at the bottom of the range of double "
+                "precision, where the planner's constructions (e.g. eps(C), a gap divided by "
+                "m + n) lose their bits: scale the scene up (by a power of two, which is exact)")
+    return None
+
+
+#: a path may overflow when the coordinates exceed 2**LARGE
+LARGE = 1000
+#: a lift below 2**-RESOLUTION times the largest coordinate is lost in rounding
+RESOLUTION = 50
+#: coordinates below 2**TINY are near the subnormal range
+TINY = -1000
+
+
+def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
+    """Plan the queries of a chunk each at its power of two ``2**-k`` (:mod:`pmplan.magnitude`).
+
+    ``call(idx, obstacles, configs, lift)`` plans the rows ``idx`` of the chunk (given scaled)
+    into new arrays and returns ``(arrays, ok)`` where ``arrays`` has ``waypoints``,
+    ``clearance`` and the other outputs for those rows; the waypoints of scaled rows are scaled
+    back by ``2**k`` and the whole certificate is checked again on what is returned
+    (:func:`pmplan.certify.certificate`, which also gives the clearance). Yields ``(idx,
+    arrays, ok)`` per group.
+    """
+    m = obstacles.shape[1]
+    lift_arr = np.asarray(lift, dtype=float)
+    for kg in np.unique(k):
+        idx = np.flatnonzero(k == kg)
+        kg = int(kg)
+        if kg == 0:
+            if lift_arr.ndim:
+                lift_g = lift_arr[idx]
+            else:
+                lift_g = lift
+            with np.errstate(all="ignore"):  # an extreme query planned as given: certified below
+                arrays, ok = call(idx, obstacles[idx], [c[idx] for c in configs], lift_g)
+            yield idx, arrays, ok
+            continue
+        lift_g = np.ldexp(lift_arr[idx], -kg) if lift_arr.ndim else float(np.ldexp(lift, -kg))
+        arrays, ok = call(idx, np.ldexp(obstacles[idx], -kg),
+                          [np.ldexp(c[idx], -kg) for c in configs], lift_g)
+        with np.errstate(over="ignore", under="ignore"):
+            arrays["waypoints"] = np.ldexp(arrays["waypoints"], kg)
+        r = len(configs)
+        full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
+        via = [(j / (r - 1), full[j]) for j in range(1, r - 1)]
+        times = arrays["times"] if "times" in arrays else planner.path_times(r)
+        arrays["clearance"], clause = certificate(arrays["waypoints"], full[0], full[-1], m,
+                                                  times=times, via=via)
+        yield idx, arrays, ok & (clause == 0)
 
 
 def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, sequential: bool,
@@ -252,25 +350,25 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
         hi = min(b, lo + CHUNK)
         obs = obstacles[lo:hi]
         cfg = [c[lo:hi] for c in configs]
-        if sequential:
-            raw: RawPlan = planner.plan_sequence(obs, cfg, lift=lift)
-        else:
-            raw = planner.plan(obs, cfg[0], cfg[1], lift=lift)
+        with np.errstate(all="ignore"):  # whatever overflows fails the certificate below
+            if sequential:
+                raw: RawPlan = planner.plan_sequence(obs, cfg, lift=lift)
+            else:
+                raw = planner.plan(obs, cfg[0], cfg[1], lift=lift)
         wp = raw.path.waypoints
         start = np.concatenate([obs, cfg[0]], axis=1)
         goal = np.concatenate([obs, cfg[-1]], axis=1)
-        clr, ok = certify(wp, start, goal, obs.shape[1])
-        if sequential and len(cfg) > 2:
-            # the path must also pass through every intermediate configuration
-            r = len(cfg)
-            tk = np.arange(r) / (r - 1)
-            for k in range(1, r - 1):
-                at = PiecewiseLinearPath(raw.path.times, wp)(tk[k])
-                ok &= np.all(at == np.concatenate([obs, cfg[k]], axis=1), axis=(1, 2))
+        r = len(cfg)
+        via = [(k / (r - 1), np.concatenate([obs, cfg[k]], axis=1)) for k in range(1, r - 1)]
+        clr, codes = certificate(wp, start, goal, obs.shape[1], times=raw.path.times, via=via)
+        ok = codes == 0
         if not ok.all():
             bad = np.zeros(b, dtype=bool)
             bad[lo:hi] = ~ok
-            _raise_certificate(bad, batched)
+            full = np.zeros(b, np.uint8)
+            full[lo:hi] = codes
+            _raise_certificate(bad, batched, full, obstacles, configs, lift,
+                               getattr(planner, "equivariant", False))
         if out is None:
             times = raw.path.times
             out = dict(
@@ -309,16 +407,49 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
     out = planner.allocate(b, len(configs), m, n, d) if into is None else into
     per_query_times = out["times"].ndim == 2
 
+    r = len(configs)
+    # only a planner that maps 2**k C (with lift 2**k) to 2**k times the path of C is scaled;
+    # another one plans extreme queries as given (its reference under np.errstate) and its
+    # certificate decides
+    equivariant = getattr(planner, "equivariant", False)
+    # the breakpoints: shared ones are checked once here, per-query ones chunk by chunk
+    shared_times = 0 if per_query_times else int(check_times(out["times"]))
+
     def chunk(lo: int) -> tuple[int, int, np.ndarray]:
         hi = min(b, lo + CHUNK)
-        extra = {"times": out["times"][lo:hi]} if per_query_times else {}
-        if validate:
-            extra["validate"] = True
-        ok = planner.plan_certified(
-            obstacles[lo:hi], [c[lo:hi] for c in configs], lift, out["waypoints"][lo:hi],
-            out["domain"][lo:hi], out["strata"][lo:hi], out["clearance"][lo:hi], backend=backend,
-            **extra,
-        )
+        obs = obstacles[lo:hi]
+        cfg = [c[lo:hi] for c in configs]
+        wp = out["waypoints"][lo:hi]
+        times = out["times"][lo:hi] if per_query_times else out["times"]
+        k = None
+        lift_c = lift[lo:hi] if np.ndim(lift) else lift  # a per-query lift scales too
+        if equivariant and magnitude.needs_scaling([obs, *cfg], lift_c):
+            k = magnitude.exponents([obs, *cfg], lift_c)
+        if k is None:
+            extra = {"times": times} if per_query_times else {}
+            if validate:
+                extra["validate"] = True
+            ok = planner.plan_certified(
+                obs, cfg, lift, wp, out["domain"][lo:hi], out["strata"][lo:hi],
+                out["clearance"][lo:hi], backend=backend, **extra,
+            )
+        else:
+            ok = np.empty(hi - lo, dtype=bool)
+            call = _fused_call(planner, r, m, n, d, per_query_times, validate, backend)
+            for idx, arrays, ok_g in _scaled_call(planner, obs, cfg, lift_c, k, call):
+                wp[idx] = arrays["waypoints"]
+                out["domain"][lo + idx] = arrays["domain"]
+                out["strata"][lo + idx] = arrays["strata"]
+                out["clearance"][lo + idx] = arrays["clearance"]
+                if per_query_times:
+                    times[idx] = arrays["times"]
+                ok[idx] = ok_g
+        # the kernels certified the waypoints (clauses 5-10, read back from their outputs), the
+        # reference and the scaled rows by pmplan.certify; the breakpoints are checked here
+        if per_query_times:
+            ok &= check_times(times) == 0
+        elif shared_times:
+            ok[:] = False
         return lo, hi, ok
 
     starts = range(0, b, CHUNK)
@@ -342,13 +473,48 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
                     check_query(obstacles, configs[0], configs[-1], batched=True)
                 bad = np.zeros(b, dtype=bool)
                 bad[lo:hi] = ~ok
-                _raise_certificate(bad, batched)
+                _raise_certificate(bad, batched, _failed_clauses(out, bad, obstacles, configs),
+                                   obstacles, configs, lift, equivariant)
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
         if bar is not None:
             bar.close()
     return out
+
+
+def _failed_clauses(out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarray:
+    """The clause of the certificate (:func:`pmplan.certify.certificate`) that each failing
+    query (``bad``) of a fused run fails, for the error message; (B,) uint8."""
+    idx = np.flatnonzero(bad)[:10]
+    times = out["times"][idx] if out["times"].ndim == 2 else out["times"]
+    m, r = obstacles.shape[1], len(configs)
+    full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
+    via = [(k / (r - 1), full[k]) for k in range(1, r - 1)]
+    with np.errstate(all="ignore"):
+        _, clause = certificate(out["waypoints"][idx], full[0], full[-1], m, times=times,
+                                via=via)
+    codes = np.zeros(bad.shape[0], np.uint8)
+    codes[idx] = clause
+    return codes
+
+
+def _fused_call(planner, r: int, m: int, n: int, d: int, per_query_times: bool, validate: bool,
+                backend):
+    """``call(idx, obstacles, configs, lift) -> (arrays, ok)`` for :func:`_scaled_call`: the
+    fused planner planning rows into new arrays (:meth:`allocate`, :meth:`plan_certified`)."""
+
+    def call(idx, obstacles, configs, lift):
+        arrays = planner.allocate(idx.size, r, m, n, d)
+        extra = {"times": arrays["times"]} if per_query_times else {}
+        if validate:
+            extra["validate"] = True
+        ok = planner.plan_certified(obstacles, configs, lift, arrays["waypoints"],
+                                    arrays["domain"], arrays["strata"], arrays["clearance"],
+                                    backend=backend, **extra)
+        return arrays, ok
+
+    return call
 
 
 def _check_workers(workers) -> int:
@@ -461,7 +627,19 @@ def plan_batch(
     InputError
         (a ValueError) for malformed input: see :mod:`pmplan.errors`.
     CertificationError
-        If a path would not be collision-free in double precision.
+        If a path fails a clause of its certificate (:data:`pmplan.certify.CLAUSES`, named in
+        the message): e.g. it would not be collision-free in double precision, or it is not
+        representable at the query's magnitude (the message says what to do).
+
+    Notes
+    -----
+    Every returned path passes the whole certificate of :mod:`pmplan.certify` (finite times
+    from 0 to 1 that never decrease; finite waypoints from exactly the start to exactly the
+    goal; obstacles fixed; clearance > 0). Any finite input, from 5e-324 to 1.8e308, gets a
+    certified path or a pmplan error: queries beyond ``2**430`` (or, with ``lift``, below
+    ``2**-430``) are planned scaled by a power of two, which is exact, and scaled back
+    (:mod:`pmplan.magnitude`); ordinary queries are not touched. ``B = 0`` is a valid empty
+    batch.
 
     Examples
     --------
@@ -520,6 +698,11 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     Plan
         ``domain``, ``stratum``, ``clearance`` and ``path`` (waypoints (K, m+n, d)).
 
+    Raises
+    ------
+    InputError, CertificationError
+        As :func:`plan_batch` (whose Notes describe the certificate and extreme magnitudes).
+
     Examples
     --------
     A robot in the column of o1 (exact degeneracy: cp(C) = 2) going to a generic goal:
@@ -560,6 +743,8 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
         lift = _fast_lift(lift)
         if lift is None:
             return None
+    if lift != SCENE_CODE and not _LIFT_LOW <= lift < _LIFT_HIGH:  # extreme: the general path
+        return None
     o = _fast_array(obstacles)
     s = _fast_array(start)
     g = _fast_array(goal)
@@ -577,7 +762,12 @@ def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
 
 def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict) -> Plan | None:
     """The :class:`Plan` of a fast-path kernel result ``(times, waypoints, domain, row,
-    clearance)``, or None when the kernel declined (``res`` is None)."""
+    clearance)``, or None when the kernel declined (``res`` is None).
+
+    The kernel certified the path: every clause of :data:`pmplan.certify.CLAUSES`, read back
+    from its outputs (a failing one is flagged, and the kernel declines); the obstacle-line
+    breakpoints are the constant :func:`~pmplan.planners.obstacle_line.path_times`, checked
+    once (:func:`_fast_entry`)."""
     if res is None:
         return None
     times, wp, domain, row, clearance = res
@@ -630,11 +820,19 @@ def _fast_entry(key: tuple):
         if p is not None and p.supports(d, n, m) is None:
             run = p.plan_one_for(m, n, d) if hasattr(p, "plan_one_for") \
                 else getattr(p, "plan_one", None)
-            if run is not None:
+            if run is not None and _times_certified(p, 2):
                 entry = (run, p, (d, n, m), {})
     if len(_FAST) < 1024:
         _FAST[key] = entry
     return entry
+
+
+def _times_certified(p: Planner, r: int) -> bool:
+    """Whether the planner's shared breakpoints for r configurations (if it has them) pass
+    clauses 1-4 of the certificate -- checked once per fast-path entry, not per call. A
+    planner with per-query breakpoints checks them in its kernel (flag ``BROKEN``)."""
+    times = p.path_times(r) if hasattr(p, "path_times") else None
+    return times is None or check_times(times) == 0
 
 
 def _stratum_name(p: Planner, row: tuple, dims: tuple[int, int, int], names: dict) -> str:
@@ -657,6 +855,10 @@ def _new_plan(domain: int, stratum: str, clearance: float, path: PiecewiseLinear
 
 
 _F64 = np.dtype(np.float64)
+#: the single-query fast paths plan only lifts in this range (and, as the kernels check,
+#: coordinates below 2**LIMIT): the other queries may need scaling (:mod:`pmplan.magnitude`)
+_LIFT_LOW = 2.0**-magnitude.LIMIT
+_LIFT_HIGH = 2.0**magnitude.LIMIT
 _NEW = object.__new__
 _SETATTR = object.__setattr__
 _UNSEEN = object()
@@ -795,7 +997,9 @@ def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
         lift = _fast_lift(lift)
         if lift is None:
             return None
-    if not (type(configs) in (list, tuple) or type(configs) is np.ndarray and configs.ndim == 3):
+    if lift != SCENE_CODE and not _LIFT_LOW <= lift < _LIFT_HIGH or not (
+        type(configs) in (list, tuple) or type(configs) is np.ndarray and configs.ndim == 3
+    ):
         return None
     o = _fast_array(obstacles)
     if o is None or len(configs) < 2:
@@ -824,8 +1028,9 @@ def _sequence_entry(key: tuple):
         (m, d), n = oshape, cshape[0]
         p = REGISTRY["obstacle_line"]
         if p.supports(d, n, m) is None:
-            run = p.plan_sequence_one_for(r, m, n, d)
-            if run is not None:
+            make = getattr(p, "plan_sequence_one_for", None)
+            run = None if make is None else make(r, m, n, d)
+            if run is not None and _times_certified(p, r):
                 entry = (run, p, (d, n, m), {})
     if len(_FAST_SEQUENCE) < 1024:
         _FAST_SEQUENCE[key] = entry

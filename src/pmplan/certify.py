@@ -1,12 +1,21 @@
 """The certificate of a piecewise-linear motion (SPEC section 5).
 
-A path with waypoints ``P_0..P_K`` at times ``0 = t_0 < ... < t_K = 1`` is *certified* for the
-query (C, C') when
+A path with waypoints ``P_0..P_K`` at times ``t_0..t_K`` is *certified* for the query
+(C, C') -- through the intermediate configurations C_k at tau_k, for a sequence (SPEC 4c) --
+when every clause of :data:`CLAUSES` holds, checked in this order:
 
-* ``P_0 == C`` and ``P_K == C'`` exactly,
-* the obstacle rows are the same in every waypoint (obstacles fixed), and
-* its *clearance* -- the minimum over pieces and over pairs of points of the distance between
-  the two linearly moving points -- is > 0.
+1. the times are finite, 2. ``t_0 == 0``, 3. ``t_K == 1``, 4. they never decrease;
+5. the waypoints are finite;
+6. ``P_0 == C`` and 7. ``P_K == C'`` exactly, 8. ``path(tau_k) == C_k`` exactly;
+9. the obstacle rows are the same in every waypoint (obstacles fixed);
+10. its *clearance* -- the minimum over pieces and over pairs of points of the distance between
+    the two linearly moving points -- is > 0.
+
+:func:`certificate` returns the clearance and the number of the first clause that fails (0: the
+path is certified); :func:`describe` names a clause. Every entry point of :mod:`pmplan.api`
+runs the whole certificate on what it returns (the fused kernels compute the clearance
+themselves; :mod:`pmplan._check` runs clauses 1-9 after them), so a path failing any clause is
+never returned.
 
 On one piece the relative position of two points is ``r(t) = r0 + t v`` (``t in [0, 1]``), so
 its squared norm is a quadratic in t minimised in closed form at
@@ -23,10 +32,154 @@ from fractions import Fraction
 
 import numpy as np
 
-__all__ = ["segment_clearance", "clearance", "certify"]
+__all__ = [
+    "CLAUSES",
+    "describe",
+    "check_times",
+    "check_paths",
+    "segment_clearance",
+    "clearance",
+    "certificate",
+    "certify",
+]
 
 # a float minimum below _REL * (scale of the pair on that piece) is re-decided exactly
 _REL = 1e-9
+_MAXF = 1.7976931348623157e308  # the largest finite float
+# an obstacle pair whose squared distance is below this (it may have underflowed), or not finite
+# (it overflowed), is measured exactly (the kernels flag it SUSPECT)
+_OBSTACLE_TINY2 = 2.0**-1000
+# paths with waypoints outside [2**-_RANGE, 2**_RANGE) are measured scaled by a power of two
+_RANGE = 500
+
+#: the clauses of the certificate, by number (0: certified); :func:`certificate` reports the
+#: first one that fails
+CLAUSES: dict[int, str] = {
+    1: "a breakpoint time is not finite",
+    2: "the times do not start at 0",
+    3: "the times do not end at 1",
+    4: "the times decrease",
+    5: "a waypoint is not finite",
+    6: "the path does not begin exactly at the start",
+    7: "the path does not end exactly at the goal",
+    8: "the path does not pass exactly through an intermediate configuration",
+    9: "an obstacle moves",
+    10: "two points meet (the clearance is not positive)",
+}
+#: the clause number of the clearance (the only one not decided by :func:`check_paths`)
+CLEARANCE = 10
+
+
+def describe(clause: int) -> str:
+    """Return the text of clause number ``clause`` (see :data:`CLAUSES`)."""
+    return CLAUSES.get(int(clause), "certified") if clause else "certified"
+
+
+def _rows_increase(t: np.ndarray) -> bool:
+    """Whether every row of ``t`` (B, K) never decreases (False for NaN), given that every row
+    starts at 0 and ends at 1: then, in the flattened rows, each of the B - 1 steps from the end
+    of a row to the start of the next one is a drop (1 to 0), so the rows never decrease iff
+    exactly B (K - 1) of the consecutive pairs do not decrease. One contiguous comparison."""
+    flat = np.ascontiguousarray(t).reshape(-1)
+    return int(np.count_nonzero(flat[1:] >= flat[:-1])) == flat.size - t.shape[0]
+
+
+def check_times(times) -> np.ndarray:
+    """Return the first failing clause among 1-4 of :data:`CLAUSES` (0: all hold).
+
+    ``times`` of shape (K,) gives a scalar, (B, K) one code per path (uint8).
+
+    Examples
+    --------
+    >>> check_times(np.array([0.0, 0.5, 1.0])), check_times(np.array([0.0, np.nan, 1.0]))
+    (np.uint8(0), np.uint8(1))
+    >>> check_times(np.array([[0.0, 1.0], [1e-300, 1.0], [0.0, 0.5], [0.0, -1.0]])).tolist()
+    [0, 2, 3, 3]
+    """
+    t = np.asarray(times, dtype=float)
+    single = t.ndim == 1
+    t = t.reshape(1, -1) if single else t
+    codes = np.zeros(t.shape[0], np.uint8)
+    if t.shape[1] and not t[:, 0].any() and (t[:, -1] == 1.0).all() and _rows_increase(t):
+        # the common case at a glance: from 0 to 1 without decreasing (hence finite: NaN fails
+        # every comparison, an infinity cannot lie between 0 and 1)
+        return codes[0] if single else codes
+    if t.shape[1] == 0:
+        codes[:] = 1
+    else:
+        with np.errstate(invalid="ignore"):
+            clauses = [
+                (1, np.isfinite(t).all(axis=1)),
+                (2, t[:, 0] == 0.0),
+                (3, t[:, -1] == 1.0),
+                (4, (t[:, 1:] >= t[:, :-1]).all(axis=1)),
+            ]
+        for number, holds in reversed(clauses):
+            codes[~holds] = number
+    return codes[0] if single else codes
+
+
+def check_paths(times, waypoints, start, goal, m: int, via=()) -> np.ndarray:
+    """Return, per path, the first failing clause among 1-9 of :data:`CLAUSES` (0: all hold).
+
+    Parameters
+    ----------
+    times : ndarray, shape (K,) or (B, K)
+    waypoints : ndarray, shape (B, K, P, d)
+    start, goal : ndarray, shape (B, P, d)
+        The query configurations C and C' (obstacles first).
+    m : int
+        Number of obstacles.
+    via : sequence of (float, ndarray (B, P, d))
+        Intermediate configurations ``C_k`` the path must pass through exactly at ``tau_k``.
+
+    Returns
+    -------
+    ndarray of uint8, shape (B,)
+
+    Examples
+    --------
+    >>> wp = np.array([[[[0.0, 0.0], [0.0, 1.0]], [[0.0, 0.0], [1.0, 1.0]]]])
+    >>> check_paths(np.array([0.0, 1.0]), wp, wp[:, 0], wp[:, -1], 1)
+    array([0], dtype=uint8)
+    >>> check_paths(np.array([0.0, np.nan]), wp, wp[:, 0], wp[:, -1], 1)
+    array([1], dtype=uint8)
+    """
+    wp = np.asarray(waypoints, dtype=float)
+    t = np.asarray(times, dtype=float)
+    b, k = wp.shape[:2]
+    t = np.broadcast_to(t, (b, k)) if t.ndim == 1 else t
+    codes = np.zeros(b, np.uint8)
+    start = np.asarray(start, dtype=float)
+    goal = np.asarray(goal, dtype=float)
+    if k == 0 or t.shape != (b, k):  # no breakpoints, or not one per waypoint
+        codes[:] = 1
+        return codes
+    finite_t = np.isfinite(t).all(axis=1)
+    clauses = [
+        (5, np.isfinite(wp).all(axis=(1, 2, 3))),
+        (6, (wp[:, 0] == start).all(axis=(1, 2))),
+        (7, (wp[:, -1] == goal).all(axis=(1, 2))),
+    ]
+    if via:
+        hold = np.ones(b, dtype=bool)
+        good = finite_t & (t[:, 0] == 0.0) & (t[:, -1] == 1.0)
+        if good.any():
+            from .path import PiecewiseLinearPath
+
+            g = np.flatnonzero(good)
+            path = PiecewiseLinearPath(t[g], wp[g])
+            for tau, conf in via:
+                with np.errstate(all="ignore"):  # a non-finite waypoint fails clause 5 first
+                    at = path(float(tau))
+                hold[g] &= (at == np.asarray(conf, dtype=float)[g]).all(axis=(1, 2))
+        clauses.append((8, hold))
+    clauses.append((9, (wp[:, :, :m] == wp[:, :1, :m]).all(axis=(1, 2, 3))))
+    for number, holds in reversed(clauses):
+        codes[~holds] = number
+    tcodes = check_times(t)  # clauses 1-4 come first
+    codes[tcodes != 0] = tcodes[tcodes != 0]
+    return codes
 
 
 def _pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray]:
@@ -65,11 +218,53 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
         val = math.sqrt(float(sq))
     except OverflowError:
         val = math.inf
-    if val == 0.0 or not math.isfinite(val):  # outside the float range: go through logarithms
-        val = math.exp(0.5 * (math.log(sq.numerator) - math.log(sq.denominator)))
-    if val == 0.0:  # positive but below the float range: report the smallest positive float
+    if val == 0.0 or not math.isfinite(val):
+        # outside the float range: the square root of sq 4**j (exact scaling into the range),
+        # scaled back by 2**-j. Above the largest double (two points ~1e308 apart): the largest
+        # double, a lower bound; positive but below the float range: the smallest positive one
+        j = (sq.denominator.bit_length() - sq.numerator.bit_length()) // 2
+        root = math.sqrt(float(sq * Fraction(4) ** j if j >= 0 else sq / Fraction(4) ** -j))
+        try:
+            val = math.ldexp(root, -j)
+        except OverflowError:
+            val = _MAXF
+    if val == 0.0:
         val = 5e-324
     return val
+
+
+def _scaled_rows(wp: np.ndarray, m: int):
+    """The clearance of the paths whose waypoints lie outside ``[2**-_RANGE, 2**_RANGE)``
+    (squares would underflow or overflow), computed on the path scaled by the power of two that
+    brings them into ``[0.5, 1)`` and scaled back -- exact, since distances scale exactly; a
+    positive value below the float range is reported as the smallest positive double. Returns
+    ``(rows, values)``, or None when no row needs it (or the scaling is not exact)."""
+    b = wp.shape[0]
+    if b == 0 or wp.size == 0:
+        return None
+    with np.errstate(invalid="ignore"):
+        amax = np.abs(wp).reshape(b, -1).max(axis=1)
+        extreme = np.isfinite(amax) & (amax > 0) & ~((amax >= 2.0**-_RANGE) & (amax < 2.0**_RANGE))
+    if not extreme.any():
+        return None
+    rows, values = [], []
+    for i in np.flatnonzero(extreme):
+        _, e = np.frexp(amax[i])
+        ws = np.ldexp(wp[i], -e)
+        if not np.array_equal(np.ldexp(ws, e), wp[i]):
+            continue  # bits below the range: the float path decides (exactly where small)
+        c = float(clearance(ws[None], m)[0])
+        with np.errstate(over="ignore", under="ignore"):
+            v = float(np.ldexp(c, e)) if np.isfinite(c) else c
+        if c > 0 and v == 0.0:
+            v = 5e-324  # positive below the float range (as _exact_segment_clearance)
+        if np.isfinite(c) and v == np.inf:
+            v = _MAXF  # above the float range: the largest double, a lower bound
+        rows.append(i)
+        values.append(v)
+    if not rows:
+        return None
+    return np.array(rows), np.array(values)
 
 
 def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
@@ -103,7 +298,17 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
     out = np.full(b, np.inf)
     if pi.size == 0:
         return out
-    rel = wp[:, :, pi, :] - wp[:, :, pj, :]  # (B, K, pairs, d)
+    scaled = _scaled_rows(wp, m)
+    if scaled is not None:
+        rows, values = scaled
+        keep = np.ones(b, dtype=bool)
+        keep[rows] = False
+        if keep.any():
+            out[keep] = clearance(wp[keep], m)
+        out[rows] = values
+        return out
+    with np.errstate(over="ignore", invalid="ignore"):  # re-decided exactly below
+        rel = wp[:, :, pi, :] - wp[:, :, pj, :]  # (B, K, pairs, d)
     r0, r1 = rel[:, :-1], rel[:, 1:]
     dist = segment_clearance(r0, r1)  # (B, K-1, pairs)
     scale = np.maximum(np.abs(r0).max(-1), np.abs(r1).max(-1))
@@ -111,9 +316,15 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
         np.maximum(np.abs(wp[:, :-1, pi]).max(-1), np.abs(wp[:, :-1, pj]).max(-1)),
         np.maximum(np.abs(wp[:, 1:, pi]).max(-1), np.abs(wp[:, 1:, pj]).max(-1)),
     )
-    finite = np.isfinite(r0).all(-1) & np.isfinite(r1).all(-1)
-    suspect = ~(dist > _REL * np.maximum(scale, absval * 1e-6)) & finite
-    dist[~finite] = np.nan  # not a path: its certificate fails below
+    # a waypoint that is not finite is not a path: its certificate fails below. A relative
+    # position or a square that overflows (finite waypoints beyond ~1e154) and a small float
+    # minimum are re-decided exactly.
+    finite = np.isfinite(wp[:, :-1, pi]).all(-1) & np.isfinite(wp[:, :-1, pj]).all(-1) \
+        & np.isfinite(wp[:, 1:, pi]).all(-1) & np.isfinite(wp[:, 1:, pj]).all(-1)
+    with np.errstate(invalid="ignore", over="ignore"):
+        suspect = (~(dist > _REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(dist)) \
+            & finite
+    dist[~finite] = np.nan
     for bi, ki, qi in zip(*np.nonzero(suspect)):
         dist[bi, ki, qi] = _exact_segment_clearance(
             wp[bi, ki, pi[qi]], wp[bi, ki, pj[qi]], wp[bi, ki + 1, pi[qi]], wp[bi, ki + 1, pj[qi]]
@@ -122,13 +333,22 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
     out[np.isnan(dist.reshape(b, -1)).any(axis=1)] = np.nan
     if m >= 2:
         oi, oj = np.triu_indices(m, k=1)
-        od = wp[:, 0, oi] - wp[:, 0, oj]
-        out = np.minimum(out, np.sqrt((od * od).sum(-1)).min(axis=1))
+        with np.errstate(over="ignore", invalid="ignore"):
+            od = wp[:, 0, oi] - wp[:, 0, oj]
+            od2 = (od * od).sum(-1)  # (B, pairs), summed as the kernels sum it
+            odist = np.sqrt(od2)
+            bad = ~(od2 >= _OBSTACLE_TINY2) & np.isfinite(wp[:, 0, oi]).all(-1) \
+                & np.isfinite(wp[:, 0, oj]).all(-1)
+        for bi, qi in zip(*np.nonzero(bad)):  # the square overflowed or may have underflowed
+            a, c = wp[bi, 0, oi[qi]], wp[bi, 0, oj[qi]]
+            odist[bi, qi] = _exact_segment_clearance(a, c, a, c)
+        out = np.minimum(out, odist.min(axis=1))
     return out
 
 
-def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int):
-    """Check the whole certificate of SPEC section 5 for a batch of paths.
+def certificate(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, *,
+                times=None, via=()) -> tuple[np.ndarray, np.ndarray]:
+    """Check the whole certificate of SPEC section 5 for a batch of paths, clause by clause.
 
     Parameters
     ----------
@@ -137,17 +357,41 @@ def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int):
         The query configurations C and C' (obstacles first).
     m : int
         Number of obstacles.
+    times : ndarray, shape (K,) or (B, K), optional
+        The breakpoints; default ``linspace(0, 1, K)`` (for a bare list of waypoints).
+    via : sequence of (float, ndarray (B, P, d))
+        Intermediate configurations and the times the path must pass through them.
+
+    Returns
+    -------
+    clearance : ndarray, shape (B,)
+        The certified clearance (NaN where a waypoint is not finite).
+    clause : ndarray of uint8, shape (B,)
+        The first clause of :data:`CLAUSES` that fails, 0 where the path is certified.
+    """
+    wp = np.asarray(waypoints, dtype=float)
+    if times is None:
+        times = np.linspace(0.0, 1.0, wp.shape[1])
+    clause = check_paths(times, wp, start, goal, m, via)
+    clr = clearance(wp, m)
+    clause[(clause == 0) & ~(clr > 0)] = CLEARANCE
+    return clr, clause
+
+
+def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, *,
+            times=None, via=()) -> tuple[np.ndarray, np.ndarray]:
+    """Check the whole certificate of SPEC section 5 for a batch of paths.
+
+    Parameters are those of :func:`certificate`.
 
     Returns
     -------
     clearance : ndarray, shape (B,)
         The certified clearance.
     ok : ndarray of bool, shape (B,)
-        True where endpoints match exactly, obstacles stay fixed and clearance > 0.
+        True where every clause of :data:`CLAUSES` holds: finite times from 0 to 1 that never
+        decrease, finite waypoints beginning exactly at the start and ending exactly at the
+        goal (through the ``via`` configurations), obstacles fixed and clearance > 0.
     """
-    wp = np.asarray(waypoints, dtype=float)
-    ends = (wp[:, 0] == start).all(axis=(1, 2)) & (wp[:, -1] == goal).all(axis=(1, 2))
-    fixed = (wp[:, :, :m] == wp[:, :1, :m]).all(axis=(1, 2, 3))
-    clr = clearance(wp, m)
-    ok = ends & fixed & (clr > 0) & np.isfinite(wp).all(axis=(1, 2, 3))
-    return clr, ok
+    clr, clause = certificate(waypoints, start, goal, m, times=times, via=via)
+    return clr, clause == 0

@@ -153,7 +153,13 @@ class PiecewiseLinearPath:
             a, b = wp[bidx, idx], wp[bidx, idx + 1]
         f = frac[..., None, None]
         # exact at the breakpoints: t_k gives P_k and t_{k+1} gives P_{k+1} bit for bit
-        out = np.where(f == 1.0, b, a + f * (b - a))
+        with np.errstate(over="ignore", invalid="ignore"):
+            step = b - a
+            out = np.where(f == 1.0, b, a + f * step)
+            wide = ~np.isfinite(step) & np.isfinite(a) & np.isfinite(b)
+            if wide.any():  # waypoints ~1e308 apart: the same point from the halves, exactly
+                half = 2.0 * (0.5 * a + f * (0.5 * b - 0.5 * a))
+                out = np.where(wide & (f != 1.0), half, out)
         if scalar:
             return out[..., 0, :, :]
         return out.reshape(out.shape[:-3] + tshape + out.shape[-2:])
@@ -174,13 +180,25 @@ class PiecewiseLinearPath:
         """Return, for every piece, the sum over points of the distance each point travels.
 
         Shape ``self.shape + (K - 1,)``.
+        Overflow-free: where a displacement or its square leaves the float range (coordinates
+        beyond ~1e154) the lengths are computed on the waypoints scaled by a power of two
+        (exact) and scaled back, so they are infinite only when the true value exceeds the
+        largest double. In the normal range the value is the plain ``sqrt(sum of squares)``.
         """
-        disp = np.diff(self.waypoints, axis=-3)
-        return np.sqrt((disp * disp).sum(-1)).sum(-1)
+        with np.errstate(over="ignore", invalid="ignore"):
+            disp = np.diff(self.waypoints, axis=-3)
+            out = np.sqrt((disp * disp).sum(-1)).sum(-1)
+        bad = ~np.isfinite(out)
+        if bad.any() and np.isfinite(self.waypoints).all():
+            out = np.where(bad, _scaled_lengths(self.waypoints), out)
+        return out
 
     def length(self) -> np.ndarray | float:
-        """Return the total distance travelled, summed over all points (robots)."""
-        out = self.leg_lengths().sum(-1)
+        """Return the total distance travelled, summed over all points (robots).
+
+        ``inf`` only when it exceeds the largest double."""
+        with np.errstate(over="ignore"):
+            out = self.leg_lengths().sum(-1)
         return float(out) if out.ndim == 0 else out
 
     def arc_length_reparametrised(self) -> PiecewiseLinearPath:
@@ -189,7 +207,15 @@ class PiecewiseLinearPath:
         A path of length 0 becomes a constant path with equally spaced breakpoints.
         """
         legs = self.leg_lengths()
-        total = legs.sum(-1, keepdims=True)
+        with np.errstate(over="ignore"):
+            total = legs.sum(-1, keepdims=True)
+        if not np.isfinite(total).all() and np.isfinite(self.waypoints).all():
+            # lengths beyond the float range (coordinates ~1e308): the same fractions from the
+            # waypoints scaled by 2**-600 (exact; a length that then underflows is negligible)
+            legs = np.where(np.isfinite(total), legs,
+                            PiecewiseLinearPath(self.times, np.ldexp(self.waypoints, -600))
+                            .leg_lengths())
+            total = legs.sum(-1, keepdims=True)
         cum = np.concatenate([np.zeros_like(total), np.cumsum(legs, axis=-1)], axis=-1)
         k = self.waypoints.shape[-3]
         even = np.broadcast_to(np.linspace(0.0, 1.0, k), cum.shape)
@@ -206,6 +232,23 @@ class PiecewiseLinearPath:
         if keep.all():
             return self
         return PiecewiseLinearPath(self.times[keep], self.waypoints[keep])
+
+
+def _scaled_lengths(waypoints: np.ndarray) -> np.ndarray:
+    """Leg lengths of finite waypoints (..., K, P, d) computed without overflow or underflow:
+    every leg (and point) is scaled by the power of two of its largest displacement, exactly."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        disp = np.diff(waypoints, axis=-3)  # may overflow: then from the halves, exactly
+        if not np.isfinite(disp).all():
+            disp = np.diff(np.ldexp(waypoints, -1), axis=-3)
+            twice = 1
+        else:
+            twice = 0
+        big = np.abs(disp).max(-1, keepdims=True)
+        _, e = np.frexp(np.where(big > 0, big, 1.0))
+        unit = np.ldexp(disp, -e)
+        per_point = np.ldexp(np.sqrt((unit * unit).sum(-1)), e[..., 0] + twice)
+        return per_point.sum(-1)
 
 
 def _unchecked_path(times: np.ndarray, waypoints: np.ndarray) -> PiecewiseLinearPath:
@@ -244,7 +287,9 @@ def join(paths: Sequence[PiecewiseLinearPath], at: Sequence[float] | None = None
     if bounds.shape != (q + 1,) or np.any(np.diff(bounds) <= 0):
         raise ValueError(f"`at` must be {q - 1} increasing breakpoints in (0, 1), got {list(at)}")
     for i in range(1, q):
-        if not np.array_equal(paths[i - 1].waypoints[..., -1, :, :], paths[i].waypoints[..., 0, :, :]):
+        # NaN == NaN here: a path that overflowed is still joined, and its certificate fails
+        if not np.array_equal(paths[i - 1].waypoints[..., -1, :, :],
+                              paths[i].waypoints[..., 0, :, :], equal_nan=True):
             raise ValueError(f"path {i} does not start where path {i - 1} ends")
     per_path = any(p.times.ndim == 2 for p in paths)
     times, wps = [], []

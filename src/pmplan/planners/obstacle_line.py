@@ -273,7 +273,7 @@ def _store_reference(raw: RawPlan, obstacles, configs, idx, wp, domain, strata, 
         f = np.flatnonzero(finite)
         start = np.concatenate([obstacles[f], configs[0][f]], axis=1)
         goal = np.concatenate([obstacles[f], configs[-1][f]], axis=1)
-        clr[f], ok[f] = certify(pw[f], start, goal, m)
+        clr[f], ok[f] = certify(pw[f], start, goal, m, times=raw.path.times)
         for k in range(1, len(configs) - 1):  # passes through C_k at tau = k/(r-1), waypoint 7k
             ok[f] &= (pw[f, 7 * k] == np.concatenate([obstacles[f], configs[k][f]], axis=1)
                       ).all(axis=(1, 2))
@@ -289,6 +289,10 @@ class ObstacleLinePlanner:
         "paper Section 3 (m = 2, d even) and its extensions to odd d and m >= 2 (SPEC 4a/4b): "
         "desingularize, project to the line o1o2, lift-slide-descend"
     )
+    #: planning ``2**k C`` with ``lift * 2**k`` gives exactly ``2**k`` times the path of C (every
+    #: length of the construction is built from the coordinates and ``lift``): queries at
+    #: extreme magnitudes are planned scaled (:mod:`pmplan.magnitude`)
+    equivariant = True
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         if d < 2:
@@ -465,6 +469,11 @@ class ObstacleLinePlanner:
     def path_times(self, r: int) -> np.ndarray:
         """Breakpoints of every path through r configurations (see :func:`path_times`)."""
         return path_times(r)
+
+    def via_rows(self, r: int) -> list[int]:
+        """The breakpoints at which a path through r configurations passes C_2..C_{r-1}
+        (at tau = k/(r-1): waypoint 7k, SPEC 4c)."""
+        return [7 * k for k in range(1, r - 1)]
 
     def allocate(self, b: int, r: int, m: int, n: int, d: int) -> dict:
         """Output arrays of a batch of b queries through r configurations (shared times)."""

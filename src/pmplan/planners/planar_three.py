@@ -452,6 +452,9 @@ class PlanarThreePlanner:
         "paper Section 4 (d = 2, n = 1, m = 3): 12 strata T1_ij, T22_rs, T23_kl "
         "packed into 4 domains W1..W4 (optimal)"
     )
+    #: the query scaled by 2**k with its lift (the paper's unit) scaled by 2**k is planned as
+    #: the path scaled by 2**k, bit for bit (see :mod:`pmplan.magnitude`)
+    equivariant = True
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         """Return None for (d, n, m) = (2, 1, 3), else why the planner does not apply."""
@@ -678,7 +681,7 @@ def _fused(obstacles, start, goal, lift, times, wp, domain, strata, clearance, *
     sus = np.flatnonzero(flags == KP.SUSPECT)
     if sus.size:
         clearance[sus] = certified_clearance(wp[sus], 3)
-    ok = clearance > 0
+    ok = (clearance > 0) & ((flags & KP.BROKEN) == 0)
     if idx.size:
         ok[idx] = _store_reference(obstacles, start, goal, lift, idx, times, wp, domain, strata,
                                    clearance)
@@ -689,13 +692,15 @@ def _store_reference(obstacles, start, goal, lift, idx, times, wp, domain, strat
     """Plan rows ``idx`` with the numpy reference, certify them (:func:`pmplan.certify.certify`,
     as :func:`pmplan.api.plan_batch` certifies a RawPlan) and store them; return the certificate."""
     obs, s, g = obstacles[idx], start[idx], goal[idx]
-    raw = PLANAR_THREE.plan(obs, s, g, lift=lift, backend="numpy")
+    with np.errstate(all="ignore"):  # what overflows (coordinates ~1e308) fails the certificate
+        raw = PLANAR_THREE.plan(obs, s, g, lift=lift, backend="numpy")
     pw = raw.path.waypoints
     times[idx] = raw.path.times
     wp[idx] = pw
     domain[idx] = raw.domain
     strata[idx] = raw.strata
-    clr, ok = certify(pw, np.concatenate([obs, s], axis=1), np.concatenate([obs, g], axis=1), 3)
+    clr, ok = certify(pw, np.concatenate([obs, s], axis=1), np.concatenate([obs, g], axis=1), 3,
+                      times=raw.path.times)
     clearance[idx] = clr
     return ok
 
