@@ -484,7 +484,9 @@ def plan_batch(
     lift : float
         The positive scale of the lift in the section (paper: 1).
     progress : bool
-        Show a progress bar (tqdm, on stderr) when the batch takes more than a few chunks.
+        Show a progress bar (tqdm, on stderr) when the batch takes more than a few chunks, and
+        say so when numba compiles the kernels (the first run only: they are cached on disk);
+        the bar's estimate starts after that. Without it nothing is written.
     backend : {"numba", "numpy"}, optional
         Implementation of the obstacle-line and planar_three planners: the fused numba kernels
         (default when numba is installed) or the numpy references; both give identical plans.
