@@ -22,15 +22,24 @@ COMPILING = ("compiling kernels, first run only (cached on disk for later runs; 
              "it takes some 10 to 30 seconds)")
 
 
+class _Silent:
+    def rearm(self) -> None:  # pragma: no cover - numba is a dependency
+        pass
+
+
 @contextmanager
-def announce_compile(write: Callable[[str], None]) -> Iterator[None]:
+def announce_compile(write: Callable[[str], None]) -> Iterator:
     """Within the block, call ``write(COMPILING)`` once, when numba starts compiling a pmplan
     kernel (in any thread); nothing when every kernel is loaded from the cache or was compiled
-    before. Without numba there is nothing to compile and nothing is written."""
+    before. Without numba there is nothing to compile and nothing is written.
+
+    Yields a handle whose ``rearm()`` lets a later compilation be announced once more (the
+    progress display rearms it when its bar starts).
+    """
     try:
         from numba.core import event
     except ImportError:  # pragma: no cover - numba is a dependency
-        yield
+        yield _Silent()
         return
 
     class Notice(event.Listener):
@@ -51,5 +60,9 @@ def announce_compile(write: Callable[[str], None]) -> Iterator[None]:
         def on_end(self, ev) -> None:
             pass
 
-    with event.install_listener("numba:compile", Notice()):
-        yield
+        def rearm(self) -> None:
+            with self.lock:
+                self.shown = False
+
+    with event.install_listener("numba:compile", Notice()) as notice:
+        yield notice

@@ -352,20 +352,22 @@ class _Progress:
     While it is open, the notice :data:`pmplan._compiling.COMPILING` is written if a kernel is
     compiled (the first run only: not when numba loads it from its on-disk cache). The tqdm bar
     (for more than 4 chunks) starts when the first chunk is done (``update``), counting it, so
-    that its rate and time estimate never include that compilation.
+    that its rate and time estimate never include that compilation; a kernel that only a later
+    chunk needs (the scalar kernel, for a query that is not generic) is announced once more.
     """
 
     def __init__(self, show: bool, total: int) -> None:
         self.show, self.total, self.done = show, total, 0
         self.bar = None
         self.notice = None
+        self.handle = None
 
     def __enter__(self) -> _Progress:
         if self.show:
             from ._compiling import announce_compile
 
             self.notice = announce_compile(self.write)
-            self.notice.__enter__()
+            self.handle = self.notice.__enter__()
         return self
 
     def write(self, message: str) -> None:
@@ -384,6 +386,8 @@ class _Progress:
 
             self.bar = tqdm(total=self.total, initial=self.done, desc="planning", unit="chunk",
                             file=sys.stderr)
+            if self.handle is not None:
+                self.handle.rearm()
         else:
             self.bar.update()
 
