@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 import pmplan
+from pmplan import api
 from pmplan._compiling import COMPILING, announce_compile
 from pmplan.cli import main
 
@@ -85,13 +86,14 @@ def _run(phase: str, cache: Path) -> tuple[str, dict[str, str]]:
     return res.stdout, parts
 
 
-def _check_bar(err: str) -> None:
-    """A bar over 5 chunks that starts at 1/5 with no rate, never at 0/5, and ends at 5/5."""
+def _check_bar(err: str, total: int = 5) -> None:
+    """A bar over ``total`` chunks that starts at 1 with no rate, never shows 0, and ends at
+    ``total``."""
     frames = [f for f in err.replace("\r", "\n").split("\n") if f.startswith("planning")]
     assert frames, err
-    assert "1/5 [" in frames[0] and "?chunk/s" in frames[0], frames
-    assert "5/5 [" in frames[-1], frames
-    assert not any("0/5 [" in f for f in frames), frames
+    assert f"1/{total} [" in frames[0] and "?chunk/s" in frames[0], frames
+    assert f"{total}/{total} [" in frames[-1], frames
+    assert not any(f"0/{total} [" in f for f in frames), frames
 
 
 def test_progress_announces_a_compile_and_only_then(tmp_path):
@@ -124,6 +126,50 @@ def test_no_progress_writes_nothing(capfd):
     pmplan.plan(o[0], s[0], g[0])
     out, err = capfd.readouterr()
     assert (out, err) == ("", "")
+
+
+def _pmplan_function(name: str):
+    """A new jitted function that numba sees as pmplan's (its module is ``pmplan.*``): its
+    first call is a real (and tiny) compilation, never a cache load."""
+    numba = __import__("numba")
+    namespace = {"__name__": "pmplan._test_first_run"}
+    exec(f"def {name}(x):\n    return x + 1\n", namespace)  # noqa: S102
+    return numba.njit(namespace[name])
+
+
+def test_announce_compile_once_until_rearmed():
+    shown = []
+    f, g, h = (_pmplan_function(name) for name in "fgh")
+    with announce_compile(shown.append) as handle:
+        assert shown == []
+        f(1)
+        g(1)
+        f(2)
+        assert shown == [COMPILING]
+        handle.rearm()
+        f(3)  # compiled before: nothing
+        assert shown == [COMPILING]
+        h(1)
+        assert shown == [COMPILING, COMPILING]
+    _pmplan_function("k")(1)  # after the block: nothing
+    assert shown == [COMPILING, COMPILING]
+
+
+def test_progress_announces_a_compile_after_the_bar_started_once_more(capsys):
+    """A kernel that only a later chunk needs is announced again, above the running bar."""
+    with api._Progress(True, 6) as progress:
+        _pmplan_function("a")(1)
+        progress.update()  # the first chunk is done: the bar starts here, at 1/6
+        _pmplan_function("b")(1)
+        _pmplan_function("c")(1)
+        for _ in range(5):
+            progress.update()
+    err = capsys.readouterr().err
+    assert err.count(NOTICE) == 2
+    first, second = (err.index(NOTICE), err.index(NOTICE, err.index(NOTICE) + 1))
+    assert "planning" not in err[:first]
+    assert "1/6 [" in err[first:second]
+    _check_bar(err, total=6)
 
 
 def test_announce_compile_ignores_other_code():
