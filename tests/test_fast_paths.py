@@ -430,9 +430,9 @@ def test_input_forms_compile_no_new_specialisation():
     o, s, g = rng.normal(size=(3, 3)), rng.normal(size=(2, 3)), rng.normal(size=(2, 3))
     pmplan.plan(o, s, g)
     pmplan.plan_sequence(o, [s, g, s, g])
-    before = len(K.plan_one.signatures), len(K.plan_obstacle_line.signatures)
+    before = len(K.plan_one.signatures), len(K._plan.signatures)
     for form in FORMS.values():
         pmplan.plan(form(o), form(s), form(g), lift=2)
         for r in (2, 3, 5):
             pmplan.plan_sequence(form(o), [form(c) for c in (s, g, s, g, s)[:r]])
-    assert (len(K.plan_one.signatures), len(K.plan_obstacle_line.signatures)) == before
+    assert (len(K.plan_one.signatures), len(K._plan.signatures)) == before

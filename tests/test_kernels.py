@@ -592,8 +592,10 @@ def test_one_specialisation():
     assert_same_batch(pmplan.plan_batch(np.asfortranarray(o), s[:, ::-1][:, ::-1], g.tolist()),
                       want)
     pmplan.plan_batch(o.astype(np.float32), s, g)  # (other values: planned, not compared)
-    for kernel in (K.plan_chunk, K.valid_queries, K._plan_lanes):
+    for kernel in (K._plan, K.valid_queries, K._plan_lanes):
         assert len(kernel.signatures) == 1, kernel
+    # compiled with _plan_lanes only on a cold cache (else loaded with it): never twice
+    assert len(K._pair_plane.signatures) <= 1
 
 
 @pytest.mark.parametrize("bad", ["nan", "inf", "coincident_start", "coincident_goal",

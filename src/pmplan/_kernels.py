@@ -139,7 +139,11 @@ _OBSTACLE_TINY2 = 2.0**-1000
 LANES_MIN = 16
 
 _OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
-_INLINE = {**_OPTS, "inline": "always"}
+#: the small helpers: compiled once each and inlined by LLVM where it pays. Not numba's
+#: ``inline="always"``, which copies them into every caller before typing and cost about three
+#: seconds of every first run's compilation, with the same machine code speed (README, "first
+#: run"; the floating-point operations are the same either way: no fast-math, no contraction)
+_INLINE = _OPTS
 
 
 @njit(**_INLINE)
@@ -416,14 +420,16 @@ def _clearance_exact(wf, b, dd, kk, p, d, npairs, pi, pj, thr2):  # pragma: no c
     return best, suspect
 
 
-@njit(**_OPTS)
-def _build_tables(r, m, n, d):  # pragma: no cover - compiled
+def _build_tables(r, m, n, d):
     """The index tables of :func:`_plan` for queries through r configurations of (d, n, m).
 
     One int64 vector: ``g1, g2, add`` (size ``K (m + n) d`` each: waypoint element x is
     ``src[g1[x]]``, plus ``src[g2[x]]`` where ``add[x]``), the pairs ``pi, pj`` with a moving
     point, and ``ia, ja``: the positions in a waypoint block of the two coordinates whose
     difference is ``dd[t, c, k]``.
+
+    Plain Python (built once per shape by :func:`tables`; under a millisecond for the usual
+    shapes): compiling it would cost more than it ever saves.
     """
     p = m + n
     kk = 7 * (r - 1) + 1
@@ -1145,8 +1151,8 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                 z = T[mx, l]
                 T[mx2, l] = av if av > z else z  # noqa: FURB136 (a select: NaN never chosen)
             mx, mx2 = mx2, mx
-        mn = 13
-        mn2 = 14
+        mn = np.int64(13)  # not the literal 13: numba would compile _pair_plane for it too
+        mn2 = np.int64(14)
         for l in range(L):
             z = 2.1e-9 * T[mx, l]
             T[THR2, l] = z * z if (T[mx, l] > 1e-130) & (T[mx, l] < 1e130) else np.inf
@@ -1250,9 +1256,8 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     return nt
 
 
-@njit(**_OPTS)
 def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domain, strata,
-                       clearance, flags):  # pragma: no cover - compiled
+                       clearance, flags):
     """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c).
 
     Parameters and outputs as :func:`_plan`. The generic queries are planned by
@@ -1267,10 +1272,16 @@ def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domai
                flags, tab)
 
 
-@njit(**_OPTS)
 def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
-               flags, tab):  # pragma: no cover - compiled
-    """:func:`plan_obstacle_line` with the index tables ``tab`` of :func:`tables` given."""
+               flags, tab):
+    """:func:`plan_obstacle_line` with the index tables ``tab`` of :func:`tables` given.
+
+    Plain Python on purpose, as :func:`plan_obstacle_line` and :func:`_build_tables`: a jitted
+    caller would have numba link :func:`_plan_lanes` and :func:`_plan` into its own module and
+    optimise and generate their machine code a second time -- about a quarter of the first
+    run's compile time -- for a saving of a few microseconds per chunk (see the README, "first
+    run").
+    """
     nb, m, d = obstacles.shape
     n = first.shape[1]
     r = middle.shape[0] + 2
@@ -1282,8 +1293,9 @@ def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strat
     else:
         for b in range(nb):
             todo[b] = b
-    _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
-          tab, todo, nt)
+    if nt:  # (so that a run whose every query is generic never compiles _plan)
+        _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
+              flags, tab, todo, nt)
 
 
 _TABLES: dict = {}

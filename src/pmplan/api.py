@@ -342,11 +342,7 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, seque
     b = obstacles.shape[0]
     out = None
     chunks = range(0, b, CHUNK)
-    if progress and len(chunks) > 4:
-        from tqdm import tqdm
-
-        chunks = tqdm(chunks, desc="planning", unit="chunk", file=sys.stderr)
-    for lo in chunks:
+    for lo in _Progress(progress, len(chunks)).over(chunks):
         hi = min(b, lo + CHUNK)
         obs = obstacles[lo:hi]
         cfg = [c[lo:hi] for c in configs]
@@ -453,21 +449,17 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
         return lo, hi, ok
 
     starts = range(0, b, CHUNK)
-    bar = None
-    if progress and len(starts) > 4:
-        from tqdm import tqdm
-
-        bar = tqdm(total=len(starts), desc="planning", unit="chunk", file=sys.stderr)
+    bar = _Progress(progress, len(starts))
     pool = None
     if workers > 1 and len(starts) > 1:
         from concurrent.futures import ThreadPoolExecutor
 
         pool = ThreadPoolExecutor(min(workers, len(starts)))
     try:
+        bar.__enter__()
         done = map(chunk, starts) if pool is None else pool.map(chunk, starts)
         for lo, hi, ok in done:
-            if bar is not None:
-                bar.update()
+            bar.update()
             if not ok.all():
                 if validate:  # an invalid query, or a certificate that fails
                     check_query(obstacles, configs[0], configs[-1], batched=True)
@@ -478,8 +470,7 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
-        if bar is not None:
-            bar.close()
+        bar.__exit__(None, None, None)
     return out
 
 
@@ -515,6 +506,66 @@ def _fused_call(planner, r: int, m: int, n: int, d: int, per_query_times: bool, 
         return arrays, ok
 
     return call
+
+
+class _Progress:
+    """The progress display of a batch of ``total`` chunks, on stderr when ``show``.
+
+    While it is open, the notice :data:`pmplan._compiling.COMPILING` is written if a kernel is
+    compiled (the first run only: not when numba loads it from its on-disk cache). The tqdm bar
+    (for more than 4 chunks) starts when the first chunk is done (``update``), counting it, so
+    that its rate and time estimate never include that compilation; a kernel that only a later
+    chunk needs (the scalar kernel, for a query that is not generic) is announced once more.
+    """
+
+    def __init__(self, show: bool, total: int) -> None:
+        self.show, self.total, self.done = show, total, 0
+        self.bar = None
+        self.notice = None
+        self.handle = None
+
+    def __enter__(self) -> _Progress:
+        if self.show:
+            from ._compiling import announce_compile
+
+            self.notice = announce_compile(self.write)
+            self.handle = self.notice.__enter__()
+        return self
+
+    def write(self, message: str) -> None:
+        if self.bar is not None:
+            self.bar.write(f"pmplan: {message}", file=sys.stderr)
+        else:
+            print(f"pmplan: {message}", file=sys.stderr, flush=True)
+
+    def update(self) -> None:
+        """One more chunk done."""
+        self.done += 1
+        if not self.show or self.total <= 4:
+            return
+        if self.bar is None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=self.total, initial=self.done, desc="planning", unit="chunk",
+                            file=sys.stderr)
+            if self.handle is not None:
+                self.handle.rearm()
+        else:
+            self.bar.update()
+
+    def over(self, items):
+        """Yield the chunks ``items``, counting each one done when the next is asked for."""
+        with self:
+            for item in items:
+                yield item
+                self.update()
+
+    def __exit__(self, *exc) -> None:
+        if self.bar is not None:
+            self.bar.close()
+        if self.notice is not None:
+            self.notice.__exit__(None, None, None)
+            self.notice = None
 
 
 def _check_workers(workers) -> int:
@@ -604,7 +655,9 @@ def plan_batch(
         rotated query gets the scaled, translated or rotated plan). A bool or a string other
         than ``"scene"`` is refused.
     progress : bool
-        Show a progress bar (tqdm, on stderr) when the batch takes more than a few chunks.
+        Show a progress bar (tqdm, on stderr) when the batch takes more than a few chunks, and
+        say so when numba compiles the kernels (the first run only: they are cached on disk);
+        the bar's estimate starts after that. Without it nothing is written.
     backend : {"numba", "numpy"}, optional
         Implementation of the obstacle-line and planar_three planners: the fused numba kernels
         (default when numba is installed) or the numpy references; both give identical plans.

@@ -266,14 +266,19 @@ def cmd_demo(args) -> int:
     from .examples import obstacle_line_examples
 
     out = _picture_path(args.out)
-    print("pmplan demo: planning... (the first run after installing compiles pmplan's numba "
-          "kernels, about half a minute; they are cached for later runs)", file=sys.stderr)
-    rows, plans = [], []
-    for obstacles, start, goal in obstacle_line_examples(args.n):
-        p = api.plan(obstacles, start, goal, lift=args.lift)
-        plans.append(p)
+    import numpy as np
+
+    from ._compiling import announce_compile
+
+    rows = []
+    with announce_compile(lambda notice: print(f"pmplan demo: {notice}", file=sys.stderr,
+                                               flush=True)):
+        # one batch (the demo needs no single-query kernel: nothing more to compile)
+        queries = [np.stack(a) for a in zip(*obstacle_line_examples(args.n))]
+        plans = list(api.plan_batch(*queries, lift=args.lift))
+        extra = _planar_three_demo(args.lift)
+    for p in plans:
         rows.append(("obstacle_line", f"W_{p.domain}", p.stratum, p.path.length(), p.clearance))
-    extra = _planar_three_demo(args.lift)
     for p in extra:
         rows.append(("planar_three", f"W{p.domain}", p.stratum, p.path.length(), p.clearance))
     print(f"pmplan demo: {args.n} robots among 2 obstacles in the plane "

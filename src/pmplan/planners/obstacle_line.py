@@ -415,7 +415,7 @@ class ObstacleLinePlanner:
         (a sequence of r arrays (n, d)), and a float ``lift`` (positive, or
         :data:`~pmplan.planners.base.SCENE_CODE`) -- or None when no kernel plans
         that shape (numba missing, d > MAX_D, m < 2, n < 1, r < 2). ``run`` returns None
-        whenever the kernel (:func:`pmplan._kernels.plan_chunk`, asked to validate, with the
+        whenever the kernel (:func:`pmplan._kernels._plan`, asked to validate, with the
         index tables looked up once here) flags the query or the clearance is not positive:
         the general path then raises the proper error or re-decides exactly. The breakpoints
         are :func:`path_times` ``(r)`` (strictly increasing, so the path is already compact),
@@ -428,8 +428,9 @@ class ObstacleLinePlanner:
         times = path_times(r)
         if not (np.diff(times) > 0).all():  # pragma: no cover - never: path_times is strict
             return None
-        kernel = K.plan_chunk
+        kernel = K._plan  # one query: the scalar kernel, as K.plan_chunk would call it
         tab = K.tables(r, m, n, d)
+        sel = np.zeros(1, np.int64)  # (read only)
         oshape, rshape, mshape = (1, m, d), (1, n, d), (1, 1, n, d)
         wshape, sshape = (1, times.shape[0], m + n, d), (1, r + 2)
         mfull, mflat = (r - 2, 1, n, d), ((r - 2) * n, d)
@@ -451,7 +452,7 @@ class ObstacleLinePlanner:
             flags = empty(1, u8)
             kernel(obstacles.reshape(oshape), configs[0].reshape(rshape),
                    configs[-1].reshape(rshape), middle, lift, True, wp, domain, strata,
-                   clearance, flags, tab)
+                   clearance, flags, tab, sel, 1)
             clr = clearance.item()
             if flags.item() or not clr > 0:
                 return None
