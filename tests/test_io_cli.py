@@ -321,6 +321,19 @@ def test_subprocess_plan_and_error(tmp_path):
     assert "Traceback" not in res.stderr
 
 
+def test_subprocess_reader_leaves_quietly(tmp_path):
+    """``pmplan plan q.json --samples 50000 | head -c 10``: the reader closes the pipe early;
+    pmplan stops without an error line (and without a traceback) and reports SIGPIPE's 141."""
+    good = write_json(tmp_path, QUERY)
+    proc = subprocess.Popen([sys.executable, "-m", "pmplan", "plan", good, "--samples", "50000"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert proc.stdout.read(10)
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 141
+    assert err == ""
+
+
 # --------------------------------------------------------------------------------------------
 # every option: help text, validation (one line, exit 2), --version, --lift
 

@@ -415,6 +415,11 @@ def main(argv=None) -> int:
     except PmplanError as exc:
         print(f"pmplan {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader left (``pmplan plan q.json | head``): no error line
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit
+        return 141  # 128 + SIGPIPE, as a shell reports a command its reader left
     except OSError as exc:
         print(f"pmplan {args.command}: error: {exc}", file=sys.stderr)
         return 2
