@@ -1,0 +1,399 @@
+"""The local server of ``pmplan explore``: a Starlette app and its JSON API.
+
+Endpoints
+---------
+``GET /``
+    The page (``static/index.html``); its assets under ``/static/``. All assets are read once,
+    when the app is built, from the package: a request never makes the server read or write a
+    file.
+``GET /api/examples``
+    The paper's examples: one exact query in every stratum of Section 4
+    (:func:`pmplan.figures.figure_queries`) and one in every domain of the demo
+    (:func:`pmplan.examples.obstacle_line_examples`, ``planar_three.demo_examples``).
+``POST /api/plan`` (optional ``?samples=K``)
+    The body is the JSON that ``pmplan plan`` reads (:func:`pmplan.io.parse_query`), the answer
+    what it prints (:func:`pmplan.io.plan_to_dict`).
+``POST /api/domain-map``
+    ``{"query": Q, "which": "goal" | "start", "robot": 1, "origin": [x0, y0], "step": h,
+    "size": [nx, ny]}``: the domain label robot ``robot``'s goal (or start) would get at each
+    pixel centre ``(x0 + i h, y0 + j h)``, ``0 <= i < nx``, ``0 <= j < ny``, computed by one
+    :func:`pmplan.plan_batch`. Answer: ``domain`` (``ny`` rows of ``nx`` labels, row ``j`` at
+    ``y0 + j h``; ``-1`` where the point would coincide with another point of its
+    configuration, ``-2`` where the path could not be certified), ``legend`` (per label: its
+    count and the strata, in the paper's notation, met there), ``planner``.
+
+Errors are JSON ``{"error": message, "type": name}``: 400 for a body that is not JSON, 413 for
+a body over :data:`MAX_BODY` bytes, 422 for a query the library refuses (the message is the
+library's own ``InputError`` / ``CertificationError`` text) or a grid over
+:data:`MAX_GRID` per side, 404/405 for a wrong address or method. Never a traceback.
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import json
+import socket
+import sys
+from importlib import resources
+
+import numpy as np
+
+from .. import api
+from ..errors import CertificationError, InputError, PmplanError
+from ..io import _json_int, parse_query, plan_to_dict
+from . import require_extra
+
+__all__ = ["MAX_BODY", "MAX_GRID", "MAX_POINTS", "create_app", "examples", "domain_map",
+           "is_loopback", "serve"]
+
+#: largest request body, in bytes (larger: 413)
+MAX_BODY = 1_000_000
+#: largest side of a domain-map grid, in pixels (larger: 422)
+MAX_GRID = 400
+#: most points (m + n) of a query the server plans (more: 422); the page uses at most 14
+MAX_POINTS = 64
+_STATIC = {
+    "index.html": "text/html; charset=utf-8",
+    "explore.js": "text/javascript; charset=utf-8",
+    "explore.css": "text/css; charset=utf-8",
+}
+
+
+class _HTTPError(Exception):
+    def __init__(self, status: int, message: str, kind: str = "RequestError"):
+        super().__init__(message)
+        self.status, self.kind = status, kind
+
+
+def examples() -> list[dict]:
+    """The example queries of the page: every stratum of paper Section 4, every demo domain.
+
+    Returns
+    -------
+    list of dict
+        ``{"group", "name", "query"}``; ``query`` in the JSON form of ``pmplan plan``.
+    """
+    from ..examples import obstacle_line_examples
+    from ..figures import figure_queries
+    from ..planners.planar_three import DOMAIN_OF, demo_examples
+
+    def q(o, s, g):
+        return {"obstacles": np.asarray(o).tolist(), "start": np.asarray(s).tolist(),
+                "goal": np.asarray(g).tolist()}
+
+    out = []
+    for k, (o, s, g) in enumerate(obstacle_line_examples(3)):
+        out.append({"group": "demo: 3 robots, 2 obstacles (Section 3)", "name": f"W_{k + 4}",
+                    "query": q(o, s, g)})
+    for k, (o, s, g) in enumerate(demo_examples()):
+        out.append({"group": "demo: 1 robot, 3 obstacles (Section 4)", "name": f"W{k + 1}",
+                    "query": q(o, s, g)})
+    for name, (o, s, g) in figure_queries().items():
+        out.append({"group": "Section 4: every stratum",
+                    "name": f"{name} (W{DOMAIN_OF[name]})", "query": q(o, s, g)})
+    return out
+
+
+def _check_size(query: dict) -> None:
+    npts = query["obstacles"].shape[0] + query["start"].shape[0]
+    if npts > MAX_POINTS:
+        raise InputError(f"the query has {npts} points (m + n); pmplan explore plans at most "
+                         f"{MAX_POINTS} (use pmplan plan or the library for larger queries)")
+
+
+def plan_json(obj, samples=None) -> dict:
+    """Plan the decoded ``pmplan plan`` query ``obj``; the dict ``pmplan plan`` prints."""
+    query = parse_query(obj)
+    _check_size(query)
+    return plan_to_dict(api.plan_query(query), samples=samples)
+
+
+def _int_field(obj: dict, key: str, lo: int, hi: int, status: int = 422) -> int:
+    v = obj.get(key)
+    if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
+        raise _HTTPError(status, f"`{key}` must be an integer from {lo} to {hi}, got {v!r}",
+                         "InputError")
+    return v
+
+
+def _real_pair(obj: dict, key: str) -> np.ndarray:
+    v = obj.get(key)
+    if not (isinstance(v, list) and len(v) == 2
+            and all(isinstance(t, (int, float)) and not isinstance(t, bool) for t in v)):
+        raise InputError(f"`{key}` must be a list of two numbers, got {v!r}")
+    arr = np.array(v, dtype=float)
+    if not np.isfinite(arr).all():
+        raise InputError(f"`{key}` must be finite, got {v!r}")
+    return arr
+
+
+def domain_map(obj) -> dict:
+    """Answer a ``POST /api/domain-map`` request (decoded JSON ``obj``; see the module doc)."""
+    if not isinstance(obj, dict):
+        raise InputError(f"a domain-map request must be a JSON object, got {type(obj).__name__}")
+    keys = {"query", "which", "robot", "origin", "step", "size"}
+    unknown = set(obj) - keys
+    if unknown or "query" not in obj:
+        raise InputError(f"a domain-map request has the keys {sorted(keys)} (query required); "
+                         f"got {sorted(obj)}")
+    query = parse_query(obj["query"])
+    _check_size(query)
+    if "via" in query:
+        raise InputError("a domain map is drawn for a query without `via`")
+    obstacles, start, goal = query["obstacles"], query["start"], query["goal"]
+    if obstacles.ndim != 2 or obstacles.shape[1:] != (2,) or start.shape[1:] != (2,):
+        raise InputError(f"a domain map is drawn in the plane (d = 2); the query has points of "
+                         f"shape {start.shape[1:]}")
+    if start.shape != goal.shape:  # the library names the shapes
+        api.plan_query(query)
+    which = obj.get("which", "goal")
+    if which not in ("goal", "start"):
+        raise InputError(f"`which` must be \"goal\" or \"start\", got {which!r}")
+    n = start.shape[0]
+    robot = _int_field({"robot": obj.get("robot", 1)}, "robot", 1, max(n, 1))
+    origin = _real_pair(obj, "origin")
+    step = obj.get("step")
+    if isinstance(step, bool) or not isinstance(step, (int, float)) or not 0 < step < 1e300:
+        raise InputError(f"`step` must be a positive finite number, got {step!r}")
+    size = obj.get("size")
+    if not (isinstance(size, list) and len(size) == 2):
+        raise InputError(f"`size` must be a list [nx, ny] of two integers, got {size!r}")
+    nx = _int_field({"size[0]": size[0]}, "size[0]", 1, MAX_GRID)
+    ny = _int_field({"size[1]": size[1]}, "size[1]", 1, MAX_GRID)
+    xs = origin[0] + step * np.arange(nx)
+    ys = origin[1] + step * np.arange(ny)
+    if not (np.isfinite(xs).all() and np.isfinite(ys).all()):
+        raise InputError("the grid reaches beyond the finite numbers: choose a smaller step")
+    pts = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)  # row j = y0 + j h
+    b = pts.shape[0]
+    moving = (goal if which == "goal" else start).copy()
+    others = np.concatenate([obstacles, np.delete(moving, robot - 1, axis=0)])
+    label = np.full(b, -1, dtype=np.int64)
+    ok = ~(pts[:, None, :] == others[None]).all(axis=2).any(axis=1)
+    idx = np.flatnonzero(ok)
+    legend: dict[int, dict] = {}
+    planner = None
+    for _ in range(4):  # drop queries whose certificate fails, replan the rest
+        if idx.size == 0:
+            break
+        conf = np.repeat(moving[None], idx.size, axis=0)
+        conf[:, robot - 1] = pts[idx]
+        fixed = np.repeat((start if which == "goal" else goal)[None], idx.size, axis=0)
+        s, g = (fixed, conf) if which == "goal" else (conf, fixed)
+        obs = np.repeat(obstacles[None], idx.size, axis=0)
+        try:
+            batch = api.plan_batch(obs, s, g, planner=query.get("planner"),
+                                   lift=query.get("lift", 1.0))
+        except CertificationError as exc:
+            if exc.indices is None or len(exc.indices) == 0:
+                raise
+            label[idx[np.asarray(exc.indices)]] = -2
+            idx = np.delete(idx, np.asarray(exc.indices))
+            continue
+        label[idx] = batch.domain
+        planner = batch.planner
+        rows, first = np.unique(batch.strata, axis=0, return_index=True)
+        for i in first:
+            p = batch[int(i)]
+            legend.setdefault(p.domain, {"domain": p.domain, "strata": []})
+            if p.stratum not in legend[p.domain]["strata"]:
+                legend[p.domain]["strata"].append(p.stratum)
+        break
+    for lab, count in zip(*np.unique(label, return_counts=True)):
+        if lab >= 0:
+            legend[int(lab)]["count"] = int(count)
+    return {
+        "planner": planner,
+        "which": which,
+        "robot": robot,
+        "origin": origin.tolist(),
+        "step": float(step),
+        "size": [nx, ny],
+        "domain": label.reshape(ny, nx).tolist(),
+        "legend": [legend[k] for k in sorted(legend)],
+        "invalid": int((label == -1).sum()),
+        "uncertified": int((label == -2).sum()),
+    }
+
+
+def _load_static() -> dict[str, tuple[bytes, str]]:
+    root = resources.files("pmplan.web") / "static"
+    return {name: ((root / name).read_bytes(), ctype) for name, ctype in _STATIC.items()}
+
+
+def _decode(body: bytes):
+    try:
+        return json.loads(body, parse_int=_json_int)
+    except RecursionError:
+        raise _HTTPError(400, "the request body is nested too deeply to be a query",
+                         "JSONDecodeError") from None
+    except json.JSONDecodeError as exc:
+        raise _HTTPError(400, f"the request body is not valid JSON: {exc.msg} at line "
+                         f"{exc.lineno} column {exc.colno}", "JSONDecodeError") from None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise _HTTPError(400, f"the request body is not valid JSON: {exc}",
+                         "JSONDecodeError") from None
+
+
+def create_app():
+    """Return the Starlette application of ``pmplan explore``."""
+    require_extra()
+    from starlette.applications import Starlette
+    from starlette.concurrency import run_in_threadpool
+    from starlette.exceptions import HTTPException
+    from starlette.requests import Request
+    from starlette.responses import JSONResponse, Response
+    from starlette.routing import Route
+
+    static = _load_static()
+
+    def error(status: int, message: str, kind: str) -> JSONResponse:
+        return JSONResponse({"error": message, "type": kind}, status_code=status)
+
+    async def read_json(request: Request):
+        length = request.headers.get("content-length")
+        if length is not None and (not length.isdigit() or int(length) > MAX_BODY):
+            raise _HTTPError(413, f"the request body is larger than {MAX_BODY:,} bytes",
+                             "PayloadTooLarge")
+        chunks, size = [], 0
+        async for chunk in request.stream():
+            size += len(chunk)
+            if size > MAX_BODY:
+                raise _HTTPError(413, f"the request body is larger than {MAX_BODY:,} bytes",
+                                 "PayloadTooLarge")
+            chunks.append(chunk)
+        return _decode(b"".join(chunks))
+
+    async def answer(request: Request, fn, *args):
+        try:
+            obj = await read_json(request)
+            return JSONResponse(await run_in_threadpool(fn, obj, *args))
+        except _HTTPError as exc:
+            return error(exc.status, str(exc), exc.kind)
+        except (InputError, CertificationError) as exc:
+            return error(422, str(exc), type(exc).__name__)
+        except PmplanError as exc:  # pragma: no cover - every pmplan error is one of the above
+            return error(422, str(exc), type(exc).__name__)
+
+    async def plan_endpoint(request: Request):
+        samples = request.query_params.get("samples")
+        if samples is not None:
+            try:
+                samples = int(samples)
+            except ValueError:
+                return error(422, f"`samples` must be an integer, got {samples!r}", "InputError")
+        return await answer(request, plan_json, samples)
+
+    async def map_endpoint(request: Request):
+        return await answer(request, domain_map)
+
+    async def examples_endpoint(request: Request):
+        return JSONResponse(EXAMPLES)
+
+    async def page(request: Request):
+        body, ctype = static["index.html"]
+        return Response(body, media_type=ctype)
+
+    async def asset(request: Request):
+        name = request.path_params["name"]
+        if name not in static:
+            return error(404, f"no asset {name!r}", "NotFound")
+        body, ctype = static[name]
+        return Response(body, media_type=ctype)
+
+    async def http_error(request: Request, exc: HTTPException):
+        return error(exc.status_code, str(exc.detail), "HTTPError")
+
+    async def internal(request: Request, exc: Exception):  # a bug: no traceback to the client
+        print(f"pmplan explore: internal error on {request.url.path}: "
+              f"{type(exc).__name__}: {exc}", file=sys.stderr)
+        return error(500, "internal error (see the server's log)", "InternalError")
+
+    EXAMPLES = examples()
+    return Starlette(
+        routes=[
+            Route("/", page),
+            Route("/static/{name}", asset),
+            Route("/api/examples", examples_endpoint),
+            Route("/api/plan", plan_endpoint, methods=["POST"]),
+            Route("/api/domain-map", map_endpoint, methods=["POST"]),
+        ],
+        exception_handlers={HTTPException: http_error, Exception: internal},
+    )
+
+
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` names this machine only (``localhost``, 127.0.0.0/8, ``::1``)."""
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def bind(host: str, port: int) -> socket.socket:
+    """A listening TCP socket on ``(host, port)`` (port 0: a free one); OSError if refused."""
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        sock.bind((host, port))
+        sock.listen(128)
+    except OSError:
+        sock.close()
+        raise
+    return sock
+
+
+def url_of(sock: socket.socket) -> str:
+    """The ``http://host:port/`` address of a bound socket."""
+    host, port = sock.getsockname()[:2]
+    return f"http://[{host}]:{port}/" if ":" in host else f"http://{host}:{port}/"
+
+
+def warm_up() -> None:
+    """Plan one small query per planner (compiles or loads the numba kernels once)."""
+    from ..examples import obstacle_line_examples
+    from ..planners.planar_three import demo_examples
+
+    for o, s, g in (obstacle_line_examples(1)[0], demo_examples()[0]):
+        api.plan(o, s, g)
+        api.plan_batch(o[None], s[None], g[None])
+
+
+def serve(host: str = "127.0.0.1", port: int = 8765, open_browser: bool = True) -> None:
+    """Serve the page until interrupted (Ctrl-C); print the address first.
+
+    Raises
+    ------
+    MissingExtraError
+        If Starlette or uvicorn is missing (the message says how to install them).
+    OSError
+        If the address cannot be bound (e.g. the port is in use).
+    """
+    require_extra()
+    import uvicorn
+
+    app = create_app()
+    if not is_loopback(host):
+        print(f"pmplan explore: warning: serving on {host}, which is not the loopback "
+              f"address: anyone who can reach this machine can use the server (it has no "
+              f"authentication); use --host 127.0.0.1 to keep it local", file=sys.stderr)
+    sock = bind(host, port)
+    url = url_of(sock)
+    print("pmplan explore: loading the planners (the first run after installing compiles "
+          "the numba kernels)...", file=sys.stderr, flush=True)
+    warm_up()
+    print(f"pmplan explore: serving on {url} (Ctrl-C to stop)", flush=True)
+    if open_browser:
+        import webbrowser
+
+        webbrowser.open(url)
+    server = uvicorn.Server(uvicorn.Config(app, log_level="warning", lifespan="off"))
+    try:
+        server.run(sockets=[sock])
+    except KeyboardInterrupt:
+        pass
+    finally:
+        sock.close()
