@@ -19,7 +19,8 @@ Endpoints
     pixel centre ``(x0 + i h, y0 + j h)``, ``0 <= i < nx``, ``0 <= j < ny``, computed by one
     :func:`pmplan.plan_batch`. Answer: ``domain`` (``ny`` rows of ``nx`` labels, row ``j`` at
     ``y0 + j h``; ``-1`` where the point would coincide with another point of its
-    configuration, ``-2`` where the path could not be certified), ``legend`` (per label: its
+    configuration, ``-2`` where the path could not be certified, ``-3`` where the map ran out
+    of its time budget :data:`MAP_BUDGET`), ``legend`` (per label: its
     count and the strata, in the paper's notation, met there), ``planner``.
 
 Errors are JSON ``{"error": message, "type": name}``: 400 for a body that is not JSON, 413 for
@@ -34,6 +35,7 @@ import ipaddress
 import json
 import socket
 import sys
+import time
 from importlib import resources
 
 import numpy as np
@@ -41,6 +43,7 @@ import numpy as np
 from .. import api
 from ..errors import CertificationError, InputError, PmplanError
 from ..io import _json_int, parse_query, plan_to_dict
+from ..magnitude import LIMIT, needs_scaling
 from . import require_extra
 
 __all__ = ["MAX_BODY", "MAX_GRID", "MAX_POINTS", "create_app", "examples", "domain_map",
@@ -52,6 +55,13 @@ MAX_BODY = 1_000_000
 MAX_GRID = 400
 #: most points (m + n) of a query the server plans (more: 422); the page uses at most 14
 MAX_POINTS = 64
+#: a body over MAX_BODY but under this is read and dropped before the 413 (larger: not read)
+_DRAIN = 16 * MAX_BODY
+#: pixels of a domain map planned by one plan_batch call
+MAP_CHUNK = 8192
+#: seconds after which a domain map stops starting new chunks (the rest is -3, "unfinished"):
+#: some queries (e.g. a scene unit 2**-490 among robots at distance 1) take milliseconds each
+MAP_BUDGET = 10.0
 _STATIC = {
     "index.html": "text/html; charset=utf-8",
     "explore.js": "text/javascript; charset=utf-8",
@@ -153,18 +163,28 @@ def domain_map(obj) -> dict:
     robot = _int_field({"robot": obj.get("robot", 1)}, "robot", 1, max(n, 1))
     origin = _real_pair(obj, "origin")
     step = obj.get("step")
-    if isinstance(step, bool) or not isinstance(step, (int, float)) or not 0 < step < 1e300:
+    if isinstance(step, bool) or not isinstance(step, (int, float)) or not 0 < step < float("inf"):
         raise InputError(f"`step` must be a positive finite number, got {step!r}")
     size = obj.get("size")
     if not (isinstance(size, list) and len(size) == 2):
         raise InputError(f"`size` must be a list [nx, ny] of two integers, got {size!r}")
     nx = _int_field({"size[0]": size[0]}, "size[0]", 1, MAX_GRID)
     ny = _int_field({"size[1]": size[1]}, "size[1]", 1, MAX_GRID)
-    xs = origin[0] + step * np.arange(nx)
-    ys = origin[1] + step * np.arange(ny)
+    with np.errstate(over="ignore", invalid="ignore"):  # checked just below
+        xs = origin[0] + step * np.arange(nx)
+        ys = origin[1] + step * np.arange(ny)
     if not (np.isfinite(xs).all() and np.isfinite(ys).all()):
         raise InputError("the grid reaches beyond the finite numbers: choose a smaller step")
     pts = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)  # row j = y0 + j h
+    lift = query.get("lift", 1.0)
+    corners = np.array([[xs[0], ys[0]], [xs[-1], ys[-1]]])
+    if needs_scaling([obstacles[None], start[None], goal[None], corners[None]],
+                     0.0 if lift == "scene" else lift):
+        # such queries are planned one magnitude group at a time (pmplan.magnitude): correct,
+        # but a hundred times slower; a map of them would hold the server for minutes
+        raise InputError(f"a domain map is drawn for scenes whose coordinates and lift lie "
+                         f"within 2**-{LIMIT} .. 2**{LIMIT} (about 1e-129 .. 1e129); plan "
+                         f"such queries with pmplan plan or pmplan batch")
     b = pts.shape[0]
     moving = (goal if which == "goal" else start).copy()
     others = np.concatenate([obstacles, np.delete(moving, robot - 1, axis=0)])
@@ -173,32 +193,38 @@ def domain_map(obj) -> dict:
     idx = np.flatnonzero(ok)
     legend: dict[int, dict] = {}
     planner = None
-    for _ in range(4):  # drop queries whose certificate fails, replan the rest
-        if idx.size == 0:
+    began = time.monotonic()
+    fixed = start if which == "goal" else goal
+    for lo in range(0, idx.size, MAP_CHUNK):
+        if lo and time.monotonic() - began > MAP_BUDGET:  # the rest is -3: not computed
+            label[idx[lo:]] = -3
             break
-        conf = np.repeat(moving[None], idx.size, axis=0)
-        conf[:, robot - 1] = pts[idx]
-        fixed = np.repeat((start if which == "goal" else goal)[None], idx.size, axis=0)
-        s, g = (fixed, conf) if which == "goal" else (conf, fixed)
-        obs = np.repeat(obstacles[None], idx.size, axis=0)
-        try:
-            batch = api.plan_batch(obs, s, g, planner=query.get("planner"),
-                                   lift=query.get("lift", 1.0))
-        except CertificationError as exc:
-            if exc.indices is None or len(exc.indices) == 0:
-                raise
-            label[idx[np.asarray(exc.indices)]] = -2
-            idx = np.delete(idx, np.asarray(exc.indices))
-            continue
-        label[idx] = batch.domain
-        planner = batch.planner
-        rows, first = np.unique(batch.strata, axis=0, return_index=True)
-        for i in first:
-            p = batch[int(i)]
-            legend.setdefault(p.domain, {"domain": p.domain, "strata": []})
-            if p.stratum not in legend[p.domain]["strata"]:
-                legend[p.domain]["strata"].append(p.stratum)
-        break
+        part = idx[lo:lo + MAP_CHUNK]
+        for _ in range(8):  # drop the queries whose certificate fails, replan the rest
+            if part.size == 0:
+                break
+            conf = np.repeat(moving[None], part.size, axis=0)
+            conf[:, robot - 1] = pts[part]
+            rest = np.repeat(fixed[None], part.size, axis=0)
+            s, g = (rest, conf) if which == "goal" else (conf, rest)
+            obs = np.repeat(obstacles[None], part.size, axis=0)
+            try:
+                batch = api.plan_batch(obs, s, g, planner=query.get("planner"), lift=lift)
+            except CertificationError as exc:
+                if exc.indices is None or len(exc.indices) == 0:
+                    raise
+                label[part[np.asarray(exc.indices)]] = -2
+                part = np.delete(part, np.asarray(exc.indices))
+                continue
+            label[part] = batch.domain
+            planner = batch.planner
+            for i in np.unique(batch.strata, axis=0, return_index=True)[1]:
+                p = batch[int(i)]
+                legend.setdefault(p.domain, {"domain": p.domain, "strata": []})
+                if p.stratum not in legend[p.domain]["strata"]:
+                    legend[p.domain]["strata"].append(p.stratum)
+            part = part[:0]
+        label[part] = -2
     for lab, count in zip(*np.unique(label, return_counts=True)):
         if lab >= 0:
             legend[int(lab)]["count"] = int(count)
@@ -213,6 +239,7 @@ def domain_map(obj) -> dict:
         "legend": [legend[k] for k in sorted(legend)],
         "invalid": int((label == -1).sum()),
         "uncertified": int((label == -2).sum()),
+        "unfinished": int((label == -3).sum()),
     }
 
 
@@ -251,17 +278,22 @@ def create_app():
         return JSONResponse({"error": message, "type": kind}, status_code=status)
 
     async def read_json(request: Request):
+        too_large = _HTTPError(413, f"the request body is larger than {MAX_BODY:,} bytes",
+                               "PayloadTooLarge")
         length = request.headers.get("content-length")
-        if length is not None and (not length.isdigit() or int(length) > MAX_BODY):
-            raise _HTTPError(413, f"the request body is larger than {MAX_BODY:,} bytes",
-                             "PayloadTooLarge")
+        if length is not None and (not length.isdigit() or int(length) > _DRAIN):
+            raise too_large
         chunks, size = [], 0
         async for chunk in request.stream():
             size += len(chunk)
-            if size > MAX_BODY:
-                raise _HTTPError(413, f"the request body is larger than {MAX_BODY:,} bytes",
-                                 "PayloadTooLarge")
-            chunks.append(chunk)
+            if size > _DRAIN:
+                raise too_large
+            if size <= MAX_BODY:
+                chunks.append(chunk)
+        # a body over the bound is read (up to _DRAIN) and dropped before the 413, so that the
+        # client, still sending, gets the answer rather than a reset connection
+        if size > MAX_BODY:
+            raise too_large
         return _decode(b"".join(chunks))
 
     async def answer(request: Request, fn, *args):

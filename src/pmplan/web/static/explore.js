@@ -239,6 +239,7 @@
   function mapColor(label) {
     if (label === -1) return "#bbbbbb";
     if (label === -2) return "#000000";
+    if (label === -3) return "#ffffff";
     return MAP_COLORS[label % MAP_COLORS.length];
   }
 
@@ -273,6 +274,7 @@
       `W<sub>${e.domain}</sub>: ${e.strata.map(tex).join(", ")} (${e.count} px)`));
     if (mp.invalid) item(mapColor(-1), `coincides with another point (${mp.invalid} px)`);
     if (mp.uncertified) item(mapColor(-2), `not certified (${mp.uncertified} px)`);
+    if (mp.unfinished) item(mapColor(-3), `not computed: time budget (${mp.unfinished} px)`);
   }
 
   // ---------------------------------------------------------------- dragging
