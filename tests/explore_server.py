@@ -66,3 +66,40 @@ def request(base: str, path: str, body=None, *, raw: bytes | None = None, method
         return status, json.loads(text)
     except json.JSONDecodeError:
         return status, text
+
+
+CHROMIUM = "/usr/bin/chromium"
+CHROMEDRIVER = "/usr/bin/chromedriver"
+#: Chromium flags: headless, no sandbox (root in CI), and nothing that reaches the network
+CHROMIUM_FLAGS = ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                  "--disable-background-networking", "--disable-component-update",
+                  "--disable-sync", "--no-first-run", "--window-size=1200,700")
+
+
+def need_browser():
+    """Selenium and Debian's chromium + chromium-driver, or fail in CI / skip elsewhere."""
+    need_extra()
+    missing = [p for p in (CHROMIUM, CHROMEDRIVER) if not os.path.exists(p)]
+    try:
+        import selenium  # noqa: F401
+    except ImportError:
+        missing.append("the selenium package (pip install -e '.[test]')")
+    if missing:
+        msg = (f"the browser tests need {', '.join(missing)}: apt-get install -y chromium "
+               "chromium-driver (.ci/run does it when they are missing)")
+        if os.environ.get("CI"):
+            pytest.fail(msg + " -- CI is set, so this fails rather than skips")
+        pytest.skip(msg + " (outside CI only)")
+
+
+def chromium(user_data_dir):
+    """A headless Chromium driven by Debian's chromedriver: Selenium Manager downloads nothing."""
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = CHROMIUM
+    for flag in CHROMIUM_FLAGS:
+        opts.add_argument(flag)
+    opts.add_argument(f"--user-data-dir={user_data_dir}")
+    return webdriver.Chrome(service=Service(executable_path=CHROMEDRIVER), options=opts)

@@ -6,8 +6,8 @@
   const W = 800, H = 600, SNAP = 0.25, MAX_ROBOTS = 8, MIN_OBS = 2, MAX_OBS = 6;
   const COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
                   "#e377c2", "#8c564b"];
-  const MAP_COLORS = ["#cfe2f3", "#fce5cd", "#d9ead3", "#ead1dc", "#fff2cc", "#d0e0e3",
-                      "#f4cccc", "#d9d2e9", "#b6d7a8", "#f9cb9c", "#a4c2f4", "#ffe599"];
+  const MAP_COLORS = ["#8dd3c7", "#ffffb3", "#bebada", "#fb8072", "#80b1d3", "#fdb462",
+                      "#b3de69", "#fccde5", "#bc80bd", "#ccebc5", "#ffed6f", "#d9d9d9"];
   const SVGNS = "http://www.w3.org/2000/svg";
   const $ = (id) => document.getElementById(id);
 
@@ -84,6 +84,7 @@
     state.obstacles.forEach((p, k) => {
       const h = el("g", { id: `obstacle-${k + 1}`, class: "handle", "data-kind": "obstacles",
                           "data-index": k, transform: `translate(${sx(p[0])},${sy(p[1])})` }, g);
+      el("circle", { r: 15, class: "hit" }, h);
       el("rect", { x: -7, y: -7, width: 14, height: 14, class: "obstacle" }, h);
       el("text", { x: 9, y: -9, class: "label" }, h).textContent = `o${k + 1}`;
     });
@@ -91,6 +92,7 @@
       const h = el("g", { id: `${kind}-${i + 1}`, class: "handle", "data-kind": kind,
                           "data-index": i, transform: `translate(${sx(p[0])},${sy(p[1])})` }, g);
       const c = COLORS[i % COLORS.length];
+      el("circle", { r: 15, class: "hit" }, h);  // a generous grip around the marker
       if (kind === "start") el("circle", { r: 8, fill: c, class: "start", stroke: "#000" }, h);
       else el("polygon", { points: star(11), fill: c, class: "goal", stroke: "#000" }, h);
       el("text", { x: 10, y: 14, class: "label" }, h).textContent =
@@ -108,6 +110,7 @@
       const pts = plan.waypoints.map((w) => `${sx(w[m + i][0]).toFixed(2)},${sy(w[m + i][1]).toFixed(2)}`);
       el("polyline", { id: `path-${i + 1}`, class: "robot-path", points: pts.join(" "),
                        stroke: COLORS[i % COLORS.length],
+                       "data-times": JSON.stringify(plan.times),
                        "data-world": JSON.stringify(plan.waypoints.map((w) => w[m + i])) }, gp);
     }
     drawMovers();
@@ -164,7 +167,7 @@
 
   function schedule(delay) {
     clearTimeout(net.timer);
-    net.timer = setTimeout(replan, delay);
+    net.timer = setTimeout(() => { net.timer = null; replan(); }, delay);
   }
 
   async function replan() {
@@ -284,13 +287,18 @@
     const h = ev.target.closest(".handle");
     if (!h) return;
     ev.preventDefault();
-    drag = { kind: h.dataset.kind, index: Number(h.dataset.index), id: ev.pointerId };
+    const r = svg.getBoundingClientRect();
+    const p = state[h.dataset.kind][Number(h.dataset.index)];
+    // keep the offset between the pointer and the point: a drag by (dx, dy) pixels moves
+    // the point by (dx, dy) pixels, wherever on the marker it was grabbed
+    drag = { kind: h.dataset.kind, index: Number(h.dataset.index), id: ev.pointerId,
+             dx: p[0] - wx(ev.clientX - r.left), dy: p[1] - wy(ev.clientY - r.top) };
     svg.setPointerCapture(ev.pointerId);
   });
   svg.addEventListener("pointermove", (ev) => {
     if (!drag || ev.pointerId !== drag.id) return;
     const r = svg.getBoundingClientRect();
-    const x = snap(wx(ev.clientX - r.left)), y = snap(wy(ev.clientY - r.top));
+    const x = snap(wx(ev.clientX - r.left) + drag.dx), y = snap(wy(ev.clientY - r.top) + drag.dy);
     const p = state[drag.kind][drag.index];
     if (p[0] === x && p[1] === y) return;
     state[drag.kind][drag.index] = [x, y];
@@ -389,6 +397,8 @@
     } catch (e) { window.pmplanExamples = []; }
     setQuery(query());
   }
-  window.pmplanExplore = { state, setQuery, sx, sy, wx, wy };
+  // for tests and the console: is a replan scheduled or running?
+  const pending = () => net.busy || net.dirty || net.timer !== null;
+  window.pmplanExplore = { state, setQuery, sx, sy, wx, wy, pending };
   init();
 })();
