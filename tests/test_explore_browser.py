@@ -224,3 +224,22 @@ def test_examples_buttons_and_animation(page):
     driver.find_element("id", "discs-toggle").click()
     assert len(driver.find_elements("css selector", ".disc")) == 2 + 3
     driver.save_screenshot(str(shots / "6-example.png"))
+
+
+def test_section_4_planner_jumps_from_W4_to_W3_on_an_obstacle_column(page):
+    driver, shots = page
+    # the demo's W4 query of paper Section 4: o3 = (2.5, 1.5), x = (0, -2) on o1's column,
+    # x' = (6, 2.5) on its own column: T^{2,3}_{3,4}
+    _reset(driver, {"obstacles": [[0, 0], [4, 0], [2.5, 1.5]], "start": [[0, -2]],
+                    "goal": [[6, 2.5]]})
+    before = _shown(driver)
+    assert before["planner"] == "planar_three" and before["label"] == "4"
+    _drag(driver, "goal-1", -0.25, 0)  # inside W4
+    inside = _shown(driver)
+    assert inside["label"] == "4" and 0 < _sup(before["path"], inside["path"]) <= 0.3
+    _drag(driver, "goal-1", -1.75, 0)  # onto o2's column u = 4: T^{2,3}_{3,3}, W3
+    assert _point(driver, "goal") == [4, 2.5]
+    on = _shown(driver)
+    assert on["label"] == "3" and on["stratum"] == "T2,33,3"
+    assert _sup(inside["path"], on["path"]) > 1.0
+    driver.save_screenshot(str(shots / "7-section4-W3.png"))
