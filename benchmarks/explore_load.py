@@ -201,6 +201,10 @@ def malformed(port, count):
     return statuses
 
 
+def _statuses(counts: dict, fmt: str) -> str:
+    return ", ".join(f"{k}: {fmt.format(v)}" for k, v in sorted(counts.items(), key=str))
+
+
 def pct(values, q):
     return float(np.percentile(np.array(values) * 1000, q)) if values else float("nan")
 
@@ -230,7 +234,8 @@ def main():
             _, err = proc.communicate()
 
     lines = [SECTION, "",
-             f"`python benchmarks/explore_load.py` ({time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
+             f"`python benchmarks/explore_load.py` "
+             f"({time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
              f"{platform.machine()}, {os.cpu_count()} cores shared by the server and its "
              f"clients; server: `pmplan explore` in its own process, uvicorn, loopback).", ""]
     lines += [f"**Load**: {args.clients} concurrent clients for {elapsed:.1f} s, mixed requests "
@@ -249,7 +254,7 @@ def main():
         if kind == "all":
             fivexx = sum(v for k, v in st.items() if not isinstance(k, int) or k >= 500)
         lines.append(f"| {kind} | {len(rows):,} | {len(rows) / elapsed:,.1f} | {pct(lat, 50):.1f} "
-                     f"| {pct(lat, 99):.1f} | {', '.join(f'{k}: {v:,}' for k, v in sorted(st.items(), key=str))} |")
+                     f"| {pct(lat, 99):.1f} | {_statuses(st, '{:,}')} |")
     lines += ["", f"5xx or connection errors under load: **{fivexx}**.", ""]
     by = {}
     for name, status in bad:
@@ -259,7 +264,7 @@ def main():
     lines += [f"**Malformed**: {len(bad)} requests, cycling through {len(malformed_bodies())} "
               "kinds:", "", "| kind | statuses |", "|---|---|"]
     for name, st in by.items():
-        lines.append(f"| {name} | {', '.join(f'{k}: {v}' for k, v in sorted(st.items(), key=str))} |")
+        lines.append(f"| {name} | {_statuses(st, '{}')} |")
     internal = err.count("internal error")
     lines += ["", f"All 4xx: **{'yes' if all4xx else 'NO'}**; a valid request afterwards: "
               f"**{after}**; internal errors in the server's log: **{internal}**.", ""]

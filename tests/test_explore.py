@@ -6,7 +6,6 @@ The browser tests of the page are in ``test_explore_browser.py``.
 from __future__ import annotations
 
 import http.client
-import io
 import json
 import os
 import re
@@ -262,7 +261,8 @@ def test_domain_map_planar_three_and_limits(base, monkeypatch):
     lab = np.array(body["domain"])
     assert status == 200 and body["unfinished"] == int((lab == -3).sum()) > 0
     assert (lab.ravel()[:server.MAP_CHUNK] != -3).all()
-    assert body["unfinished"] + body["invalid"] + sum(e["count"] for e in body["legend"]) == lab.size
+    counted = sum(e["count"] for e in body["legend"])
+    assert body["unfinished"] + body["invalid"] + counted == lab.size
     status, body = request(base, "/api/domain-map",
                            {**req, "query": {"obstacles": [[0, 0, 0], [1, 0, 0]],
                                              "start": [[1, 1, 1]], "goal": [[2, 2, 2]]}})
