@@ -243,3 +243,8 @@ def test_section_4_planner_jumps_from_W4_to_W3_on_an_obstacle_column(page):
     assert on["label"] == "3" and on["stratum"] == "T2,33,3"
     assert _sup(inside["path"], on["path"]) > 1.0
     driver.save_screenshot(str(shots / "7-section4-W3.png"))
+    # obstacles are draggable too: o3 onto the line o1o2 gives the family T^1 (here T^1_{2,2})
+    _drag(driver, "obstacle-3", 0, -1.5)
+    assert driver.execute_script("return pmplanExplore.state.obstacles[2]") == [2.5, 0]
+    moved = _shown(driver)
+    assert moved["label"] == "2" and moved["stratum"] == "T12,2"
