@@ -41,6 +41,7 @@ from importlib import resources
 import numpy as np
 
 from .. import api
+from ..configuration import as_real
 from ..errors import CertificationError, InputError, PmplanError
 from ..io import _json_int, parse_query, plan_to_dict
 from ..magnitude import LIMIT, needs_scaling
@@ -118,23 +119,35 @@ def plan_json(obj, samples=None) -> dict:
     return plan_to_dict(api.plan_query(query), samples=samples)
 
 
-def _int_field(obj: dict, key: str, lo: int, hi: int, status: int = 422) -> int:
+def _int_field(obj: dict, key: str, lo: int, hi: int) -> int:
     v = obj.get(key)
     if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
-        raise _HTTPError(status, f"`{key}` must be an integer from {lo} to {hi}, got {v!r}",
-                         "InputError")
+        shown = f"{v!r}" if not isinstance(v, int) or abs(v) < 10**12 else "a larger integer"
+        raise InputError(f"`{key}` must be an integer from {lo} to {hi}, got {shown}")
     return v
+
+
+#: the fix named when a number of a domain-map request is not a real number
+_MAP_FIX = "write plain numbers (not strings, booleans or null)"
 
 
 def _real_pair(obj: dict, key: str) -> np.ndarray:
     v = obj.get(key)
-    if not (isinstance(v, list) and len(v) == 2
-            and all(isinstance(t, (int, float)) and not isinstance(t, bool) for t in v)):
+    if not (isinstance(v, list) and len(v) == 2):
         raise InputError(f"`{key}` must be a list of two numbers, got {v!r}")
-    arr = np.array(v, dtype=float)
+    arr = as_real(v, key, fix=_MAP_FIX)  # the library's rule: no bool, no 10**400
     if not np.isfinite(arr).all():
         raise InputError(f"`{key}` must be finite, got {v!r}")
     return arr
+
+
+def _step(v) -> float:
+    if isinstance(v, list) or v is None:
+        raise InputError(f"`step` must be a positive finite number, got {v!r}")
+    step = float(as_real(v, "step", fix=_MAP_FIX))
+    if not 0 < step < float("inf"):
+        raise InputError(f"`step` must be a positive finite number, got {v!r}")
+    return step
 
 
 def domain_map(obj) -> dict:
@@ -162,9 +175,7 @@ def domain_map(obj) -> dict:
     n = start.shape[0]
     robot = _int_field({"robot": obj.get("robot", 1)}, "robot", 1, max(n, 1))
     origin = _real_pair(obj, "origin")
-    step = obj.get("step")
-    if isinstance(step, bool) or not isinstance(step, (int, float)) or not 0 < step < float("inf"):
-        raise InputError(f"`step` must be a positive finite number, got {step!r}")
+    step = _step(obj.get("step"))
     size = obj.get("size")
     if not (isinstance(size, list) and len(size) == 2):
         raise InputError(f"`size` must be a list [nx, ny] of two integers, got {size!r}")
