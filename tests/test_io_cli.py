@@ -350,7 +350,8 @@ def _subparsers():
 
 def test_every_option_of_every_command_has_help():
     parser, commands = _subparsers()
-    assert set(commands) == {"plan", "batch", "demo", "info", "figures", "animate", "verify"}
+    assert set(commands) == {"plan", "batch", "demo", "info", "figures", "animate", "verify",
+                             "explore"}
     for name, sub in [("pmplan", parser), *commands.items()]:
         for action in sub._actions:
             if action.dest == "command":

@@ -26,6 +26,7 @@ commands and examples:
   pmplan figures --out docs/figures        the paper's Section 4 figures from the planner
   pmplan animate query.json --out m.gif    animate a planned motion (.gif, or .mp4 with ffmpeg)
   pmplan verify --d 2 --n 3 --m 2          check certificates and continuity per domain
+  pmplan explore                           the domains of continuity, live, in a browser
 
 query.json: {"obstacles": [[0,0],[4,0]], "start": [[1,1]], "goal": [[3,-1]]}
   optional: "via": [[[2,2]]] (intermediate configurations), "lift": 1.0, "planner": "..."
@@ -184,6 +185,17 @@ def build_parser() -> argparse.ArgumentParser:
                    help="seed of the random queries, a non-negative integer (default 0)")
     p.add_argument("--json", action="store_true", help="print the report as JSON")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    p = sub.add_parser("explore", help="the domains of continuity, live, in a browser",
+                       description="Serve an interactive page on this machine (needs the "
+                       "extra pmplan[explore]). Example: pmplan explore --port 8765")
+    p.add_argument("--host", default="127.0.0.1",
+                   help="address to listen on (default 127.0.0.1, this machine only; any "
+                   "other address is warned about)")
+    p.add_argument("--port", type=_int_in(0, 65535), default=8765,
+                   help="TCP port, 0 to 65535 (default 8765; 0: any free port)")
+    p.add_argument("--no-browser", action="store_true",
+                   help="only print the address; do not open it in the default browser")
     return parser
 
 
@@ -382,6 +394,17 @@ def cmd_verify(args) -> int:
     return 0 if report.ok else 1
 
 
+def cmd_explore(args) -> int:
+    from .web import require_extra
+
+    require_extra()
+    from .web.server import serve
+
+    serve(args.host, args.port, open_browser=not args.no_browser)
+    print("pmplan explore: stopped")
+    return 0
+
+
 COMMANDS = {
     "plan": cmd_plan,
     "batch": cmd_batch,
@@ -390,6 +413,7 @@ COMMANDS = {
     "figures": cmd_figures,
     "animate": cmd_animate,
     "verify": cmd_verify,
+    "explore": cmd_explore,
 }
 
 

@@ -1,0 +1,250 @@
+"""The page of ``pmplan explore`` in a real browser: headless Chromium driven by Selenium.
+
+A real server (uvicorn, a free loopback port), Debian's ``chromium`` and ``chromium-driver``
+(nothing is downloaded at run time), and real pointer drags (ActionChains). In CI these tests
+fail, rather than skip, when the browser is missing (.ci/run installs it). Locally::
+
+    apt-get install -y chromium chromium-driver && pip install -e ".[test]"
+    python -m pytest tests/test_explore_browser.py
+
+Screenshots of every step are saved under pytest's temporary folder (printed at the end of
+each test with ``-s``).
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from explore_server import chromium, need_browser, running_server
+
+
+@pytest.fixture(scope="module")
+def page(tmp_path_factory):
+    need_browser()
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    shots = tmp_path_factory.mktemp("explore-screenshots")
+    with running_server() as base:
+        driver = chromium(tmp_path_factory.mktemp("chromium-profile"))
+        try:
+            driver.get(base + "/")
+            WebDriverWait(driver, 60).until(
+                lambda d: d.find_element("tag name", "body").get_attribute("data-state")
+                in ("ready", "error"))
+            yield driver, shots
+        finally:
+            driver.quit()
+
+
+def _wait_ready(driver, state="ready"):
+    """Wait until the page has planned its current query; check that it shows ``state``."""
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    WebDriverWait(driver, 60).until(lambda d: d.execute_script(
+        "return document.body.dataset.state !== 'planning' && !pmplanExplore.pending()"))
+    assert driver.find_element("tag name", "body").get_attribute("data-state") == state
+
+
+def _shown(driver) -> dict:
+    """What the page shows: the label, stratum, clearance, and robot 1's drawn path (units)."""
+    get = driver.find_element
+    out = {k: get("id", k).text for k in ("planner", "domain", "stratum", "clearance")}
+    out["label"] = get("id", "domain").get_attribute("data-label")
+    out["error"] = get("id", "error").text if get("id", "error").is_displayed() else ""
+    paths = driver.find_elements("id", "path-1")
+    if paths:
+        scale = driver.execute_script("return pmplanExplore.state.view.scale")
+        pts = [tuple(map(float, p.split(","))) for p in paths[0].get_attribute("points").split()]
+        times = json.loads(paths[0].get_attribute("data-times"))
+        out["path"] = (np.array(times), np.array(pts) / scale)  # screen px -> units
+    return out
+
+
+def _sup(a, b) -> float:
+    """Sup distance (units) between two drawn paths, sampled at 1001 times."""
+    ts = np.linspace(0, 1, 1001)
+
+    def at(p):
+        t, xy = p
+        return np.stack([np.interp(ts, t, xy[:, 0]), np.interp(ts, t, xy[:, 1])], axis=1)
+    return float(np.abs(at(a) - at(b)).max())
+
+
+def _drag(driver, element_id, dx_units, dy_units, steps=5, state="ready"):
+    """Drag a marker by (dx, dy) units with real pointer actions, in a few moves."""
+    from selenium.webdriver.common.action_chains import ActionChains
+
+    scale = driver.execute_script("return pmplanExplore.state.view.scale")
+    el = driver.find_element("id", element_id)
+    total = (round(dx_units * scale), round(-dy_units * scale))
+    chain = ActionChains(driver).click_and_hold(el)
+    done = (0, 0)
+    for k in range(1, steps + 1):
+        nxt = (round(total[0] * k / steps), round(total[1] * k / steps))
+        chain.move_by_offset(nxt[0] - done[0], nxt[1] - done[1]).pause(0.05)
+        done = nxt
+    chain.release().perform()
+    _wait_ready(driver, state)
+
+
+DEFAULT = {"obstacles": [[0, 0], [4, 0]], "start": [[1, 1]], "goal": [[3, -1]]}
+
+
+def _reset(driver, query=DEFAULT):
+    """Set up a scene (as loading an example does); the tests then drag with the pointer."""
+    driver.execute_script("pmplanExplore.setQuery(arguments[0])", query)
+    _wait_ready(driver)
+
+
+def _point(driver, kind, i=0):
+    return driver.execute_script(f"return pmplanExplore.state.{kind}[{i}]")
+
+
+def test_drag_across_a_domain_boundary_jumps_and_inside_stays_close(page):
+    driver, shots = page
+    # the page opens on o1 = (0, 0), o2 = (4, 0), x1 = (1, 1), x'1 = (3, -1): W_6, T_{3,3}
+    _wait_ready(driver)
+    first = _shown(driver)
+    assert first["planner"] == "obstacle_line" and first["label"] == "6"
+    assert first["stratum"] == "T3,3" and float(first["clearance"]) > 0
+    driver.save_screenshot(str(shots / "0-start.png"))
+
+    _drag(driver, "goal-1", 0.25, 0)  # a little, inside the domain
+    assert _point(driver, "goal") == [3.25, -1]
+    inside = _shown(driver)
+    assert inside["label"] == "6" and not inside["error"]
+    assert 0 < _sup(first["path"], inside["path"]) <= 0.3  # it follows: moved by 0.25
+    driver.save_screenshot(str(shots / "1-inside.png"))
+
+    _drag(driver, "goal-1", 0.75, 0)  # onto o2's column x = 4: the domain W_5
+    assert _point(driver, "goal") == [4, -1]
+    boundary = _shown(driver)
+    assert boundary["label"] == "5" and boundary["stratum"] == "T3,2"
+    assert _sup(inside["path"], boundary["path"]) > 1.0  # it jumps
+    driver.save_screenshot(str(shots / "2-boundary.png"))
+
+    _drag(driver, "goal-1", 0.25, 0)  # off the column again: back in W_6, close to before
+    beyond = _shown(driver)
+    assert beyond["label"] == "6"
+    assert _sup(inside["path"], beyond["path"]) <= 1.0 + 1e-9  # moved by 1 unit, no jump
+    assert _sup(boundary["path"], beyond["path"]) > 1.0
+    driver.save_screenshot(str(shots / "3-beyond.png"))
+    print("screenshots in", shots)
+
+
+def test_invalid_position_shows_the_librarys_message(page):
+    driver, shots = page
+    _reset(driver)
+    goal = _point(driver, "goal")
+    # drag the goal onto o2 = (4, 0): coincident points
+    _drag(driver, "goal-1", 4 - goal[0], 0 - goal[1], state="error")
+    shown = _shown(driver)
+    assert "coincide" in shown["error"] and "o2" in shown["error"] and "x1" in shown["error"]
+    assert shown["label"] == "" and "path" not in shown  # no broken drawing
+    assert "invalid" in driver.find_element("id", "points").get_attribute("class")
+    driver.save_screenshot(str(shots / "4-invalid.png"))
+    _drag(driver, "goal-1", 0, -1)  # to (4, -1): valid again, on o2's column
+    assert _point(driver, "goal") == [4, -1]
+    assert _shown(driver)["error"] == "" and _shown(driver)["label"] == "5"
+
+
+def test_domain_map_of_the_goal_and_of_the_start(page):
+    from selenium.webdriver.support.ui import Select, WebDriverWait
+
+    driver, shots = page
+    _reset(driver)
+    for mode in ("goal", "start"):
+        Select(driver.find_element("id", "map-mode")).select_by_value(mode)
+        WebDriverWait(driver, 60).until(
+            lambda d: d.execute_script("return document.body.dataset.map") == "ready"
+            and d.execute_script("return pmplanExplore.state.map.which") == mode)
+        legend = driver.find_element("id", "legend").text
+        # the goal's (start's) own column x = 1 and the obstacles' columns are W_5: lines
+        assert "W5" in legend and "W6" in legend and "T3,3" in legend
+        colours = driver.execute_script("""
+            const c = document.getElementById('map').getContext('2d');
+            const d = c.getImageData(0, 0, 800, 600).data, seen = new Set();
+            for (let k = 0; k < d.length; k += 4 * 97) seen.add(d[k] + ',' + d[k+1] + ',' + d[k+2]);
+            return seen.size;""")
+        assert colours >= 2
+        # the pixel on o1's column (x = 0) has W_5's colour, one beside it W_6's
+        sx, sy = (driver.execute_script(f"return pmplanExplore.{f}({v})")
+                  for f, v in (("sx", 0), ("sy", 2.5)))
+        a, b = (driver.execute_script(
+            f"const p = document.getElementById('map').getContext('2d')"
+            f".getImageData({round(x)}, {round(sy)}, 1, 1).data; return [p[0], p[1], p[2]]")
+            for x in (sx, sx + 20))
+        assert a != b
+        driver.save_screenshot(str(shots / f"5-map-{mode}.png"))
+    Select(driver.find_element("id", "map-mode")).select_by_value("off")
+
+
+def test_examples_buttons_and_animation(page):
+    from selenium.webdriver.support.ui import Select, WebDriverWait
+
+    driver, shots = page
+    Select(driver.find_element("id", "examples")).select_by_visible_text("T23_34 (W4)")
+    _wait_ready(driver)
+    shown = _shown(driver)
+    assert shown["planner"] == "planar_three" and shown["label"] == "4"
+    assert shown["stratum"] == "T2,33,4"  # T^{2,3}_{3,4}, as sup/sub text
+    Select(driver.find_element("id", "examples")).select_by_visible_text("W_10")
+    _wait_ready(driver)
+    assert _shown(driver)["label"] == "10" and len(driver.find_elements("css selector",
+                                                                     ".robot-path")) == 3
+    driver.find_element("id", "add-robot").click()
+    _wait_ready(driver)
+    assert len(driver.find_elements("css selector", ".robot-path")) == 4
+    driver.find_element("id", "remove-robot").click()
+    driver.find_element("id", "add-obstacle").click()
+    _wait_ready(driver)
+    assert len(driver.find_elements("css selector", ".obstacle")) == 3
+    assert _shown(driver)["planner"] == "obstacle_line"
+    driver.find_element("id", "remove-obstacle").click()
+    _wait_ready(driver)
+    # play moves the robots along the motion; pause stops them
+    driver.find_element("id", "play").click()
+    WebDriverWait(driver, 30).until(
+        lambda d: int(d.find_element("id", "time").get_attribute("value")) > 100)
+    driver.find_element("id", "play").click()
+    t = int(driver.find_element("id", "time").get_attribute("value"))
+    assert int(driver.find_element("id", "time").get_attribute("value")) == t
+    # the mover of robot 1 is drawn where the plan puts it at that time
+    pos = driver.execute_script(
+        "const m = document.getElementById('mover-1');"
+        "return [Number(m.getAttribute('cx')), Number(m.getAttribute('cy'))]")
+    p = _shown(driver)["path"]
+    scale = driver.execute_script("return pmplanExplore.state.view.scale")
+    tt = driver.execute_script("return pmplanExplore.state.t")
+    want = [np.interp(tt, p[0], p[1][:, 0]), np.interp(tt, p[0], p[1][:, 1])]
+    assert np.allclose(np.array(pos) / scale, want, atol=0.02)
+    driver.find_element("id", "discs-toggle").click()
+    assert len(driver.find_elements("css selector", ".disc")) == 2 + 3
+    driver.save_screenshot(str(shots / "6-example.png"))
+
+
+def test_section_4_planner_jumps_from_W4_to_W3_on_an_obstacle_column(page):
+    driver, shots = page
+    # the demo's W4 query of paper Section 4: o3 = (2.5, 1.5), x = (0, -2) on o1's column,
+    # x' = (6, 2.5) on its own column: T^{2,3}_{3,4}
+    _reset(driver, {"obstacles": [[0, 0], [4, 0], [2.5, 1.5]], "start": [[0, -2]],
+                    "goal": [[6, 2.5]]})
+    before = _shown(driver)
+    assert before["planner"] == "planar_three" and before["label"] == "4"
+    _drag(driver, "goal-1", -0.25, 0)  # inside W4
+    inside = _shown(driver)
+    assert inside["label"] == "4" and 0 < _sup(before["path"], inside["path"]) <= 0.3
+    _drag(driver, "goal-1", -1.75, 0)  # onto o2's column u = 4: T^{2,3}_{3,3}, W3
+    assert _point(driver, "goal") == [4, 2.5]
+    on = _shown(driver)
+    assert on["label"] == "3" and on["stratum"] == "T2,33,3"
+    assert _sup(inside["path"], on["path"]) > 1.0
+    driver.save_screenshot(str(shots / "7-section4-W3.png"))
+    # obstacles are draggable too: o3 onto the line o1o2 gives the family T^1 (here T^1_{2,2})
+    _drag(driver, "obstacle-3", 0, -1.5)
+    assert driver.execute_script("return pmplanExplore.state.obstacles[2]") == [2.5, 0]
+    moved = _shown(driver)
+    assert moved["label"] == "2" and moved["stratum"] == "T12,2"
