@@ -399,21 +399,23 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
     return i, hi - lo, dict(zip(labels.tolist(), counts.tolist())), clr
 
 
-def _create_output(path: Path, attrs: dict, template: dict, b: int, chunk: int, nchunks: int):
+def _create_output(path: Path, attrs: dict, template: dict, b: int, chunk: int, nchunks: int,
+                   compress: bool = True):
     zarr = _need("zarr")
     group = zarr.open_group(str(path), mode="w-")
     c = max(1, min(chunk, b))
+    comp = "auto" if compress else None
     for name in ("domain", "strata", "clearance", "waypoints"):
         t = template[name]
         group.create_array(name, shape=(b, *t.shape[1:]), chunks=(c, *t.shape[1:]),
-                           dtype=t.dtype, fill_value=0)
+                           dtype=t.dtype, fill_value=0, compressors=comp)
     t = template["times"]
     if t.ndim == 1:
         group.create_array("times", shape=t.shape, chunks=t.shape, dtype=t.dtype, fill_value=0)
         group["times"][...] = t
     else:
         group.create_array("times", shape=(b, *t.shape[1:]), chunks=(c, *t.shape[1:]),
-                           dtype=t.dtype, fill_value=0)
+                           dtype=t.dtype, fill_value=0, compressors=comp)
     # one Zarr chunk per entry: workers marking different chunks never write the same file
     group.create_array("done", shape=(nchunks,), chunks=(1,), dtype=bool, fill_value=False)
     group.attrs.update({**attrs, "complete": False})
@@ -430,7 +432,7 @@ def _attrs(planner, lift, dims, r, b, chunk) -> dict:
 def plan_store(source, out, *, planner: str | None = None, lift: float | str | None = None,
                chunk: int | None = None, resume: bool = False, scheduler: str | None = None,
                dask_workers: int | None = None, workers: int = 1, backend: str | None = None,
-               progress: bool = False,
+               progress: bool = False, compress: bool = True,
                on_chunk: Callable[[int, int, int], None] | None = None) -> StoreReport:
     """Plan a batch from a Zarr store (or in-memory arrays) into a Zarr store, chunk by chunk.
 
@@ -455,6 +457,9 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         (one machine, or a shared filesystem). Default: in this process.
     workers : int
         Threads per chunk (as in :func:`pmplan.plan_batch`).
+    compress : bool
+        Compress the output chunks (Zarr's default codec, zstd): about half the disk for
+        about a seventh of the write speed; False writes them raw.
     on_chunk : callable, optional
         Called as ``on_chunk(i, done, total)`` after chunk ``i`` is written and marked done.
 
@@ -525,7 +530,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         done = np.asarray(group["done"][:])
     else:
         template = p.allocate(0, r, m, n, d)
-        group = _create_output(out, attrs, template, b, chunk, nchunks)
+        group = _create_output(out, attrs, template, b, chunk, nchunks, compress)
         done = np.zeros(nchunks, dtype=bool)
     todo = np.flatnonzero(~done).tolist()
     spec = _Spec(source=None if src_path is None else str(src_path), out=str(out),
