@@ -134,16 +134,25 @@ def _record(template: dict, per_query_times: bool) -> np.dtype:
 
 
 def _context(exc: PmplanError, lo: int, hi: int, where: str):
-    """``exc`` again (same class) with the rows of the whole batch it is about."""
-    msg = f"{exc} [{where}: queries {lo}..{hi - 1} of the batch; indices above count from {lo}]"
+    """``exc`` again (same class) about rows of the whole batch: the query indices of a chunk's
+    error are shifted by the chunk's first row ``lo``, and the chunk is named."""
+    msg = str(exc)
+    tail = f" [{where}: queries {lo}..{hi - 1} of the batch]"
     if isinstance(exc, CertificationError):
         idx = None if exc.indices is None else np.asarray(exc.indices) + lo
-        return CertificationError(msg, indices=idx)
+        if idx is not None and exc.indices is not None:
+            old = np.asarray(exc.indices)
+            more = "..." if old.size > 10 else ""
+            msg = msg.replace(f"for queries {old[:10].tolist()}{more}",
+                              f"for queries {idx[:10].tolist()}{more}", 1)
+        return CertificationError(msg + tail, indices=idx)
     if isinstance(exc, CollisionError):
         idx = None if exc.index is None else exc.index + lo
-        return CollisionError(msg, index=idx, which=exc.which, pair=exc.pair)
+        if idx is not None:
+            msg = msg.replace(f"query {exc.index}", f"query {idx}", 1)
+        return CollisionError(msg + tail, index=idx, which=exc.which, pair=exc.pair)
     try:
-        return type(exc)(msg)
+        return type(exc)(msg + tail)
     except TypeError:  # pragma: no cover - every pmplan error takes a message
         return exc
 
@@ -527,86 +536,99 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         if diff or "done" not in set(group.array_keys()):
             raise InputError(f"cannot resume {out}: it was written for another run (stored vs "
                              f"now: {diff}); remove it or choose another --out")
-        done = np.asarray(group["done"][:])
     else:
-        template = p.allocate(0, r, m, n, d)
-        group = _create_output(out, attrs, template, b, chunk, nchunks, compress)
-        done = np.zeros(nchunks, dtype=bool)
-    todo = np.flatnonzero(~done).tolist()
-    spec = _Spec(source=None if src_path is None else str(src_path), out=str(out),
-                 names=tuple(arrays), b=b, chunk=chunk, planner=p.name, lift=lift,
-                 backend=backend, workers=workers)
-    bar = None
-    if progress and todo:
-        from tqdm import tqdm
-
-        bar = tqdm(total=nchunks, initial=nchunks - len(todo), desc="planning", unit="chunk",
-                   file=sys.stderr)
-    domains: dict = {}
-    state = {"done": nchunks - len(todo), "queries": 0, "clearance": float("inf")}
-
-    def record(result):
-        i, q, counts, clr = result
-        state["done"] += 1
-        state["queries"] += q
-        state["clearance"] = min(state["clearance"], clr)
-        for label, c in counts.items():
-            domains[label] = domains.get(label, 0) + c
-        if bar is not None:
-            bar.update()
-        if on_chunk is not None:
-            on_chunk(i, state["done"], nchunks)
-
-    def rows_of(i):
-        if src_path is not None:
-            return None
-        lo, hi = i * chunk, min(b, (i + 1) * chunk)
-        return _read_rows(arrays, lo, hi)
-
+        group = None
+    # connect before anything is written: an unreachable scheduler leaves no output behind
+    client, cluster = (None, None) if scheduler is None and dask_workers is None \
+        else _connect(scheduler, dask_workers)
     try:
-        if scheduler is None and dask_workers is None:
-            for i in todo:
-                record(_run_chunk(spec, i, rows_of(i), group))
-        else:
-            _distributed(spec, todo, rows_of, record, scheduler, dask_workers)
-    except PmplanError as exc:
-        exc.args = (f"{exc}; {out} is incomplete ({state['done']} of {nchunks} chunks written): "
-                    "fix the input and rerun with --resume",)
-        raise
+        if group is None:
+            template = p.allocate(0, r, m, n, d)
+            group = _create_output(out, attrs, template, b, chunk, nchunks, compress)
+        done = np.asarray(group["done"][:])
+        todo = np.flatnonzero(~done).tolist()
+        spec = _Spec(source=None if src_path is None else str(src_path), out=str(out),
+                     names=tuple(arrays), b=b, chunk=chunk, planner=p.name, lift=lift,
+                     backend=backend, workers=workers)
+        state = {"done": nchunks - len(todo), "queries": 0, "clearance": float("inf")}
+        domains: dict = {}
+        bar = None
+        if progress and todo:
+            from tqdm import tqdm
+
+            bar = tqdm(total=nchunks, initial=nchunks - len(todo), desc="planning",
+                       unit="chunk", file=sys.stderr)
+
+        def record(result):
+            i, q, counts, clr = result
+            state["done"] += 1
+            state["queries"] += q
+            state["clearance"] = min(state["clearance"], clr)
+            for label, c in counts.items():
+                domains[label] = domains.get(label, 0) + c
+            if bar is not None:
+                bar.update()
+            if on_chunk is not None:
+                on_chunk(i, state["done"], nchunks)
+
+        def rows_of(i):
+            if src_path is not None:
+                return None  # the task reads its rows from the input store
+            lo, hi = i * chunk, min(b, (i + 1) * chunk)
+            return _read_rows(arrays, lo, hi)
+
+        try:
+            if client is None:
+                for i in todo:
+                    record(_run_chunk(spec, i, rows_of(i), group))
+            else:
+                _distributed(client, spec, todo, rows_of, record)
+        except PmplanError as exc:
+            exc.args = (f"{exc}; {out} is incomplete ({state['done']} of {nchunks} chunks "
+                        "written): fix the input and rerun with --resume",)
+            raise
+        finally:
+            if bar is not None:
+                bar.close()
     finally:
-        if bar is not None:
-            bar.close()
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
     if bool(np.asarray(group["done"][:]).all()):
         group.attrs["complete"] = True
     return StoreReport(out, len(todo), nchunks - len(todo), nchunks, state["queries"], domains,
                        state["clearance"], p.name)
 
 
-def _distributed(spec: _Spec, todo: list, rows_of, record, scheduler, dask_workers) -> None:
-    """Run the chunk tasks on a dask.distributed cluster; ``record`` each result as it comes."""
+def _connect(scheduler: str | None, dask_workers: int | None):
+    """(client, cluster): a client of the scheduler at ``scheduler``, or of a new LocalCluster
+    of ``dask_workers`` worker processes (one thread each; cluster None otherwise)."""
     distributed = _need("distributed")
-    cluster = None
-    try:
-        if scheduler is not None:
-            client = distributed.Client(scheduler)
-        else:
-            cluster = distributed.LocalCluster(n_workers=dask_workers, threads_per_worker=1,
-                                               processes=True, dashboard_address=None)
-            client = distributed.Client(cluster)
-    except OSError as exc:
-        raise InputError(f"cannot reach the dask scheduler {scheduler}: {exc}") from None
-    try:
-        futures = [client.submit(_run_chunk, spec, i, rows_of(i), pure=False) for i in todo]
+    if scheduler is not None:
         try:
-            for fut in distributed.as_completed(futures):
-                record(fut.result())
-        except BaseException:
-            client.cancel(futures)
-            raise
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+            return distributed.Client(scheduler), None
+        except (OSError, ValueError) as exc:
+            raise InputError(f"cannot reach the dask scheduler {scheduler}: {exc}") from None
+    cluster = distributed.LocalCluster(n_workers=dask_workers, threads_per_worker=1,
+                                       processes=True, dashboard_address=":0")
+    return distributed.Client(cluster), cluster
+
+
+def _distributed(client, spec: _Spec, todo: list, rows_of, record) -> None:
+    """Run the chunk tasks on a dask.distributed cluster; ``record`` each result as it comes.
+
+    A task whose worker dies is run again by the scheduler on another worker: it rewrites its
+    chunk with the same bytes and marks it done; nothing half-written is ever marked done.
+    """
+    distributed = _need("distributed")
+    futures = [client.submit(_run_chunk, spec, i, rows_of(i), pure=False) for i in todo]
+    try:
+        for fut in distributed.as_completed(futures):
+            record(fut.result())
+    except BaseException:
+        client.cancel(futures)
+        raise
 
 
 def open_plans(path):
