@@ -594,6 +594,8 @@ def plan_batch(
     ----------
     obstacles : array_like, shape (B, m, d)
     start, goal : array_like, shape (B, n, d)
+        Dask arrays (chunked along the batch axis only) are planned lazily by
+        :func:`pmplan.scale.plan_batch`: the PlanBatch then holds dask arrays.
     planner : str, optional
         ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
     lift : float or "scene"
