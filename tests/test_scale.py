@@ -90,7 +90,8 @@ def test_degenerate_queries_span_several_domains():
 
 
 @settings(max_examples=15)
-@given(q=queries(2, 2, 3, degenerate=True), k=st.integers(1, 6), lift=st.sampled_from([1.0, "scene", 0.25]))
+@given(q=st.booleans().flatmap(lambda dg: queries(2, 2, 3, degenerate=dg)), k=st.integers(1, 6),
+       lift=st.sampled_from([1.0, "scene", 0.25]))
 def test_dask_equals_numpy_hypothesis(q, k, lift):
     """Random and exactly degenerate queries, repeated into a batch, any chunking and lift."""
     o, s, g = (np.repeat(np.asarray(x, dtype=float)[None], 9, axis=0) for x in q[:3])

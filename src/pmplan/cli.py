@@ -299,7 +299,8 @@ def _cmd_batch_store(args) -> int:
 
     if Path(args.out).suffix != ".zarr":
         raise InputError(f"--out {args.out}: Zarr input, --chunk, --resume, --no-compress, "
-                         "--scheduler and --dask-workers write a Zarr store; give --out a name ending in .zarr")
+                         "--scheduler and --dask-workers write a Zarr store; give --out a name "
+                         "ending in .zarr")
     if is_store(args.queries):
         source, lift, planner = args.queries, args.lift, args.planner
     else:

@@ -240,7 +240,12 @@ def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: floa
     :func:`pmplan.plan_batch` on its rows (``workers`` threads inside a block), so the result
     is bit for bit the numpy one, with any chunking and any scheduler. Errors of a block
     (an invalid query, a failed certificate) are raised at compute time, with the rows of the
-    whole batch. ``progress`` and ``out`` apply to numpy batches only.
+    whole batch. ``progress`` and ``out`` apply to numpy batches only. ``stratum`` names,
+    indexing and iteration need the computed batch (:func:`compute`).
+
+    Use the threaded scheduler on one machine (the numba kernels release the GIL) and
+    processes or a ``dask.distributed`` cluster when Python-level work dominates (the numpy
+    reference backend, many exactly degenerate queries) or to use several machines.
     """
     if out is not None:
         raise InputError("`out=` is for numpy batches; with dask arrays the result is lazy "
