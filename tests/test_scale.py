@@ -353,12 +353,12 @@ def test_cluster_streaming_via_the_cli(cluster, tmp_path, capsys):
                          c.scheduler_address, "--no-progress")
     assert status == 0 and "in 8 of 8 chunks" in out
     assert_same(read_store(tmp_path / "out.zarr"), pmplan.plan_batch(o, s, g))
-    import dask
-
-    with dask.config.set({"distributed.comm.timeouts.connect": "2s"}):
-        status, _, err = run(capsys, "batch", src, "--out", tmp_path / "x.zarr", "--scheduler",
-                             "tcp://127.0.0.1:9")
-    one_line_error(status, err, "cannot reach the dask scheduler")
+    res = subprocess.run(
+        [sys.executable, "-m", "pmplan", "batch", str(src), "--out", str(tmp_path / "x.zarr"),
+         "--scheduler", "tcp://127.0.0.1:9"], capture_output=True, text=True,
+        env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path),
+                 DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT="2s"))
+    one_line_error(res.returncode, res.stderr, "cannot reach the dask scheduler")
     assert not (tmp_path / "x.zarr").exists()
 
 
@@ -396,3 +396,26 @@ def test_a_killed_worker_still_gives_the_complete_equal_result(cluster, tmp_path
     assert_same(read_store(tmp_path / "out.zarr"), pmplan.plan_batch(o, s, g))
     client.wait_for_workers(2, timeout=60)  # the nanny restarted the killed worker
     assert killed["pid"] not in client.run(os.getpid).values()
+
+
+def test_a_killed_worker_during_a_dask_array_computation(cluster):
+    """Fault injection on the lazy arrays: SIGKILL a worker once the first block is planned;
+    the blocks it held are planned again and the result is complete and equal."""
+    _, client = cluster
+    client.wait_for_workers(2, timeout=60)
+    o, s, g = degenerate_queries(24000, seed=11)
+    batch = pmplan.plan_batch(*lazy(o, s, g, chunks=400))
+    kept = client.persist([batch.domain, batch.strata, batch.clearance, batch.waypoints])
+    futures = distributed.futures_of(kept)
+    assert len(futures) == 4 * 60
+    next(iter(distributed.as_completed(futures)))
+    assert not all(f.done() for f in futures)  # killed in the middle of the computation
+    pid = sorted(client.run(os.getpid).values())[0]
+    os.kill(pid, signal.SIGKILL)
+    domain, strata, clearance, waypoints = client.gather(client.compute(kept))
+    ref = pmplan.plan_batch(o, s, g)
+    for k, a in zip(("domain", "strata", "clearance", "waypoints"),
+                    (domain, strata, clearance, waypoints)):
+        assert np.asarray(a).tobytes() == getattr(ref, k).tobytes(), k
+    client.wait_for_workers(2, timeout=60)
+    assert pid not in client.run(os.getpid).values()

@@ -544,7 +544,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     else:
         group = None
     # connect before anything is written: an unreachable scheduler leaves no output behind
-    client, cluster = (None, None) if scheduler is None and dask_workers is None \
+    client, cluster, owned = (None, None, False) if scheduler is None and dask_workers is None \
         else _connect(scheduler, dask_workers)
     try:
         if group is None:
@@ -596,7 +596,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
             if bar is not None:
                 bar.close()
     finally:
-        if client is not None:
+        if owned:
             client.close()
         if cluster is not None:
             cluster.close()
@@ -607,17 +607,25 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
 
 
 def _connect(scheduler: str | None, dask_workers: int | None):
-    """(client, cluster): a client of the scheduler at ``scheduler``, or of a new LocalCluster
-    of ``dask_workers`` worker processes (one thread each; cluster None otherwise)."""
+    """(client, cluster, owned): this process's default client when it already talks to the
+    scheduler at ``scheduler`` (not ours to close), else a new client of that scheduler, or of
+    a new LocalCluster of ``dask_workers`` worker processes (one thread each)."""
     distributed = _need("distributed")
     if scheduler is not None:
         try:
-            return distributed.Client(scheduler), None
+            current = distributed.default_client()
+        except ValueError:
+            current = None
+        if current is not None and current.scheduler.address == scheduler \
+                and current.status == "running":
+            return current, None, False
+        try:
+            return distributed.Client(scheduler), None, True
         except (OSError, ValueError) as exc:
             raise InputError(f"cannot reach the dask scheduler {scheduler}: {exc}") from None
     cluster = distributed.LocalCluster(n_workers=dask_workers, threads_per_worker=1,
                                        processes=True, dashboard_address=":0")
-    return distributed.Client(cluster), cluster
+    return distributed.Client(cluster), cluster, True
 
 
 def _distributed(client, spec: _Spec, todo: list, rows_of, record) -> None:
