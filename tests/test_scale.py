@@ -320,6 +320,28 @@ def test_interrupted_run_resumes_only_missing_chunks(tmp_path, capsys):
     assert after["1"] != written["1"]  # the cut one was
 
 
+def test_ctrl_c_then_resume_from_the_command_line(tmp_path, capsys, monkeypatch):
+    o, s, g = random_queries(700, seed=12)
+    src = write_store(tmp_path / "in.zarr", o, s, g)
+    dst = tmp_path / "out.zarr"
+    real = scale._run_chunk
+
+    def interrupted(spec, i, rows=None, group=None):
+        if i == 3:
+            raise KeyboardInterrupt
+        return real(spec, i, rows, group)
+
+    monkeypatch.setattr(scale, "_run_chunk", interrupted)
+    status, out, err = run(capsys, "batch", src, "--out", dst, "--no-progress")
+    assert status == 130 and out == "" and err.count("\n") == 1 and "--resume" in err
+    assert np.asarray(zarr.open_group(str(dst), mode="r")["done"][:]).tolist() == \
+        [True] * 3 + [False] * 4
+    monkeypatch.setattr(scale, "_run_chunk", real)
+    status, out, _ = run(capsys, "batch", src, "--out", dst, "--resume", "--no-progress")
+    assert status == 0 and "in 4 of 7 chunks" in out
+    assert_same(read_store(dst), pmplan.plan_batch(o, s, g))
+
+
 def test_invalid_query_mid_run_leaves_an_incomplete_store(tmp_path, capsys):
     o, s, g = random_queries(500)
     g[333, 1] = o[333, 0]

@@ -306,10 +306,15 @@ def _cmd_batch_store(args) -> int:
     else:
         source = _with_options(read_queries(args.queries), args, args.queries)
         lift = planner = None
-    rep = plan_store(source, args.out, planner=planner, lift=lift, chunk=args.chunk,
-                     resume=args.resume, scheduler=args.scheduler,
-                     dask_workers=args.dask_workers, workers=args.workers,
-                     progress=not args.no_progress, compress=not args.no_compress)
+    try:
+        rep = plan_store(source, args.out, planner=planner, lift=lift, chunk=args.chunk,
+                         resume=args.resume, scheduler=args.scheduler,
+                         dask_workers=args.dask_workers, workers=args.workers,
+                         progress=not args.no_progress, compress=not args.no_compress)
+    except KeyboardInterrupt:  # Ctrl-C: the chunks marked done are kept
+        print(f"pmplan batch: interrupted; {args.out} is incomplete: rerun with --resume to plan "
+              "only the chunks not yet written", file=sys.stderr)
+        return 130
     counts = dict(sorted(rep.domains.items()))
     what = (f"; domains {counts}; min clearance {rep.min_clearance:.3g}" if rep.queries else "")
     skipped = f" ({rep.skipped} chunks were already written)" if rep.skipped else ""
