@@ -11,6 +11,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -339,6 +340,27 @@ def test_ctrl_c_then_resume_from_the_command_line(tmp_path, capsys, monkeypatch)
     monkeypatch.setattr(scale, "_run_chunk", real)
     status, out, _ = run(capsys, "batch", src, "--out", dst, "--resume", "--no-progress")
     assert status == 0 and "in 4 of 7 chunks" in out
+    assert_same(read_store(dst), pmplan.plan_batch(o, s, g))
+
+
+def test_sigkilled_run_resumes_to_the_equal_result(tmp_path):
+    """The CLI process killed (SIGKILL) in the middle of a run: no chunk is half counted, and
+    --resume completes it to the plan_batch result."""
+    o, s, g = random_queries(40 * 5000, seed=13)
+    src = write_store(tmp_path / "in.zarr", o, s, g, chunks=(5000, 5000, 5000))
+    dst = tmp_path / "out.zarr"
+    cmd = [sys.executable, "-m", "pmplan", "batch", str(src), "--out", str(dst), "--no-progress"]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    flags = dst / "done" / "c"
+    while proc.poll() is None and not (flags.is_dir() and len(list(flags.iterdir())) >= 2):
+        time.sleep(0.005)
+    proc.kill()
+    proc.communicate()
+    done = np.asarray(zarr.open_group(str(dst), mode="r")["done"][:])
+    assert 2 <= done.sum() < done.size  # killed in the middle of the run
+    res = subprocess.run(cmd + ["--resume"], env=env, capture_output=True, text=True)
+    assert res.returncode == 0 and f"in {done.size - done.sum()} of 40 chunks" in res.stdout
     assert_same(read_store(dst), pmplan.plan_batch(o, s, g))
 
 

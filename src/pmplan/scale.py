@@ -240,7 +240,9 @@ def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: floa
     :func:`pmplan.plan_batch` on its rows (``workers`` threads inside a block), so the result
     is bit for bit the numpy one, with any chunking and any scheduler. Errors of a block
     (an invalid query, a failed certificate) are raised at compute time, with the rows of the
-    whole batch. ``progress`` and ``out`` apply to numpy batches only. ``stratum`` names,
+    whole batch. To write several outputs, store them in one call (``dask.array.store`` of
+    a list, or ``dask.compute``), which plans every block once, or stream with
+    :func:`plan_store`. ``progress`` and ``out`` apply to numpy batches only. ``stratum`` names,
     indexing and iteration need the computed batch (:func:`compute`).
 
     Use the threaded scheduler on one machine (the numba kernels release the GIL) and
