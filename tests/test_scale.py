@@ -463,3 +463,19 @@ def test_a_killed_worker_during_a_dask_array_computation(cluster):
         assert np.asarray(a).tobytes() == getattr(ref, k).tobytes(), k
     client.wait_for_workers(2, timeout=60)
     assert pid not in client.run(os.getpid).values()
+
+
+def test_compute_plans_every_block_once(monkeypatch):
+    calls = []
+    real = scale._plan_chunk_arrays
+
+    def counted(obstacles, *args):
+        calls.append(obstacles.shape[0])
+        return real(obstacles, *args)
+
+    monkeypatch.setattr(scale, "_plan_chunk_arrays", counted)
+    o, s, g = random_queries(1000, seed=14)
+    batch = pmplan.plan_batch(*lazy(o, s, g, chunks=300))
+    assert calls == []  # lazy
+    assert_same(scale.compute(batch, scheduler="sync"), pmplan.plan_batch(o, s, g))
+    assert sorted(calls) == [100, 300, 300, 300]
