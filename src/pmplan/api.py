@@ -645,6 +645,8 @@ def plan_batch(
     ----------
     obstacles : array_like, shape (B, m, d)
     start, goal : array_like, shape (B, n, d)
+        Dask arrays (chunked along the batch axis only) are planned lazily by
+        :func:`pmplan.scale.plan_batch`: the PlanBatch then holds dask arrays.
     planner : str, optional
         ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
     lift : float or "scene"
@@ -702,6 +704,11 @@ def plan_batch(
     >>> batch.domain.shape, batch.waypoints.shape, batch.times.shape
     ((5,), (5, 8, 5, 2), (8,))
     """
+    if _is_dask(obstacles, start, goal):  # lazy plans of dask arrays (the optional extra)
+        from . import scale
+
+        return scale.plan_batch(obstacles, start, goal, planner=planner, lift=lift,
+                                progress=progress, backend=backend, workers=workers, out=out)
     lift = _check_lift(lift)
     workers = _check_workers(workers)
     # types and shapes here; the validity of every query (finite, no two equal points) is
@@ -722,6 +729,13 @@ def plan_batch(
     res = _run(p, obstacles, [start, goal], lift, batched=True, sequential=False,
                progress=progress, backend=backend, workers=workers, validate=deferred, into=into)
     return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
+
+
+def _is_dask(*arrays) -> bool:
+    """Whether any argument is a dask array (then :mod:`pmplan.scale` plans it lazily); dask
+    is never imported here: an array of it exists only if the caller imported it."""
+    da = sys.modules.get("dask.array")
+    return da is not None and any(isinstance(a, da.Array) for a in arrays)
 
 
 def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
@@ -983,6 +997,11 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     e == N in odd d). ``lift``, ``backend``, ``progress``, ``workers``, ``out``: see
     :func:`plan_batch`.
     """
+    if isinstance(configs, (list, tuple)) and _is_dask(obstacles, *configs):
+        from . import scale
+
+        return scale.plan_sequence_batch(obstacles, configs, lift=lift, progress=progress,
+                                         backend=backend, workers=workers, out=out)
     lift = _check_lift(lift)
     workers = _check_workers(workers)
     obstacles, configs = _check_sequence(obstacles, configs, batched=True)

@@ -22,6 +22,7 @@ commands and examples:
   pmplan plan query.json --samples 50      ... printing 50 equally spaced samples
   pmplan plan query.json --lift scene      ... with the scene-scaled unit instead of lift 1
   pmplan batch queries.npz --out plans.npz plan many queries (npz arrays obstacles/start/goal)
+  pmplan batch in.zarr --out plans.zarr --dask-workers 2   ... streamed, Zarr to Zarr, on dask
   pmplan info --d 2 --n 3 --m 2 [--r 3]    planner, number of domains, TC, optimality
   pmplan figures --out docs/figures        the paper's Section 4 figures from the planner
   pmplan animate query.json --out m.gif    animate a planned motion (.gif, or .mp4 with ffmpeg)
@@ -117,17 +118,36 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--indent", type=_int_in(0, 16), default=None, metavar="N",
                    help="indent the JSON output by N spaces (default: one line)")
 
-    p = sub.add_parser("batch", help="plan a batch of queries (npz or JSON list) into an npz",
-                       description="Example: pmplan batch queries.npz --out plans.npz")
+    p = sub.add_parser("batch", help="plan a batch of queries (npz, JSON list or Zarr store) "
+                       "into an npz or a Zarr store",
+                       description="Example: pmplan batch queries.npz --out plans.npz; "
+                       "pmplan batch queries.zarr --out plans.zarr --dask-workers 2")
     p.add_argument("queries", help="npz with arrays obstacles (B,m,d), start (B,n,d), goal "
-                   "(B,n,d) and optional via (B,k,n,d), lift, planner; or a JSON list of queries")
-    p.add_argument("--out", required=True, metavar="PLANS.npz",
-                   help="output npz (the suffix .npz is added when missing)")
+                   "(B,n,d) and optional via (B,k,n,d), lift, planner; a JSON list of queries; "
+                   "or a Zarr store (directory) with arrays obstacles, start, goal, optional via")
+    p.add_argument("--out", required=True, metavar="PLANS.npz|PLANS.zarr",
+                   help="output npz (the suffix .npz is added when missing), or a Zarr store "
+                   "(a name ending in .zarr), written chunk by chunk")
     p.add_argument("--planner", default=None, choices=names, help=planner_help)
     p.add_argument("--lift", type=_lift, default=None, metavar="LIFT", help=LIFT_HELP)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--workers", type=_int_in(1, also=(-1,)), default=1, metavar="W",
                    help="threads planning in parallel (-1: one per CPU; default 1)")
+    p.add_argument("--chunk", type=_int_in(1), default=None, metavar="N",
+                   help="queries per chunk when streaming to a Zarr store (default: the input "
+                   "store's chunks, or 65536)")
+    p.add_argument("--resume", action="store_true",
+                   help="finish an interrupted run into an existing Zarr --out: plan only the "
+                   "chunks not yet written")
+    p.add_argument("--no-compress", action="store_true",
+                   help="write the Zarr chunks uncompressed (faster, about twice the disk)")
+    dask_opts = p.add_mutually_exclusive_group()
+    dask_opts.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                           help="plan the chunks on this dask.distributed scheduler "
+                           "(e.g. tcp://10.0.0.1:8786; needs pmplan[dask] and a Zarr --out)")
+    dask_opts.add_argument("--dask-workers", type=_int_in(1, 1024), default=None, metavar="N",
+                           help="plan the chunks on a local dask cluster of N worker processes "
+                           "(needs pmplan[dask] and a Zarr --out)")
 
     p = sub.add_parser("demo", help="the main job: one query per domain, table and picture",
                        description="Example: pmplan demo --out demo.png")
@@ -252,6 +272,8 @@ def cmd_batch(args) -> int:
     from .errors import UnsupportedError
     from .io import read_queries, write_plans
 
+    if _streams(args):  # Zarr in or out, or a dask option: chunk by chunk (pmplan.scale)
+        return _cmd_batch_store(args)
     q = _with_options(read_queries(args.queries), args, args.queries)
     lift = q.get("lift", 1.0)
     common = dict(lift=lift, progress=not args.no_progress, workers=args.workers)
@@ -270,6 +292,46 @@ def cmd_batch(args) -> int:
     else:
         what = ""
     print(f"planned {len(batch)} queries with {batch.planner}{what}; wrote {written}")
+    return 0
+
+
+def _streams(args) -> bool:
+    from .scale import is_store
+
+    return (is_store(args.queries) or Path(args.out).suffix == ".zarr" or args.resume
+            or args.chunk is not None or args.no_compress or args.scheduler is not None
+            or args.dask_workers is not None)
+
+
+def _cmd_batch_store(args) -> int:
+    """``pmplan batch`` into a Zarr store, chunk by chunk (:func:`pmplan.scale.plan_store`)."""
+    from .errors import InputError
+    from .io import read_queries
+    from .scale import is_store, plan_store
+
+    if Path(args.out).suffix != ".zarr":
+        raise InputError(f"--out {args.out}: Zarr input, --chunk, --resume, --no-compress, "
+                         "--scheduler and --dask-workers write a Zarr store; give --out a name "
+                         "ending in .zarr")
+    if is_store(args.queries):
+        source, lift, planner = args.queries, args.lift, args.planner
+    else:
+        source = _with_options(read_queries(args.queries), args, args.queries)
+        lift = planner = None
+    try:
+        rep = plan_store(source, args.out, planner=planner, lift=lift, chunk=args.chunk,
+                         resume=args.resume, scheduler=args.scheduler,
+                         dask_workers=args.dask_workers, workers=args.workers,
+                         progress=not args.no_progress, compress=not args.no_compress)
+    except KeyboardInterrupt:  # Ctrl-C: the chunks marked done are kept
+        print(f"pmplan batch: interrupted; {args.out} is incomplete: rerun with --resume to plan "
+              "only the chunks not yet written", file=sys.stderr)
+        return 130
+    counts = dict(sorted(rep.domains.items()))
+    what = (f"; domains {counts}; min clearance {rep.min_clearance:.3g}" if rep.queries else "")
+    skipped = f" ({rep.skipped} chunks were already written)" if rep.skipped else ""
+    print(f"planned {rep.queries} queries in {rep.planned} of {rep.chunks} chunks with "
+          f"{rep.planner}{skipped}{what}; wrote {rep.path}")
     return 0
 
 

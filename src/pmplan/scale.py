@@ -1,0 +1,674 @@
+"""Beyond one machine: dask arrays in, lazy dask arrays out; chunked Zarr streaming.
+
+A batch of queries larger than one process's memory is planned chunk by chunk: every chunk is
+an ordinary :func:`pmplan.plan_batch` call (the same kernels, the same certificate), so the
+plans are bit for bit those of ``plan_batch`` on the whole batch in memory, whatever the
+chunking or the scheduler. Two faces:
+
+* :func:`plan_batch` / :func:`plan_sequence_batch` on :class:`dask.array.Array` inputs
+  (chunked along the batch axis only) return a :class:`~pmplan.PlanBatch` of lazy dask arrays
+  built with ``map_blocks`` (``pmplan.plan_batch`` hands dask inputs over to this module);
+  :func:`compute` computes all of them in one pass.
+* :func:`plan_store` (``pmplan batch IN --out OUT.zarr``) streams from a Zarr store (or an npz)
+  to a Zarr store: bounded memory (a few chunks per process), resumable (``resume=True``
+  plans only the chunks not yet marked done), in-process or on a ``dask.distributed`` cluster
+  (``scheduler=ADDRESS`` or ``dask_workers=N``: a LocalCluster).
+
+The output store (:data:`FORMAT`): a Zarr group with arrays ``domain`` (B,) int64, ``strata``
+(B, S) int64, ``clearance`` (B,) float64, ``waypoints`` (B, K, m+n, d) float64, ``times``
+(K,) float64 (shared breakpoints, obstacle-line planner) or (B, K) (per query, planar_three),
+all chunked along the batch axis only by ``chunk`` queries, and ``done`` (number of chunks,)
+bool, one entry per chunk, written only after every array of that chunk is written. Group
+attributes: ``format``, ``planner``, ``lift`` (a number or ``"scene"``), ``pmplan_version``,
+``dims`` [d, n, m], ``r`` (configurations per query), ``B``, ``chunk`` and ``complete``
+(True only once every chunk is done). :func:`open_plans` refuses an incomplete store.
+
+This module is a face (ARCHITECTURE.md): the core never imports it, and it needs the optional
+extra ``pip install "pmplan[dask]"`` (dask[array], distributed, zarr).
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from .errors import CertificationError, CollisionError, InputError, PmplanError
+
+__all__ = [
+    "FORMAT",
+    "INSTALL",
+    "compute",
+    "is_store",
+    "open_plans",
+    "plan_batch",
+    "plan_sequence_batch",
+    "plan_store",
+    "StoreReport",
+]
+
+#: the ``format`` attribute of an output store
+FORMAT = "pmplan-plans-1"
+#: how to get the optional dependencies of this module
+INSTALL = 'pip install "pmplan[dask]"'
+#: queries per chunk when streaming an input that has no chunking of its own (npz)
+DEFAULT_CHUNK = 65536
+#: the arrays of an output store, in the order they are written (``done`` last)
+OUTPUTS = ("domain", "strata", "clearance", "times", "waypoints")
+_RECHUNK = "x.rechunk({1: -1, 2: -1})"
+
+
+def _need(module: str):
+    """Import ``module`` (dask.array, distributed, zarr) or raise the InputError saying how to
+    install the extra."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise InputError(f"this needs the optional package {module.split('.')[0]!r}, which is not "
+                         f"installed: {INSTALL}") from None
+
+
+# ----------------------------------------------------------------------------------------------
+# dask arrays in, lazy dask arrays out
+
+
+def _real_dtype(dtype: np.dtype, name: str) -> None:
+    """The rule of :func:`pmplan.configuration.as_real` on a dtype: float or integer."""
+    if dtype.kind not in "iuf":
+        raise InputError(f"`{name}` has dtype {dtype}; coordinates must be real numbers (a float "
+                         f"or integer dtype): convert it, e.g. {name}.astype(float)")
+
+
+def _dask_inputs(arrays: list, names: list[str]):
+    """The inputs as dask arrays with one common chunking along the batch axis and one chunk
+    along every other axis; a clear InputError for anything else (nothing is rechunked
+    silently)."""
+    da = _need("dask.array")
+    ref = next(a for a in arrays if isinstance(a, da.Array))
+    out = []
+    for a, name in zip(arrays, names):
+        if not isinstance(a, da.Array):
+            a = np.asarray(a)
+        _real_dtype(np.dtype(a.dtype), name)
+        if a.ndim != 3:
+            raise InputError(f"`{name}` has shape {a.shape}; expected (B, k, d) with the batch "
+                             "axis first")
+        if isinstance(a, da.Array):
+            if any(np.isnan(c) for cs in a.chunks for c in cs):
+                raise InputError(f"`{name}` has unknown chunk sizes; call "
+                                 f"{name}.compute_chunk_sizes() first")
+            if len(a.chunks[1]) > 1 or len(a.chunks[2]) > 1:
+                raise InputError(
+                    f"`{name}` is chunked along axes other than the batch axis (chunks "
+                    f"{tuple(len(c) for c in a.chunks)}); plan_batch needs whole queries in "
+                    f"every chunk: {name} = {name}.rechunk({{1: -1, 2: -1}})")
+        else:
+            a = da.from_array(a, chunks=(ref.chunks[0], -1, -1))
+        out.append(a)
+    b = {a.shape[0] for a in out}
+    if len(b) > 1:
+        raise InputError(f"the inputs have different batch sizes {[a.shape[0] for a in out]}")
+    chunks = [a.chunks[0] for a in out]
+    if any(c != chunks[0] for c in chunks):
+        desc = ", ".join(f"{n}: {len(c)} chunks of up to {max(c, default=0)}"
+                         for n, c in zip(names, chunks))
+        raise InputError(
+            f"the inputs are chunked differently along the batch axis ({desc}); give them the "
+            f"same chunks, e.g. x = x.rechunk({{0: {names[0]}.chunks[0]}})")
+    return da, out
+
+
+def _record(template: dict, per_query_times: bool) -> np.dtype:
+    """The structured dtype of one planned query: every output of a block packed into one
+    array, so that one ``map_blocks`` call plans a block once."""
+    fields = [("domain", np.int64), ("strata", np.int64, template["strata"].shape[1:]),
+              ("clearance", np.float64), ("waypoints", np.float64, template["waypoints"].shape[1:])]
+    if per_query_times:
+        fields.append(("times", np.float64, template["times"].shape[1:]))
+    return np.dtype(fields)
+
+
+def _context(exc: PmplanError, lo: int, hi: int, where: str):
+    """``exc`` again (same class) about rows of the whole batch: the query indices of a chunk's
+    error are shifted by the chunk's first row ``lo``, and the chunk is named."""
+    msg = str(exc)
+    tail = f" [{where}: queries {lo}..{hi - 1} of the batch]"
+    if isinstance(exc, CertificationError):
+        idx = None if exc.indices is None else np.asarray(exc.indices) + lo
+        if idx is not None and exc.indices is not None:
+            old = np.asarray(exc.indices)
+            more = "..." if old.size > 10 else ""
+            msg = msg.replace(f"for queries {old[:10].tolist()}{more}",
+                              f"for queries {idx[:10].tolist()}{more}", 1)
+        return CertificationError(msg + tail, indices=idx)
+    if isinstance(exc, CollisionError):
+        idx = None if exc.index is None else exc.index + lo
+        if idx is not None:
+            msg = msg.replace(f"query {exc.index}", f"query {idx}", 1)
+        return CollisionError(msg + tail, index=idx, which=exc.which, pair=exc.pair)
+    try:
+        return type(exc)(msg + tail)
+    except TypeError:  # pragma: no cover - every pmplan error takes a message
+        return exc
+
+
+def _plan_chunk_arrays(obstacles, configs, planner, lift, backend, workers):
+    """``plan_batch`` (r = 2) or ``plan_sequence_batch`` on one chunk of numpy arrays."""
+    from . import api
+
+    if len(configs) == 2:
+        return api.plan_batch(obstacles, configs[0], configs[1], planner=planner, lift=lift,
+                              backend=backend, workers=workers)
+    return api.plan_sequence_batch(obstacles, configs, lift=lift, backend=backend,
+                                   workers=workers)
+
+
+def _plan_block(obstacles, *configs, planner, lift, backend, workers, record, block_info=None):
+    """One block of the lazy batch: its plans packed into ``record`` rows."""
+    lo = block_info[None]["array-location"][0][0] if block_info else 0
+    hi = lo + obstacles.shape[0]
+    try:
+        batch = _plan_chunk_arrays(np.asarray(obstacles), [np.asarray(c) for c in configs],
+                                   planner, lift, backend, workers)
+    except PmplanError as exc:
+        raise _context(exc, lo, hi, "dask block") from None
+    out = np.empty(obstacles.shape[0], dtype=record)
+    for name in record.names:
+        out[name] = getattr(batch, name)
+    return out
+
+
+def _field(block: np.ndarray, name: str) -> np.ndarray:
+    return np.ascontiguousarray(block[name])
+
+
+def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential):
+    from . import api
+
+    da, arrays = _dask_inputs([obstacles, *configs], names)
+    obstacles, configs = arrays[0], arrays[1:]
+    api._check_lift(lift)  # checked now, not at compute time
+    workers = api._check_workers(workers)
+    api._check_backend(backend)
+    _, m, d = obstacles.shape
+    n = configs[0].shape[1]
+    for c, name in zip(configs, names[1:]):
+        if c.shape[1:] != configs[0].shape[1:] or c.shape[2] != d:
+            raise InputError(f"`{name}` has shape {c.shape}; expected (B, n, d) = "
+                             f"({c.shape[0]}, {n}, {d})")
+    p = api.choose_planner(d, n, m, "obstacle_line" if sequential else planner)
+    template = p.allocate(0, len(configs), m, n, d)
+    per_query_times = template["times"].ndim == 2
+    record = _record(template, per_query_times)
+    packed = da.map_blocks(
+        _plan_block, obstacles, *configs, planner=None if sequential else p.name,
+        lift=lift, backend=backend, workers=workers, record=record,
+        dtype=record, meta=np.empty((0,), record), drop_axis=[1, 2],
+        chunks=(obstacles.chunks[0],), name="pmplan-plan",
+    )
+    out = {}
+    for name in record.names:
+        shape = record.fields[name][0].shape
+        base = record.fields[name][0].base
+        out[name] = packed.map_blocks(
+            _field, name, dtype=base, meta=np.empty((0,) * (1 + len(shape)), base),
+            chunks=(packed.chunks[0], *((s,) for s in shape)),
+            new_axis=list(range(1, 1 + len(shape))) or None, name=f"pmplan-{name}",
+        )
+    if not per_query_times:
+        out["times"] = template["times"]
+    return api.PlanBatch(planner=p.name, dims=(d, n, m), **out)
+
+
+def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
+               backend: str | None = None, workers: int = 1, progress: bool = False,
+               out=None):
+    """:func:`pmplan.plan_batch` on dask arrays: a PlanBatch of lazy dask arrays.
+
+    ``obstacles`` (B, m, d), ``start`` and ``goal`` (B, n, d): dask arrays (a numpy array
+    among them is chunked like the dask ones) of a real dtype, chunked along the batch axis
+    only and all with the same batch chunks. Nothing is planned here: ``domain``, ``strata``,
+    ``clearance``, ``waypoints`` (and ``times`` when per query) are dask arrays with the
+    batch chunks of the input, built with ``map_blocks`` on one packed plan per block (so
+    :func:`compute`, or ``dask.compute`` of several of them at once, plans every block once).
+    Shared breakpoints ``times`` (K,) are a numpy array. Every block is
+    :func:`pmplan.plan_batch` on its rows (``workers`` threads inside a block), so the result
+    is bit for bit the numpy one, with any chunking and any scheduler. Errors of a block
+    (an invalid query, a failed certificate) are raised at compute time, with the rows of the
+    whole batch. To write several outputs, store them in one call (``dask.array.store`` of
+    a list, or ``dask.compute``), which plans every block once, or stream with
+    :func:`plan_store`. ``progress`` and ``out`` apply to numpy batches only. ``stratum`` names,
+    indexing and iteration need the computed batch (:func:`compute`).
+
+    Use the threaded scheduler on one machine (the numba kernels release the GIL) and
+    processes or a ``dask.distributed`` cluster when Python-level work dominates (the numpy
+    reference backend, many exactly degenerate queries) or to use several machines.
+    """
+    if out is not None:
+        raise InputError("`out=` is for numpy batches; with dask arrays the result is lazy "
+                         "(write it with dask.array.to_zarr, or use pmplan.scale.plan_store)")
+    del progress  # dask's own diagnostics (e.g. dask.diagnostics.ProgressBar) report progress
+    return _lazy(obstacles, [start, goal], ["obstacles", "start", "goal"], planner, lift,
+                 backend, workers, sequential=False)
+
+
+def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
+                        backend: str | None = None, workers: int = 1, progress: bool = False,
+                        out=None):
+    """:func:`pmplan.plan_sequence_batch` on dask arrays (see :func:`plan_batch`)."""
+    if out is not None:
+        raise InputError("`out=` is for numpy batches; with dask arrays the result is lazy")
+    del progress
+    configs = list(configs)
+    if len(configs) < 2:
+        raise InputError(f"expected at least r = 2 configurations, got {len(configs)}")
+    return _lazy(obstacles, configs, ["obstacles"] + [f"configs[{k}]" for k in range(len(configs))],
+                 None, lift, backend, workers, sequential=True)
+
+
+def compute(batch, **kwargs):
+    """A PlanBatch of dask arrays computed in one pass (every block planned once) into a
+    PlanBatch of numpy arrays; ``kwargs`` go to :func:`dask.compute` (e.g. ``scheduler=``)."""
+    import dask
+
+    from . import api
+
+    names = ["domain", "strata", "clearance", "waypoints", "times"]
+    values = dask.compute(*(getattr(batch, k) for k in names), **kwargs)
+    return api.PlanBatch(planner=batch.planner, dims=tuple(batch.dims),
+                         **{k: np.asarray(v) for k, v in zip(names, values)})
+
+
+# ----------------------------------------------------------------------------------------------
+# Zarr streaming
+
+
+def is_store(path) -> bool:
+    """Whether ``path`` names a Zarr store: a directory, or a name ending in ``.zarr``."""
+    path = Path(path)
+    return path.suffix == ".zarr" or path.is_dir()
+
+
+@dataclass(frozen=True)
+class StoreReport:
+    """What :func:`plan_store` did."""
+
+    path: Path
+    planned: int          # chunks planned in this run
+    skipped: int          # chunks already done (resume)
+    chunks: int           # chunks in all
+    queries: int          # queries planned in this run
+    domains: dict         # label -> count, over the chunks planned in this run
+    min_clearance: float  # over the chunks planned in this run (inf if none)
+    planner: str
+
+
+@dataclass(frozen=True)
+class _Spec:
+    """Everything a chunk task needs (picklable, small)."""
+
+    source: str | None      # path of the input store, or None: the rows come with the task
+    out: str
+    names: tuple            # input arrays: obstacles, start, [via], goal
+    b: int
+    chunk: int
+    planner: str
+    lift: object
+    backend: str | None
+    workers: int
+
+
+def _open_input(path: Path):
+    zarr = _need("zarr")
+    try:
+        group = zarr.open_group(str(path), mode="r")
+    except Exception as exc:  # zarr raises several kinds for "not a store"
+        raise InputError(f"cannot read {path} as a Zarr store: {exc}") from None
+    present = set(group.array_keys())
+    missing = [k for k in ("obstacles", "start", "goal") if k not in present]
+    if missing:
+        raise InputError(f"the Zarr store {path} lacks array(s) {missing} (it has "
+                         f"{sorted(present)}); expected obstacles (B, m, d), start (B, n, d), "
+                         "goal (B, n, d) and optional via (B, k, n, d)")
+    unknown = present - {"obstacles", "start", "goal", "via"}
+    if unknown:
+        raise InputError(f"the Zarr store {path} has unknown array(s) {sorted(unknown)}; expected "
+                         "obstacles, start, goal and optional via")
+    return {k: group[k] for k in present}
+
+
+def _check_inputs(arrays: dict, source: str, chunk: int | None):
+    """Shapes, dtypes and batch chunks of the input arrays; returns (B, m, n, d, k, chunk)."""
+    for k, a in arrays.items():
+        if np.dtype(a.dtype).kind not in "iuf":
+            raise InputError(f"array `{k}` in {source} has dtype {a.dtype}; coordinates must be "
+                             "real numbers: write it as float64 (or an integer dtype)")
+    o, s, g = arrays["obstacles"], arrays["start"], arrays["goal"]
+    if o.ndim != 3 or s.ndim != 3 or s.shape != g.shape or o.shape[0] != s.shape[0] \
+            or o.shape[2] != s.shape[2]:
+        raise InputError(f"{source}: obstacles {o.shape}, start {s.shape}, goal {g.shape}; "
+                         "expected (B, m, d), (B, n, d), (B, n, d)")
+    b, m, d = o.shape
+    n = s.shape[1]
+    k = 0
+    if "via" in arrays:
+        v = arrays["via"]
+        if v.ndim != 4 or v.shape[0] != b or v.shape[2:] != s.shape[1:]:
+            raise InputError(f"array `via` in {source} has shape {v.shape}; expected (B, k, n, d)"
+                             f" = ({b}, k, {n}, {d})")
+        k = v.shape[1]
+    if chunk is None:
+        chunks = {name: getattr(a, "chunks", None) for name, a in arrays.items()}
+        batch_chunks = {name: c[0] for name, c in chunks.items() if c is not None}
+        if batch_chunks:
+            if len(set(batch_chunks.values())) > 1:
+                raise InputError(
+                    f"the arrays of {source} are chunked differently along the batch axis "
+                    f"({batch_chunks}); rewrite them with the same chunks along axis 0, or give "
+                    "--chunk N (queries per chunk)")
+            chunk = next(iter(batch_chunks.values()))
+        else:
+            chunk = DEFAULT_CHUNK
+    return b, m, n, d, k, int(chunk)
+
+
+def _read_rows(arrays: dict, lo: int, hi: int):
+    """(obstacles, configs) of rows lo:hi."""
+    o = np.asarray(arrays["obstacles"][lo:hi])
+    configs = [np.asarray(arrays["start"][lo:hi])]
+    if "via" in arrays:
+        via = np.asarray(arrays["via"][lo:hi])
+        configs += [via[:, j] for j in range(via.shape[1])]
+    configs.append(np.asarray(arrays["goal"][lo:hi]))
+    return o, configs
+
+
+def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
+    """Plan chunk ``i`` and write it; ``done[i]`` is written last. Returns (i, rows planned,
+    domain counts, min clearance). Runs in-process or as a dask.distributed task."""
+    zarr = _need("zarr")
+    lo, hi = i * spec.chunk, min(spec.b, (i + 1) * spec.chunk)
+    if rows is None:
+        rows = _read_rows(_open_input(Path(spec.source)), lo, hi)
+    obstacles, configs = rows
+    planner = spec.planner if len(configs) == 2 else None
+    try:
+        batch = _plan_chunk_arrays(obstacles, configs, planner, spec.lift, spec.backend,
+                                   spec.workers)
+    except PmplanError as exc:
+        raise _context(exc, lo, hi, f"chunk {i}") from None
+    if group is None:
+        group = zarr.open_group(spec.out, mode="r+")
+    for name in OUTPUTS:
+        a = getattr(batch, name)
+        if name == "times" and a.ndim == 1:
+            continue  # shared breakpoints, written once when the store was created
+        group[name][lo:hi] = a
+    group["done"][i] = True
+    labels, counts = np.unique(batch.domain, return_counts=True)
+    clr = float(batch.clearance.min()) if hi > lo else float("inf")
+    return i, hi - lo, dict(zip(labels.tolist(), counts.tolist())), clr
+
+
+def _create_output(path: Path, attrs: dict, template: dict, b: int, chunk: int, nchunks: int,
+                   compress: bool = True):
+    zarr = _need("zarr")
+    group = zarr.open_group(str(path), mode="w-")
+    c = max(1, min(chunk, b))
+    comp = "auto" if compress else None
+    for name in ("domain", "strata", "clearance", "waypoints"):
+        t = template[name]
+        group.create_array(name, shape=(b, *t.shape[1:]), chunks=(c, *t.shape[1:]),
+                           dtype=t.dtype, fill_value=0, compressors=comp)
+    t = template["times"]
+    if t.ndim == 1:
+        group.create_array("times", shape=t.shape, chunks=t.shape, dtype=t.dtype, fill_value=0)
+        group["times"][...] = t
+    else:
+        group.create_array("times", shape=(b, *t.shape[1:]), chunks=(c, *t.shape[1:]),
+                           dtype=t.dtype, fill_value=0, compressors=comp)
+    # one Zarr chunk per entry: workers marking different chunks never write the same file
+    group.create_array("done", shape=(nchunks,), chunks=(1,), dtype=bool, fill_value=False)
+    group.attrs.update({**attrs, "complete": False})
+    return group
+
+
+def _attrs(planner, lift, dims, r, b, chunk) -> dict:
+    from . import __version__
+
+    return {"format": FORMAT, "planner": planner, "lift": lift, "pmplan_version": __version__,
+            "dims": list(dims), "r": r, "B": b, "chunk": chunk}
+
+
+def plan_store(source, out, *, planner: str | None = None, lift: float | str | None = None,
+               chunk: int | None = None, resume: bool = False, scheduler: str | None = None,
+               dask_workers: int | None = None, workers: int = 1, backend: str | None = None,
+               progress: bool = False, compress: bool = True,
+               on_chunk: Callable[[int, int, int], None] | None = None) -> StoreReport:
+    """Plan a batch from a Zarr store (or in-memory arrays) into a Zarr store, chunk by chunk.
+
+    Parameters
+    ----------
+    source : path or dict
+        A Zarr group with arrays ``obstacles`` (B, m, d), ``start``, ``goal`` (B, n, d) and
+        optional ``via`` (B, k, n, d); or a dict of such numpy arrays (an npz read by
+        :func:`pmplan.io.read_queries`, whose ``lift`` and ``planner`` are honoured).
+    out : path
+        The output Zarr store (see the module docstring for its arrays and attributes).
+    chunk : int, optional
+        Queries per chunk; default: the input store's chunks along the batch axis (which must
+        then be the same for every array), or 65536 for in-memory input.
+    resume : bool
+        Continue an existing output: plan only the chunks not marked done. Without it an
+        existing ``out`` is an error (and is left untouched).
+    scheduler, dask_workers : optional
+        Plan the chunks as tasks on the dask.distributed scheduler at this address, or on a
+        LocalCluster of this many worker processes (one thread each). The workers read the
+        input store and write the output store themselves, so they must see the same files
+        (one machine, or a shared filesystem). Default: in this process.
+    workers : int
+        Threads per chunk (as in :func:`pmplan.plan_batch`).
+    compress : bool
+        Compress the output chunks (Zarr's default codec, zstd): about half the disk for
+        about a seventh of the write speed; False writes them raw.
+    on_chunk : callable, optional
+        Called as ``on_chunk(i, done, total)`` after chunk ``i`` is written and marked done.
+
+    Returns
+    -------
+    StoreReport
+
+    Raises
+    ------
+    InputError
+        For a missing or malformed input (missing arrays, wrong dtype, mismatched chunks),
+        an existing output without ``resume``, or one that does not match this run; nothing is
+        written then. An invalid query or a failed certificate stops the run with the rows
+        named; the chunks already written stay marked done, the output stays incomplete.
+    """
+    from . import api
+
+    zarr = _need("zarr")
+    out = Path(out)
+    if isinstance(source, dict):
+        arrays = {k: np.asarray(source[k]) for k in ("obstacles", "start", "goal", "via")
+                  if k in source}
+        for k in ("lift", "planner"):
+            if source.get(k) is not None:
+                mine = lift if k == "lift" else planner
+                if mine is not None and mine != source[k]:
+                    raise InputError(f"{k} {mine!r} contradicts {k} {source[k]!r} in the input")
+        lift = source.get("lift", lift)
+        planner = source.get("planner", planner)
+        src_name, src_path = "the input", None
+    else:
+        src_path = Path(source)
+        if src_path.resolve() == out.resolve():
+            raise InputError(f"the input and the output are the same store {out}")
+        arrays = _open_input(src_path)
+        src_name = str(src_path)
+    if chunk is not None and (isinstance(chunk, bool) or int(chunk) < 1):
+        raise InputError(f"`chunk` must be a positive number of queries, got {chunk!r}")
+    b, m, n, d, k, chunk = _check_inputs(arrays, src_name, chunk)
+    lift = 1.0 if lift is None else lift
+    api._check_lift(lift)
+    workers = api._check_workers(workers)
+    api._check_backend(backend)
+    r = k + 2
+    if r > 2 and planner not in (None, "obstacle_line"):
+        raise InputError("a query with 'via' is planned by the obstacle_line planner")
+    p = api.choose_planner(d, n, m, "obstacle_line" if r > 2 else planner)
+    nchunks = -(-b // chunk)
+    lift_attr = lift if isinstance(lift, str) else float(lift)
+    attrs = _attrs(p.name, lift_attr, (d, n, m), r, b, chunk)
+    if out.suffix != ".zarr":
+        raise InputError(f"the output {out} must be a Zarr store: give it the suffix .zarr")
+    if out.exists():
+        if not resume:
+            raise InputError(f"the output {out} already exists; pass --resume to finish an "
+                             "interrupted run into it, or remove it / choose another --out")
+        try:
+            group = zarr.open_group(str(out), mode="r+")
+            old = dict(group.attrs)
+        except Exception as exc:
+            raise InputError(f"cannot resume {out}: it is not a pmplan output store ({exc})") \
+                from None
+        diff = {key: (old.get(key), v) for key, v in attrs.items()
+                if key != "pmplan_version" and old.get(key) != v}
+        if diff or "done" not in set(group.array_keys()):
+            raise InputError(f"cannot resume {out}: it was written for another run (stored vs "
+                             f"now: {diff}); remove it or choose another --out")
+    else:
+        group = None
+    # connect before anything is written: an unreachable scheduler leaves no output behind
+    client, cluster, owned = (None, None, False) if scheduler is None and dask_workers is None \
+        else _connect(scheduler, dask_workers)
+    try:
+        if group is None:
+            template = p.allocate(0, r, m, n, d)
+            group = _create_output(out, attrs, template, b, chunk, nchunks, compress)
+        done = np.asarray(group["done"][:])
+        todo = np.flatnonzero(~done).tolist()
+        spec = _Spec(source=None if src_path is None else str(src_path), out=str(out),
+                     names=tuple(arrays), b=b, chunk=chunk, planner=p.name, lift=lift,
+                     backend=backend, workers=workers)
+        state = {"done": nchunks - len(todo), "queries": 0, "clearance": float("inf")}
+        domains: dict = {}
+        bar = None
+        if progress and todo:
+            from tqdm import tqdm
+
+            bar = tqdm(total=nchunks, initial=nchunks - len(todo), desc="planning",
+                       unit="chunk", file=sys.stderr)
+
+        def record(result):
+            i, q, counts, clr = result
+            state["done"] += 1
+            state["queries"] += q
+            state["clearance"] = min(state["clearance"], clr)
+            for label, c in counts.items():
+                domains[label] = domains.get(label, 0) + c
+            if bar is not None:
+                bar.update()
+            if on_chunk is not None:
+                on_chunk(i, state["done"], nchunks)
+
+        def rows_of(i):
+            if src_path is not None:
+                return None  # the task reads its rows from the input store
+            lo, hi = i * chunk, min(b, (i + 1) * chunk)
+            return _read_rows(arrays, lo, hi)
+
+        try:
+            if client is None:
+                for i in todo:
+                    record(_run_chunk(spec, i, rows_of(i), group))
+            else:
+                _distributed(client, spec, todo, rows_of, record)
+        except PmplanError as exc:
+            exc.args = (f"{exc}; {out} is incomplete ({state['done']} of {nchunks} chunks "
+                        "written): fix the input and rerun with --resume",)
+            raise
+        finally:
+            if bar is not None:
+                bar.close()
+    finally:
+        if owned:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+    if bool(np.asarray(group["done"][:]).all()):
+        group.attrs["complete"] = True
+    return StoreReport(out, len(todo), nchunks - len(todo), nchunks, state["queries"], domains,
+                       state["clearance"], p.name)
+
+
+def _connect(scheduler: str | None, dask_workers: int | None):
+    """(client, cluster, owned): this process's default client when it already talks to the
+    scheduler at ``scheduler`` (not ours to close), else a new client of that scheduler, or of
+    a new LocalCluster of ``dask_workers`` worker processes (one thread each)."""
+    distributed = _need("distributed")
+    if scheduler is not None:
+        try:
+            current = distributed.default_client()
+        except ValueError:
+            current = None
+        if current is not None and current.scheduler.address == scheduler \
+                and current.status == "running":
+            return current, None, False
+        try:
+            return distributed.Client(scheduler), None, True
+        except (OSError, ValueError) as exc:
+            raise InputError(f"cannot reach the dask scheduler {scheduler}: {exc}") from None
+    cluster = distributed.LocalCluster(n_workers=dask_workers, threads_per_worker=1,
+                                       processes=True, dashboard_address=":0")
+    return distributed.Client(cluster), cluster, True
+
+
+def _distributed(client, spec: _Spec, todo: list, rows_of, record) -> None:
+    """Run the chunk tasks on a dask.distributed cluster; ``record`` each result as it comes.
+
+    A task whose worker dies is run again by the scheduler on another worker: it rewrites its
+    chunk with the same bytes and marks it done; nothing half-written is ever marked done.
+    """
+    distributed = _need("distributed")
+    futures = [client.submit(_run_chunk, spec, i, rows_of(i), pure=False) for i in todo]
+    try:
+        for fut in distributed.as_completed(futures):
+            record(fut.result())
+    except BaseException:
+        client.cancel(futures)
+        raise
+
+
+def open_plans(path):
+    """The plans of a complete output store as a PlanBatch of lazy dask arrays.
+
+    Raises InputError for a store that is not a pmplan output or is incomplete (an
+    interrupted run: finish it with ``pmplan batch IN --out OUT --resume``).
+    """
+    from . import api
+
+    zarr = _need("zarr")
+    da = _need("dask.array")
+    try:
+        group = zarr.open_group(str(path), mode="r")
+        attrs = dict(group.attrs)
+    except Exception as exc:
+        raise InputError(f"cannot read {path} as a Zarr store: {exc}") from None
+    if attrs.get("format") != FORMAT:
+        raise InputError(f"{path} is not a pmplan output store (format {attrs.get('format')!r})")
+    done = np.asarray(group["done"][:])
+    if not attrs.get("complete") or not done.all():
+        raise InputError(f"{path} is incomplete ({int(done.sum())} of {done.size} chunks "
+                         "written): finish it with pmplan batch IN --out OUT --resume")
+    arrays = {k: da.from_zarr(group[k]) for k in OUTPUTS}
+    if arrays["times"].ndim == 1:
+        arrays["times"] = np.asarray(group["times"][:])
+    d, n, m = attrs["dims"]
+    return api.PlanBatch(planner=attrs["planner"], dims=(d, n, m), **arrays)
