@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import backend as _backend
 from . import magnitude
 from . import planners as _planners  # noqa: F401  (registers the planners)
 from .certify import CLEARANCE, certificate, check_times, describe
@@ -23,7 +24,6 @@ from .configuration import _plain, as_lift, as_points, as_real, check_query, che
 from .errors import CertificationError, InputError, PmplanError, ShapeError, UnsupportedError
 from .path import PiecewiseLinearPath, _unchecked_path
 from .planners.base import REGISTRY, SCENE_CODE, Planner, RawPlan, lift_code, scene_unit
-from .planners.obstacle_line import BACKENDS
 
 __all__ = [
     "Plan",
@@ -212,9 +212,7 @@ def _check_lift(lift) -> float:
     return lift_code(as_lift(lift))
 
 
-def _check_backend(backend) -> None:
-    if backend is not None and backend not in BACKENDS:
-        raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
+_check_backend = _backend.check
 
 
 def _raise_certificate(bad: np.ndarray, batched: bool, codes: np.ndarray | None = None,
@@ -766,7 +764,7 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     >>> p.path(0.0)[2], p.path(1.0)[2]
     (array([0., 1.]), array([ 1., -1.]))
     """
-    if backend is None or backend == "numba":
+    if _backend.uses_kernels(backend):
         fast = _plan_fast(obstacles, start, goal, planner, lift)
         if fast is not None:
             return fast
@@ -1023,7 +1021,7 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
     >>> p.path(0.5)[2]
     array([ 1., -1.])
     """
-    if backend is None or backend == "numba":
+    if _backend.uses_kernels(backend):
         fast = _plan_sequence_fast(obstacles, configs, lift)
         if fast is not None:
             return fast

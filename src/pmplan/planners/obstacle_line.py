@@ -49,26 +49,21 @@ import numpy as np
 
 from ..certify import certify
 from ..certify import clearance as certified_clearance
-from ..configuration import kernel_array
+from ..backend import NUMBA, NUMPY, kernel_array, kernels, resolve
 from ..frame import Frame
 from ..path import PiecewiseLinearPath, compose_via_deformations, join, linear
 from ..predicates import projection_classes
 from .base import RawPlan, lift_code, register, unit
 
 __all__ = [
-    "BACKENDS",
     "ColumnStructure",
     "column_structure",
     "deformation",
     "section",
     "path_times",
-    "resolve_backend",
     "ObstacleLinePlanner",
     "OBSTACLE_LINE",
 ]
-
-#: ``"numba"``: the fused kernel of :mod:`pmplan._kernels` (default); ``"numpy"``: the reference
-BACKENDS = ("numba", "numpy")
 
 
 @dataclass
@@ -177,41 +172,6 @@ def path_times(r: int) -> np.ndarray:
 _TIMES2 = path_times(2)  # the breakpoints of every two-configuration path (read-only)
 
 
-def resolve_backend(backend: str | None) -> str:
-    """Return ``"numba"`` or ``"numpy"``: the named backend, or the default (numba if installed).
-
-    Raises
-    ------
-    ValueError
-        For any other name.
-    """
-    if backend is None:
-        from .. import _kernels
-
-        return "numba" if _kernels.AVAILABLE else "numpy"
-    if backend not in BACKENDS:
-        raise ValueError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
-    if backend == "numba":
-        from .. import _kernels
-
-        if not _kernels.AVAILABLE:  # pragma: no cover
-            raise ValueError("backend 'numba' needs the numba package")
-    return backend
-
-
-def _kernels_module():
-    """:mod:`pmplan._kernels`, imported on first use (it imports numba), then kept."""
-    global _KERNELS
-    if _KERNELS is None:
-        from .. import _kernels
-
-        _KERNELS = _kernels
-    return _KERNELS
-
-
-_KERNELS = None
-
-
 def _fused(obstacles, configs, lift, wp, domain, strata, clearance,
            validate: bool = False) -> np.ndarray:
     """Plan and certify with the numba kernel, re-deciding flagged queries exactly.
@@ -221,17 +181,16 @@ def _fused(obstacles, configs, lift, wp, domain, strata, clearance,
     query (finite, no two equal points) and an invalid one fails the certificate: the caller
     then runs :func:`pmplan.configuration.check_query`, which raises the error. See
     :mod:`pmplan._kernels` for the flags: ``FALLBACK`` queries are recomputed whole by the numpy
-    reference (:meth:`ObstacleLinePlanner.plan_sequence` with ``backend="numpy"``) and certified
+    reference (:meth:`ObstacleLinePlanner.plan_sequence` with ``backend=NUMPY``) and certified
     by :func:`pmplan.certify.certify`; ``SUSPECT`` ones get their clearance from
     :func:`pmplan.certify.clearance` (exact on the suspect pairs).
     """
-    from .. import _kernels as K
-
+    kern = kernels()
     obstacles = kernel_array(obstacles)
     configs = [kernel_array(c) for c in configs]
     b, m, d = obstacles.shape
-    if d > K.MAX_D:  # the kernel reproduces numpy's summation order for d <= MAX_D only
-        raw = OBSTACLE_LINE.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
+    if d > kern.MAX_D:  # the kernel reproduces numpy's summation order for d <= MAX_D only
+        raw = OBSTACLE_LINE.plan_sequence(obstacles, configs, lift=lift, backend=NUMPY)
         return _store_reference(raw, obstacles, configs, np.arange(b), wp, domain, strata, clearance)
     r = len(configs)
     n = configs[0].shape[1]
@@ -240,20 +199,20 @@ def _fused(obstacles, configs, lift, wp, domain, strata, clearance,
     else:
         middle = np.empty((0, b, n, d))
     flags = np.empty(b, np.uint8)
-    K.plan_chunk(obstacles, configs[0], configs[-1], middle, lift_code(lift), validate, wp,
-                 domain, strata, clearance, flags, K.tables(r, m, n, d))
-    failed = K.NONFINITE | K.BROKEN | K.INVALID
+    kern.plan_chunk(obstacles, configs[0], configs[-1], middle, lift_code(lift), validate, wp,
+                 domain, strata, clearance, flags, kern.tables(r, m, n, d))
+    failed = kern.NONFINITE | kern.BROKEN | kern.INVALID
     ok = (flags & failed) == 0
     if not flags.any():
         return ok & (clearance > 0)
-    sus = np.flatnonzero((flags & (K.SUSPECT | K.FALLBACK | failed)) == K.SUSPECT)
+    sus = np.flatnonzero((flags & (kern.SUSPECT | kern.FALLBACK | failed)) == kern.SUSPECT)
     if sus.size:
         clearance[sus] = certified_clearance(wp[sus], m)
     ok &= clearance > 0
-    idx = np.flatnonzero(flags & K.FALLBACK)
+    idx = np.flatnonzero(flags & kern.FALLBACK)
     if idx.size:
         raw = OBSTACLE_LINE.plan_sequence(obstacles[idx], [c[idx] for c in configs], lift=lift,
-                                          backend="numpy")
+                                          backend=NUMPY)
         ok[idx] = _store_reference(raw, obstacles[idx], [c[idx] for c in configs], idx, wp,
                                    domain, strata, clearance)
     return ok
@@ -329,12 +288,12 @@ class ObstacleLinePlanner:
         On ``[(k-1)/(r-1), k/(r-1)]`` the path is the two-configuration path from C_k to
         C_{k+1}; label ``sum_k cp(C_k) - (r-1) cp_o + 2 - [e == N]``.
 
-        ``backend="numpy"`` runs the reference implementation below (numpy, exact predicates of
+        ``backend=NUMPY`` runs the reference implementation below (numpy, exact predicates of
         :mod:`pmplan.predicates`); ``"numba"`` (the default when numba is installed) runs the
         fused kernel of :mod:`pmplan._kernels`, whose waypoints and labels are identical.
         The input is not validated here (see :mod:`pmplan.configuration`).
         """
-        if resolve_backend(backend) == "numba":
+        if resolve(backend) == NUMBA:
             configs = [kernel_array(c) for c in configs]
             obstacles = kernel_array(obstacles)
             b, m, d = obstacles.shape
@@ -390,11 +349,11 @@ class ObstacleLinePlanner:
         plans that shape (numba missing, d > MAX_D, m < 2, n < 1). The index tables are looked
         up once here, not per query.
         """
-        K = _kernels_module()
-        if not K.AVAILABLE or not 2 <= d <= K.MAX_D or m < 2 or n < 1:
+        kern = kernels()
+        if not kern.AVAILABLE or not 2 <= d <= kern.MAX_D or m < 2 or n < 1:
             return None
-        tab = K.tables(2, m, n, d)
-        kernel = K.plan_one
+        tab = kern.tables(2, m, n, d)
+        kernel = kern.plan_one
         times = _TIMES2
 
         def run(obstacles, start, goal, lift):
@@ -422,14 +381,14 @@ class ObstacleLinePlanner:
         the waypoints those of paper Remark
         ``constructing-sections-via-deformations-higher-case`` on every leg (SPEC 4c).
         """
-        K = _kernels_module()
-        if not K.AVAILABLE or not 2 <= d <= K.MAX_D or m < 2 or n < 1 or r < 2:
+        kern = kernels()
+        if not kern.AVAILABLE or not 2 <= d <= kern.MAX_D or m < 2 or n < 1 or r < 2:
             return None
         times = path_times(r)
         if not (np.diff(times) > 0).all():  # pragma: no cover - never: path_times is strict
             return None
-        kernel = K._plan  # one query: the scalar kernel, as K.plan_chunk would call it
-        tab = K.tables(r, m, n, d)
+        kernel = kern._plan  # one query: the scalar kernel, as plan_chunk would call it
+        tab = kern.tables(r, m, n, d)
         sel = np.zeros(1, np.int64)  # (read only)
         oshape, rshape, mshape = (1, m, d), (1, n, d), (1, 1, n, d)
         wshape, sshape = (1, times.shape[0], m + n, d), (1, r + 2)
@@ -463,9 +422,9 @@ class ObstacleLinePlanner:
     def validates(self, d: int, backend: str | None = None) -> bool:
         """Whether :meth:`plan_certified` can validate the queries itself (``validate=True``):
         with the numba kernel, for d <= MAX_D."""
-        if resolve_backend(backend) != "numba":
+        if resolve(backend) != NUMBA:
             return False
-        return d <= _kernels_module().MAX_D
+        return d <= kernels().MAX_D
 
     def path_times(self, r: int) -> np.ndarray:
         """Breakpoints of every path through r configurations (see :func:`path_times`)."""
@@ -512,11 +471,11 @@ class ObstacleLinePlanner:
             The certificate of SPEC section 5 (endpoints, intermediate configurations,
             obstacles fixed, finite, clearance > 0).
         """
-        if resolve_backend(backend) == "numba":
+        if resolve(backend) == NUMBA:
             return _fused(obstacles, configs, lift, wp, domain, strata, clearance, validate)
         obstacles = np.asarray(obstacles, dtype=float)
         configs = [np.asarray(c, dtype=float) for c in configs]
-        raw = self.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
+        raw = self.plan_sequence(obstacles, configs, lift=lift, backend=NUMPY)
         return _store_reference(raw, obstacles, configs, np.arange(obstacles.shape[0]), wp,
                                 domain, strata, clearance)
 

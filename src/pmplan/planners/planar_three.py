@@ -53,7 +53,7 @@ Why every path is collision-free: each leg either runs along a column that holds
 obstacle (H, h3/2; h(x), h(x') != 0 when all obstacles lie on L_C), or leaves x (x') along its
 height towards the first solid vertical, never reaching the next obstacle column.
 
-Implementations: the numpy code below is the *reference* (``backend="numpy"``); the default
+Implementations: the numpy code below is the *reference* (``backend=NUMPY``); the default
 ``backend="numba"`` runs the fused kernel of :mod:`pmplan._kernels_planar` (classification,
 polyline, constant-speed times and certificate in one pass per query, flagged queries
 re-decided here), whose waypoints, breakpoints, strata and clearances are identical. The
@@ -76,12 +76,11 @@ import numpy as np
 
 from ..certify import certify
 from ..certify import clearance as certified_clearance
-from ..configuration import kernel_array
+from ..backend import NUMBA, NUMPY, kernel_array, planar_kernels, resolve
 from ..frame import Frame
 from ..path import PiecewiseLinearPath
 from ..predicates import projection_classes
 from .base import RawPlan, lift_code, register, unit
-from .obstacle_line import resolve_backend
 
 __all__ = [
     "DOMAIN_OF",
@@ -512,7 +511,7 @@ class PlanarThreePlanner:
         below the resolution of its coordinates.
         """
         lift = lift_code(lift)
-        if resolve_backend(backend) == "numba":
+        if resolve(backend) == NUMBA:
             args = _fusable(obstacles, start, goal)
             if args is not None:
                 obstacles, start, goal = args
@@ -587,7 +586,7 @@ class PlanarThreePlanner:
         start, goal = configs
         if times is None:
             times = np.empty((wp.shape[0], K))
-        if resolve_backend(backend) == "numba":
+        if resolve(backend) == NUMBA:
             args = _fusable(obstacles, start, goal)
             if args is not None:
                 return _fused(*args, lift, times, wp, domain, strata, clearance,
@@ -609,13 +608,10 @@ class PlanarThreePlanner:
         query the kernel flags, a failed certificate), so that the caller takes the general
         path, which raises the proper error or re-decides exactly.
         """
-        kernel = self.__dict__.get("_plan_planar_one")
-        if kernel is None:  # first call: import the kernel module (numba) once
-            from .. import _kernels_planar as KP
-
-            if not KP.AVAILABLE:  # pragma: no cover
-                return None
-            kernel = self.__dict__["_plan_planar_one"] = KP.plan_planar_one
+        kern = planar_kernels()
+        if not kern.AVAILABLE:  # pragma: no cover
+            return None
+        kernel = kern.plan_planar_one
         if (obstacles.shape != (3, 2) or start.shape != (1, 2) or goal.shape != (1, 2)
                 or not (obstacles.flags.c_contiguous and start.flags.c_contiguous
                         and goal.flags.c_contiguous)):
@@ -636,9 +632,8 @@ for _k in range(2, K + 1):
 def _fusable(obstacles, start, goal):
     """C-contiguous float64 arrays (B, 3, 2), (B, 1, 2), (B, 1, 2) for the kernel, or None
     (numba missing, other shapes: the reference decides, and raises its own errors)."""
-    from .. import _kernels_planar as KP
-
-    if not KP.AVAILABLE:  # pragma: no cover
+    kern = planar_kernels()
+    if not kern.AVAILABLE:  # pragma: no cover
         return None
     try:
         obstacles = kernel_array(obstacles)
@@ -658,30 +653,29 @@ def _fused(obstacles, start, goal, lift, times, wp, domain, strata, clearance, *
     flagged queries exactly; fill the outputs in place.
 
     ``FALLBACK`` queries are recomputed whole by the numpy reference (:meth:`PlanarThreePlanner.plan`
-    with ``backend="numpy"``) and certified by :func:`pmplan.certify.certify`; ``SUSPECT`` ones
+    with ``backend=NUMPY``) and certified by :func:`pmplan.certify.certify`; ``SUSPECT`` ones
     get their clearance from :func:`pmplan.certify.clearance` (exact on the suspect pairs).
     Returns the certificate (B,) when ``certified``, else None (no exact clearance is computed).
     """
-    from .. import _kernels_planar as KP
-
+    kern = planar_kernels()
     b = obstacles.shape[0]
     flags = np.empty(b, np.uint8)
-    KP.plan_planar(obstacles, start, goal, _EVEN, lift, False, times, wp, domain, strata,
+    kern.plan_planar(obstacles, start, goal, _EVEN, lift, False, times, wp, domain, strata,
                    clearance, flags)
     if not flags.any():
         return clearance > 0 if certified else None
-    idx = np.flatnonzero(flags & KP.FALLBACK)
+    idx = np.flatnonzero(flags & kern.FALLBACK)
     if not certified:
         if idx.size:
             raw = PLANAR_THREE.plan(obstacles[idx], start[idx], goal[idx], lift=lift,
-                                    backend="numpy")
+                                    backend=NUMPY)
             times[idx], wp[idx] = raw.path.times, raw.path.waypoints
             domain[idx], strata[idx] = raw.domain, raw.strata
         return None
-    sus = np.flatnonzero(flags == KP.SUSPECT)
+    sus = np.flatnonzero(flags == kern.SUSPECT)
     if sus.size:
         clearance[sus] = certified_clearance(wp[sus], 3)
-    ok = (clearance > 0) & ((flags & KP.BROKEN) == 0)
+    ok = (clearance > 0) & ((flags & kern.BROKEN) == 0)
     if idx.size:
         ok[idx] = _store_reference(obstacles, start, goal, lift, idx, times, wp, domain, strata,
                                    clearance)
@@ -693,7 +687,7 @@ def _store_reference(obstacles, start, goal, lift, idx, times, wp, domain, strat
     as :func:`pmplan.api.plan_batch` certifies a RawPlan) and store them; return the certificate."""
     obs, s, g = obstacles[idx], start[idx], goal[idx]
     with np.errstate(all="ignore"):  # what overflows (coordinates ~1e308) fails the certificate
-        raw = PLANAR_THREE.plan(obs, s, g, lift=lift, backend="numpy")
+        raw = PLANAR_THREE.plan(obs, s, g, lift=lift, backend=NUMPY)
     pw = raw.path.waypoints
     times[idx] = raw.path.times
     wp[idx] = pw
