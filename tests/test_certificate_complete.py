@@ -35,7 +35,7 @@ from pmplan.errors import CertificationError
 from pmplan.path import PiecewiseLinearPath
 from pmplan.planners import obstacle_line as OL
 from pmplan.planners import planar_three as P3
-from pmplan.planners.base import REGISTRY, RawPlan
+from pmplan.planners.base import REGISTRY, Planner, RawPlan
 
 # --------------------------------------------------------------------------------------------
 # corruptions: each breaks exactly one clause of a valid path (times (B, K), waypoints
@@ -182,9 +182,10 @@ def test_times_without_breakpoints_fail():
 # --------------------------------------------------------------------------------------------
 
 
-class _Corrupting:
-    """The obstacle-line reference as a plain planner (no fused kernel, no fast path) whose
-    output is corrupted by ``fn(times, waypoints, m)``."""
+class _Corrupting(Planner):
+    """The obstacle-line reference as a plain planner (no kernel, no fast path: only the
+    required members of the protocol) whose output is corrupted by ``fn(times, waypoints, m)``
+    (per-query breakpoints)."""
 
     name = "obstacle_line"
     summary = "test double"
@@ -201,10 +202,17 @@ class _Corrupting:
     def stratum_name(self, row, d, n, m):
         return OL.OBSTACLE_LINE.stratum_name(row, d, n, m)
 
-    def plan(self, obstacles, start, goal, *, lift=1.0):
+    sequential = True
+
+    def allocate(self, b, r, m, n, d):
+        out = OL.OBSTACLE_LINE.allocate(b, r, m, n, d)
+        out["times"] = np.empty((b, out["times"].shape[0]))
+        return out
+
+    def plan(self, obstacles, start, goal, *, lift=1.0, backend=None):
         return self.plan_sequence(obstacles, [start, goal], lift=lift)
 
-    def plan_sequence(self, obstacles, configs, *, lift=1.0):
+    def plan_sequence(self, obstacles, configs, *, lift=1.0, backend=None):
         raw = OL.OBSTACLE_LINE.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
         b, k = raw.path.waypoints.shape[:2]
         t = np.broadcast_to(raw.path.times, (b, k)).copy()

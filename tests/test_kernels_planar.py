@@ -16,7 +16,7 @@ why it can fail:
 * each re-decision route is taken where it must be: an exact tie only fractions can see
   (``FALLBACK``), a clearance ~1e-10 of the scene (``SUSPECT``), an overflowing ``o2 - o1``;
 * the same queries fail their certificate, with the same indices (``CertificationError``);
-* the single-query fast path (:meth:`PlanarThreePlanner.plan_one`) gives the reference
+* the single-query fast path (:meth:`PlanarThreePlanner.single_query`) gives the reference
   :class:`pmplan.Plan` and the reference errors; chunked planning equals unchunked planning;
 * the kernel is compiled for one signature only.
 """
@@ -241,7 +241,7 @@ def test_single_plan_equals_reference(q):
 def test_single_plan_of_every_stratum_uses_the_kernel(name):
     o, s, g = stratum_queries(np.random.default_rng(3), name, 4)
     for q in zip(o, s, g):
-        res = PLANAR_THREE.plan_one(*q, 1.0)
+        res = PLANAR_THREE.single_query(3, 1, 2)(*q, 1.0)
         assert res is not None  # decided and certified by the kernel
         times, wp, domain, row, clearance = res
         ref = pmplan.plan(*q, backend="numpy")

@@ -23,7 +23,7 @@ from .certify import CLEARANCE, certificate, check_times, describe
 from .configuration import _plain, as_lift, as_points, as_real, check_query, check_same_obstacles
 from .errors import CertificationError, InputError, PmplanError, ShapeError, UnsupportedError
 from .path import PiecewiseLinearPath, _unchecked_path
-from .planners.base import REGISTRY, SCENE_CODE, Planner, RawPlan, lift_code, scene_unit
+from .planners.base import REGISTRY, SCENE_CODE, Planner, default_planner, lift_code, scene_unit
 
 __all__ = [
     "Plan",
@@ -193,8 +193,7 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None) -> Planne
     ``obstacle_line`` (paper Section 3 and SPEC 4) for every other m >= 2.
     """
     if planner is None:
-        planner = "planar_three" if (d, n, m) == (2, 1, 3) and "planar_three" in REGISTRY \
-            else "obstacle_line"
+        planner = default_planner(d, n, m)
     if planner not in REGISTRY:
         raise UnsupportedError(
             f"unknown planner {planner!r}; choose one of {', '.join(planner_names())}"
@@ -317,82 +316,25 @@ def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
         r = len(configs)
         full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
         via = [(j / (r - 1), full[j]) for j in range(1, r - 1)]
-        times = arrays["times"] if "times" in arrays else planner.path_times(r)
+        times = arrays["times"]
         arrays["clearance"], clause = certificate(arrays["waypoints"], full[0], full[-1], m,
                                                   times=times, via=via)
         yield idx, arrays, ok & (clause == 0)
 
 
-def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, sequential: bool,
+def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
          progress: bool = False, backend: str | None = None, workers: int = 1,
          validate: bool = False, into: dict | None = None):
     """Plan and certify in chunks; return the arrays of a PlanBatch.
 
-    Planners with a fused path (``plan_certified``: the obstacle-line planner, numba kernel of
-    :mod:`pmplan._kernels` or its numpy reference) write straight into the preallocated output,
-    chunk by chunk, so no temporary is larger than a chunk; the others return a RawPlan per
-    chunk that is certified by :func:`pmplan.certify.certify`. ``into`` (from
-    :func:`_output_arrays`) are existing output arrays for the fused path to fill.
-    """
-    if hasattr(planner, "plan_certified"):
-        return _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers,
-                          validate, into)
-    b = obstacles.shape[0]
-    out = None
-    chunks = range(0, b, CHUNK)
-    for lo in _Progress(progress, len(chunks)).over(chunks):
-        hi = min(b, lo + CHUNK)
-        obs = obstacles[lo:hi]
-        cfg = [c[lo:hi] for c in configs]
-        with np.errstate(all="ignore"):  # whatever overflows fails the certificate below
-            if sequential:
-                raw: RawPlan = planner.plan_sequence(obs, cfg, lift=lift)
-            else:
-                raw = planner.plan(obs, cfg[0], cfg[1], lift=lift)
-        wp = raw.path.waypoints
-        start = np.concatenate([obs, cfg[0]], axis=1)
-        goal = np.concatenate([obs, cfg[-1]], axis=1)
-        r = len(cfg)
-        via = [(k / (r - 1), np.concatenate([obs, cfg[k]], axis=1)) for k in range(1, r - 1)]
-        clr, codes = certificate(wp, start, goal, obs.shape[1], times=raw.path.times, via=via)
-        ok = codes == 0
-        if not ok.all():
-            bad = np.zeros(b, dtype=bool)
-            bad[lo:hi] = ~ok
-            full = np.zeros(b, np.uint8)
-            full[lo:hi] = codes
-            _raise_certificate(bad, batched, full, obstacles, configs, lift,
-                               getattr(planner, "equivariant", False))
-        if out is None:
-            times = raw.path.times
-            out = dict(
-                domain=np.empty(b, np.int64),
-                strata=np.empty((b, raw.strata.shape[1]), np.int64),
-                clearance=np.empty(b),
-                times=times if times.ndim == 1 else np.empty((b, times.shape[1])),
-                waypoints=np.empty((b,) + wp.shape[1:]),
-            )
-        out["domain"][lo:hi] = raw.domain
-        out["strata"][lo:hi] = raw.strata
-        out["clearance"][lo:hi] = clr
-        out["waypoints"][lo:hi] = wp
-        if out["times"].ndim == 2:
-            out["times"][lo:hi] = raw.path.times
-    return out
-
-
-def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers=1,
-               validate=False, into=None):
-    """:func:`_run` for planners that plan and certify into preallocated arrays.
-
-    Such a planner has ``allocate(b, r, m, n, d) -> dict`` (arrays ``domain`` (B,), ``strata``
-    (B, S), ``clearance`` (B,), ``times`` (K,) or (B, K), ``waypoints`` (B, K, m+n, d)) and
-    ``plan_certified(obstacles, configs, lift, waypoints, domain, strata, clearance, *,
-    backend, times=None)``, which fills the chunk (``times`` is passed, sliced, only when it is
-    per query) and returns the certificate (B,). With ``workers > 1`` the chunks are planned by
-    that many threads (the numba kernels release the GIL; every chunk writes its own rows).
-    With ``validate`` the planner's kernel also validates the queries (``plan_certified(...,
-    validate=True)``, see ``planner.validates``): before a certificate error is raised, the
+    The planner (:class:`pmplan.planners.base.Planner`) allocates the output arrays
+    (:meth:`~pmplan.planners.base.Planner.allocate`; ``into``, from :func:`_output_arrays`, are
+    existing ones) and fills them chunk by chunk, certified
+    (:meth:`~pmplan.planners.base.Planner.plan_certified`: kernel -> flagged rows -> exact
+    re-decision -> certificate), so no temporary is larger than a chunk. With ``workers > 1``
+    the chunks are planned by that many threads (the numba kernels release the GIL; every chunk
+    writes its own rows). With ``validate`` the planner's kernel also validates the queries
+    (see :meth:`~pmplan.planners.base.Planner.validates`): before a certificate error is raised, the
     queries are checked (:func:`pmplan.configuration.check_query`), which raises the input
     error if one of them is invalid -- the error the caller would have got from checking first.
     """
@@ -405,7 +347,7 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
     # only a planner that maps 2**k C (with lift 2**k) to 2**k times the path of C is scaled;
     # another one plans extreme queries as given (its reference under np.errstate) and its
     # certificate decides
-    equivariant = getattr(planner, "equivariant", False)
+    equivariant = planner.equivariant
     # the breakpoints: shared ones are checked once here, per-query ones chunk by chunk
     shared_times = 0 if per_query_times else int(check_times(out["times"]))
 
@@ -420,13 +362,9 @@ def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, wo
         if equivariant and magnitude.needs_scaling([obs, *cfg], lift_c):
             k = magnitude.exponents([obs, *cfg], lift_c)
         if k is None:
-            extra = {"times": times} if per_query_times else {}
-            if validate:
-                extra["validate"] = True
-            ok = planner.plan_certified(
-                obs, cfg, lift, wp, out["domain"][lo:hi], out["strata"][lo:hi],
-                out["clearance"][lo:hi], backend=backend, **extra,
-            )
+            rows = {"domain": out["domain"][lo:hi], "strata": out["strata"][lo:hi],
+                    "clearance": out["clearance"][lo:hi], "times": times, "waypoints": wp}
+            ok = planner.plan_certified(obs, cfg, lift, rows, backend=backend, validate=validate)
         else:
             ok = np.empty(hi - lo, dtype=bool)
             call = _fused_call(planner, r, m, n, d, per_query_times, validate, backend)
@@ -495,12 +433,8 @@ def _fused_call(planner, r: int, m: int, n: int, d: int, per_query_times: bool, 
 
     def call(idx, obstacles, configs, lift):
         arrays = planner.allocate(idx.size, r, m, n, d)
-        extra = {"times": arrays["times"]} if per_query_times else {}
-        if validate:
-            extra["validate"] = True
-        ok = planner.plan_certified(obstacles, configs, lift, arrays["waypoints"],
-                                    arrays["domain"], arrays["strata"], arrays["clearance"],
-                                    backend=backend, **extra)
+        ok = planner.plan_certified(obstacles, configs, lift, arrays, backend=backend,
+                                    validate=validate)
         return arrays, ok
 
     return call
@@ -596,8 +530,6 @@ def _output_arrays(out, planner: Planner, dims: tuple[int, int, int], b: int, r:
             f"{dims}"
         )
     d, n, m = dims
-    if not hasattr(planner, "allocate"):
-        raise UnsupportedError(f"the {planner.name} planner cannot plan into `out`")
     template = planner.allocate(0, r, m, n, d)
     arrays = {k: getattr(out, k) for k in template}
     for k, a in arrays.items():
@@ -713,11 +645,11 @@ def plan_batch(
     except PmplanError:  # an invalid query is reported first, as always
         check_query(obstacles, start, goal, batched=True)
         raise
-    deferred = getattr(p, "validates", None) is not None and p.validates(d, backend)
+    deferred = p.validates(d, backend)
     if not deferred:
         check_query(obstacles, start, goal, batched=True)
     into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], 2, (obstacles, start, goal))
-    res = _run(p, obstacles, [start, goal], lift, batched=True, sequential=False,
+    res = _run(p, obstacles, [start, goal], lift, batched=True,
                progress=progress, backend=backend, workers=workers, validate=deferred, into=into)
     return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
 
@@ -774,7 +706,7 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     n = start.shape[1]
     p = choose_planner(d, n, m, planner)
     _check_backend(backend)
-    out = _run(p, obstacles, [start, goal], lift, batched=False, sequential=False,
+    out = _run(p, obstacles, [start, goal], lift, batched=False,
                backend=backend)
     return _single(p, (d, n, m), out)
 
@@ -865,12 +797,10 @@ def _fast_entry(key: tuple):
     if len(oshape) == 2 and len(sshape) == 2 and sshape == gshape and oshape[1] == sshape[1]:
         (m, d), n = oshape, sshape[0]
         if planner is None:
-            planner = "planar_three" if (d, n, m) == (2, 1, 3) and "planar_three" in REGISTRY \
-                else "obstacle_line"
+            planner = default_planner(d, n, m)
         p = REGISTRY.get(planner)
         if p is not None and p.supports(d, n, m) is None:
-            run = p.plan_one_for(m, n, d) if hasattr(p, "plan_one_for") \
-                else getattr(p, "plan_one", None)
+            run = p.single_query(m, n, d)
             if run is not None and _times_certified(p, 2):
                 entry = (run, p, (d, n, m), {})
     if len(_FAST) < 1024:
@@ -882,7 +812,7 @@ def _times_certified(p: Planner, r: int) -> bool:
     """Whether the planner's shared breakpoints for r configurations (if it has them) pass
     clauses 1-4 of the certificate -- checked once per fast-path entry, not per call. A
     planner with per-query breakpoints checks them in its kernel (flag ``BROKEN``)."""
-    times = p.path_times(r) if hasattr(p, "path_times") else None
+    times = p.path_times(r)
     return times is None or check_times(times) == 0
 
 
@@ -986,11 +916,11 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     obstacles, configs = _check_sequence(obstacles, configs, batched=True)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
-    p = choose_planner(d, n, m, "obstacle_line")
+    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True))
     _check_backend(backend)
     into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], len(configs),
                           (obstacles, *configs))
-    res = _run(p, obstacles, configs, lift, batched=True, sequential=True, progress=progress,
+    res = _run(p, obstacles, configs, lift, batched=True, progress=progress,
                backend=backend, workers=workers, into=into)
     return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
 
@@ -1029,9 +959,9 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
     obstacles, configs = _check_sequence(obstacles, configs, batched=False)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
-    p = choose_planner(d, n, m, "obstacle_line")
+    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True))
     _check_backend(backend)
-    out = _run(p, obstacles, configs, lift, batched=False, sequential=True, backend=backend)
+    out = _run(p, obstacles, configs, lift, batched=False, backend=backend)
     return _single(p, (d, n, m), out)
 
 
@@ -1077,15 +1007,23 @@ def _sequence_entry(key: tuple):
     entry = None
     if len(oshape) == 2 and len(cshape) == 2 and oshape[1] == cshape[1]:
         (m, d), n = oshape, cshape[0]
-        p = REGISTRY["obstacle_line"]
+        p = REGISTRY[default_planner(d, n, m, sequential=True)]
         if p.supports(d, n, m) is None:
-            make = getattr(p, "plan_sequence_one_for", None)
-            run = None if make is None else make(r, m, n, d)
+            run = p.sequence_query(r, m, n, d)
             if run is not None and _times_certified(p, r):
                 entry = (run, p, (d, n, m), {})
     if len(_FAST_SEQUENCE) < 1024:
         _FAST_SEQUENCE[key] = entry
     return entry
+
+
+def _check_sequential(planner: str | None) -> None:
+    """Raise :class:`~pmplan.errors.UnsupportedError` if the named planner does not plan
+    through intermediate configurations (a query with ``via``)."""
+    if planner is not None and not (planner in REGISTRY and REGISTRY[planner].sequential):
+        names = [p.name for p in REGISTRY.values() if p.sequential]
+        raise UnsupportedError(f"a query with 'via' is planned by the {' or '.join(names)} "
+                               "planner")
 
 
 def parametrised_tc(d: int, n: int, m: int, r: int = 2) -> int:
@@ -1118,12 +1056,12 @@ def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> Plan
         return PlannerInfo(d, n, m, r, None, None, (), None, False, f"no planner covers {why}")
     tc = parametrised_tc(d, n, m, r)
     if r > 2:
-        if planner not in (None, "obstacle_line"):
-            raise UnsupportedError("sequential planning (r > 2) uses the obstacle_line planner")
-        p = REGISTRY["obstacle_line"]
-        low = 4 if d % 2 == 0 else 3
-        labels = tuple(range(low, r * n + m + 3))
-        msg = "sequential planner (SPEC 4c) on the obstacle_line planner"
+        name = default_planner(d, n, m, sequential=True)
+        if planner not in (None, name):
+            raise UnsupportedError(f"sequential planning (r > 2) uses the {name} planner")
+        p = REGISTRY[name]
+        labels = tuple(p.domain_labels(d, n, m, r))
+        msg = f"sequential planner (SPEC 4c) on the {name} planner"
     else:
         p = choose_planner(d, n, m, planner)
         labels = tuple(p.domain_labels(d, n, m))
@@ -1147,8 +1085,7 @@ def plan_query(query: dict, planner: str | None = None) -> Plan:
     planner = planner or query.get("planner")
     lift = query.get("lift", 1.0)
     if "via" in query:
-        if planner not in (None, "obstacle_line"):
-            raise UnsupportedError("a query with 'via' is planned by the obstacle_line planner")
+        _check_sequential(planner)
         configs = [query["start"], *query["via"], query["goal"]]
         return plan_sequence(query["obstacles"], configs, lift=lift)
     return plan(query["obstacles"], query["start"], query["goal"], planner=planner, lift=lift)

@@ -237,15 +237,13 @@ def cmd_plan(args) -> int:
 
 def cmd_batch(args) -> int:
     from . import api
-    from .errors import UnsupportedError
     from .io import read_queries, write_plans
 
     q = _with_options(read_queries(args.queries), args, args.queries)
     lift = q.get("lift", 1.0)
     common = dict(lift=lift, progress=not args.no_progress, workers=args.workers)
     if "via" in q:
-        if q.get("planner") not in (None, "obstacle_line"):
-            raise UnsupportedError("a query with 'via' is planned by the obstacle_line planner")
+        api._check_sequential(q.get("planner"))
         configs = [q["start"], *np.moveaxis(q["via"], 1, 0), q["goal"]]
         batch = api.plan_sequence_batch(q["obstacles"], configs, **common)
     else:
@@ -277,10 +275,11 @@ def cmd_demo(args) -> int:
         queries = [np.stack(a) for a in zip(*obstacle_line_examples(args.n))]
         plans = list(api.plan_batch(*queries, lift=args.lift))
         extra = _planar_three_demo(args.lift)
-    for p in plans:
-        rows.append(("obstacle_line", f"W_{p.domain}", p.stratum, p.path.length(), p.clearance))
-    for p in extra:
-        rows.append(("planar_three", f"W{p.domain}", p.stratum, p.path.length(), p.clearance))
+    from .planners import REGISTRY
+
+    for p in plans + extra:
+        rows.append((p.planner, f"{REGISTRY[p.planner].domain_prefix}{p.domain}", p.stratum,
+                     p.path.length(), p.clearance))
     print(f"pmplan demo: {args.n} robots among 2 obstacles in the plane "
           f"({len(plans)} domains, optimal: TC = {api.parametrised_tc(2, args.n, 2)})"
           + (", and 1 robot among 3 obstacles (paper Section 4, 4 domains)" if extra else ""))

@@ -71,6 +71,7 @@ from .errors import CertificationError, InputError
 from .frame import Frame
 from .path import PiecewiseLinearPath
 from .predicates import projection_classes
+from .planners.base import REGISTRY
 
 __all__ = [
     "RHO_MIN",
@@ -345,7 +346,7 @@ class Report:
     def to_text(self) -> str:
         """Return a human-readable summary (the default output of ``pmplan verify``)."""
         d, n, m = self.dims
-        w = "W" if self.planner == "planar_three" else "W_"
+        w = REGISTRY[self.planner].domain_prefix
         fam = ", ".join(f"{k} {v['queries']}" for k, v in self.families.items())
         lines = [
             f"pmplan verify: {self.planner} planner, (d, n, m) = ({d}, {n}, {m}), "
@@ -616,7 +617,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     n_exact = int(0.4 * queries)
     n_random = int(0.3 * queries)
     n_near = queries - n_exact - n_random
-    heights = name == "planar_three"
+    heights = p.uses_heights
 
     bar = tqdm(total=6, desc=f"verify {name} ({d},{n},{m})", unit="step", file=sys.stderr,
                disable=not progress, leave=False)

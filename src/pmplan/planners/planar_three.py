@@ -53,12 +53,13 @@ Why every path is collision-free: each leg either runs along a column that holds
 obstacle (H, h3/2; h(x), h(x') != 0 when all obstacles lie on L_C), or leaves x (x') along its
 height towards the first solid vertical, never reaching the next obstacle column.
 
-Implementations: the numpy code below is the *reference* (``backend=NUMPY``); the default
+Implementations: the numpy code below is the *reference* (``backend="numpy"``); the default
 ``backend="numba"`` runs the fused kernel of :mod:`pmplan._kernels_planar` (classification,
 polyline, constant-speed times and certificate in one pass per query, flagged queries
 re-decided here), whose waypoints, breakpoints, strata and clearances are identical. The
-planner plugs into the fast paths of :mod:`pmplan.api` through :meth:`PlanarThreePlanner.allocate`,
-:meth:`~PlanarThreePlanner.plan_certified` and :meth:`~PlanarThreePlanner.plan_one`.
+planner plugs into the run loop and the fast paths through the protocol of
+:class:`pmplan.planners.base.Planner`: :meth:`~PlanarThreePlanner.allocate`,
+:meth:`~PlanarThreePlanner.kernel` and :meth:`~PlanarThreePlanner.single_query`.
 
 References
 ----------
@@ -74,13 +75,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..certify import certify
-from ..certify import clearance as certified_clearance
-from ..backend import NUMBA, NUMPY, kernel_array, planar_kernels, resolve
+from ..backend import NUMBA, kernel_array, planar_kernels, resolve
 from ..frame import Frame
 from ..path import PiecewiseLinearPath
 from ..predicates import projection_classes
-from .base import RawPlan, lift_code, register, unit
+from .base import Planner, RawPlan, lift_code, register, unit
 
 __all__ = [
     "DOMAIN_OF",
@@ -443,7 +442,7 @@ _RULES = {
 }
 
 
-class PlanarThreePlanner:
+class PlanarThreePlanner(Planner):
     """Planner of paper Section 4 for pi_{4,3}: d = 2, one robot, three obstacles, 4 domains."""
 
     name = "planar_three"
@@ -454,6 +453,10 @@ class PlanarThreePlanner:
     #: the query scaled by 2**k with its lift (the paper's unit) scaled by 2**k is planned as
     #: the path scaled by 2**k, bit for bit (see :mod:`pmplan.magnitude`)
     equivariant = True
+    #: the default for (2, 1, 3), where ``obstacle_line`` applies too
+    priority = 1
+    domain_prefix = "W"
+    uses_heights = True
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         """Return None for (d, n, m) = (2, 1, 3), else why the planner does not apply."""
@@ -464,7 +467,7 @@ class PlanarThreePlanner:
             f"(d, n, m) = (2, 1, 3); got ({d}, {n}, {m}) (use the obstacle_line planner)"
         )
 
-    def domain_labels(self, d: int, n: int, m: int) -> list[int]:
+    def domain_labels(self, d: int, n: int, m: int, r: int = 2) -> list[int]:
         """The domains W1..W4: ``[1, 2, 3, 4]``."""
         return [1, 2, 3, 4]
 
@@ -511,15 +514,11 @@ class PlanarThreePlanner:
         below the resolution of its coordinates.
         """
         lift = lift_code(lift)
-        if resolve(backend) == NUMBA:
-            args = _fusable(obstacles, start, goal)
-            if args is not None:
-                obstacles, start, goal = args
-                out = self.allocate(obstacles.shape[0], 2, 3, 1, 2)
-                _fused(obstacles, start, goal, lift, out["times"], out["waypoints"],
-                       out["domain"], out["strata"], out["clearance"], certified=False)
-                return RawPlan(domain=out["domain"], strata=out["strata"],
-                               path=PiecewiseLinearPath(out["times"], out["waypoints"]))
+        if resolve(backend) == NUMBA and _fusable(obstacles, start, goal) is not None:
+            out = self.allocate(np.shape(obstacles)[0], 2, 3, 1, 2)
+            self.plan_certified(obstacles, [start, goal], lift, out, backend=NUMBA)
+            return RawPlan(domain=out["domain"], strata=out["strata"],
+                           path=PiecewiseLinearPath(out["times"], out["waypoints"]))
         obstacles = np.asarray(obstacles, dtype=float)
         start = np.asarray(start, dtype=float)
         goal = np.asarray(goal, dtype=float)
@@ -539,7 +538,7 @@ class PlanarThreePlanner:
             times[idx], wp[idx] = _pad(path, K)
         return RawPlan(domain=st.domain, strata=st.record, path=PiecewiseLinearPath(times, wp))
 
-    # --- the fused protocol of pmplan.api (_run_fused, _plan_fast) --------------------------
+    # --- the run loop and the fast path (pmplan.planners.base.Planner) -----------------------
     def allocate(self, b: int, r: int, m: int, n: int, d: int) -> dict:
         """Output arrays of a batch of b queries: per-query breakpoints (b, K)."""
         if (r, m, n, d) != (2, 3, 1, 2):
@@ -555,71 +554,39 @@ class PlanarThreePlanner:
             "waypoints": np.empty((b, K, 4, 2)),
         }
 
-    def plan_certified(self, obstacles, configs, lift, wp, domain, strata, clearance, *,
-                       backend: str | None = None, times=None) -> np.ndarray:
-        """Plan and certify a chunk into preallocated outputs; return the certificate (B,).
-
-        Parameters
-        ----------
-        obstacles : ndarray (B, 3, 2)
-        configs : list of 2 ndarrays (B, 1, 2)
-            Start and goal robots.
-        lift : float or "scene"
-            The unit (see :meth:`plan`).
-        wp : ndarray (B, K, 4, 2)
-            Output waypoints.
-        domain, strata, clearance : ndarrays (B,), (B, 3), (B,)
-            Outputs: domains W_a, strata records ``(family, i, j)``, certified clearances.
-        backend : {"numba", "numpy"}, optional
-        times : ndarray (B, K)
-            Output breakpoints (per query: the paths run at constant speed).
-
-        Returns
-        -------
-        ndarray of bool, shape (B,)
-            The certificate of SPEC section 5 (endpoints, obstacles fixed, finite,
-            clearance > 0), identical for both backends.
-        """
-        lift = lift_code(lift)
+    def kernel(self, obstacles, configs, lift: float, out: dict,
+               validate: bool) -> np.ndarray | None:
+        """Plan a chunk with :func:`pmplan._kernels_planar.plan_planar` into ``out`` (per-query
+        breakpoints); return its flags, or None for arrays the kernel does not take (the
+        reference then decides, and raises its own errors)."""
         if len(configs) != 2:
             raise ValueError(f"the planar_three planner plans r = 2 configurations, got {len(configs)}")
-        start, goal = configs
-        if times is None:
-            times = np.empty((wp.shape[0], K))
-        if resolve(backend) == NUMBA:
-            args = _fusable(obstacles, start, goal)
-            if args is not None:
-                return _fused(*args, lift, times, wp, domain, strata, clearance,
-                              certified=True)
-        obstacles = np.asarray(obstacles, dtype=float)
-        start = np.asarray(start, dtype=float)
-        goal = np.asarray(goal, dtype=float)
-        return _store_reference(obstacles, start, goal, lift, np.arange(obstacles.shape[0]),
-                                times, wp, domain, strata, clearance)
+        args = _fusable(obstacles, configs[0], configs[1])
+        if args is None:
+            return None
+        flags = np.empty(args[0].shape[0], np.uint8)
+        planar_kernels().plan_planar(*args, _EVEN, lift, False, out["times"], out["waypoints"],
+                                     out["domain"], out["strata"], out["clearance"], flags)
+        return flags
 
-    def plan_one(self, obstacles, start, goal, lift: float) -> tuple | None:
-        """Fast path of :func:`pmplan.plan` for one query: validate, plan, certify in one call.
-
-        ``obstacles`` (3, 2), ``start``, ``goal`` (1, 2) as float64 arrays, ``lift`` a float
-        (positive, or :data:`~pmplan.planners.base.SCENE_CODE`). Returns
-        ``(times (k,), waypoints (k, 4, 2), domain, strata row (tuple), clearance)`` -- the
-        path already compacted (no zero-duration piece), as :func:`pmplan.plan` returns it -- or
-        None whenever anything is unusual (numba missing, a malformed or invalid query, a
-        query the kernel flags, a failed certificate), so that the caller takes the general
-        path, which raises the proper error or re-decides exactly.
-        """
+    def single_query(self, m: int, n: int, d: int):
+        """The single-query kernel call of :func:`pmplan.plan` for (m, n, d) = (3, 1, 2)
+        (:meth:`pmplan.planners.base.Planner.single_query`): ``run(obstacles, start, goal,
+        lift)`` returns ``(times (k,), waypoints (k, 4, 2), domain, strata row (tuple),
+        clearance)`` -- the path already compacted, as :func:`pmplan.plan` returns it -- or
+        None whenever the kernel flags the query or its certificate fails."""
         kern = planar_kernels()
-        if not kern.AVAILABLE:  # pragma: no cover
+        if not kern.AVAILABLE or (m, n, d) != (3, 1, 2):  # pragma: no cover
             return None
         kernel = kern.plan_planar_one
-        if (obstacles.shape != (3, 2) or start.shape != (1, 2) or goal.shape != (1, 2)
-                or not (obstacles.flags.c_contiguous and start.flags.c_contiguous
-                        and goal.flags.c_contiguous)):
-            return None
-        t, wp, dom, f, i, j, clr, flags = kernel(obstacles, start, goal, _EVEN, lift_code(lift))
-        if flags or not clr > 0:
-            return None
-        return t, wp, int(dom), (f, i, j), float(clr)
+
+        def run(obstacles, start, goal, lift):
+            t, wp, dom, f, i, j, clr, flags = kernel(obstacles, start, goal, _EVEN, lift)
+            if flags or not clr > 0:
+                return None
+            return t, wp, int(dom), (f, i, j), float(clr)
+
+        return run
 
 
 # the breakpoints of a path of length 0 with k waypoints: _EVEN[k, :k] = linspace(0, 1, k)
@@ -645,58 +612,6 @@ def _fusable(obstacles, start, goal):
     if obstacles.shape != (b, 3, 2) or start.shape != (b, 1, 2) or goal.shape != (b, 1, 2):
         return None
     return obstacles, start, goal
-
-
-def _fused(obstacles, start, goal, lift, times, wp, domain, strata, clearance, *,
-           certified: bool) -> np.ndarray | None:
-    """Plan (and certify) with the kernel of :mod:`pmplan._kernels_planar`, re-deciding
-    flagged queries exactly; fill the outputs in place.
-
-    ``FALLBACK`` queries are recomputed whole by the numpy reference (:meth:`PlanarThreePlanner.plan`
-    with ``backend=NUMPY``) and certified by :func:`pmplan.certify.certify`; ``SUSPECT`` ones
-    get their clearance from :func:`pmplan.certify.clearance` (exact on the suspect pairs).
-    Returns the certificate (B,) when ``certified``, else None (no exact clearance is computed).
-    """
-    kern = planar_kernels()
-    b = obstacles.shape[0]
-    flags = np.empty(b, np.uint8)
-    kern.plan_planar(obstacles, start, goal, _EVEN, lift, False, times, wp, domain, strata,
-                   clearance, flags)
-    if not flags.any():
-        return clearance > 0 if certified else None
-    idx = np.flatnonzero(flags & kern.FALLBACK)
-    if not certified:
-        if idx.size:
-            raw = PLANAR_THREE.plan(obstacles[idx], start[idx], goal[idx], lift=lift,
-                                    backend=NUMPY)
-            times[idx], wp[idx] = raw.path.times, raw.path.waypoints
-            domain[idx], strata[idx] = raw.domain, raw.strata
-        return None
-    sus = np.flatnonzero(flags == kern.SUSPECT)
-    if sus.size:
-        clearance[sus] = certified_clearance(wp[sus], 3)
-    ok = (clearance > 0) & ((flags & kern.BROKEN) == 0)
-    if idx.size:
-        ok[idx] = _store_reference(obstacles, start, goal, lift, idx, times, wp, domain, strata,
-                                   clearance)
-    return ok
-
-
-def _store_reference(obstacles, start, goal, lift, idx, times, wp, domain, strata, clearance):
-    """Plan rows ``idx`` with the numpy reference, certify them (:func:`pmplan.certify.certify`,
-    as :func:`pmplan.api.plan_batch` certifies a RawPlan) and store them; return the certificate."""
-    obs, s, g = obstacles[idx], start[idx], goal[idx]
-    with np.errstate(all="ignore"):  # what overflows (coordinates ~1e308) fails the certificate
-        raw = PLANAR_THREE.plan(obs, s, g, lift=lift, backend=NUMPY)
-    pw = raw.path.waypoints
-    times[idx] = raw.path.times
-    wp[idx] = pw
-    domain[idx] = raw.domain
-    strata[idx] = raw.strata
-    clr, ok = certify(pw, np.concatenate([obs, s], axis=1), np.concatenate([obs, g], axis=1), 3,
-                      times=raw.path.times)
-    clearance[idx] = clr
-    return ok
 
 
 PLANAR_THREE = register(PlanarThreePlanner())
