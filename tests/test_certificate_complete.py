@@ -29,7 +29,7 @@ from strategies import queries
 
 import pmplan
 from pmplan import _kernels_planar as KP
-from pmplan import api
+from pmplan import api, running
 from pmplan.certify import CLAUSES, certificate, check_paths, check_times, describe
 from pmplan.errors import CertificationError
 from pmplan.path import PiecewiseLinearPath
@@ -348,7 +348,7 @@ def test_obstacle_line_shared_breakpoints_are_checked(monkeypatch, fresh_fast_pa
 
 @pytest.mark.parametrize("clause", WAYPOINT_CLAUSES)
 def test_scaled_route_certifies_what_it_returns(monkeypatch, clause):
-    original = api._fused_call
+    original = running._fused_call
 
     def fused_call(*args):
         call = original(*args)
@@ -361,7 +361,7 @@ def test_scaled_route_certifies_what_it_returns(monkeypatch, clause):
 
         return corrupted
 
-    monkeypatch.setattr(api, "_fused_call", fused_call)
+    monkeypatch.setattr(running, "_fused_call", fused_call)
     big = 2.0**900
     _raises_clause(clause, pmplan.plan, O2 * big, S2 * big, G2 * big, lift=big)
     _raises_clause(clause, pmplan.plan_batch, O2[None] * big, S2[None] * big, G2[None] * big,
