@@ -31,7 +31,7 @@ from strategies import queries
 
 import pmplan
 from pmplan import _kernels_planar as KP
-from pmplan import api
+from pmplan import api, running
 from pmplan.errors import CertificationError, PmplanError
 from pmplan.generators import near_degenerate_queries, random_queries
 from pmplan.planners import planar_three as P3
@@ -39,10 +39,10 @@ from pmplan.planners.planar_three import (
     DOMAIN_OF,
     PLANAR_THREE,
     STRATA,
-    K,
-    stratum_queries,
+    WAYPOINTS as K,
     stratum_short_name,
 )
+from pmplan.generators import planar_stratum_queries as stratum_queries
 
 
 def _kernel(o, s, g, lift=1.0):
@@ -100,7 +100,7 @@ def _mixed(rng, names, count, exponent=0, noise=0.0):
 
 def test_tables_agree_with_the_planner():
     """The kernel's stratum codes and domains are the planner's (paper (w2)-(w4))."""
-    assert KP.K == K
+    assert KP.WAYPOINTS is P3.WAYPOINTS == K  # one source
     assert np.array_equal(KP.CODE_LUT, P3._LUT)
     assert np.array_equal(KP._DOMAIN, [DOMAIN_OF[name] for name in STRATA])
     assert P3._EVEN.shape == (K + 1, K)
@@ -286,7 +286,7 @@ def test_chunks(monkeypatch):
     """Chunk boundaries change nothing (CHUNK = 7 on a mixed batch of 36)."""
     o, s, g = _mixed(np.random.default_rng(8), STRATA, 3)
     whole = pmplan.plan_batch(o, s, g)
-    monkeypatch.setattr(api, "CHUNK", 7)
+    monkeypatch.setattr(running, "CHUNK", 7)
     assert_same_batch(pmplan.plan_batch(o, s, g), whole)
     assert_same_batch(pmplan.plan_batch(o, s, g, backend="numpy"), whole)
 

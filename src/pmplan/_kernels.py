@@ -2,7 +2,7 @@
 
 The numpy code of :mod:`pmplan.predicates`, :mod:`pmplan.frame`,
 :mod:`pmplan.planners.obstacle_line` and :mod:`pmplan.certify` is the *reference*
-implementation. The kernel :func:`plan_obstacle_line` computes, for every query of a chunk and
+implementation. The kernel :func:`plan_chunk` computes, for every query of a chunk and
 without any temporary larger than a few rows, exactly what that reference computes:
 
 * the exact column classes of every configuration (SPEC section 1): the float filter of
@@ -104,7 +104,6 @@ __all__ = [
     "first_coincident",
     "lanes",
     "plan_chunk",
-    "plan_obstacle_line",
     "plan_one",
     "tables",
     "valid_queries",
@@ -1256,27 +1255,17 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     return nt
 
 
-def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domain, strata,
-                       clearance, flags):
-    """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c).
-
-    Parameters and outputs as :func:`_plan`. The generic queries are planned by
-    :func:`_plan_lanes`, many at a time; :func:`_plan` (with the index tables of
-    :func:`_build_tables`) decides the others, and every query of a chunk smaller than
-    ``LANES_MIN``. Both compute the same floating-point operations, so which one plans a query
-    never shows in the result.
-    """
-    m, d = obstacles.shape[1:]
-    tab = _build_tables(middle.shape[0] + 2, m, first.shape[1], d)
-    plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
-               flags, tab)
-
-
 def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
                flags, tab):
-    """:func:`plan_obstacle_line` with the index tables ``tab`` of :func:`tables` given.
+    """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c), with
+    the index tables ``tab`` of :func:`tables`.
 
-    Plain Python on purpose, as :func:`plan_obstacle_line` and :func:`_build_tables`: a jitted
+    Parameters and outputs as :func:`_plan`. The generic queries are planned by
+    :func:`_plan_lanes`, many at a time; :func:`_plan` decides the others, and every query of a
+    chunk smaller than ``LANES_MIN``. Both compute the same floating-point operations, so which
+    one plans a query never shows in the result.
+
+    Plain Python on purpose, as :func:`_build_tables`: a jitted
     caller would have numba link :func:`_plan_lanes` and :func:`_plan` into its own module and
     optimise and generate their machine code a second time -- about a quarter of the first
     run's compile time -- for a saving of a few microseconds per chunk (see the README, "first

@@ -323,10 +323,10 @@ def _planar_three_demo(lift=1.0):
     from . import api
 
     try:
-        from .planners.planar_three import demo_examples
+        from .examples import planar_three_examples
     except ImportError:
         return []
-    return [api.plan(o, s, g, lift=lift) for o, s, g in demo_examples()]
+    return [api.plan(o, s, g, lift=lift) for o, s, g in planar_three_examples()]
 
 
 def cmd_info(args) -> int:

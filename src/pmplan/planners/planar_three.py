@@ -45,7 +45,7 @@ Paths (SPEC section 3) are polylines in the frame (u, h), traversed at constant 
 * T23_34: ``x -> (s_a, h(x)) -> (s_a, h3/2) -> (u(x'), h3/2) -> x'``; T23_43 is the reverse
   of the T23_34 path of the swapped query.
 
-Every polyline has at most 5 legs; a batch pads them to K = 6 waypoints by repeating the final
+Every polyline has at most 5 legs; a batch pads them to WAYPOINTS = 6 waypoints by repeating the final
 waypoint at time 1 (zero-duration pieces). A polyline of length 0 is the constant path.
 
 Why every path is collision-free: each leg either runs along a column that holds no obstacle
@@ -85,14 +85,12 @@ __all__ = [
     "DOMAIN_OF",
     "PLANAR_THREE",
     "STRATA",
-    "K",
+    "WAYPOINTS",
     "PlanarThreePlanner",
     "Strata",
     "classify",
-    "demo_examples",
     "frame_polyline_W1",
     "parse_stratum",
-    "stratum_queries",
     "stratum_short_name",
 ]
 
@@ -112,7 +110,7 @@ DOMAIN_OF: dict[str, int] = {
 }
 
 #: common number of waypoints of a batch (the longest polyline, T23_33, has 5 legs)
-K = 6
+WAYPOINTS = 6
 
 _FAMILIES = (1, 22, 23)
 _PAPER_SUPER = {1: "1", 22: "2,2", 23: "2,3"}
@@ -525,8 +523,8 @@ class PlanarThreePlanner(Planner):
         b = obstacles.shape[0]
         st = classify(obstacles, start, goal)
         sc = _scene(obstacles, start, goal, st, lift)
-        times = np.empty((b, K))
-        wp = np.empty((b, K, 4, 2))
+        times = np.empty((b, WAYPOINTS))
+        wp = np.empty((b, WAYPOINTS, 4, 2))
         for code in np.unique(st.code):
             idx = np.flatnonzero(st.code == code)
             build, reverse = _RULES[STRATA[code]]
@@ -535,12 +533,12 @@ class PlanarThreePlanner(Planner):
                 path = _constant_speed(sub.swapped(), build(sub.swapped())).reversed()
             else:
                 path = _constant_speed(sub, build(sub))
-            times[idx], wp[idx] = _pad(path, K)
+            times[idx], wp[idx] = _pad(path, WAYPOINTS)
         return RawPlan(domain=st.domain, strata=st.record, path=PiecewiseLinearPath(times, wp))
 
     # --- the run loop and the fast path (pmplan.planners.base.Planner) -----------------------
     def allocate(self, b: int, r: int, m: int, n: int, d: int) -> dict:
-        """Output arrays of a batch of b queries: per-query breakpoints (b, K)."""
+        """Output arrays of a batch of b queries: per-query breakpoints (b, WAYPOINTS)."""
         if (r, m, n, d) != (2, 3, 1, 2):
             raise ValueError(
                 f"the planar_three planner plans (d, n, m) = (2, 1, 3) and r = 2; "
@@ -550,8 +548,8 @@ class PlanarThreePlanner(Planner):
             "domain": np.empty(b, np.int64),
             "strata": np.empty((b, 3), np.int64),
             "clearance": np.empty(b),
-            "times": np.empty((b, K)),
-            "waypoints": np.empty((b, K, 4, 2)),
+            "times": np.empty((b, WAYPOINTS)),
+            "waypoints": np.empty((b, WAYPOINTS, 4, 2)),
         }
 
     def kernel(self, obstacles, configs, lift: float, out: dict,
@@ -591,8 +589,8 @@ class PlanarThreePlanner(Planner):
 
 # the breakpoints of a path of length 0 with k waypoints: _EVEN[k, :k] = linspace(0, 1, k)
 # (PiecewiseLinearPath.arc_length_reparametrised), for the kernel
-_EVEN = np.zeros((K + 1, K))
-for _k in range(2, K + 1):
+_EVEN = np.zeros((WAYPOINTS + 1, WAYPOINTS))
+for _k in range(2, WAYPOINTS + 1):
     _EVEN[_k, :_k] = np.linspace(0.0, 1.0, _k)
 
 
@@ -615,130 +613,3 @@ def _fusable(obstacles, start, goal):
 
 
 PLANAR_THREE = register(PlanarThreePlanner())
-
-
-# --------------------------------------------------------------------------------------------
-# exact example queries
-# --------------------------------------------------------------------------------------------
-def demo_examples() -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """Return four exact queries ``(obstacles (3, 2), start (1, 2), goal (1, 2))``, in W1..W4.
-
-    Obstacles o1 = (0, 0), o2 = (4, 0); strata T23_44 (W1, Figure ``T111`` right),
-    T22_22 (W2, Figure ``porenmedio`` right), T23_33 (W3, Figure ``grid``), T23_34 (W4).
-
-    Examples
-    --------
-    >>> [int(classify(o[None], s[None], g[None]).domain[0]) for o, s, g in demo_examples()]
-    [1, 2, 3, 4]
-    """
-
-    def f(*rows):
-        return np.array(rows, dtype=float)
-
-    return [
-        (f([0, 0], [4, 0], [5, 1.5]), f([1.5, -3]), f([7, -1.5])),
-        (f([0, 0], [4, 0], [0, 1.5]), f([4, 1.5]), f([0, -1.5])),
-        (f([0, 0], [4, 0], [2.5, 1.5]), f([2.5, -1.5]), f([0, 3])),
-        (f([0, 0], [4, 0], [2.5, 1.5]), f([0, -2]), f([6, 2.5])),
-    ]
-
-
-def _rejection(bad, draw, size: int) -> np.ndarray:
-    """Draw ``size`` values with ``draw(k)``, redrawing entry i while ``bad(values, i)``."""
-    out = draw(size)
-    redo = bad(out, np.arange(size))
-    while redo.any():
-        idx = np.flatnonzero(redo)
-        out[idx] = draw(idx.size)
-        redo = np.zeros(size, dtype=bool)
-        redo[idx] = bad(out[idx], idx)
-    return out
-
-
-def stratum_queries(
-    rng: np.random.Generator, stratum: str, count: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Return ``count`` exact queries in one stratum of paper Section 4.
-
-    Parameters
-    ----------
-    rng : numpy.random.Generator
-    stratum : str
-        ``"T22_23"`` (SPEC) or ``"T^{2,2}_{2,3}"`` (paper) style; see :data:`STRATA`.
-    count : int
-
-    Returns
-    -------
-    obstacles : ndarray, shape (count, 3, 2)
-    start, goal : ndarray, shape (count, 1, 2)
-
-    Notes
-    -----
-    Points are ``o1 + U w + V rot90(w)`` with ``o1`` an integer point, ``w`` a random nonzero
-    integer vector (random orientation of the line o1o2), ``o2 = o1 + k w`` (k in {1, 2, 3}),
-    and U, V on the half-integer grid; ``u = U |w|``, ``h = V |w|``. Every coordinate is a small
-    dyadic rational, exact in double precision, so the degeneracies of the stratum (equal
-    columns, equal heights) are exact. o3 lies on either side of L_C; x = x' may occur.
-
-    Examples
-    --------
-    >>> o, s, g = stratum_queries(np.random.default_rng(1), "T23_34", 5)
-    >>> o.shape, s.shape, g.shape
-    ((5, 3, 2), (5, 1, 2), (5, 1, 2))
-    >>> classify(o, s, g).record[:, 0].tolist()
-    [23, 23, 23, 23, 23]
-    """
-    name = parse_stratum(stratum)
-    fam, i, j = _split_name(name)
-    n = int(count)
-
-    def half_u(k):  # U on the half-integer grid in [-4, 8]
-        return rng.integers(-8, 17, size=k) / 2.0
-
-    def half_v(k):  # V on the half-integer grid in [-4, 4]
-        return rng.integers(-8, 9, size=k) / 2.0
-
-    def nonzero_v(k):  # V != 0, on either side of L_C
-        return rng.integers(1, 9, size=k) / 2.0 * rng.choice([-1.0, 1.0], size=k)
-
-    w = _rejection(lambda v, _: (v == 0).all(axis=1),
-                   lambda k: rng.integers(-3, 4, size=(k, 2)).astype(float), n)
-    o1 = rng.integers(-5, 6, size=(n, 2)).astype(float)
-    u2 = rng.integers(1, 4, size=n).astype(float)
-    if fam == 22:  # o3 on the column of o1 or o2, off L_C
-        u3, v3 = np.where(rng.random(n) < 0.5, 0.0, u2), nonzero_v(n)
-    else:  # o3 on its own column; on L_C (T1) or off it (T23)
-        u3 = _rejection(lambda v, ix: (v == 0) | (v == u2[ix]), half_u, n)
-        v3 = np.zeros(n) if fam == 1 else nonzero_v(n)
-    obs_uv = np.stack([np.zeros((n, 2)), np.stack([u2, np.zeros(n)], 1), np.stack([u3, v3], 1)], 1)
-
-    def on_obstacle(U, V, ix):
-        return ((obs_uv[ix, :, 0] == U[:, None]) & (obs_uv[ix, :, 1] == V[:, None])).any(axis=1)
-
-    def robot(c):
-        if fam == 1 and c == 1:  # on L_C, off the obstacles
-            U = _rejection(lambda v, ix: (v == 0) | (v == u2[ix]) | (v == u3[ix]), half_u, n)
-            return U, np.zeros(n)
-        if fam == 1:  # off L_C, any column
-            return half_u(n), nonzero_v(n)
-        on_col = (fam == 22 and c == 2) or (fam == 23 and c == 3)
-        if on_col:  # on an obstacle column, off the obstacles
-            cols = obs_uv[:, :, 0] if fam == 23 else obs_uv[:, :2, 0]
-            pick = rng.integers(0, cols.shape[1], size=n)
-            U = cols[np.arange(n), pick]
-            V = _rejection(lambda v, ix: on_obstacle(U[ix], v, ix), half_v, n)
-            return U, V
-        U = _rejection(lambda v, ix: (v[:, None] == obs_uv[ix, :, 0]).any(axis=1), half_u, n)
-        return U, half_v(n)
-
-    (ux, vx), (ug, vg) = robot(i), robot(j)
-    rot = np.stack([-w[:, 1], w[:, 0]], axis=1)
-
-    def world(U, V):
-        """o1 + U w + V rot90(w) for U, V of shape (n, P): points (n, P, 2), exact."""
-        return o1[:, None, :] + U[..., None] * w[:, None, :] + V[..., None] * rot[:, None, :]
-
-    obstacles = world(obs_uv[..., 0], obs_uv[..., 1])
-    start = world(ux[:, None], vx[:, None])
-    goal = world(ug[:, None], vg[:, None])
-    return obstacles, start, goal
