@@ -389,7 +389,11 @@ def test_paths_follow_spec_at_constant_speed(name, backend, data):
     total = disp.sum()
     if total > 0:
         assert np.all(dt > 0)
-        assert np.allclose(disp / dt, total, rtol=1e-9)
+        # (a leg of rounding size -- two waypoints of one exact point, ~1 ulp apart -- has a
+        # duration of the same order and no meaningful speed: found on the numba and numpy
+        # backends alike, e.g. T1_22 with o = (0, 0), (2, 3), (1, 1.5))
+        real = disp > 1e-9 * scale
+        assert np.allclose(disp[real] / dt[real], total, rtol=1e-9)
 
 
 @pytest.mark.parametrize("backend", BACKENDS)

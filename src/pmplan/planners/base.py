@@ -113,6 +113,11 @@ class Planner:
     #: the planner decides on heights (distance to the line L_C) as well as on columns: the
     #: faces that draw or check the frame show the heights too
     uses_heights: ClassVar[bool] = False
+    #: the named phases ``(name, what happens)`` of the pieces of a path, for the faces that
+    #: show a motion (:func:`pmplan.animation.phase_at`): several -- the phases of every leg
+    #: between two configurations, in order; one -- every piece is of that kind; none -- the
+    #: pieces are unnamed
+    phases: ClassVar[tuple[tuple[str, str], ...]] = ()
 
     # --- what the planner covers ---------------------------------------------------------
     def supports(self, d: int, n: int, m: int) -> str | None:

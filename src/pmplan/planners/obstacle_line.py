@@ -183,6 +183,17 @@ class ObstacleLinePlanner(Planner):
     #: extreme magnitudes are planned scaled (:mod:`pmplan.magnitude`)
     equivariant = True
     sequential = True
+    #: the seven phases of every leg (SPEC 2, paper Section 3), one piece each
+    phases = (
+        ("desingularization", "robots step along e off shared columns, paper (desin)"),
+        ("projection to the line",
+         "robots move straight onto L_C, paper (linear-transformation-obs)"),
+        ("lift", "robot i rises by i*lambda*nu(e), section (algorithm-gamma)"),
+        ("slide", "robots slide parallel to L_C from X to X', section (algorithm-gamma)"),
+        ("descend", "robots descend onto L_C at X', section (algorithm-gamma)"),
+        ("projection reversed", "robots lift back off the line to F(C', 1)"),
+        ("desingularization reversed", "robots step back along e to C', (desin) reversed"),
+    )
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         if d < 2:

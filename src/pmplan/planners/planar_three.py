@@ -455,6 +455,9 @@ class PlanarThreePlanner(Planner):
     priority = 1
     domain_prefix = "W"
     uses_heights = True
+    phases = (
+        ("polyline leg", "straight leg of the polyline of paper Section 4, at constant speed"),
+    )
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         """Return None for (d, n, m) = (2, 1, 3), else why the planner does not apply."""
