@@ -493,7 +493,7 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
             for i in range(kk):
                 tm[i] = even[kk, i]
         tm[kk - 1] = 1.0
-        # --- output: reversal, padding to WAYPOINTS, obstacles fixed ----------------------------------
+        # --- output: reversal, padding to WAYPOINTS, obstacles fixed -------------------------
         if swap:
             for t in range(kk // 2):
                 u = kk - 1 - t
@@ -529,8 +529,8 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
             brk |= not abs(times[b, t]) <= _MAXF
             if t > 0:
                 brk |= not times[b, t] >= times[b, t - 1]
-        brk |= not (wp[b, 0, 3, 0] == xx and wp[b, 0, 3, 1] == xy and wp[b, WAYPOINTS - 1, 3, 0] == gx
-                    and wp[b, WAYPOINTS - 1, 3, 1] == gy)
+        brk |= not (wp[b, 0, 3, 0] == xx and wp[b, 0, 3, 1] == xy
+                    and wp[b, WAYPOINTS - 1, 3, 0] == gx and wp[b, WAYPOINTS - 1, 3, 1] == gy)
         if brk:
             fl = BROKEN
         domain[b] = _DOMAIN[code]

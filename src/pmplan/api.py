@@ -22,7 +22,8 @@ from .certify import check_times
 from .configuration import _plain, as_lift, as_points, as_real, check_query, check_same_obstacles
 from .errors import InputError, PmplanError, ShapeError, UnsupportedError
 from .path import _unchecked_path
-from .planners.base import REGISTRY, SCENE_CODE, Planner, default_planner, lift_code
+from .planners.base import (REGISTRY, SCENE_CODE, Planner, default_planner, lift_code,
+                            out_of_scope)
 from .results import Plan, PlanBatch, PlannerInfo
 from .running import CHUNK, _check_workers, _output_arrays, _Progress, _run, _single  # noqa: F401
 
@@ -223,13 +224,13 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
 
 
 def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
-    """The lean path of :func:`plan` for planners with a ``plan_one`` kernel (one call).
+    """The lean path of :func:`plan` for planners with a single-query kernel (one call, see
+    :meth:`pmplan.planners.base.Planner.single_query`).
 
     Returns None -- and :func:`plan` then takes the general path, which raises the proper error
     or re-decides exactly -- for anything but a plain valid query whose kernel result needs no
-    exact re-decision (see :meth:`ObstacleLinePlanner.plan_one`). The kernel function, the
-    planner's name, the dims and the stratum names are looked up once per (planner, shapes)
-    (:func:`_fast_entry`); inputs that already are C-contiguous float64 arrays are not copied
+    exact re-decision. The kernel function, the planner's name, the dims and the stratum names
+    are looked up once per (planner, shapes) (:func:`_fast_entry`); inputs that already are C-contiguous float64 arrays are not copied
     (:func:`_fast_array`); the :class:`Plan` and its path are built without re-checking arrays
     the kernel wrote.
     """
@@ -365,9 +366,7 @@ def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
             f"{c_goal.shape}."
         )
     if m < 2:
-        raise UnsupportedError(
-            f"m = {m}: the planners need m >= 2 obstacles (they define the line L_C)"
-        )
+        raise UnsupportedError(out_of_scope(2, 1, m))
     if m >= c_start.shape[0]:
         raise ShapeError(f"m = {m} obstacles leave no robot in a configuration of {c_start.shape[0]} points")
     check_same_obstacles(c_start, c_goal, m, batched=False)
@@ -466,7 +465,7 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
 
 def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
     """The lean path of :func:`plan_sequence`: one validating kernel call
-    (:meth:`ObstacleLinePlanner.plan_sequence_one_for`), as :func:`_plan_fast` for :func:`plan`.
+    (:meth:`pmplan.planners.base.Planner.sequence_query`), as :func:`_plan_fast` for :func:`plan`.
 
     Returns None -- and :func:`plan_sequence` then takes the general path, which raises the
     proper error or re-decides exactly -- for anything but a plain valid query (a list, tuple or
@@ -545,13 +544,8 @@ def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> Plan
     >>> info(3, 1, 1).message
     'no planner covers m = 1: the planners need m >= 2 obstacles (they define the line L_C)'
     """
-    if d < 2 or n < 1 or m < 2 or r < 2:
-        why = (
-            f"d = {d}: planners need d >= 2" if d < 2 else
-            f"n = {n}: at least one robot is needed" if n < 1 else
-            f"m = {m}: the planners need m >= 2 obstacles (they define the line L_C)" if m < 2 else
-            f"r = {r}: a motion needs r >= 2 configurations"
-        )
+    why = out_of_scope(d, n, m, r)
+    if why is not None:
         return PlannerInfo(d, n, m, r, None, None, (), None, False, f"no planner covers {why}")
     tc = parametrised_tc(d, n, m, r)
     if r > 2:

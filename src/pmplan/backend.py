@@ -51,7 +51,8 @@ def available() -> bool:
 
 
 def check(backend) -> None:
-    """Raise :class:`~pmplan.errors.InputError` unless ``backend`` is None or in :data:`BACKENDS`."""
+    """Raise :class:`~pmplan.errors.InputError` unless ``backend`` is None or one of
+    :data:`BACKENDS`."""
     if backend is not None and backend not in BACKENDS:
         raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
 

@@ -28,7 +28,7 @@ from ..certify import clearance as exact_clearance
 from ..path import PiecewiseLinearPath
 
 __all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "default_planner", "lift_code", "redecide",
-           "register", "scene_unit", "store_reference", "unit"]
+           "out_of_scope", "register", "scene_unit", "store_reference", "unit"]
 
 #: how the planners and their kernels receive ``lift="scene"``: a ``lift`` that is not > 0.
 #: A positive lift is the unit itself; SCENE_CODE (0.0) asks for the unit u(O) of every query
@@ -220,6 +220,20 @@ def register(planner: Planner) -> Planner:
     """Add a planner instance to the registry under its ``name``."""
     REGISTRY[planner.name] = planner
     return planner
+
+
+def out_of_scope(d: int, n: int, m: int, r: int = 2) -> str | None:
+    """Why no planner covers (d, n, m) and r configurations (one sentence), or None: the one
+    source of these messages (:func:`pmplan.info`, the planners' :meth:`~Planner.supports`)."""
+    if d < 2:
+        return f"d = {d}: planners need d >= 2"
+    if n < 1:
+        return f"n = {n}: at least one robot is needed"
+    if m < 2:
+        return f"m = {m}: the planners need m >= 2 obstacles (they define the line L_C)"
+    if r < 2:
+        return f"r = {r}: a motion needs r >= 2 configurations"
+    return None
 
 
 def default_planner(d: int, n: int, m: int, sequential: bool = False) -> str:

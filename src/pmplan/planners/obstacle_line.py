@@ -51,7 +51,7 @@ from ..backend import NUMBA, kernel_array, kernels, resolve
 from ..frame import Frame
 from ..path import PiecewiseLinearPath, compose_via_deformations, join, linear
 from ..predicates import projection_classes
-from .base import Planner, RawPlan, register, unit
+from .base import Planner, RawPlan, out_of_scope, register, unit
 
 __all__ = [
     "ColumnStructure",
@@ -196,13 +196,8 @@ class ObstacleLinePlanner(Planner):
     )
 
     def supports(self, d: int, n: int, m: int) -> str | None:
-        if d < 2:
-            return f"d = {d}: planners need d >= 2"
-        if n < 1:
-            return f"n = {n}: at least one robot is needed"
-        if m < 2:
-            return f"m = {m}: this planner needs m >= 2 obstacles (they define the line L_C)"
-        return None
+        """None for every d >= 2, n >= 1, m >= 2 (:func:`~pmplan.planners.base.out_of_scope`)."""
+        return out_of_scope(d, n, m)
 
     def domain_labels(self, d: int, n: int, m: int, r: int = 2) -> list[int]:
         """``sum_k cp(C_k) - (r-1) cp_o + 2 - [e == N]`` over the strata: ``4..r n + m + 2``
