@@ -67,6 +67,7 @@ from ._kernels import (
     _BIG,
     _REL,
     _SMALL,
+    _SURE,
     _TINY,
     _U,
     _MAXF,
@@ -81,7 +82,7 @@ from ._kernels import (
     _two_sum,
     njit,
 )
-from .planners.planar_three import WAYPOINTS
+from .planners.planar_three import _DOMAIN_BY_CODE, _FAMILIES, _LUT, WAYPOINTS
 
 __all__ = [
     "AVAILABLE",
@@ -99,18 +100,12 @@ __all__ = [
 
 
 #: stratum code (index in planar_three.STRATA) of (family index, i, j); -1: no stratum.
-#: Family index 0, 1, 2 = T1, T22, T23. Written out here (the kernel's branches use the codes
-#: of planar_three.STRATA: 0 T1_11, ..., 11 T23_44); the tests check it against the planner.
-CODE_LUT = np.full((3, 5, 5), -1, dtype=np.int64)
-for _c, (_f, _i, _j) in enumerate([
-    (0, 1, 1), (0, 1, 2), (0, 2, 1), (0, 2, 2),
-    (1, 2, 2), (1, 2, 3), (1, 3, 2), (1, 3, 3),
-    (2, 3, 3), (2, 3, 4), (2, 4, 3), (2, 4, 4),
-]):
-    CODE_LUT[_f, _i, _j] = _c
-#: the domain W_a of every stratum code (paper (w2)-(w4))
-_DOMAIN = np.array([1, 3, 3, 2, 2, 3, 3, 1, 3, 4, 4, 1], dtype=np.int64)
-_FAMILY = np.array([1, 22, 23], dtype=np.int64)
+#: Family index 0, 1, 2 = T1, T22, T23. One source: the planner's table (the kernel's branches
+#: use the codes of planar_three.STRATA: 0 T1_11, ..., 11 T23_44).
+CODE_LUT = _LUT
+#: the domain W_a of every stratum code (paper (w2)-(w4)), the planner's
+_DOMAIN = _DOMAIN_BY_CODE
+_FAMILY = np.array(_FAMILIES, dtype=np.int64)
 
 _OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
 
@@ -545,7 +540,7 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
         # 1e-9 max(scale, 1e-6 absval) <= 2.0000001e-9 amax; below it, test as certify does.
         thr2 = np.inf
         if 1e-130 < amax < 1e130:
-            thr2 = (2.1e-9 * amax) * (2.1e-9 * amax)
+            thr2 = (_SURE * amax) * (_SURE * amax)
         best = np.inf
         for t in range(kk if kk < WAYPOINTS else kk - 1):
             x0 = qx[t]
