@@ -2,7 +2,7 @@
 
 Everything here uses pmplan's PUBLIC API only (``pmplan.plan``, ``plan_batch``,
 ``plan_sequence_batch``, ``PiecewiseLinearPath``), plus the optional planar three-obstacle
-planner's ``stratum_queries`` generator when that planner is installed.
+``pmplan.generators.planar_stratum_queries`` generator when that planner is installed.
 
 Not a test module: ``benchmarks/conftest.py`` keeps pytest from importing it.
 """
@@ -201,7 +201,7 @@ def _planar_three_module():
         from pmplan.planners import planar_three  # type: ignore[attr-defined]
     except ImportError:
         return None
-    return planar_three if hasattr(planar_three, "stratum_queries") else None
+    return planar_three
 
 
 def _planar_three_strata(mod) -> list:
@@ -213,7 +213,7 @@ def _planar_three_strata(mod) -> list:
 
 
 def planar_three_available() -> bool:
-    """True when the ``planar_three`` planner and its ``stratum_queries`` generator exist."""
+    """True when the ``planar_three`` planner is registered."""
     import pmplan
 
     return "planar_three" in pmplan.planner_names() and _planar_three_module() is not None
@@ -222,13 +222,15 @@ def planar_three_available() -> bool:
 def planar_three_mixed(rng: np.random.Generator, b: int):
     """B queries for (d, n, m) = (2, 1, 3), mixed evenly over the 12 strata (paper Section 4).
 
-    Uses the planner module's own ``stratum_queries(rng, stratum, count)`` generator and
+    Uses the generator ``pmplan.generators.planar_stratum_queries(rng, stratum, count)`` and
     shuffles the result, so the batch exercises every branch of the planner.
     """
     mod = _planar_three_module()
     strata = _planar_three_strata(mod)
     counts = [b // len(strata) + (1 if i < b % len(strata) else 0) for i in range(len(strata))]
-    parts = [mod.stratum_queries(rng, s, c) for s, c in zip(strata, counts) if c > 0]
+    from pmplan.generators import planar_stratum_queries
+
+    parts = [planar_stratum_queries(rng, s, c) for s, c in zip(strata, counts) if c > 0]
     obs = np.concatenate([np.asarray(p[0], float) for p in parts])
     st = np.concatenate([np.asarray(p[1], float) for p in parts])
     go = np.concatenate([np.asarray(p[2], float) for p in parts])

@@ -216,9 +216,8 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
         def kernels(out=out, o=o, s=s, g=g, b=b):
             for lo in range(0, b, CHUNK):
                 hi = min(b, lo + CHUNK)
-                p.plan_certified(o[lo:hi], [s[lo:hi], g[lo:hi]], 1.0, out["waypoints"][lo:hi],
-                                 out["domain"][lo:hi], out["strata"][lo:hi],
-                                 out["clearance"][lo:hi], validate=True)
+                part = {k: (v if k == "times" else v[lo:hi]) for k, v in out.items()}
+                p.plan_certified(o[lo:hi], [s[lo:hi], g[lo:hi]], 1.0, part, validate=True)
 
         src = out["waypoints"]
         dst = np.empty_like(src)

@@ -22,6 +22,7 @@ from pmplan.animation import (  # noqa: E402
     render_frames,
 )
 from pmplan.cli import main  # noqa: E402
+from pmplan.examples import planar_three_examples  # noqa: E402
 from pmplan.errors import InputError, UnsupportedError  # noqa: E402
 from pmplan.frame import Frame  # noqa: E402
 
@@ -96,7 +97,7 @@ def test_phase_of_sequential_plan_names_the_leg():
 
 def test_phase_of_planar_three_plan_is_its_polyline_leg():
     p3 = pytest.importorskip("pmplan.planners.planar_three")
-    for o, s, g in p3.demo_examples():
+    for o, s, g in planar_three_examples():
         p = pmplan.plan(o, s, g)
         assert p.planner == "planar_three"
         pieces = p.path.times.shape[0] - 1

@@ -29,13 +29,13 @@ from strategies import queries
 
 import pmplan
 from pmplan import _kernels_planar as KP
-from pmplan import api
+from pmplan import api, running
 from pmplan.certify import CLAUSES, certificate, check_paths, check_times, describe
 from pmplan.errors import CertificationError
 from pmplan.path import PiecewiseLinearPath
 from pmplan.planners import obstacle_line as OL
 from pmplan.planners import planar_three as P3
-from pmplan.planners.base import REGISTRY, RawPlan
+from pmplan.planners.base import REGISTRY, Planner, RawPlan
 
 # --------------------------------------------------------------------------------------------
 # corruptions: each breaks exactly one clause of a valid path (times (B, K), waypoints
@@ -182,9 +182,10 @@ def test_times_without_breakpoints_fail():
 # --------------------------------------------------------------------------------------------
 
 
-class _Corrupting:
-    """The obstacle-line reference as a plain planner (no fused kernel, no fast path) whose
-    output is corrupted by ``fn(times, waypoints, m)``."""
+class _Corrupting(Planner):
+    """The obstacle-line reference as a plain planner (no kernel, no fast path: only the
+    required members of the protocol) whose output is corrupted by ``fn(times, waypoints, m)``
+    (per-query breakpoints)."""
 
     name = "obstacle_line"
     summary = "test double"
@@ -201,10 +202,17 @@ class _Corrupting:
     def stratum_name(self, row, d, n, m):
         return OL.OBSTACLE_LINE.stratum_name(row, d, n, m)
 
-    def plan(self, obstacles, start, goal, *, lift=1.0):
+    sequential = True
+
+    def allocate(self, b, r, m, n, d):
+        out = OL.OBSTACLE_LINE.allocate(b, r, m, n, d)
+        out["times"] = np.empty((b, out["times"].shape[0]))
+        return out
+
+    def plan(self, obstacles, start, goal, *, lift=1.0, backend=None):
         return self.plan_sequence(obstacles, [start, goal], lift=lift)
 
-    def plan_sequence(self, obstacles, configs, *, lift=1.0):
+    def plan_sequence(self, obstacles, configs, *, lift=1.0, backend=None):
         raw = OL.OBSTACLE_LINE.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
         b, k = raw.path.waypoints.shape[:2]
         t = np.broadcast_to(raw.path.times, (b, k)).copy()
@@ -340,7 +348,7 @@ def test_obstacle_line_shared_breakpoints_are_checked(monkeypatch, fresh_fast_pa
 
 @pytest.mark.parametrize("clause", WAYPOINT_CLAUSES)
 def test_scaled_route_certifies_what_it_returns(monkeypatch, clause):
-    original = api._fused_call
+    original = running._fused_call
 
     def fused_call(*args):
         call = original(*args)
@@ -353,7 +361,7 @@ def test_scaled_route_certifies_what_it_returns(monkeypatch, clause):
 
         return corrupted
 
-    monkeypatch.setattr(api, "_fused_call", fused_call)
+    monkeypatch.setattr(running, "_fused_call", fused_call)
     big = 2.0**900
     _raises_clause(clause, pmplan.plan, O2 * big, S2 * big, G2 * big, lift=big)
     _raises_clause(clause, pmplan.plan_batch, O2[None] * big, S2[None] * big, G2[None] * big,

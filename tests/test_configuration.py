@@ -48,7 +48,7 @@ def raises(exc, match):
 
 def test_error_hierarchy():
     for cls in (InputError, ShapeError, NonFiniteError, CollisionError, ObstacleMismatchError,
-                UnsupportedError, pmplan.DimensionError):
+                UnsupportedError):
         assert issubclass(cls, ValueError) and issubclass(cls, PmplanError)
     assert issubclass(CertificationError, PmplanError)
     assert not issubclass(CertificationError, ValueError)

@@ -82,7 +82,7 @@ def test_cli_figures_into_a_file_is_one_line_error(tmp_path, capsys):
 @pytest.fixture(scope="module")
 def demo_plans():
     from pmplan.examples import obstacle_line_examples
-    from pmplan.planners.planar_three import demo_examples
+    from pmplan.examples import planar_three_examples as demo_examples
 
     plans = [pmplan.plan(*q) for q in obstacle_line_examples(3)]
     return plans + [pmplan.plan(*q) for q in demo_examples()]

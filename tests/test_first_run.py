@@ -32,9 +32,9 @@ import sys
 import numpy as np
 
 import pmplan
-from pmplan import _kernels as K, _kernels_planar as KP, api
+from pmplan import _kernels as K, _kernels_planar as KP, api, running
 
-api.CHUNK = 4  # 20 queries: 5 chunks, enough for the bar
+running.CHUNK = 4  # 20 queries: 5 chunks, enough for the bar
 rng = np.random.default_rng(5)
 o, s, g = (rng.normal(size=(20, k, 2)) for k in (3, 1, 1))
 o2, s2, g2 = (rng.normal(size=(6, k, 2)) for k in (2, 1, 1))

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pmplan.frame import Frame, frame, nu, unit
+from pmplan.frame import Frame, nu, unit
 
 TOL = 1e-13
 
@@ -163,7 +163,7 @@ def test_frame_columns_and_perpendicular_parts(seed, d):
     rng = np.random.default_rng(seed)
     obstacles = rng.normal(size=(3, 2, d)) * 5
     pts = rng.normal(size=(3, 7, d)) * 5
-    fr = frame(obstacles)
+    fr = Frame(obstacles[:, 0], obstacles[:, 1])
     assert fr.w.shape == (3, d) and fr.norm.shape == (3,)
     np.testing.assert_allclose(fr.norm, np.linalg.norm(obstacles[:, 1] - obstacles[:, 0], axis=-1))
     s = fr.columns(pts)

@@ -35,7 +35,7 @@ from strategies import queries
 
 import pmplan
 from pmplan import _kernels as K
-from pmplan import api, configuration
+from pmplan import api, configuration, running
 from pmplan.configuration import coincident_pairs
 from pmplan.errors import CertificationError, InputError, PmplanError
 from pmplan.planners.obstacle_line import OBSTACLE_LINE, path_times
@@ -55,9 +55,9 @@ def _kernel_flags(obstacles, configs, lift=1.0):
     middle = np.stack(configs[1:-1]) if r > 2 else np.empty((0, b, n, d))
     wp = np.empty((b, 7 * (r - 1) + 1, m + n, d))
     flags = np.empty(b, np.uint8)
-    K.plan_obstacle_line(obstacles, configs[0], configs[-1], middle, float(lift), False, wp,
-                         np.empty(b, np.int64), np.empty((b, r + 2), np.int64), np.empty(b),
-                         flags)
+    K.plan_chunk(obstacles, configs[0], configs[-1], middle, float(lift), False, wp,
+                 np.empty(b, np.int64), np.empty((b, r + 2), np.int64), np.empty(b), flags,
+                 K.tables(r, m, n, d))
     return flags
 
 
@@ -225,7 +225,7 @@ def test_chunks(monkeypatch):
     o, s, g, h = (rng.normal(size=(10, k, 2)) for k in (3, 2, 2, 2))
     whole = pmplan.plan_batch(o, s, g)
     whole_seq = pmplan.plan_sequence_batch(o, [s, h, g])
-    monkeypatch.setattr(api, "CHUNK", 3)
+    monkeypatch.setattr(running, "CHUNK", 3)
     assert_same_batch(pmplan.plan_batch(o, s, g), whole)
     assert_same_batch(pmplan.plan_sequence_batch(o, [s, h, g]), whole_seq)
     assert_same_batch(pmplan.plan_batch(o, s, g, backend="numpy"), whole)
@@ -316,8 +316,8 @@ def test_non_finite_waypoints_are_flagged_wherever_they_are():
     flags = np.empty(1, np.uint8)
     clr = np.empty(1)
     with np.errstate(all="ignore"):
-        K.plan_obstacle_line(o, s, g, np.empty((0, 1, 4, 2)), 1.0, False, wp,
-                             np.empty(1, np.int64), np.empty((1, 4), np.int64), clr, flags)
+        K.plan_chunk(o, s, g, np.empty((0, 1, 4, 2)), 1.0, False, wp, np.empty(1, np.int64),
+                     np.empty((1, 4), np.int64), clr, flags, K.tables(2, 2, 4, 2))
     assert np.isfinite(wp[0, -1]).all() and not np.isfinite(wp).all()
     assert flags[0] & K.NONFINITE
     assert np.isnan(clr[0])
@@ -550,7 +550,7 @@ def test_workers_change_nothing(monkeypatch, planner, dims):
     d, n, m = dims
     rng = np.random.default_rng(5)
     o, s, g = (rng.normal(size=(300, k, d)) for k in (m, n, n))
-    monkeypatch.setattr(api, "CHUNK", 64)
+    monkeypatch.setattr(running, "CHUNK", 64)
     one = pmplan.plan_batch(o, s, g, planner=planner)
     for workers in (2, 3, -1):
         assert_same_batch(pmplan.plan_batch(o, s, g, planner=planner, workers=workers), one)
@@ -619,7 +619,7 @@ def test_validation_in_the_kernel_raises_the_reference_error(monkeypatch, bad, w
         o[where, 1] = o[where, 0]
     want = _outcome(configuration.check_query, o, s, g, batched=True)
     assert isinstance(want, tuple) and issubclass(want[0], PmplanError)
-    monkeypatch.setattr(api, "CHUNK", 100)
+    monkeypatch.setattr(running, "CHUNK", 100)
     assert _outcome(pmplan.plan_batch, o, s, g) == want
     assert _outcome(pmplan.plan_batch, o, s, g, workers=2) == want
     # the SPEC 5 precision case (a failing certificate) in the first chunk changes nothing

@@ -16,7 +16,7 @@ why it can fail:
 * each re-decision route is taken where it must be: an exact tie only fractions can see
   (``FALLBACK``), a clearance ~1e-10 of the scene (``SUSPECT``), an overflowing ``o2 - o1``;
 * the same queries fail their certificate, with the same indices (``CertificationError``);
-* the single-query fast path (:meth:`PlanarThreePlanner.plan_one`) gives the reference
+* the single-query fast path (:meth:`PlanarThreePlanner.single_query`) gives the reference
   :class:`pmplan.Plan` and the reference errors; chunked planning equals unchunked planning;
 * the kernel is compiled for one signature only.
 """
@@ -31,7 +31,7 @@ from strategies import queries
 
 import pmplan
 from pmplan import _kernels_planar as KP
-from pmplan import api
+from pmplan import api, running
 from pmplan.errors import CertificationError, PmplanError
 from pmplan.generators import near_degenerate_queries, random_queries
 from pmplan.planners import planar_three as P3
@@ -39,10 +39,10 @@ from pmplan.planners.planar_three import (
     DOMAIN_OF,
     PLANAR_THREE,
     STRATA,
-    K,
-    stratum_queries,
+    WAYPOINTS as K,
     stratum_short_name,
 )
+from pmplan.generators import planar_stratum_queries as stratum_queries
 
 
 def _kernel(o, s, g, lift=1.0):
@@ -100,7 +100,7 @@ def _mixed(rng, names, count, exponent=0, noise=0.0):
 
 def test_tables_agree_with_the_planner():
     """The kernel's stratum codes and domains are the planner's (paper (w2)-(w4))."""
-    assert KP.K == K
+    assert KP.WAYPOINTS is P3.WAYPOINTS == K  # one source
     assert np.array_equal(KP.CODE_LUT, P3._LUT)
     assert np.array_equal(KP._DOMAIN, [DOMAIN_OF[name] for name in STRATA])
     assert P3._EVEN.shape == (K + 1, K)
@@ -241,7 +241,7 @@ def test_single_plan_equals_reference(q):
 def test_single_plan_of_every_stratum_uses_the_kernel(name):
     o, s, g = stratum_queries(np.random.default_rng(3), name, 4)
     for q in zip(o, s, g):
-        res = PLANAR_THREE.plan_one(*q, 1.0)
+        res = PLANAR_THREE.single_query(3, 1, 2)(*q, 1.0)
         assert res is not None  # decided and certified by the kernel
         times, wp, domain, row, clearance = res
         ref = pmplan.plan(*q, backend="numpy")
@@ -286,7 +286,7 @@ def test_chunks(monkeypatch):
     """Chunk boundaries change nothing (CHUNK = 7 on a mixed batch of 36)."""
     o, s, g = _mixed(np.random.default_rng(8), STRATA, 3)
     whole = pmplan.plan_batch(o, s, g)
-    monkeypatch.setattr(api, "CHUNK", 7)
+    monkeypatch.setattr(running, "CHUNK", 7)
     assert_same_batch(pmplan.plan_batch(o, s, g), whole)
     assert_same_batch(pmplan.plan_batch(o, s, g, backend="numpy"), whole)
 

@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import api
+from pmplan import api, running
 from pmplan.errors import CollisionError, InputError, NonFiniteError
 from pmplan.generators import random_queries
 
@@ -78,7 +78,7 @@ def test_out_equals_fresh_batch(case, backend):
 def test_out_many_chunks_and_threads(seed, workers):
     rng = np.random.default_rng(seed)
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(api, "CHUNK", 64)  # several chunks, the SIMD path in each
+        mp.setattr(running, "CHUNK", 64)  # several chunks, the SIMD path in each
         q1 = random_queries(rng, 2, 4, 2, 300)
         q2 = random_queries(rng, 2, 4, 2, 300)
         out = pmplan.plan_batch(*q1)

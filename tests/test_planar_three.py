@@ -19,11 +19,15 @@ import pmplan
 from pmplan.planners.planar_three import (
     PLANAR_THREE,
     STRATA,
-    K,
-    demo_examples,
+    WAYPOINTS as K,
     parse_stratum,
-    stratum_queries,
 )
+from pmplan.examples import planar_three_examples as demo_examples
+from pmplan.generators import planar_stratum_queries as stratum_queries
+
+#: the numpy path (the reference; the production path of every query the kernel hands back)
+#: gets the same independent checks as the default (numba) one
+BACKENDS = [None, "numpy"]
 
 # SPEC section 3 (paper (w2)-(w4)): the domains, written out again here on purpose
 W_TABLE = {
@@ -263,10 +267,11 @@ def test_demo_examples_one_per_domain():
 # ---------------------------------------------------------------------------------------------
 # strata: exact constructions, partition, domains
 # ---------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("name", ALL_STRATA)
 @settings(max_examples=8)
 @given(data=st.data())
-def test_exact_constructions_classify_and_certify(name, data):
+def test_exact_constructions_classify_and_certify(name, backend, data):
     """Exact scenes of every stratum (random orientation, o3 on both sides) are classified
     into that stratum and domain, and get a certified path with exact endpoints."""
     queries = [realize(data.draw(scenes(name))) for _ in range(4)]
@@ -275,7 +280,7 @@ def test_exact_constructions_classify_and_certify(name, data):
     g = np.stack([q[2] for q in queries])
     for q in queries:
         assert fraction_memberships(q[0], q[1][0], q[2][0]) == [name]
-    batch = pmplan.plan_batch(o, s, g)
+    batch = pmplan.plan_batch(o, s, g, backend=backend)
     assert strata_names(batch) == [name] * 4
     assert batch.domain.tolist() == [DOMAIN[name]] * 4
     assert batch.waypoints.shape == (4, K, 4, 2) and batch.times.shape == (4, K)
@@ -362,12 +367,13 @@ def test_every_stratum_occurs_on_the_integer_grid():
 # ---------------------------------------------------------------------------------------------
 # paths: SPEC's construction, constant speed, reversal, zero length, batch = single
 # ---------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("name", ALL_STRATA)
 @settings(max_examples=8)
 @given(data=st.data())
-def test_paths_follow_spec_at_constant_speed(name, data):
+def test_paths_follow_spec_at_constant_speed(name, backend, data):
     o, s, g = realize(data.draw(scenes(name)))
-    p = pmplan.plan(o, s, g)
+    p = pmplan.plan(o, s, g, backend=backend)
     uh = to_uh(p.path.waypoints[:, 3], o)
     scale = 1 + np.abs(uh).max()
     want = dedupe(spec_polyline(name, o, s[0], g[0]), 1e-9 * scale)
@@ -383,32 +389,38 @@ def test_paths_follow_spec_at_constant_speed(name, data):
     total = disp.sum()
     if total > 0:
         assert np.all(dt > 0)
-        assert np.allclose(disp / dt, total, rtol=1e-9)
+        # (a leg of rounding size -- two waypoints of one exact point, ~1 ulp apart -- has a
+        # duration of the same order and no meaningful speed: found on the numba and numpy
+        # backends alike, e.g. T1_22 with o = (0, 0), (2, 3), (1, 1.5))
+        real = disp > 1e-9 * scale
+        assert np.allclose(disp[real] / dt[real], total, rtol=1e-9)
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("name", ["T22_32", "T23_43"])
 @settings(max_examples=10)
 @given(data=st.data())
-def test_reversal_of_the_swapped_query(name, data):
+def test_reversal_of_the_swapped_query(name, backend, data):
     """T22_32 (T23_43) is the reverse of the T22_23 (T23_34) path of (C', C)."""
     o, s, g = realize(data.draw(scenes(name)))
-    forward = pmplan.plan(o, s, g)
-    swapped = pmplan.plan(o, g, s)
+    forward = pmplan.plan(o, s, g, backend=backend)
+    swapped = pmplan.plan(o, g, s, backend=backend)
     assert short(swapped.stratum) == name[:-2] + name[-1] + name[-2]
     assert forward.domain == swapped.domain == DOMAIN[name]
     assert np.array_equal(forward.path.waypoints, swapped.path.waypoints[::-1])
     assert np.allclose(forward.path.times, 1 - swapped.path.times[::-1], atol=1e-15)
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
 @settings(max_examples=15)
 @given(data=st.data())
-def test_batch_equals_single(data):
+def test_batch_equals_single(backend, data):
     names = data.draw(st.lists(st.sampled_from(ALL_STRATA), min_size=1, max_size=12))
     qs = [realize(data.draw(scenes(n))) for n in names]
     o, s, g = (np.stack([q[k] for q in qs]) for k in range(3))
-    batch = pmplan.plan_batch(o, s, g)
+    batch = pmplan.plan_batch(o, s, g, backend=backend)
     for b, q in enumerate(qs):
-        single = pmplan.plan(*q)
+        single = pmplan.plan(*q, backend=backend)
         item = batch[b]
         assert (item.domain, item.stratum) == (single.domain, single.stratum)
         assert np.array_equal(item.path.waypoints, single.path.waypoints)

@@ -36,7 +36,8 @@ import pmplan
 from pmplan import api
 from pmplan.planners import planar_three as P3
 from pmplan.planners.base import SCENE_CODE, scene_unit
-from pmplan.planners.planar_three import STRATA, stratum_queries
+from pmplan.generators import planar_stratum_queries as stratum_queries
+from pmplan.planners.planar_three import STRATA
 
 
 def _bits(a) -> tuple:

@@ -9,7 +9,7 @@ import pmplan
 from pmplan import generators as gen
 from pmplan.cli import main
 from pmplan.path import PiecewiseLinearPath
-from pmplan.planners.base import REGISTRY
+from pmplan.planners.base import REGISTRY, Planner
 from pmplan.verify import (
     DELTA,
     RHO_MIN,
@@ -122,8 +122,9 @@ def test_verify_is_reproducible():
 # the failure rule and a broken planner
 
 
-class _BrokenLine:
-    """The obstacle-line planner with a bug: in even domains robot 1 visits o1 mid-way."""
+class _BrokenLine(Planner):
+    """The obstacle-line planner with a bug: in even domains robot 1 visits o1 mid-way (the
+    required members of the planner protocol only: no kernel, no fast path)."""
 
     name = "broken_line"
     summary = "obstacle_line with a collision in even domains (test double)"
@@ -134,11 +135,14 @@ class _BrokenLine:
     def supports(self, d, n, m):
         return self.base.supports(d, n, m)
 
-    def domain_labels(self, d, n, m):
-        return self.base.domain_labels(d, n, m)
+    def domain_labels(self, d, n, m, r=2):
+        return self.base.domain_labels(d, n, m, r)
 
     def stratum_name(self, row, d, n, m):
         return self.base.stratum_name(row, d, n, m)
+
+    def allocate(self, b, r, m, n, d):
+        return self.base.allocate(b, r, m, n, d)
 
     def plan(self, obstacles, start, goal, *, lift=1.0, **kwargs):
         raw = self.base.plan(obstacles, start, goal, lift=lift)

@@ -27,7 +27,6 @@ from .api import (
 from .errors import (
     CertificationError,
     CollisionError,
-    DimensionError,
     InputError,
     NonFiniteError,
     ObstacleMismatchError,
@@ -61,6 +60,5 @@ __all__ = [
     "CollisionError",
     "ObstacleMismatchError",
     "UnsupportedError",
-    "DimensionError",
     "CertificationError",
 ]

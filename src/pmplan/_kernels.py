@@ -2,7 +2,7 @@
 
 The numpy code of :mod:`pmplan.predicates`, :mod:`pmplan.frame`,
 :mod:`pmplan.planners.obstacle_line` and :mod:`pmplan.certify` is the *reference*
-implementation. The kernel :func:`plan_obstacle_line` computes, for every query of a chunk and
+implementation. The kernel :func:`plan_chunk` computes, for every query of a chunk and
 without any temporary larger than a few rows, exactly what that reference computes:
 
 * the exact column classes of every configuration (SPEC section 1): the float filter of
@@ -83,6 +83,11 @@ import math
 
 import numpy as np
 
+# one source: the unit roundoff and the underflow bound of pmplan.predicates' filter, and the
+# thresholds of pmplan.certify (numba reads these module globals as compile-time constants)
+from .certify import _MAXF, _OBSTACLE_TINY2, _REL, _SURE
+from .predicates import _TINY, _U
+
 try:
     from numba import njit
 
@@ -104,7 +109,6 @@ __all__ = [
     "first_coincident",
     "lanes",
     "plan_chunk",
-    "plan_obstacle_line",
     "plan_one",
     "tables",
     "valid_queries",
@@ -120,18 +124,13 @@ INVALID = 16
 #: kernel reproduces the sequential order, so it handles d <= 7; larger d uses the reference
 MAX_D = 7
 
-_U = 2.0**-53  # unit roundoff (as in pmplan.predicates)
-_TINY = 2.0**-1070
-_REL = 1e-9  # as in pmplan.certify
 _BIG = 2.0**900  # TwoProduct's split overflows beyond this (as in pmplan.predicates)
 _SMALL = 2.0**-900  # below this TwoProduct's error term may underflow (as in pmplan.predicates)
-_MAXF = 1.7976931348623157e308  # the largest finite float
 #: (validating) a coordinate beyond this is flagged FALLBACK: such queries are planned scaled
 #: by a power of two (2**pmplan.magnitude.LIMIT)
 _EXTREME = 2.0**430
-#: an obstacle pair whose squared distance is below this is SUSPECT (the square may have
-#: underflowed; pmplan.certify.clearance decides it exactly, as _OBSTACLE_TINY2 there)
-_OBSTACLE_TINY2 = 2.0**-1000
+# an obstacle pair whose squared distance is below _OBSTACLE_TINY2 (pmplan.certify's) is
+# SUSPECT: the square may have underflowed; pmplan.certify.clearance decides it exactly
 
 
 #: chunks smaller than this are planned query by query (:func:`_plan`), larger ones mostly
@@ -753,7 +752,7 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
         # 1e-9 max(scale, 1e-6 absval) <= 2.0000001e-9 amax; below it, decide as certify does.
         thr2 = np.inf  # (outside that range every minimum is decided as certify does)
         if 1e-130 < amax < 1e130:
-            thr2 = (2.1e-9 * amax) * (2.1e-9 * amax)
+            thr2 = (_SURE * amax) * (_SURE * amax)
         # a fast branch-free pass; if some minimum is small, the exact loop decides as certify
         if d == 2:
             best = _clearance_plane(dd, kk, npairs, best_k)
@@ -1154,7 +1153,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         mn = np.int64(13)  # not the literal 13: numba would compile _pair_plane for it too
         mn2 = np.int64(14)
         for l in range(L):
-            z = 2.1e-9 * T[mx, l]
+            z = _SURE * T[mx, l]
             T[THR2, l] = z * z if (T[mx, l] > 1e-130) & (T[mx, l] < 1e130) else np.inf
             T[mn, l] = np.inf
         if d == 2:
@@ -1256,27 +1255,17 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     return nt
 
 
-def plan_obstacle_line(obstacles, first, last, middle, lift, validate, wp, domain, strata,
-                       clearance, flags):
-    """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c).
-
-    Parameters and outputs as :func:`_plan`. The generic queries are planned by
-    :func:`_plan_lanes`, many at a time; :func:`_plan` (with the index tables of
-    :func:`_build_tables`) decides the others, and every query of a chunk smaller than
-    ``LANES_MIN``. Both compute the same floating-point operations, so which one plans a query
-    never shows in the result.
-    """
-    m, d = obstacles.shape[1:]
-    tab = _build_tables(middle.shape[0] + 2, m, first.shape[1], d)
-    plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
-               flags, tab)
-
-
 def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
                flags, tab):
-    """:func:`plan_obstacle_line` with the index tables ``tab`` of :func:`tables` given.
+    """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c), with
+    the index tables ``tab`` of :func:`tables`.
 
-    Plain Python on purpose, as :func:`plan_obstacle_line` and :func:`_build_tables`: a jitted
+    Parameters and outputs as :func:`_plan`. The generic queries are planned by
+    :func:`_plan_lanes`, many at a time; :func:`_plan` decides the others, and every query of a
+    chunk smaller than ``LANES_MIN``. Both compute the same floating-point operations, so which
+    one plans a query never shows in the result.
+
+    Plain Python on purpose, as :func:`_build_tables`: a jitted
     caller would have numba link :func:`_plan_lanes` and :func:`_plan` into its own module and
     optimise and generate their machine code a second time -- about a quarter of the first
     run's compile time -- for a saving of a few microseconds per chunk (see the README, "first

@@ -17,7 +17,7 @@ temporary larger than a few scalars, exactly what that reference computes:
   and second-to-last points as displacements from them, equal frame points made equal);
 * the constant-speed breakpoints of
   :meth:`pmplan.path.PiecewiseLinearPath.arc_length_reparametrised` (same sums, same order),
-  the reversal of the swapped query (T22_32, T23_43) and the padding to K = 6;
+  the reversal of the swapped query (T22_32, T23_43) and the padding to WAYPOINTS = 6;
 * the certificate of SPEC section 5 (:func:`pmplan.certify.certify`): finite, and the
   clearance -- the closed-form minimum distance of the robot to each obstacle on every piece,
   and the obstacle pairs.
@@ -67,6 +67,7 @@ from ._kernels import (
     _BIG,
     _REL,
     _SMALL,
+    _SURE,
     _TINY,
     _U,
     _MAXF,
@@ -81,6 +82,7 @@ from ._kernels import (
     _two_sum,
     njit,
 )
+from .planners.planar_three import _DOMAIN_BY_CODE, _FAMILIES, _LUT, WAYPOINTS
 
 __all__ = [
     "AVAILABLE",
@@ -89,29 +91,21 @@ __all__ = [
     "FALLBACK",
     "INVALID",
     "SUSPECT",
-    "K",
     "plan_planar",
     "plan_planar_one",
 ]
 
 
-#: waypoints of every path of a batch (pmplan.planners.planar_three.K)
-K = 6
+# (the waypoints of every path of a batch: one source, the planner's)
 
 
 #: stratum code (index in planar_three.STRATA) of (family index, i, j); -1: no stratum.
-#: Family index 0, 1, 2 = T1, T22, T23. Written out here (the kernel's branches use the codes
-#: of planar_three.STRATA: 0 T1_11, ..., 11 T23_44); the tests check it against the planner.
-CODE_LUT = np.full((3, 5, 5), -1, dtype=np.int64)
-for _c, (_f, _i, _j) in enumerate([
-    (0, 1, 1), (0, 1, 2), (0, 2, 1), (0, 2, 2),
-    (1, 2, 2), (1, 2, 3), (1, 3, 2), (1, 3, 3),
-    (2, 3, 3), (2, 3, 4), (2, 4, 3), (2, 4, 4),
-]):
-    CODE_LUT[_f, _i, _j] = _c
-#: the domain W_a of every stratum code (paper (w2)-(w4))
-_DOMAIN = np.array([1, 3, 3, 2, 2, 3, 3, 1, 3, 4, 4, 1], dtype=np.int64)
-_FAMILY = np.array([1, 22, 23], dtype=np.int64)
+#: Family index 0, 1, 2 = T1, T22, T23. One source: the planner's table (the kernel's branches
+#: use the codes of planar_three.STRATA: 0 T1_11, ..., 11 T23_44).
+CODE_LUT = _LUT
+#: the domain W_a of every stratum code (paper (w2)-(w4)), the planner's
+_DOMAIN = _DOMAIN_BY_CODE
+_FAMILY = np.array(_FAMILIES, dtype=np.int64)
 
 _OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
 
@@ -180,7 +174,7 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
     ----------
     obstacles : float64 (B, 3, 2), C-contiguous
     start, goal : float64 (B, 1, 2)
-    even : float64 (K + 1, K)
+    even : float64 (WAYPOINTS + 1, WAYPOINTS)
         ``even[k, :k] = numpy.linspace(0, 1, k)``: the breakpoints of a path of length 0
         (:meth:`~pmplan.path.PiecewiseLinearPath.arc_length_reparametrised`).
     lift : float
@@ -191,9 +185,9 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
     validate : bool
         Check the input first: a query with a non-finite coordinate or two equal points in
         one of its configurations gets the flag ``INVALID`` and nothing else is computed.
-    times : float64 (B, K), output
+    times : float64 (B, WAYPOINTS), output
         Constant-speed breakpoints, padded with 1.0.
-    wp : float64 (B, K, 4, 2), output
+    wp : float64 (B, WAYPOINTS, 4, 2), output
         Waypoints (obstacles in rows 0..2, the robot in row 3), padded with the goal.
     domain : int64 (B,), output
         The domain W_a, a in {1, 2, 3, 4}.
@@ -205,11 +199,11 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
         Bit set of ``FALLBACK``, ``SUSPECT``, ``INVALID``.
     """
     nb = obstacles.shape[0]
-    pu = np.empty(K)  # frame polyline (u, h)
-    ph = np.empty(K)
-    qx = np.empty(K)  # the robot's waypoints (before reversal)
-    qy = np.empty(K)
-    tm = np.empty(K)  # breakpoints (before reversal)
+    pu = np.empty(WAYPOINTS)  # frame polyline (u, h)
+    ph = np.empty(WAYPOINTS)
+    qx = np.empty(WAYPOINTS)  # the robot's waypoints (before reversal)
+    qy = np.empty(WAYPOINTS)
+    tm = np.empty(WAYPOINTS)  # breakpoints (before reversal)
     cols = np.empty(3)
     svert = np.empty(3)
     pos = np.empty(3, np.int64)
@@ -494,7 +488,7 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
             for i in range(kk):
                 tm[i] = even[kk, i]
         tm[kk - 1] = 1.0
-        # --- output: reversal, padding to K, obstacles fixed ----------------------------------
+        # --- output: reversal, padding to WAYPOINTS, obstacles fixed -------------------------
         if swap:
             for t in range(kk // 2):
                 u = kk - 1 - t
@@ -508,7 +502,7 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
         amax = 0.0
         for v in (o1x, o1y, o2x, o2y, o3x, o3y):
             amax = max(amax, abs(v))
-        for t in range(K):
+        for t in range(WAYPOINTS):
             src = t if t < kk else kk - 1
             times[b, t] = tm[t] if t < kk else 1.0
             wp[b, t, 0, 0] = o1x
@@ -525,13 +519,13 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
         # written: finite times from 0 to 1 that never decrease, the start and the goal exactly
         # (the waypoints are finite: checked above; the obstacles are copied from the input)
         fl = 0
-        brk = not (times[b, 0] == 0.0 and times[b, K - 1] == 1.0)
-        for t in range(K):
+        brk = not (times[b, 0] == 0.0 and times[b, WAYPOINTS - 1] == 1.0)
+        for t in range(WAYPOINTS):
             brk |= not abs(times[b, t]) <= _MAXF
             if t > 0:
                 brk |= not times[b, t] >= times[b, t - 1]
-        brk |= not (wp[b, 0, 3, 0] == xx and wp[b, 0, 3, 1] == xy and wp[b, K - 1, 3, 0] == gx
-                    and wp[b, K - 1, 3, 1] == gy)
+        brk |= not (wp[b, 0, 3, 0] == xx and wp[b, 0, 3, 1] == xy
+                    and wp[b, WAYPOINTS - 1, 3, 0] == gx and wp[b, WAYPOINTS - 1, 3, 1] == gy)
         if brk:
             fl = BROKEN
         domain[b] = _DOMAIN[code]
@@ -546,9 +540,9 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
         # 1e-9 max(scale, 1e-6 absval) <= 2.0000001e-9 amax; below it, test as certify does.
         thr2 = np.inf
         if 1e-130 < amax < 1e130:
-            thr2 = (2.1e-9 * amax) * (2.1e-9 * amax)
+            thr2 = (_SURE * amax) * (_SURE * amax)
         best = np.inf
-        for t in range(kk if kk < K else kk - 1):
+        for t in range(kk if kk < WAYPOINTS else kk - 1):
             x0 = qx[t]
             y0 = qy[t]
             x1 = qx[t + 1] if t < kk - 1 else x0
@@ -586,8 +580,8 @@ def plan_planar_one(obstacles, start, goal, even, lift):  # pragma: no cover - c
     path is already compacted as :meth:`pmplan.path.PiecewiseLinearPath.compact` does (only
     breakpoints strictly after the previous one are kept).
     """
-    times = np.empty((1, K))
-    wp = np.empty((1, K, 4, 2))
+    times = np.empty((1, WAYPOINTS))
+    wp = np.empty((1, WAYPOINTS, 4, 2))
     domain = np.empty(1, np.int64)
     strata = np.empty((1, 3), np.int64)
     clearance = np.empty(1)
@@ -596,10 +590,10 @@ def plan_planar_one(obstacles, start, goal, even, lift):  # pragma: no cover - c
     plan_planar(obstacles.reshape((1, 3, 2)), start.reshape((1, 1, 2)),
                 goal.reshape((1, 1, 2)), even, lift, validate, times, wp, domain, strata,
                 clearance, flags)
-    keep = np.empty(K, np.int64)
+    keep = np.empty(WAYPOINTS, np.int64)
     kc = 0
     if flags[0] == 0:
-        for t in range(K):
+        for t in range(WAYPOINTS):
             if t == 0 or times[0, t] - times[0, t - 1] > 0:
                 keep[kc] = t
                 kc += 1

@@ -41,6 +41,7 @@ import numpy as np
 
 from .errors import InputError, UnsupportedError
 from .frame import Frame
+from .planners import OBSTACLE_LINE, REGISTRY
 
 __all__ = [
     "MAX_FRAMES",
@@ -55,16 +56,9 @@ __all__ = [
     "animate_query",
 ]
 
-#: the seven phases of one obstacle-line leg: (short name, what happens, paper reference)
-OBSTACLE_LINE_PHASES: tuple[tuple[str, str], ...] = (
-    ("desingularization", "robots step along e off shared columns, paper (desin)"),
-    ("projection to the line", "robots move straight onto L_C, paper (linear-transformation-obs)"),
-    ("lift", "robot i rises by i*lambda*nu(e), section (algorithm-gamma)"),
-    ("slide", "robots slide parallel to L_C from X to X', section (algorithm-gamma)"),
-    ("descend", "robots descend onto L_C at X', section (algorithm-gamma)"),
-    ("projection reversed", "robots lift back off the line to F(C', 1)"),
-    ("desingularization reversed", "robots step back along e to C', (desin) reversed"),
-)
+#: the seven phases of one obstacle-line leg: (short name, what happens, paper reference);
+#: the planner's own fact (:attr:`pmplan.planners.base.Planner.phases`)
+OBSTACLE_LINE_PHASES: tuple[tuple[str, str], ...] = OBSTACLE_LINE.phases
 
 #: most frames in one animation (a .gif holds them all in memory while it is written)
 MAX_FRAMES = 1000
@@ -147,14 +141,16 @@ def phase_at(plan, t: float) -> Phase:
     times = np.asarray(plan.path.times, dtype=float)
     pieces = times.shape[0] - 1
     k = _piece_index(times, t)
-    nph = len(OBSTACLE_LINE_PHASES)
-    if plan.planner == "obstacle_line" and pieces % nph == 0:
+    p = REGISTRY.get(plan.planner)
+    phases = p.phases if p is not None else ()
+    nph = len(phases)
+    if nph > 1 and pieces % nph == 0:  # named phases, every leg (pair of configurations)
         legs = pieces // nph
-        name, desc = OBSTACLE_LINE_PHASES[k % nph]
+        name, desc = phases[k % nph]
         return Phase(name, k % nph + 1, nph, k // nph + 1, legs, desc)
-    if plan.planner == "planar_three":
-        return Phase("polyline leg", k + 1, pieces, 1, 1,
-                     "straight leg of the polyline of paper Section 4, at constant speed")
+    if nph == 1:  # every piece of one kind
+        name, desc = phases[0]
+        return Phase(name, k + 1, pieces, 1, 1, desc)
     return Phase("piece", k + 1, pieces, 1, 1, f"piece {k + 1} of the piecewise-linear path")
 
 

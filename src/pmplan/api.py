@@ -1,8 +1,10 @@
 """The public facade: choose a planner, validate, plan in chunks, certify, return plans.
 
-Data flows one way: input arrays -> validation (:mod:`pmplan.configuration`) -> planner
-(:mod:`pmplan.planners`) -> path (:mod:`pmplan.path`) -> certificate (:mod:`pmplan.certify`)
--> :class:`Plan` / :class:`PlanBatch`. A single query is a batch of one; :func:`plan` and
+Data flows one way: input arrays -> validation (:mod:`pmplan.configuration`) -> the run loop
+(:mod:`pmplan.running`) -> planner (:mod:`pmplan.planners`) -> path (:mod:`pmplan.path`) ->
+certificate (:mod:`pmplan.certify`) -> :class:`~pmplan.results.Plan` /
+:class:`~pmplan.results.PlanBatch` (:mod:`pmplan.results`, re-exported here). A single query
+is a batch of one; :func:`plan` and
 :func:`plan_sequence` first try a lean path (one validating kernel call, see
 :func:`_plan_fast`) that gives the same :class:`Plan` and declines anything unusual.
 """
@@ -10,20 +12,20 @@ Data flows one way: input arrays -> validation (:mod:`pmplan.configuration`) -> 
 from __future__ import annotations
 
 import math
-import os
-import sys
-from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import backend as _backend
 from . import magnitude
 from . import planners as _planners  # noqa: F401  (registers the planners)
-from .certify import CLEARANCE, certificate, check_times, describe
+from .certify import check_times
 from .configuration import _plain, as_lift, as_points, as_real, check_query, check_same_obstacles
-from .errors import CertificationError, InputError, PmplanError, ShapeError, UnsupportedError
-from .path import PiecewiseLinearPath, _unchecked_path
-from .planners.base import REGISTRY, SCENE_CODE, Planner, RawPlan, lift_code, scene_unit
-from .planners.obstacle_line import BACKENDS
+from .errors import InputError, PmplanError, ShapeError, UnsupportedError
+from .path import _unchecked_path
+from .planners.base import (REGISTRY, SCENE_CODE, Planner, default_planner, lift_code,
+                            out_of_scope)
+from .results import Plan, PlanBatch, PlannerInfo
+from .running import CHUNK, _check_workers, _output_arrays, _Progress, _run, _single  # noqa: F401
 
 __all__ = [
     "Plan",
@@ -41,146 +43,6 @@ __all__ = [
     "choose_planner",
 ]
 
-#: queries planned per chunk inside plan_batch: bounds the temporaries (memory) of a batch
-CHUNK = 8192
-
-
-@dataclass(frozen=True)
-class Plan:
-    """The answer to one query.
-
-    Attributes
-    ----------
-    domain : int
-        The label l of the domain of continuity W_l the query falls in.
-    stratum : str
-        The stratum in the paper's notation, e.g. ``"T_{3,5}"`` or ``"T^{2,3}_{3,4}"``.
-    clearance : float
-        Certified minimum distance between any two points along the whole motion.
-    path : PiecewiseLinearPath
-        ``path.times`` (K,), ``path.waypoints`` (K, m+n, d) with obstacles first; ``path(t)``.
-    planner : str
-        Name of the planner that produced it.
-    dims : tuple of int
-        ``(d, n, m)``.
-    """
-
-    domain: int
-    stratum: str
-    clearance: float
-    path: PiecewiseLinearPath
-    planner: str
-    dims: tuple[int, int, int]
-
-    @property
-    def m(self) -> int:
-        """Number of obstacles (the first m rows of every waypoint)."""
-        return self.dims[2]
-
-    @property
-    def obstacles(self) -> np.ndarray:
-        """The obstacles, shape (m, d)."""
-        return self.path.waypoints[0, : self.m]
-
-    @property
-    def start(self) -> np.ndarray:
-        """The robots' start positions, shape (n, d)."""
-        return self.path.waypoints[0, self.m :]
-
-    @property
-    def goal(self) -> np.ndarray:
-        """The robots' goal positions, shape (n, d)."""
-        return self.path.waypoints[-1, self.m :]
-
-    @property
-    def times(self) -> np.ndarray:
-        return self.path.times
-
-    @property
-    def waypoints(self) -> np.ndarray:
-        return self.path.waypoints
-
-
-@dataclass(frozen=True)
-class PlanBatch:
-    """The answers to a batch of B queries (vectorised :class:`Plan`).
-
-    Attributes
-    ----------
-    domain : ndarray of int64, shape (B,)
-    strata : ndarray of int64, shape (B, S)    the planner's stratum record
-    clearance : ndarray of float, shape (B,)
-    times : ndarray, shape (K,) or (B, K)
-    waypoints : ndarray, shape (B, K, m+n, d)
-    planner : str
-    dims : tuple (d, n, m)
-    """
-
-    domain: np.ndarray
-    strata: np.ndarray
-    clearance: np.ndarray
-    times: np.ndarray
-    waypoints: np.ndarray
-    planner: str
-    dims: tuple[int, int, int]
-    _names: dict = field(default_factory=dict, repr=False, compare=False)
-
-    def __len__(self) -> int:
-        return self.domain.shape[0]
-
-    @property
-    def path(self) -> PiecewiseLinearPath:
-        """The batch of paths as one :class:`PiecewiseLinearPath`."""
-        return PiecewiseLinearPath(self.times, self.waypoints)
-
-    @property
-    def stratum(self) -> np.ndarray:
-        """Stratum names, an object array of shape (B,)."""
-        d, n, m = self.dims
-        p = REGISTRY[self.planner]
-        out = np.empty(len(self), dtype=object)
-        for i, row in enumerate(self.strata):
-            key = tuple(row.tolist())
-            if key not in self._names:
-                self._names[key] = p.stratum_name(row, d, n, m)
-            out[i] = self._names[key]
-        return out
-
-    def __getitem__(self, i: int) -> Plan:
-        i = int(i)
-        d, n, m = self.dims
-        times = self.times if self.times.ndim == 1 else self.times[i]
-        path = PiecewiseLinearPath(times, self.waypoints[i]).compact()
-        return Plan(
-            domain=int(self.domain[i]),
-            stratum=REGISTRY[self.planner].stratum_name(self.strata[i], d, n, m),
-            clearance=float(self.clearance[i]),
-            path=path,
-            planner=self.planner,
-            dims=self.dims,
-        )
-
-    def __iter__(self):
-        for i in range(len(self)):
-            yield self[i]
-
-
-@dataclass(frozen=True)
-class PlannerInfo:
-    """What pmplan offers for (d, n, m, r); see :func:`info`."""
-
-    d: int
-    n: int
-    m: int
-    r: int
-    planner: str | None
-    domains: int | None
-    labels: tuple[int, ...]
-    tc: int | None
-    optimal: bool
-    message: str
-
-
 def planner_names() -> list[str]:
     """Return the documented planner names: ``obstacle_line`` and ``planar_three``."""
     return sorted(REGISTRY)
@@ -193,8 +55,7 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None) -> Planne
     ``obstacle_line`` (paper Section 3 and SPEC 4) for every other m >= 2.
     """
     if planner is None:
-        planner = "planar_three" if (d, n, m) == (2, 1, 3) and "planar_three" in REGISTRY \
-            else "obstacle_line"
+        planner = default_planner(d, n, m)
     if planner not in REGISTRY:
         raise UnsupportedError(
             f"unknown planner {planner!r}; choose one of {', '.join(planner_names())}"
@@ -212,426 +73,7 @@ def _check_lift(lift) -> float:
     return lift_code(as_lift(lift))
 
 
-def _check_backend(backend) -> None:
-    if backend is not None and backend not in BACKENDS:
-        raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
-
-
-def _raise_certificate(bad: np.ndarray, batched: bool, codes: np.ndarray | None = None,
-                       obstacles: np.ndarray | None = None, configs=None,
-                       lift=None, lift_is_unit: bool = True) -> None:
-    """Raise the :class:`CertificationError` of the queries ``bad`` (bool, (B,)).
-
-    ``codes`` (B,) are the clauses of :data:`pmplan.certify.CLAUSES` that failed (0 where only
-    the kernel's clearance failed); with the query (``obstacles``, ``configs``, ``lift``) the
-    message also says when the magnitudes, not the geometry, are the cause, and what to do
-    (``lift_is_unit``: the planner's unit is ``lift``; else it is the paper's absolute 1).
-    """
-    idx = np.flatnonzero(bad)
-    where = f" for queries {idx[:10].tolist()}{'...' if idx.size > 10 else ''}" if batched else ""
-    first = idx[0] if idx.size else 0
-    clause = int(codes[first]) if codes is not None and idx.size else 0
-    clause = clause or CLEARANCE
-    what = describe(clause)
-    hint = None
-    if obstacles is not None and idx.size:
-        unit = np.broadcast_to(np.asarray(lift, dtype=float), bad.shape)[first] \
-            if lift_is_unit else None
-        if unit is not None and unit == SCENE_CODE:  # lift="scene": the query's own unit
-            o = obstacles[first:first + 1]
-            _, e = np.frexp(np.abs(o).max())  # measured at 2**-e: no square under/overflows
-            with np.errstate(all="ignore"):
-                unit = float(np.ldexp(scene_unit(np.ldexp(o, -e))[0], e))
-        hint = _magnitude_hint(clause, obstacles[first], [c[first] for c in configs], unit)
-    if hint is None:
-        hint = ("the query is too nearly degenerate for double precision (two points would meet "
-                "or the path is not finite)")
-    raise CertificationError(
-        f"the planned path failed its certificate{where}: {what}; {hint}; nothing was returned",
-        indices=idx,
-    )
-
-
-def _magnitude_hint(clause: int, obstacles: np.ndarray, configs, lift: float | None
-                    ) -> str | None:
-    """Why a query at an extreme magnitude has no representable certified path, and what to do
-    (None for a query of ordinary magnitude). ``lift`` None: the planner's unit is the paper's
-    absolute 1, not ``lift``."""
-    with np.errstate(all="ignore"):
-        size = float(max(np.abs(obstacles).max(), *(np.abs(c).max() for c in configs)))
-    unit = 1.0 if lift is None else lift
-    if clause in (1, 5) and max(size, unit) > 2.0**LARGE:
-        more = "" if lift is None else ", or use a smaller `lift`"
-        return (f"the path leaves the range of double precision (coordinates up to {size:.3g}, "
-                f"unit {unit:.3g}): scale the scene down{more}")
-    if lift is None and size > 0 and unit < size * 2.0**-RESOLUTION:
-        return (f"the planner's unit (the paper's 1) is below the resolution of the coordinates "
-                f"(up to {size:.3g}): scale the scene down (by a power of two, which is exact)")
-    if size > 0 and unit < size * 2.0**-RESOLUTION:
-        return (f"`lift` = {lift:.3g} is below the resolution of the coordinates (up to "
-                f"{size:.3g}), so the lifted robots cannot leave the line: use a larger `lift` "
-                "(of the order of the scene's size, or lift=\"scene\", a unit that scales with the "
-                "obstacles)")
-    if 0 < size < 2.0**TINY:
-        return (f"the coordinates (up to {size:.3g}) are at the bottom of the range of double "
-                "precision, where the planner's constructions (e.g. eps(C), a gap divided by "
-                "m + n) lose their bits: scale the scene up (by a power of two, which is exact)")
-    return None
-
-
-#: a path may overflow when the coordinates exceed 2**LARGE
-LARGE = 1000
-#: a lift below 2**-RESOLUTION times the largest coordinate is lost in rounding
-RESOLUTION = 50
-#: coordinates below 2**TINY are near the subnormal range
-TINY = -1000
-
-
-def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
-    """Plan the queries of a chunk each at its power of two ``2**-k`` (:mod:`pmplan.magnitude`).
-
-    ``call(idx, obstacles, configs, lift)`` plans the rows ``idx`` of the chunk (given scaled)
-    into new arrays and returns ``(arrays, ok)`` where ``arrays`` has ``waypoints``,
-    ``clearance`` and the other outputs for those rows; the waypoints of scaled rows are scaled
-    back by ``2**k`` and the whole certificate is checked again on what is returned
-    (:func:`pmplan.certify.certificate`, which also gives the clearance). Yields ``(idx,
-    arrays, ok)`` per group.
-    """
-    m = obstacles.shape[1]
-    lift_arr = np.asarray(lift, dtype=float)
-    for kg in np.unique(k):
-        idx = np.flatnonzero(k == kg)
-        kg = int(kg)
-        if kg == 0:
-            if lift_arr.ndim:
-                lift_g = lift_arr[idx]
-            else:
-                lift_g = lift
-            with np.errstate(all="ignore"):  # an extreme query planned as given: certified below
-                arrays, ok = call(idx, obstacles[idx], [c[idx] for c in configs], lift_g)
-            yield idx, arrays, ok
-            continue
-        lift_g = np.ldexp(lift_arr[idx], -kg) if lift_arr.ndim else float(np.ldexp(lift, -kg))
-        arrays, ok = call(idx, np.ldexp(obstacles[idx], -kg),
-                          [np.ldexp(c[idx], -kg) for c in configs], lift_g)
-        with np.errstate(over="ignore", under="ignore"):
-            arrays["waypoints"] = np.ldexp(arrays["waypoints"], kg)
-        r = len(configs)
-        full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
-        via = [(j / (r - 1), full[j]) for j in range(1, r - 1)]
-        times = arrays["times"] if "times" in arrays else planner.path_times(r)
-        arrays["clearance"], clause = certificate(arrays["waypoints"], full[0], full[-1], m,
-                                                  times=times, via=via)
-        yield idx, arrays, ok & (clause == 0)
-
-
-def _run(planner: Planner, obstacles, configs, lift: float, batched: bool, sequential: bool,
-         progress: bool = False, backend: str | None = None, workers: int = 1,
-         validate: bool = False, into: dict | None = None):
-    """Plan and certify in chunks; return the arrays of a PlanBatch.
-
-    Planners with a fused path (``plan_certified``: the obstacle-line planner, numba kernel of
-    :mod:`pmplan._kernels` or its numpy reference) write straight into the preallocated output,
-    chunk by chunk, so no temporary is larger than a chunk; the others return a RawPlan per
-    chunk that is certified by :func:`pmplan.certify.certify`. ``into`` (from
-    :func:`_output_arrays`) are existing output arrays for the fused path to fill.
-    """
-    if hasattr(planner, "plan_certified"):
-        return _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers,
-                          validate, into)
-    b = obstacles.shape[0]
-    out = None
-    chunks = range(0, b, CHUNK)
-    for lo in _Progress(progress, len(chunks)).over(chunks):
-        hi = min(b, lo + CHUNK)
-        obs = obstacles[lo:hi]
-        cfg = [c[lo:hi] for c in configs]
-        with np.errstate(all="ignore"):  # whatever overflows fails the certificate below
-            if sequential:
-                raw: RawPlan = planner.plan_sequence(obs, cfg, lift=lift)
-            else:
-                raw = planner.plan(obs, cfg[0], cfg[1], lift=lift)
-        wp = raw.path.waypoints
-        start = np.concatenate([obs, cfg[0]], axis=1)
-        goal = np.concatenate([obs, cfg[-1]], axis=1)
-        r = len(cfg)
-        via = [(k / (r - 1), np.concatenate([obs, cfg[k]], axis=1)) for k in range(1, r - 1)]
-        clr, codes = certificate(wp, start, goal, obs.shape[1], times=raw.path.times, via=via)
-        ok = codes == 0
-        if not ok.all():
-            bad = np.zeros(b, dtype=bool)
-            bad[lo:hi] = ~ok
-            full = np.zeros(b, np.uint8)
-            full[lo:hi] = codes
-            _raise_certificate(bad, batched, full, obstacles, configs, lift,
-                               getattr(planner, "equivariant", False))
-        if out is None:
-            times = raw.path.times
-            out = dict(
-                domain=np.empty(b, np.int64),
-                strata=np.empty((b, raw.strata.shape[1]), np.int64),
-                clearance=np.empty(b),
-                times=times if times.ndim == 1 else np.empty((b, times.shape[1])),
-                waypoints=np.empty((b,) + wp.shape[1:]),
-            )
-        out["domain"][lo:hi] = raw.domain
-        out["strata"][lo:hi] = raw.strata
-        out["clearance"][lo:hi] = clr
-        out["waypoints"][lo:hi] = wp
-        if out["times"].ndim == 2:
-            out["times"][lo:hi] = raw.path.times
-    return out
-
-
-def _run_fused(planner, obstacles, configs, lift, batched, progress, backend, workers=1,
-               validate=False, into=None):
-    """:func:`_run` for planners that plan and certify into preallocated arrays.
-
-    Such a planner has ``allocate(b, r, m, n, d) -> dict`` (arrays ``domain`` (B,), ``strata``
-    (B, S), ``clearance`` (B,), ``times`` (K,) or (B, K), ``waypoints`` (B, K, m+n, d)) and
-    ``plan_certified(obstacles, configs, lift, waypoints, domain, strata, clearance, *,
-    backend, times=None)``, which fills the chunk (``times`` is passed, sliced, only when it is
-    per query) and returns the certificate (B,). With ``workers > 1`` the chunks are planned by
-    that many threads (the numba kernels release the GIL; every chunk writes its own rows).
-    With ``validate`` the planner's kernel also validates the queries (``plan_certified(...,
-    validate=True)``, see ``planner.validates``): before a certificate error is raised, the
-    queries are checked (:func:`pmplan.configuration.check_query`), which raises the input
-    error if one of them is invalid -- the error the caller would have got from checking first.
-    """
-    b, m, d = obstacles.shape
-    n = configs[0].shape[1]
-    out = planner.allocate(b, len(configs), m, n, d) if into is None else into
-    per_query_times = out["times"].ndim == 2
-
-    r = len(configs)
-    # only a planner that maps 2**k C (with lift 2**k) to 2**k times the path of C is scaled;
-    # another one plans extreme queries as given (its reference under np.errstate) and its
-    # certificate decides
-    equivariant = getattr(planner, "equivariant", False)
-    # the breakpoints: shared ones are checked once here, per-query ones chunk by chunk
-    shared_times = 0 if per_query_times else int(check_times(out["times"]))
-
-    def chunk(lo: int) -> tuple[int, int, np.ndarray]:
-        hi = min(b, lo + CHUNK)
-        obs = obstacles[lo:hi]
-        cfg = [c[lo:hi] for c in configs]
-        wp = out["waypoints"][lo:hi]
-        times = out["times"][lo:hi] if per_query_times else out["times"]
-        k = None
-        lift_c = lift[lo:hi] if np.ndim(lift) else lift  # a per-query lift scales too
-        if equivariant and magnitude.needs_scaling([obs, *cfg], lift_c):
-            k = magnitude.exponents([obs, *cfg], lift_c)
-        if k is None:
-            extra = {"times": times} if per_query_times else {}
-            if validate:
-                extra["validate"] = True
-            ok = planner.plan_certified(
-                obs, cfg, lift, wp, out["domain"][lo:hi], out["strata"][lo:hi],
-                out["clearance"][lo:hi], backend=backend, **extra,
-            )
-        else:
-            ok = np.empty(hi - lo, dtype=bool)
-            call = _fused_call(planner, r, m, n, d, per_query_times, validate, backend)
-            for idx, arrays, ok_g in _scaled_call(planner, obs, cfg, lift_c, k, call):
-                wp[idx] = arrays["waypoints"]
-                out["domain"][lo + idx] = arrays["domain"]
-                out["strata"][lo + idx] = arrays["strata"]
-                out["clearance"][lo + idx] = arrays["clearance"]
-                if per_query_times:
-                    times[idx] = arrays["times"]
-                ok[idx] = ok_g
-        # the kernels certified the waypoints (clauses 5-10, read back from their outputs), the
-        # reference and the scaled rows by pmplan.certify; the breakpoints are checked here
-        if per_query_times:
-            ok &= check_times(times) == 0
-        elif shared_times:
-            ok[:] = False
-        return lo, hi, ok
-
-    starts = range(0, b, CHUNK)
-    bar = _Progress(progress, len(starts))
-    pool = None
-    if workers > 1 and len(starts) > 1:
-        from concurrent.futures import ThreadPoolExecutor
-
-        pool = ThreadPoolExecutor(min(workers, len(starts)))
-    try:
-        bar.__enter__()
-        done = map(chunk, starts) if pool is None else pool.map(chunk, starts)
-        for lo, hi, ok in done:
-            bar.update()
-            if not ok.all():
-                if validate:  # an invalid query, or a certificate that fails
-                    check_query(obstacles, configs[0], configs[-1], batched=True)
-                bad = np.zeros(b, dtype=bool)
-                bad[lo:hi] = ~ok
-                _raise_certificate(bad, batched, _failed_clauses(out, bad, obstacles, configs),
-                                   obstacles, configs, lift, equivariant)
-    finally:
-        if pool is not None:
-            pool.shutdown(cancel_futures=True)
-        bar.__exit__(None, None, None)
-    return out
-
-
-def _failed_clauses(out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarray:
-    """The clause of the certificate (:func:`pmplan.certify.certificate`) that each failing
-    query (``bad``) of a fused run fails, for the error message; (B,) uint8."""
-    idx = np.flatnonzero(bad)[:10]
-    times = out["times"][idx] if out["times"].ndim == 2 else out["times"]
-    m, r = obstacles.shape[1], len(configs)
-    full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
-    via = [(k / (r - 1), full[k]) for k in range(1, r - 1)]
-    with np.errstate(all="ignore"):
-        _, clause = certificate(out["waypoints"][idx], full[0], full[-1], m, times=times,
-                                via=via)
-    codes = np.zeros(bad.shape[0], np.uint8)
-    codes[idx] = clause
-    return codes
-
-
-def _fused_call(planner, r: int, m: int, n: int, d: int, per_query_times: bool, validate: bool,
-                backend):
-    """``call(idx, obstacles, configs, lift) -> (arrays, ok)`` for :func:`_scaled_call`: the
-    fused planner planning rows into new arrays (:meth:`allocate`, :meth:`plan_certified`)."""
-
-    def call(idx, obstacles, configs, lift):
-        arrays = planner.allocate(idx.size, r, m, n, d)
-        extra = {"times": arrays["times"]} if per_query_times else {}
-        if validate:
-            extra["validate"] = True
-        ok = planner.plan_certified(obstacles, configs, lift, arrays["waypoints"],
-                                    arrays["domain"], arrays["strata"], arrays["clearance"],
-                                    backend=backend, **extra)
-        return arrays, ok
-
-    return call
-
-
-class _Progress:
-    """The progress display of a batch of ``total`` chunks, on stderr when ``show``.
-
-    While it is open, the notice :data:`pmplan._compiling.COMPILING` is written if a kernel is
-    compiled (the first run only: not when numba loads it from its on-disk cache). The tqdm bar
-    (for more than 4 chunks) starts when the first chunk is done (``update``), counting it, so
-    that its rate and time estimate never include that compilation; a kernel that only a later
-    chunk needs (the scalar kernel, for a query that is not generic) is announced once more.
-    """
-
-    def __init__(self, show: bool, total: int) -> None:
-        self.show, self.total, self.done = show, total, 0
-        self.bar = None
-        self.notice = None
-        self.handle = None
-
-    def __enter__(self) -> _Progress:
-        if self.show:
-            from ._compiling import announce_compile
-
-            self.notice = announce_compile(self.write)
-            self.handle = self.notice.__enter__()
-        return self
-
-    def write(self, message: str) -> None:
-        if self.bar is not None:
-            self.bar.write(f"pmplan: {message}", file=sys.stderr)
-        else:
-            print(f"pmplan: {message}", file=sys.stderr, flush=True)
-
-    def update(self) -> None:
-        """One more chunk done."""
-        self.done += 1
-        if not self.show or self.total <= 4:
-            return
-        if self.bar is None:
-            from tqdm import tqdm
-
-            self.bar = tqdm(total=self.total, initial=self.done, desc="planning", unit="chunk",
-                            file=sys.stderr)
-            if self.handle is not None:
-                self.handle.rearm()
-        else:
-            self.bar.update()
-
-    def over(self, items):
-        """Yield the chunks ``items``, counting each one done when the next is asked for."""
-        with self:
-            for item in items:
-                yield item
-                self.update()
-
-    def __exit__(self, *exc) -> None:
-        if self.bar is not None:
-            self.bar.close()
-        if self.notice is not None:
-            self.notice.__exit__(None, None, None)
-            self.notice = None
-
-
-def _check_workers(workers) -> int:
-    """``workers`` as a thread count: a positive int, or -1 for every CPU of the machine."""
-    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or not (
-        workers >= 1 or workers == -1
-    ):
-        raise InputError(f"`workers` must be a positive integer or -1 (all CPUs), got {workers!r}")
-    return (os.cpu_count() or 1) if workers == -1 else int(workers)
-
-
-def _output_arrays(out, planner: Planner, dims: tuple[int, int, int], b: int, r: int,
-                   inputs: tuple) -> dict | None:
-    """The arrays of ``out`` (the ``out=`` argument of the batch functions) to plan into.
-
-    ``out`` must be a :class:`PlanBatch` of the same planner, dims and length whose arrays have
-    the shapes and dtypes a new batch would have, are writeable and C-contiguous, and share no
-    memory with the query (``inputs``). Shared breakpoints (``times`` of shape (K,)) are
-    rewritten. Returns None when ``out`` is None.
-    """
-    if out is None:
-        return None
-    if not isinstance(out, PlanBatch):
-        raise InputError(f"`out` must be a PlanBatch returned by plan_batch, got "
-                         f"{type(out).__name__}")
-    if out.planner != planner.name or tuple(out.dims) != dims or len(out) != b:
-        raise InputError(
-            f"`out` holds {len(out)} plans of the {out.planner} planner for (d, n, m) = "
-            f"{tuple(out.dims)}; this batch needs {b} of the {planner.name} planner for "
-            f"{dims}"
-        )
-    d, n, m = dims
-    if not hasattr(planner, "allocate"):
-        raise UnsupportedError(f"the {planner.name} planner cannot plan into `out`")
-    template = planner.allocate(0, r, m, n, d)
-    arrays = {k: getattr(out, k) for k in template}
-    for k, a in arrays.items():
-        t = template[k]
-        want = t.shape if k == "times" and t.ndim == 1 else (b,) + t.shape[1:]
-        if a.shape != want or a.dtype != t.dtype:
-            raise InputError(
-                f"`out.{k}` has shape {a.shape} and dtype {a.dtype}; this batch needs shape "
-                f"{want} and dtype {t.dtype}"
-            )
-        if not (a.flags.writeable and a.flags.c_contiguous):
-            raise InputError(f"`out.{k}` must be a writeable C-contiguous array")
-        if any(np.may_share_memory(a, x) for x in inputs):
-            raise InputError(f"`out.{k}` shares memory with the query; pass separate arrays")
-    if template["times"].ndim == 1:
-        arrays["times"][...] = template["times"]
-    return arrays
-
-
-def _single(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
-    """The :class:`Plan` of a batch of one (no PlanBatch in between)."""
-    d, n, m = dims
-    times = out["times"]
-    path = PiecewiseLinearPath(times if times.ndim == 1 else times[0], out["waypoints"][0])
-    return Plan(
-        domain=int(out["domain"][0]),
-        stratum=planner.stratum_name(out["strata"][0], d, n, m),
-        clearance=float(out["clearance"][0]),
-        path=path.compact(),
-        planner=planner.name,
-        dims=dims,
-    )
+_check_backend = _backend.check
 
 
 def plan_batch(
@@ -722,11 +164,11 @@ def plan_batch(
     except PmplanError:  # an invalid query is reported first, as always
         check_query(obstacles, start, goal, batched=True)
         raise
-    deferred = getattr(p, "validates", None) is not None and p.validates(d, backend)
+    deferred = p.validates(d, backend)
     if not deferred:
         check_query(obstacles, start, goal, batched=True)
     into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], 2, (obstacles, start, goal))
-    res = _run(p, obstacles, [start, goal], lift, batched=True, sequential=False,
+    res = _run(p, obstacles, [start, goal], lift, batched=True,
                progress=progress, backend=backend, workers=workers, validate=deferred, into=into)
     return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
 
@@ -780,7 +222,7 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     >>> p.path(0.0)[2], p.path(1.0)[2]
     (array([0., 1.]), array([ 1., -1.]))
     """
-    if backend is None or backend == "numba":
+    if _backend.uses_kernels(backend):
         fast = _plan_fast(obstacles, start, goal, planner, lift)
         if fast is not None:
             return fast
@@ -790,19 +232,19 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     n = start.shape[1]
     p = choose_planner(d, n, m, planner)
     _check_backend(backend)
-    out = _run(p, obstacles, [start, goal], lift, batched=False, sequential=False,
+    out = _run(p, obstacles, [start, goal], lift, batched=False,
                backend=backend)
     return _single(p, (d, n, m), out)
 
 
 def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
-    """The lean path of :func:`plan` for planners with a ``plan_one`` kernel (one call).
+    """The lean path of :func:`plan` for planners with a single-query kernel (one call, see
+    :meth:`pmplan.planners.base.Planner.single_query`).
 
     Returns None -- and :func:`plan` then takes the general path, which raises the proper error
     or re-decides exactly -- for anything but a plain valid query whose kernel result needs no
-    exact re-decision (see :meth:`ObstacleLinePlanner.plan_one`). The kernel function, the
-    planner's name, the dims and the stratum names are looked up once per (planner, shapes)
-    (:func:`_fast_entry`); inputs that already are C-contiguous float64 arrays are not copied
+    exact re-decision. The kernel function, the planner's name, the dims and the stratum names
+    are looked up once per (planner, shapes) (:func:`_fast_entry`); inputs that already are C-contiguous float64 arrays are not copied
     (:func:`_fast_array`); the :class:`Plan` and its path are built without re-checking arrays
     the kernel wrote.
     """
@@ -841,7 +283,7 @@ def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict) -> Pl
     stratum = names.get(row)
     if stratum is None:
         stratum = _stratum_name(p, row, dims, names)
-    return _new_plan(domain, stratum, clearance, _unchecked_path(times, wp), p.name, dims)
+    return Plan(domain, stratum, clearance, _unchecked_path(times, wp), p.name, dims)
 
 
 def _fast_lift(lift) -> float | None:
@@ -881,12 +323,10 @@ def _fast_entry(key: tuple):
     if len(oshape) == 2 and len(sshape) == 2 and sshape == gshape and oshape[1] == sshape[1]:
         (m, d), n = oshape, sshape[0]
         if planner is None:
-            planner = "planar_three" if (d, n, m) == (2, 1, 3) and "planar_three" in REGISTRY \
-                else "obstacle_line"
+            planner = default_planner(d, n, m)
         p = REGISTRY.get(planner)
         if p is not None and p.supports(d, n, m) is None:
-            run = p.plan_one_for(m, n, d) if hasattr(p, "plan_one_for") \
-                else getattr(p, "plan_one", None)
+            run = p.single_query(m, n, d)
             if run is not None and _times_certified(p, 2):
                 entry = (run, p, (d, n, m), {})
     if len(_FAST) < 1024:
@@ -898,7 +338,7 @@ def _times_certified(p: Planner, r: int) -> bool:
     """Whether the planner's shared breakpoints for r configurations (if it has them) pass
     clauses 1-4 of the certificate -- checked once per fast-path entry, not per call. A
     planner with per-query breakpoints checks them in its kernel (flag ``BROKEN``)."""
-    times = p.path_times(r) if hasattr(p, "path_times") else None
+    times = p.path_times(r)
     return times is None or check_times(times) == 0
 
 
@@ -911,23 +351,11 @@ def _stratum_name(p: Planner, row: tuple, dims: tuple[int, int, int], names: dic
     return name
 
 
-def _new_plan(domain: int, stratum: str, clearance: float, path: PiecewiseLinearPath,
-              planner: str, dims: tuple[int, int, int]) -> Plan:
-    """``Plan(domain, stratum, clearance, path, planner, dims)`` without the frozen dataclass's
-    per-field ``object.__setattr__`` (the same object: :class:`Plan` has no validation)."""
-    plan = _NEW(Plan)
-    _SETATTR(plan, "__dict__", {"domain": domain, "stratum": stratum, "clearance": clearance,
-                                "path": path, "planner": planner, "dims": dims})
-    return plan
-
-
 _F64 = np.dtype(np.float64)
 #: the single-query fast paths plan only lifts in this range (and, as the kernels check,
 #: coordinates below 2**LIMIT): the other queries may need scaling (:mod:`pmplan.magnitude`)
 _LIFT_LOW = 2.0**-magnitude.LIMIT
 _LIFT_HIGH = 2.0**magnitude.LIMIT
-_NEW = object.__new__
-_SETATTR = object.__setattr__
 _UNSEEN = object()
 #: the single-query fast paths by (planner, shapes) (see :func:`_fast_entry`); None: never
 _FAST: dict = {}
@@ -952,9 +380,7 @@ def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
             f"{c_goal.shape}."
         )
     if m < 2:
-        raise UnsupportedError(
-            f"m = {m}: the planners need m >= 2 obstacles (they define the line L_C)"
-        )
+        raise UnsupportedError(out_of_scope(2, 1, m))
     if m >= c_start.shape[0]:
         raise ShapeError(f"m = {m} obstacles leave no robot in a configuration of {c_start.shape[0]} points")
     check_same_obstacles(c_start, c_goal, m, batched=False)
@@ -1007,11 +433,11 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     obstacles, configs = _check_sequence(obstacles, configs, batched=True)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
-    p = choose_planner(d, n, m, "obstacle_line")
+    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True))
     _check_backend(backend)
     into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], len(configs),
                           (obstacles, *configs))
-    res = _run(p, obstacles, configs, lift, batched=True, sequential=True, progress=progress,
+    res = _run(p, obstacles, configs, lift, batched=True, progress=progress,
                backend=backend, workers=workers, into=into)
     return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
 
@@ -1042,7 +468,7 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
     >>> p.path(0.5)[2]
     array([ 1., -1.])
     """
-    if backend is None or backend == "numba":
+    if _backend.uses_kernels(backend):
         fast = _plan_sequence_fast(obstacles, configs, lift)
         if fast is not None:
             return fast
@@ -1050,15 +476,15 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
     obstacles, configs = _check_sequence(obstacles, configs, batched=False)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
-    p = choose_planner(d, n, m, "obstacle_line")
+    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True))
     _check_backend(backend)
-    out = _run(p, obstacles, configs, lift, batched=False, sequential=True, backend=backend)
+    out = _run(p, obstacles, configs, lift, batched=False, backend=backend)
     return _single(p, (d, n, m), out)
 
 
 def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
     """The lean path of :func:`plan_sequence`: one validating kernel call
-    (:meth:`ObstacleLinePlanner.plan_sequence_one_for`), as :func:`_plan_fast` for :func:`plan`.
+    (:meth:`pmplan.planners.base.Planner.sequence_query`), as :func:`_plan_fast` for :func:`plan`.
 
     Returns None -- and :func:`plan_sequence` then takes the general path, which raises the
     proper error or re-decides exactly -- for anything but a plain valid query (a list, tuple or
@@ -1098,15 +524,23 @@ def _sequence_entry(key: tuple):
     entry = None
     if len(oshape) == 2 and len(cshape) == 2 and oshape[1] == cshape[1]:
         (m, d), n = oshape, cshape[0]
-        p = REGISTRY["obstacle_line"]
+        p = REGISTRY[default_planner(d, n, m, sequential=True)]
         if p.supports(d, n, m) is None:
-            make = getattr(p, "plan_sequence_one_for", None)
-            run = None if make is None else make(r, m, n, d)
+            run = p.sequence_query(r, m, n, d)
             if run is not None and _times_certified(p, r):
                 entry = (run, p, (d, n, m), {})
     if len(_FAST_SEQUENCE) < 1024:
         _FAST_SEQUENCE[key] = entry
     return entry
+
+
+def _check_sequential(planner: str | None) -> None:
+    """Raise :class:`~pmplan.errors.UnsupportedError` if the named planner does not plan
+    through intermediate configurations (a query with ``via``)."""
+    if planner is not None and not (planner in REGISTRY and REGISTRY[planner].sequential):
+        names = [p.name for p in REGISTRY.values() if p.sequential]
+        raise UnsupportedError(f"a query with 'via' is planned by the {' or '.join(names)} "
+                               "planner")
 
 
 def parametrised_tc(d: int, n: int, m: int, r: int = 2) -> int:
@@ -1129,22 +563,17 @@ def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> Plan
     >>> info(3, 1, 1).message
     'no planner covers m = 1: the planners need m >= 2 obstacles (they define the line L_C)'
     """
-    if d < 2 or n < 1 or m < 2 or r < 2:
-        why = (
-            f"d = {d}: planners need d >= 2" if d < 2 else
-            f"n = {n}: at least one robot is needed" if n < 1 else
-            f"m = {m}: the planners need m >= 2 obstacles (they define the line L_C)" if m < 2 else
-            f"r = {r}: a motion needs r >= 2 configurations"
-        )
+    why = out_of_scope(d, n, m, r)
+    if why is not None:
         return PlannerInfo(d, n, m, r, None, None, (), None, False, f"no planner covers {why}")
     tc = parametrised_tc(d, n, m, r)
     if r > 2:
-        if planner not in (None, "obstacle_line"):
-            raise UnsupportedError("sequential planning (r > 2) uses the obstacle_line planner")
-        p = REGISTRY["obstacle_line"]
-        low = 4 if d % 2 == 0 else 3
-        labels = tuple(range(low, r * n + m + 3))
-        msg = "sequential planner (SPEC 4c) on the obstacle_line planner"
+        name = default_planner(d, n, m, sequential=True)
+        if planner not in (None, name):
+            raise UnsupportedError(f"sequential planning (r > 2) uses the {name} planner")
+        p = REGISTRY[name]
+        labels = tuple(p.domain_labels(d, n, m, r))
+        msg = f"sequential planner (SPEC 4c) on the {name} planner"
     else:
         p = choose_planner(d, n, m, planner)
         labels = tuple(p.domain_labels(d, n, m))
@@ -1168,8 +597,7 @@ def plan_query(query: dict, planner: str | None = None) -> Plan:
     planner = planner or query.get("planner")
     lift = query.get("lift", 1.0)
     if "via" in query:
-        if planner not in (None, "obstacle_line"):
-            raise UnsupportedError("a query with 'via' is planned by the obstacle_line planner")
+        _check_sequential(planner)
         configs = [query["start"], *query["via"], query["goal"]]
         return plan_sequence(query["obstacles"], configs, lift=lift)
     return plan(query["obstacles"], query["start"], query["goal"], planner=planner, lift=lift)

@@ -45,6 +45,10 @@ __all__ = [
 
 # a float minimum below _REL * (scale of the pair on that piece) is re-decided exactly
 _REL = 1e-9
+# (for the kernels) _REL * max(scale, 1e-6 absval) <= 2.0000001e-9 * (the largest absolute
+# coordinate of the pair's points): a float distance above _SURE times that is certainly above
+# the threshold of _REL
+_SURE = 2.1e-9
 _MAXF = 1.7976931348623157e308  # the largest finite float
 # an obstacle pair whose squared distance is below this (it may have underflowed), or not finite
 # (it overflowed), is measured exactly (the kernels flag it SUSPECT)

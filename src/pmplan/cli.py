@@ -269,7 +269,6 @@ def cmd_plan(args) -> int:
 
 def cmd_batch(args) -> int:
     from . import api
-    from .errors import UnsupportedError
     from .io import read_queries, write_plans
 
     if _streams(args):  # Zarr in or out, or a dask option: chunk by chunk (pmplan.scale)
@@ -278,8 +277,7 @@ def cmd_batch(args) -> int:
     lift = q.get("lift", 1.0)
     common = dict(lift=lift, progress=not args.no_progress, workers=args.workers)
     if "via" in q:
-        if q.get("planner") not in (None, "obstacle_line"):
-            raise UnsupportedError("a query with 'via' is planned by the obstacle_line planner")
+        api._check_sequential(q.get("planner"))
         configs = [q["start"], *np.moveaxis(q["via"], 1, 0), q["goal"]]
         batch = api.plan_sequence_batch(q["obstacles"], configs, **common)
     else:
@@ -351,10 +349,11 @@ def cmd_demo(args) -> int:
         queries = [np.stack(a) for a in zip(*obstacle_line_examples(args.n))]
         plans = list(api.plan_batch(*queries, lift=args.lift))
         extra = _planar_three_demo(args.lift)
-    for p in plans:
-        rows.append(("obstacle_line", f"W_{p.domain}", p.stratum, p.path.length(), p.clearance))
-    for p in extra:
-        rows.append(("planar_three", f"W{p.domain}", p.stratum, p.path.length(), p.clearance))
+    from .planners import REGISTRY
+
+    for p in plans + extra:
+        rows.append((p.planner, f"{REGISTRY[p.planner].domain_prefix}{p.domain}", p.stratum,
+                     p.path.length(), p.clearance))
     print(f"pmplan demo: {args.n} robots among 2 obstacles in the plane "
           f"({len(plans)} domains, optimal: TC = {api.parametrised_tc(2, args.n, 2)})"
           + (", and 1 robot among 3 obstacles (paper Section 4, 4 domains)" if extra else ""))
@@ -398,10 +397,10 @@ def _planar_three_demo(lift=1.0):
     from . import api
 
     try:
-        from .planners.planar_three import demo_examples
+        from .examples import planar_three_examples
     except ImportError:
         return []
-    return [api.plan(o, s, g, lift=lift) for o, s, g in demo_examples()]
+    return [api.plan(o, s, g, lift=lift) for o, s, g in planar_three_examples()]
 
 
 def cmd_info(args) -> int:

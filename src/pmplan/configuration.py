@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .backend import kernel_array, kernels
 from .errors import CollisionError, InputError, NonFiniteError, ObstacleMismatchError, ShapeError
 
 __all__ = [
@@ -361,16 +362,6 @@ def check_query(obstacles, start, goal, *, batched: bool, names: tuple[str, str]
     return obstacles, start, goal
 
 
-def kernel_array(a) -> np.ndarray:
-    """``a`` as a C-contiguous, writeable float64 array (copied only when it is not one).
-
-    The numba kernels are compiled for exactly this array type: a read-only input (a memory
-    map, a broadcast view) would otherwise make numba compile a second copy of every kernel.
-    """
-    a = np.ascontiguousarray(a, dtype=np.float64)
-    return a if a.flags.writeable else a.copy()
-
-
 def _valid_fast(obstacles, start, goal, batched: bool, deep: bool = True):
     """Return the arrays of :func:`check_query` when the query is valid, else None.
 
@@ -379,9 +370,8 @@ def _valid_fast(obstacles, start, goal, batched: bool, deep: bool = True):
     :func:`pmplan._kernels.valid_queries` (finite, no two equal points in C or C') in one pass.
     It never raises: None means "let the reference checks decide (and word the error)".
     """
-    from . import _kernels
-
-    if not _kernels.AVAILABLE:  # pragma: no cover
+    kern = kernels()
+    if not kern.AVAILABLE:  # pragma: no cover
         return None
     try:
         o = as_real(obstacles, "obstacles")
@@ -399,7 +389,7 @@ def _valid_fast(obstacles, start, goal, batched: bool, deep: bool = True):
     o = kernel_array(o)
     s = kernel_array(s)
     g = s if g is s else kernel_array(g)
-    if deep and not _kernels.valid_queries(o, s, g):
+    if deep and not kern.valid_queries(o, s, g):
         return None
     return o, s, g
 
@@ -412,9 +402,8 @@ def _check_distinct(obstacles: np.ndarray, robots: np.ndarray, m: int, which: st
     (no temporary); only when it finds a coincidence (or numba is missing) does the numpy path
     :func:`check_configuration` run, and it raises with the full message.
     """
-    from . import _kernels
-
-    if _kernels.AVAILABLE and _kernels.first_coincident(obstacles, robots) < 0:
+    kern = kernels()
+    if kern.AVAILABLE and kern.first_coincident(obstacles, robots) < 0:
         return
     check_configuration(np.concatenate([obstacles, robots], axis=1), m, which, batched)
 

@@ -15,7 +15,6 @@ __all__ = [
     "CollisionError",
     "ObstacleMismatchError",
     "UnsupportedError",
-    "DimensionError",
     "CertificationError",
 ]
 
@@ -62,10 +61,6 @@ class ObstacleMismatchError(InputError):
 
 class UnsupportedError(InputError):
     """No planner covers this (d, n, m), or the named planner does not apply to it."""
-
-
-class DimensionError(UnsupportedError):
-    """The ambient dimension d is not one the chosen planner handles."""
 
 
 class CertificationError(PmplanError, ArithmeticError):

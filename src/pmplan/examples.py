@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["line_configuration", "obstacle_line_examples"]
+__all__ = ["line_configuration", "obstacle_line_examples", "planar_three_examples"]
 
 # columns and heights (for n = 3) giving cp = 2..5 with obstacles o1 = (0, 0), o2 = (4, 0)
 _START = {
@@ -54,3 +54,28 @@ def obstacle_line_examples(n: int = 3):
         i, j = (label + 1) // 2, label // 2
         out.append((obstacles, line_configuration(i, n), line_configuration(j, n, goal=True)))
     return out
+
+
+def planar_three_examples() -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Return four exact queries ``(obstacles (3, 2), start (1, 2), goal (1, 2))`` of the
+    ``planar_three`` planner (paper Section 4), in W1..W4.
+
+    Obstacles o1 = (0, 0), o2 = (4, 0); strata T23_44 (W1, Figure ``T111`` right),
+    T22_22 (W2, Figure ``porenmedio`` right), T23_33 (W3, Figure ``grid``), T23_34 (W4).
+
+    Examples
+    --------
+    >>> from pmplan.planners.planar_three import classify
+    >>> [int(classify(o[None], s[None], g[None]).domain[0]) for o, s, g in planar_three_examples()]
+    [1, 2, 3, 4]
+    """
+
+    def f(*rows):
+        return np.array(rows, dtype=float)
+
+    return [
+        (f([0, 0], [4, 0], [5, 1.5]), f([1.5, -3]), f([7, -1.5])),
+        (f([0, 0], [4, 0], [0, 1.5]), f([4, 1.5]), f([0, -1.5])),
+        (f([0, 0], [4, 0], [2.5, 1.5]), f([2.5, -1.5]), f([0, 3])),
+        (f([0, 0], [4, 0], [2.5, 1.5]), f([0, -2]), f([6, 2.5])),
+    ]

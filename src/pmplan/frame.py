@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Frame", "frame", "nu", "unit"]
+__all__ = ["Frame", "nu", "unit"]
 
 
 def nu(w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -118,8 +118,3 @@ class Frame:
         rel = points - self.o1[:, None, :]
         s = (rel * self.e[:, None, :]).sum(axis=-1)
         return rel - s[..., None] * self.e[:, None, :]
-
-
-def frame(obstacles: np.ndarray) -> Frame:
-    """Return the :class:`Frame` of obstacles of shape (B, m, d) (uses o1 and o2)."""
-    return Frame(obstacles[:, 0], obstacles[:, 1])

@@ -29,6 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .planners.planar_three import _split_name, classify, parse_stratum
 from .predicates import projection_classes
 
 __all__ = [
@@ -42,6 +43,7 @@ __all__ = [
     "random_queries",
     "near_degenerate_queries",
     "perturb_within_stratum",
+    "planar_stratum_queries",
 ]
 
 
@@ -638,3 +640,109 @@ def perturb_within_stratum(rng: np.random.Generator, query, delta: float):
     if len(pts) == 3:
         return Query(*pts)
     return tuple(pts)
+
+
+# --------------------------------------------------------------------------------------------
+# the strata of the planar_three planner (paper Section 4)
+
+
+def _rejection(bad, draw, size: int) -> np.ndarray:
+    """Draw ``size`` values with ``draw(k)``, redrawing entry i while ``bad(values, i)``."""
+    out = draw(size)
+    redo = bad(out, np.arange(size))
+    while redo.any():
+        idx = np.flatnonzero(redo)
+        out[idx] = draw(idx.size)
+        redo = np.zeros(size, dtype=bool)
+        redo[idx] = bad(out[idx], idx)
+    return out
+
+
+def planar_stratum_queries(
+    rng: np.random.Generator, stratum: str, count: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return ``count`` exact queries in one stratum of the ``planar_three`` planner (paper
+    Section 4).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    stratum : str
+        ``"T22_23"`` (SPEC) or ``"T^{2,2}_{2,3}"`` (paper) style; see :data:`pmplan.planners.planar_three.STRATA`.
+    count : int
+
+    Returns
+    -------
+    obstacles : ndarray, shape (count, 3, 2)
+    start, goal : ndarray, shape (count, 1, 2)
+
+    Notes
+    -----
+    Points are ``o1 + U w + V rot90(w)`` with ``o1`` an integer point, ``w`` a random nonzero
+    integer vector (random orientation of the line o1o2), ``o2 = o1 + k w`` (k in {1, 2, 3}),
+    and U, V on the half-integer grid; ``u = U |w|``, ``h = V |w|``. Every coordinate is a small
+    dyadic rational, exact in double precision, so the degeneracies of the stratum (equal
+    columns, equal heights) are exact. o3 lies on either side of L_C; x = x' may occur.
+
+    Examples
+    --------
+    >>> o, s, g = planar_stratum_queries(np.random.default_rng(1), "T23_34", 5)
+    >>> o.shape, s.shape, g.shape
+    ((5, 3, 2), (5, 1, 2), (5, 1, 2))
+    >>> classify(o, s, g).record[:, 0].tolist()
+    [23, 23, 23, 23, 23]
+    """
+    name = parse_stratum(stratum)
+    fam, i, j = _split_name(name)
+    n = int(count)
+
+    def half_u(k):  # U on the half-integer grid in [-4, 8]
+        return rng.integers(-8, 17, size=k) / 2.0
+
+    def half_v(k):  # V on the half-integer grid in [-4, 4]
+        return rng.integers(-8, 9, size=k) / 2.0
+
+    def nonzero_v(k):  # V != 0, on either side of L_C
+        return rng.integers(1, 9, size=k) / 2.0 * rng.choice([-1.0, 1.0], size=k)
+
+    w = _rejection(lambda v, _: (v == 0).all(axis=1),
+                   lambda k: rng.integers(-3, 4, size=(k, 2)).astype(float), n)
+    o1 = rng.integers(-5, 6, size=(n, 2)).astype(float)
+    u2 = rng.integers(1, 4, size=n).astype(float)
+    if fam == 22:  # o3 on the column of o1 or o2, off L_C
+        u3, v3 = np.where(rng.random(n) < 0.5, 0.0, u2), nonzero_v(n)
+    else:  # o3 on its own column; on L_C (T1) or off it (T23)
+        u3 = _rejection(lambda v, ix: (v == 0) | (v == u2[ix]), half_u, n)
+        v3 = np.zeros(n) if fam == 1 else nonzero_v(n)
+    obs_uv = np.stack([np.zeros((n, 2)), np.stack([u2, np.zeros(n)], 1), np.stack([u3, v3], 1)], 1)
+
+    def on_obstacle(U, V, ix):
+        return ((obs_uv[ix, :, 0] == U[:, None]) & (obs_uv[ix, :, 1] == V[:, None])).any(axis=1)
+
+    def robot(c):
+        if fam == 1 and c == 1:  # on L_C, off the obstacles
+            U = _rejection(lambda v, ix: (v == 0) | (v == u2[ix]) | (v == u3[ix]), half_u, n)
+            return U, np.zeros(n)
+        if fam == 1:  # off L_C, any column
+            return half_u(n), nonzero_v(n)
+        on_col = (fam == 22 and c == 2) or (fam == 23 and c == 3)
+        if on_col:  # on an obstacle column, off the obstacles
+            cols = obs_uv[:, :, 0] if fam == 23 else obs_uv[:, :2, 0]
+            pick = rng.integers(0, cols.shape[1], size=n)
+            U = cols[np.arange(n), pick]
+            V = _rejection(lambda v, ix: on_obstacle(U[ix], v, ix), half_v, n)
+            return U, V
+        U = _rejection(lambda v, ix: (v[:, None] == obs_uv[ix, :, 0]).any(axis=1), half_u, n)
+        return U, half_v(n)
+
+    (ux, vx), (ug, vg) = robot(i), robot(j)
+    rot = np.stack([-w[:, 1], w[:, 0]], axis=1)
+
+    def world(U, V):
+        """o1 + U w + V rot90(w) for U, V of shape (n, P): points (n, P, 2), exact."""
+        return o1[:, None, :] + U[..., None] * w[:, None, :] + V[..., None] * rot[:, None, :]
+
+    obstacles = world(obs_uv[..., 0], obs_uv[..., 1])
+    start = world(ux[:, None], vx[:, None])
+    goal = world(ug[:, None], vg[:, None])
+    return obstacles, start, goal

@@ -164,10 +164,6 @@ class PiecewiseLinearPath:
             return out[..., 0, :, :]
         return out.reshape(out.shape[:-3] + tshape + out.shape[-2:])
 
-    def sample(self, t) -> np.ndarray:
-        """Alias of ``self(t)``."""
-        return self(t)
-
     def resample(self, k: int) -> PiecewiseLinearPath:
         """Return the path sampled at ``k >= 2`` equally spaced times, as a new path."""
         if k < 2:

@@ -9,7 +9,7 @@ gathers the evidence for one (d, n, m):
 
    * ``exact``: exact degenerate queries in every stratum -- :func:`pmplan.generators.column_query`
      for every stratum of :func:`pmplan.generators.strata` (obstacle-line planner), or
-     :func:`pmplan.planners.planar_three.stratum_queries` for the 12 strata of paper Section 4;
+     :func:`pmplan.generators.planar_stratum_queries` for the 12 strata of paper Section 4;
    * ``random``: generic queries, :func:`pmplan.generators.random_queries`;
    * ``near-degenerate``: exact degenerate queries whose ties are broken by ``~1e-9`` and
      ``~1e-15`` of the scene (:func:`pmplan.generators.near_degenerate_queries`).
@@ -71,6 +71,7 @@ from .errors import CertificationError, InputError
 from .frame import Frame
 from .path import PiecewiseLinearPath
 from .predicates import projection_classes
+from .planners.base import REGISTRY
 
 __all__ = [
     "RHO_MIN",
@@ -345,7 +346,7 @@ class Report:
     def to_text(self) -> str:
         """Return a human-readable summary (the default output of ``pmplan verify``)."""
         d, n, m = self.dims
-        w = "W" if self.planner == "planar_three" else "W_"
+        w = REGISTRY[self.planner].domain_prefix
         fam = ", ".join(f"{k} {v['queries']}" for k, v in self.families.items())
         lines = [
             f"pmplan verify: {self.planner} planner, (d, n, m) = ({d}, {n}, {m}), "
@@ -411,11 +412,11 @@ def _exact_queries(rng, planner: str, d: int, n: int, m: int, count: int):
     """Exact degenerate queries covering every stratum, round robin; a batch (B, ., d)."""
     obs, st, go = [], [], []
     if planner == "planar_three":
-        from .planners.planar_three import STRATA, stratum_queries
+        from .planners.planar_three import STRATA
 
         per = max(1, -(-count // len(STRATA)))
         for name in STRATA:
-            o, s, g = stratum_queries(rng, name, per)
+            o, s, g = gen.planar_stratum_queries(rng, name, per)
             obs.append(o)
             st.append(s)
             go.append(g)
@@ -455,7 +456,7 @@ def _perturb_planar_three(rng, q, delta: float):
 
     (Combining both in one move would need more than 53 bits.) The result is checked exactly
     with :func:`pmplan.planners.planar_three.classify` and for distinct points; None if it left
-    the stratum (which does not happen for the dyadic queries of ``stratum_queries``).
+    the stratum (which does not happen for the dyadic queries of ``planar_stratum_queries``).
     """
     from .planners.planar_three import classify
 
@@ -616,7 +617,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     n_exact = int(0.4 * queries)
     n_random = int(0.3 * queries)
     n_near = queries - n_exact - n_random
-    heights = name == "planar_three"
+    heights = p.uses_heights
 
     bar = tqdm(total=6, desc=f"verify {name} ({d},{n},{m})", unit="step", file=sys.stderr,
                disable=not progress, leave=False)

@@ -2,14 +2,15 @@
 
 * ``obstacle_line`` -- paper Section 3 and its extensions (SPEC 4a, 4b, 4c).
 * ``planar_three`` -- paper Section 4 (d = 2, n = 1, m = 3).
+
+A new planner is one module here that subclasses :class:`~pmplan.planners.base.Planner` and
+calls :func:`~pmplan.planners.base.register`, plus its import below. An import error of a
+planner is an error of pmplan (never swallowed: a missing planner would silently route its
+queries to another one).
 """
 
-from .base import REGISTRY, Planner, RawPlan
+from .base import REGISTRY, Planner, RawPlan, default_planner
 from .obstacle_line import OBSTACLE_LINE
+from .planar_three import PLANAR_THREE
 
-try:  # the planar planner is optional while it is being built
-    from .planar_three import PLANAR_THREE  # noqa: F401
-except ImportError:  # pragma: no cover
-    pass
-
-__all__ = ["REGISTRY", "Planner", "RawPlan", "OBSTACLE_LINE"]
+__all__ = ["REGISTRY", "Planner", "RawPlan", "OBSTACLE_LINE", "PLANAR_THREE", "default_planner"]

@@ -1,22 +1,34 @@
-"""What a planner is: data computed from arrays (labels, strata, a batch of paths).
+"""What a planner is: the whole protocol (:class:`Planner`) and the one loop of every planner.
 
 A planner takes a batch of queries -- obstacles (B, m, d), starts (B, n, d), goals (B, n, d) --
 and returns a :class:`RawPlan`: the domain label of every query, a small integer record of its
-stratum, and the batch of piecewise-linear paths. It does not validate, certify, draw, print or
-read files; :mod:`pmplan.api` does those.
+stratum, and the batch of piecewise-linear paths. It does not validate, draw, print or read
+files; :mod:`pmplan.api` validates, runs the chunks (:mod:`pmplan.running`) and returns the plans
+(:mod:`pmplan.results`).
+
+The loop every planner shares is written once here (:meth:`Planner.plan_certified`): its
+optional numba kernel (:meth:`Planner.kernel`) plans a chunk into the output arrays and flags
+the queries it cannot decide in floating point; the flagged rows are re-decided exactly by the
+numpy reference (:func:`store_reference`) and every row gets its certificate
+(:func:`redecide`). Adding a planner is one module in ``planners/`` that subclasses
+:class:`Planner` and calls :func:`register` (and, for speed, a kernel module plus
+:meth:`Planner.kernel` / :meth:`Planner.single_query`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar, Protocol
+from typing import Callable, ClassVar
 
 import numpy as np
 
+from ..backend import NUMBA, NUMPY, kernels, resolve
+from ..certify import certificate
+from ..certify import clearance as exact_clearance
 from ..path import PiecewiseLinearPath
 
-__all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "lift_code", "register", "scene_unit",
-           "unit"]
+__all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "default_planner", "lift_code", "redecide",
+           "out_of_scope", "register", "scene_unit", "store_reference", "unit"]
 
 #: how the planners and their kernels receive ``lift="scene"``: a ``lift`` that is not > 0.
 #: A positive lift is the unit itself; SCENE_CODE (0.0) asks for the unit u(O) of every query
@@ -76,24 +88,129 @@ class RawPlan:
     path: PiecewiseLinearPath
 
 
-class Planner(Protocol):
-    """The interface every planner module implements (see ``obstacle_line``, ``planar_three``)."""
+class Planner:
+    """The protocol every planner implements (see ``obstacle_line``, ``planar_three``).
 
-    name: ClassVar[str]
-    summary: ClassVar[str]
+    Subclass it; the methods with a default here are optional. Required: :attr:`name`,
+    :attr:`summary`, :meth:`supports`, :meth:`domain_labels`, :meth:`stratum_name`,
+    :meth:`plan` (the numpy reference) and :meth:`allocate`. The faces (:mod:`pmplan.verify`,
+    :mod:`pmplan.animation`, the CLI) ask these members, never a planner's name.
+    """
 
+    #: the name users pass as ``planner=``
+    name: ClassVar[str] = ""
+    #: one line for :func:`pmplan.info`
+    summary: ClassVar[str] = ""
+    #: planning ``2**k C`` with ``lift * 2**k`` gives exactly ``2**k`` times the path of C: the
+    #: run loop then plans queries at extreme magnitudes scaled (:mod:`pmplan.magnitude`)
+    equivariant: ClassVar[bool] = False
+    #: plans through r > 2 configurations (:meth:`plan_sequence`, SPEC 4c)
+    sequential: ClassVar[bool] = False
+    #: the default planner of the (d, n, m) it supports is the one of highest priority
+    priority: ClassVar[int] = 0
+    #: how the faces write domain label l: ``f"{domain_prefix}{l}"`` (``W_5``, ``W1``)
+    domain_prefix: ClassVar[str] = "W_"
+    #: the planner decides on heights (distance to the line L_C) as well as on columns: the
+    #: faces that draw or check the frame show the heights too
+    uses_heights: ClassVar[bool] = False
+    #: the named phases ``(name, what happens)`` of the pieces of a path, for the faces that
+    #: show a motion (:func:`pmplan.animation.phase_at`): several -- the phases of every leg
+    #: between two configurations, in order; one -- every piece is of that kind; none -- the
+    #: pieces are unnamed
+    phases: ClassVar[tuple[tuple[str, str], ...]] = ()
+
+    # --- what the planner covers ---------------------------------------------------------
     def supports(self, d: int, n: int, m: int) -> str | None:
         """Return None if (d, n, m) is covered, else a sentence saying why not."""
+        raise NotImplementedError
 
-    def domain_labels(self, d: int, n: int, m: int) -> list[int]:
-        """All domain labels the planner uses for (d, n, m)."""
+    def domain_labels(self, d: int, n: int, m: int, r: int = 2) -> list[int]:
+        """All domain labels the planner uses for (d, n, m) and r configurations."""
+        raise NotImplementedError
 
-    def plan(self, obstacles, start, goal, *, lift: float = 1.0) -> RawPlan:
-        """Plan a batch of queries with the unit ``lift`` (a positive float, or
-        :data:`SCENE_CODE` for the unit :func:`scene_unit` of every query)."""
-
-    def stratum_name(self, strata_row, d: int, n: int, m: int) -> str:
+    def stratum_name(self, row, d: int, n: int, m: int) -> str:
         """Human-readable stratum name in the paper's notation."""
+        raise NotImplementedError
+
+    # --- the reference ---------------------------------------------------------------------
+    def plan(self, obstacles, start, goal, *, lift: float = 1.0,
+             backend: str | None = None) -> RawPlan:
+        """Plan a batch of queries with the unit ``lift`` (a positive float, or
+        :data:`SCENE_CODE` for the unit :func:`scene_unit` of every query); ``backend="numpy"``
+        is the reference. The input is not validated here (see :mod:`pmplan.configuration`)."""
+        raise NotImplementedError
+
+    def plan_sequence(self, obstacles, configs, *, lift: float = 1.0,
+                      backend: str | None = None) -> RawPlan:
+        """Plan through ``len(configs)`` configurations (only when :attr:`sequential`; else
+        r = 2 only, which is :meth:`plan`)."""
+        if len(configs) == 2:
+            return self.plan(obstacles, configs[0], configs[1], lift=lift, backend=backend)
+        raise NotImplementedError(f"the {self.name} planner plans r = 2 configurations only")
+
+    # --- planning into output arrays, certified: the run loop's entry ------------------------
+    def allocate(self, b: int, r: int, m: int, n: int, d: int) -> dict:
+        """Output arrays of a batch of b queries through r configurations: ``domain`` (b,)
+        int64, ``strata`` (b, S) int64, ``clearance`` (b,), ``times`` (K,) shared by every
+        query or (b, K) per query, ``waypoints`` (b, K, m+n, d)."""
+        raise NotImplementedError
+
+    def path_times(self, r: int) -> np.ndarray | None:
+        """The breakpoints (K,) every path through r configurations shares, or None when they
+        are per query."""
+        return None
+
+    def kernel(self, obstacles, configs, lift: float, out: dict,
+               validate: bool) -> np.ndarray | None:
+        """Plan a chunk with the numba kernel into ``out`` (the rows of :meth:`allocate`) and
+        return its flags (B,) uint8 (:mod:`pmplan._kernels`: ``FALLBACK``, ``SUSPECT``,
+        ``NONFINITE``, ``BROKEN``, ``INVALID``), or None when no kernel plans this chunk
+        (then the reference plans it). Default: no kernel."""
+        return None
+
+    def validates(self, d: int, backend: str | None = None) -> bool:
+        """Whether :meth:`kernel` checks the queries itself (``validate=True``): an invalid
+        query then fails the certificate, and the caller raises the input error."""
+        return False
+
+    def plan_certified(self, obstacles, configs, lift, out: dict, *,
+                       backend: str | None = None, validate: bool = False) -> np.ndarray:
+        """Plan and certify a chunk into ``out`` (arrays as :meth:`allocate`, the chunk's rows;
+        shared ``times`` as they are); return the certificate (B,).
+
+        The one loop: the kernel (:meth:`kernel`, for ``backend`` numba) -> the flagged rows
+        re-decided exactly by the reference -> the certificate (:func:`redecide`); without a
+        kernel, the reference plans and :func:`pmplan.certify.certificate` certifies every row
+        (:func:`store_reference`).
+        """
+        lift = lift_code(lift)
+        if resolve(backend) == NUMBA:
+            flags = self.kernel(obstacles, configs, lift, out, validate)
+            if flags is not None:
+                return redecide(self, flags, obstacles, configs, lift, out)
+        obstacles = np.asarray(obstacles, dtype=float)
+        configs = [np.asarray(c, dtype=float) for c in configs]
+        return store_reference(self, obstacles, configs, lift, np.arange(obstacles.shape[0]),
+                               out)
+
+    # --- the single-query fast paths ---------------------------------------------------------
+    def single_query(self, m: int, n: int, d: int) -> Callable | None:
+        """``run(obstacles, start, goal, lift) -> (times, waypoints, domain, row, clearance) |
+        None`` planning and certifying one query of shape (m, n, d) in one kernel call, or None
+        when no kernel plans that shape.
+
+        The caller guarantees C-contiguous, aligned, writeable float64 arrays (m, d), (n, d),
+        (n, d) and a float ``lift`` (positive, or :data:`SCENE_CODE`); ``run`` returns None
+        whenever anything is unusual (an invalid query, a flag, a failed certificate) so that
+        the caller takes the general path; the path it returns is compact (no zero-duration
+        piece), the breakpoints either checked by the kernel or :meth:`path_times`.
+        """
+        return None
+
+    def sequence_query(self, r: int, m: int, n: int, d: int) -> Callable | None:
+        """As :meth:`single_query` for one query through r configurations: ``run(obstacles,
+        configs, lift)``."""
+        return None
 
 
 REGISTRY: dict[str, Planner] = {}
@@ -103,3 +220,85 @@ def register(planner: Planner) -> Planner:
     """Add a planner instance to the registry under its ``name``."""
     REGISTRY[planner.name] = planner
     return planner
+
+
+def out_of_scope(d: int, n: int, m: int, r: int = 2) -> str | None:
+    """Why no planner covers (d, n, m) and r configurations (one sentence), or None: the one
+    source of these messages (:func:`pmplan.info`, the planners' :meth:`~Planner.supports`)."""
+    if d < 2:
+        return f"d = {d}: planners need d >= 2"
+    if n < 1:
+        return f"n = {n}: at least one robot is needed"
+    if m < 2:
+        return f"m = {m}: the planners need m >= 2 obstacles (they define the line L_C)"
+    if r < 2:
+        return f"r = {r}: a motion needs r >= 2 configurations"
+    return None
+
+
+def default_planner(d: int, n: int, m: int, sequential: bool = False) -> str:
+    """The name of the default planner for (d, n, m): among the registered planners that
+    support it (and, for a sequence of configurations, are :attr:`~Planner.sequential`), the one of
+    highest :attr:`~Planner.priority` -- ``planar_three`` (paper Section 4) for (2, 1, 3),
+    ``obstacle_line`` (paper Section 3 and SPEC 4) otherwise. When none does, the most general
+    one (lowest priority), whose :meth:`~Planner.supports` then says why."""
+    pool = [p for p in REGISTRY.values() if p.sequential or not sequential]
+    fit = [p for p in pool if p.supports(d, n, m) is None]
+    if fit:
+        return max(fit, key=lambda p: p.priority).name
+    return min(pool, key=lambda p: p.priority).name
+
+
+def store_reference(planner: Planner, obstacles, configs, lift, idx, out: dict) -> np.ndarray:
+    """Plan rows ``idx`` of a chunk with the numpy reference, write them into ``out`` and
+    certify them (:func:`pmplan.certify.certificate`, intermediate configurations included);
+    return the certificate of those rows (bool, (len(idx),))."""
+    obs = obstacles[idx]
+    cfg = [c[idx] for c in configs]
+    r = len(cfg)
+    with np.errstate(all="ignore"):  # what overflows (coordinates ~1e308) fails the certificate
+        if r == 2:
+            raw = planner.plan(obs, cfg[0], cfg[1], lift=lift, backend=NUMPY)
+        else:
+            raw = planner.plan_sequence(obs, cfg, lift=lift, backend=NUMPY)
+    pw = raw.path.waypoints
+    out["waypoints"][idx] = pw
+    out["domain"][idx] = raw.domain
+    out["strata"][idx] = raw.strata
+    if out["times"].ndim == 2:
+        out["times"][idx] = raw.path.times
+    full = [np.concatenate([obs, c], axis=1) for c in cfg]
+    via = [(k / (r - 1), full[k]) for k in range(1, r - 1)]
+    with np.errstate(all="ignore"):  # a non-finite path: NaN clearance, a failed clause
+        clr, codes = certificate(pw, full[0], full[-1], obs.shape[1], times=raw.path.times,
+                                 via=via)
+    out["clearance"][idx] = clr
+    return codes == 0
+
+
+def redecide(planner: Planner, flags: np.ndarray, obstacles, configs, lift, out: dict
+             ) -> np.ndarray:
+    """After a kernel: the certificate (B,) of a chunk whose kernel wrote ``out`` and ``flags``.
+
+    ``FALLBACK`` rows are planned again whole by the numpy reference and certified
+    (:func:`store_reference`); ``SUSPECT`` rows (a clearance near the certificate's threshold)
+    get their clearance from :func:`pmplan.certify.clearance`, exact on the suspect pairs;
+    ``NONFINITE``, ``BROKEN`` and ``INVALID`` rows fail (the kernel read every clause of the
+    certificate back from its outputs).
+    """
+    kern = kernels()
+    clearance = out["clearance"]
+    failed = kern.NONFINITE | kern.BROKEN | kern.INVALID
+    ok = (flags & failed) == 0
+    if not flags.any():
+        return ok & (clearance > 0)
+    sus = np.flatnonzero((flags & (kern.SUSPECT | kern.FALLBACK | failed)) == kern.SUSPECT)
+    if sus.size:
+        clearance[sus] = exact_clearance(out["waypoints"][sus], obstacles.shape[1])
+    ok &= clearance > 0
+    idx = np.flatnonzero(flags & kern.FALLBACK)
+    if idx.size:
+        obstacles = np.asarray(obstacles, dtype=float)
+        configs = [np.asarray(c, dtype=float) for c in configs]
+        ok[idx] = store_reference(planner, obstacles, configs, lift, idx, out)
+    return ok

@@ -47,28 +47,21 @@ from functools import cache
 
 import numpy as np
 
-from ..certify import certify
-from ..certify import clearance as certified_clearance
-from ..configuration import kernel_array
+from ..backend import NUMBA, kernel_array, kernels, resolve
 from ..frame import Frame
 from ..path import PiecewiseLinearPath, compose_via_deformations, join, linear
 from ..predicates import projection_classes
-from .base import RawPlan, lift_code, register, unit
+from .base import Planner, RawPlan, out_of_scope, register, unit
 
 __all__ = [
-    "BACKENDS",
     "ColumnStructure",
     "column_structure",
     "deformation",
     "section",
     "path_times",
-    "resolve_backend",
     "ObstacleLinePlanner",
     "OBSTACLE_LINE",
 ]
-
-#: ``"numba"``: the fused kernel of :mod:`pmplan._kernels` (default); ``"numpy"``: the reference
-BACKENDS = ("numba", "numpy")
 
 
 @dataclass
@@ -177,111 +170,7 @@ def path_times(r: int) -> np.ndarray:
 _TIMES2 = path_times(2)  # the breakpoints of every two-configuration path (read-only)
 
 
-def resolve_backend(backend: str | None) -> str:
-    """Return ``"numba"`` or ``"numpy"``: the named backend, or the default (numba if installed).
-
-    Raises
-    ------
-    ValueError
-        For any other name.
-    """
-    if backend is None:
-        from .. import _kernels
-
-        return "numba" if _kernels.AVAILABLE else "numpy"
-    if backend not in BACKENDS:
-        raise ValueError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
-    if backend == "numba":
-        from .. import _kernels
-
-        if not _kernels.AVAILABLE:  # pragma: no cover
-            raise ValueError("backend 'numba' needs the numba package")
-    return backend
-
-
-def _kernels_module():
-    """:mod:`pmplan._kernels`, imported on first use (it imports numba), then kept."""
-    global _KERNELS
-    if _KERNELS is None:
-        from .. import _kernels
-
-        _KERNELS = _kernels
-    return _KERNELS
-
-
-_KERNELS = None
-
-
-def _fused(obstacles, configs, lift, wp, domain, strata, clearance,
-           validate: bool = False) -> np.ndarray:
-    """Plan and certify with the numba kernel, re-deciding flagged queries exactly.
-
-    Fills the output arrays (B, K, m+n, d), (B,), (B, r+2), (B,) in place and returns the
-    certificate (bool, (B,)). With ``validate`` (d <= MAX_D only) the kernel also checks every
-    query (finite, no two equal points) and an invalid one fails the certificate: the caller
-    then runs :func:`pmplan.configuration.check_query`, which raises the error. See
-    :mod:`pmplan._kernels` for the flags: ``FALLBACK`` queries are recomputed whole by the numpy
-    reference (:meth:`ObstacleLinePlanner.plan_sequence` with ``backend="numpy"``) and certified
-    by :func:`pmplan.certify.certify`; ``SUSPECT`` ones get their clearance from
-    :func:`pmplan.certify.clearance` (exact on the suspect pairs).
-    """
-    from .. import _kernels as K
-
-    obstacles = kernel_array(obstacles)
-    configs = [kernel_array(c) for c in configs]
-    b, m, d = obstacles.shape
-    if d > K.MAX_D:  # the kernel reproduces numpy's summation order for d <= MAX_D only
-        raw = OBSTACLE_LINE.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
-        return _store_reference(raw, obstacles, configs, np.arange(b), wp, domain, strata, clearance)
-    r = len(configs)
-    n = configs[0].shape[1]
-    if r > 2:
-        middle = np.stack(configs[1:-1])
-    else:
-        middle = np.empty((0, b, n, d))
-    flags = np.empty(b, np.uint8)
-    K.plan_chunk(obstacles, configs[0], configs[-1], middle, lift_code(lift), validate, wp,
-                 domain, strata, clearance, flags, K.tables(r, m, n, d))
-    failed = K.NONFINITE | K.BROKEN | K.INVALID
-    ok = (flags & failed) == 0
-    if not flags.any():
-        return ok & (clearance > 0)
-    sus = np.flatnonzero((flags & (K.SUSPECT | K.FALLBACK | failed)) == K.SUSPECT)
-    if sus.size:
-        clearance[sus] = certified_clearance(wp[sus], m)
-    ok &= clearance > 0
-    idx = np.flatnonzero(flags & K.FALLBACK)
-    if idx.size:
-        raw = OBSTACLE_LINE.plan_sequence(obstacles[idx], [c[idx] for c in configs], lift=lift,
-                                          backend="numpy")
-        ok[idx] = _store_reference(raw, obstacles[idx], [c[idx] for c in configs], idx, wp,
-                                   domain, strata, clearance)
-    return ok
-
-
-def _store_reference(raw: RawPlan, obstacles, configs, idx, wp, domain, strata, clearance):
-    """Write a reference RawPlan into rows ``idx`` of the outputs; return its certificate."""
-    m = obstacles.shape[1]
-    pw = raw.path.waypoints
-    wp[idx] = pw
-    domain[idx] = raw.domain
-    strata[idx] = raw.strata
-    finite = np.isfinite(pw).all(axis=(1, 2, 3))
-    ok = np.zeros(idx.size, dtype=bool)
-    clr = np.full(idx.size, np.nan)
-    if finite.any():
-        f = np.flatnonzero(finite)
-        start = np.concatenate([obstacles[f], configs[0][f]], axis=1)
-        goal = np.concatenate([obstacles[f], configs[-1][f]], axis=1)
-        clr[f], ok[f] = certify(pw[f], start, goal, m, times=raw.path.times)
-        for k in range(1, len(configs) - 1):  # passes through C_k at tau = k/(r-1), waypoint 7k
-            ok[f] &= (pw[f, 7 * k] == np.concatenate([obstacles[f], configs[k][f]], axis=1)
-                      ).all(axis=(1, 2))
-    clearance[idx] = clr
-    return ok
-
-
-class ObstacleLinePlanner:
+class ObstacleLinePlanner(Planner):
     """Planner of paper Section 3, extended to any m >= 2 and any d >= 2 (SPEC 4a, 4b)."""
 
     name = "obstacle_line"
@@ -293,19 +182,28 @@ class ObstacleLinePlanner:
     #: length of the construction is built from the coordinates and ``lift``): queries at
     #: extreme magnitudes are planned scaled (:mod:`pmplan.magnitude`)
     equivariant = True
+    sequential = True
+    #: the seven phases of every leg (SPEC 2, paper Section 3), one piece each
+    phases = (
+        ("desingularization", "robots step along e off shared columns, paper (desin)"),
+        ("projection to the line",
+         "robots move straight onto L_C, paper (linear-transformation-obs)"),
+        ("lift", "robot i rises by i*lambda*nu(e), section (algorithm-gamma)"),
+        ("slide", "robots slide parallel to L_C from X to X', section (algorithm-gamma)"),
+        ("descend", "robots descend onto L_C at X', section (algorithm-gamma)"),
+        ("projection reversed", "robots lift back off the line to F(C', 1)"),
+        ("desingularization reversed", "robots step back along e to C', (desin) reversed"),
+    )
 
     def supports(self, d: int, n: int, m: int) -> str | None:
-        if d < 2:
-            return f"d = {d}: planners need d >= 2"
-        if n < 1:
-            return f"n = {n}: at least one robot is needed"
-        if m < 2:
-            return f"m = {m}: this planner needs m >= 2 obstacles (they define the line L_C)"
-        return None
+        """None for every d >= 2, n >= 1, m >= 2 (:func:`~pmplan.planners.base.out_of_scope`)."""
+        return out_of_scope(d, n, m)
 
-    def domain_labels(self, d: int, n: int, m: int) -> list[int]:
+    def domain_labels(self, d: int, n: int, m: int, r: int = 2) -> list[int]:
+        """``sum_k cp(C_k) - (r-1) cp_o + 2 - [e == N]`` over the strata: ``4..r n + m + 2``
+        (d even), ``3..r n + m + 2`` (d odd, the pole e == N)."""
         low = 4 if d % 2 == 0 else 3
-        return list(range(low, 2 * n + m + 3))
+        return list(range(low, r * n + m + 3))
 
     def stratum_name(self, row, d: int, n: int, m: int) -> str:
         *cps, cp_o, pole = (int(v) for v in row)
@@ -334,18 +232,16 @@ class ObstacleLinePlanner:
         fused kernel of :mod:`pmplan._kernels`, whose waypoints and labels are identical.
         The input is not validated here (see :mod:`pmplan.configuration`).
         """
-        if resolve_backend(backend) == "numba":
+        if resolve(backend) == NUMBA:
             configs = [kernel_array(c) for c in configs]
             obstacles = kernel_array(obstacles)
             b, m, d = obstacles.shape
             r = len(configs)
             n = configs[0].shape[1]
-            times = path_times(r)
-            wp = np.empty((b, times.shape[0], m + n, d))
-            domain = np.empty(b, np.int64)
-            strata = np.empty((b, r + 2), np.int64)
-            _fused(obstacles, configs, lift, wp, domain, strata, np.empty(b))
-            return RawPlan(domain=domain, strata=strata, path=PiecewiseLinearPath(times, wp))
+            out = self.allocate(b, r, m, n, d)
+            self.plan_certified(obstacles, configs, lift, out, backend=NUMBA)
+            return RawPlan(domain=out["domain"], strata=out["strata"],
+                           path=PiecewiseLinearPath(out["times"], out["waypoints"]))
         obstacles = np.asarray(obstacles, dtype=float)
         configs = [np.asarray(c, dtype=float) for c in configs]
         r = len(configs)
@@ -361,27 +257,9 @@ class ObstacleLinePlanner:
         strata = np.stack([c.cp for c in cols] + [cp_o, pole], axis=1).astype(np.int64)
         return RawPlan(domain=domain.astype(np.int64), strata=strata, path=path)
 
-    def plan_one(self, obstacles, start, goal, lift: float):
-        """Fast path for one small query: validate, plan and certify in one kernel call.
-
-        ``obstacles`` (m, d), ``start``, ``goal`` (n, d) as C-contiguous float64 arrays.
-        Returns ``(times (8,), waypoints (8, m+n, d), domain, strata row (tuple), clearance)``,
-        or None whenever anything is unusual -- numba missing, d > MAX_D, a malformed or invalid
-        query, a query the kernel flags, a failed certificate -- so that the caller takes the
-        general path, which raises the proper error or re-decides exactly.
-        (:func:`pmplan.plan` calls the function of :meth:`plan_one_for` directly.)
-        """
-        arrays = (obstacles, start, goal)
-        if not all(type(a) is np.ndarray and a.dtype == np.float64 and a.flags.carray
-                   for a in arrays) or obstacles.ndim != 2 or start.ndim != 2 \
-                or start.shape != goal.shape or start.shape[1] != obstacles.shape[1]:
-            return None
-        m, d = obstacles.shape
-        run = self.plan_one_for(m, start.shape[0], d)
-        return None if run is None else run(obstacles, start, goal, lift_code(lift))
-
-    def plan_one_for(self, m: int, n: int, d: int):
-        """The single-query kernel call of :meth:`plan_one` for queries of shape (m, n, d).
+    def single_query(self, m: int, n: int, d: int):
+        """The single-query kernel call of :func:`pmplan.plan` for queries of shape (m, n, d)
+        (:meth:`pmplan.planners.base.Planner.single_query`).
 
         Returns ``run(obstacles, start, goal, lift) -> (times, waypoints, domain, row,
         clearance) | None`` -- the caller guarantees C-contiguous, aligned, writeable float64
@@ -390,11 +268,11 @@ class ObstacleLinePlanner:
         plans that shape (numba missing, d > MAX_D, m < 2, n < 1). The index tables are looked
         up once here, not per query.
         """
-        K = _kernels_module()
-        if not K.AVAILABLE or not 2 <= d <= K.MAX_D or m < 2 or n < 1:
+        kern = kernels()
+        if not kern.AVAILABLE or not 2 <= d <= kern.MAX_D or m < 2 or n < 1:
             return None
-        tab = K.tables(2, m, n, d)
-        kernel = K.plan_one
+        tab = kern.tables(2, m, n, d)
+        kernel = kern.plan_one
         times = _TIMES2
 
         def run(obstacles, start, goal, lift):
@@ -406,7 +284,7 @@ class ObstacleLinePlanner:
 
         return run
 
-    def plan_sequence_one_for(self, r: int, m: int, n: int, d: int):
+    def sequence_query(self, r: int, m: int, n: int, d: int):
         """The single-query kernel call of :func:`pmplan.plan_sequence` for shape (r, m, n, d).
 
         Returns ``run(obstacles, configs, lift) -> (times, waypoints, domain, row, clearance)
@@ -422,14 +300,14 @@ class ObstacleLinePlanner:
         the waypoints those of paper Remark
         ``constructing-sections-via-deformations-higher-case`` on every leg (SPEC 4c).
         """
-        K = _kernels_module()
-        if not K.AVAILABLE or not 2 <= d <= K.MAX_D or m < 2 or n < 1 or r < 2:
+        kern = kernels()
+        if not kern.AVAILABLE or not 2 <= d <= kern.MAX_D or m < 2 or n < 1 or r < 2:
             return None
         times = path_times(r)
         if not (np.diff(times) > 0).all():  # pragma: no cover - never: path_times is strict
             return None
-        kernel = K._plan  # one query: the scalar kernel, as K.plan_chunk would call it
-        tab = K.tables(r, m, n, d)
+        kernel = kern._plan  # one query: the scalar kernel, as plan_chunk would call it
+        tab = kern.tables(r, m, n, d)
         sel = np.zeros(1, np.int64)  # (read only)
         oshape, rshape, mshape = (1, m, d), (1, n, d), (1, 1, n, d)
         wshape, sshape = (1, times.shape[0], m + n, d), (1, r + 2)
@@ -463,18 +341,13 @@ class ObstacleLinePlanner:
     def validates(self, d: int, backend: str | None = None) -> bool:
         """Whether :meth:`plan_certified` can validate the queries itself (``validate=True``):
         with the numba kernel, for d <= MAX_D."""
-        if resolve_backend(backend) != "numba":
+        if resolve(backend) != NUMBA:
             return False
-        return d <= _kernels_module().MAX_D
+        return d <= kernels().MAX_D
 
     def path_times(self, r: int) -> np.ndarray:
         """Breakpoints of every path through r configurations (see :func:`path_times`)."""
         return path_times(r)
-
-    def via_rows(self, r: int) -> list[int]:
-        """The breakpoints at which a path through r configurations passes C_2..C_{r-1}
-        (at tau = k/(r-1): waypoint 7k, SPEC 4c)."""
-        return [7 * k for k in range(1, r - 1)]
 
     def allocate(self, b: int, r: int, m: int, n: int, d: int) -> dict:
         """Output arrays of a batch of b queries through r configurations (shared times)."""
@@ -487,38 +360,28 @@ class ObstacleLinePlanner:
             waypoints=np.empty((b, times.shape[0], m + n, d)),
         )
 
-    def plan_certified(self, obstacles, configs, lift, wp, domain, strata, clearance,
-                       backend: str | None = None, validate: bool = False) -> np.ndarray:
-        """Plan and certify a chunk into preallocated outputs; return the certificate (B,).
+    def kernel(self, obstacles, configs, lift: float, out: dict,
+               validate: bool) -> np.ndarray | None:
+        """Plan a chunk with :func:`pmplan._kernels.plan_chunk` into ``out``; return its flags.
 
-        Parameters
-        ----------
-        obstacles : ndarray (B, m, d)
-        configs : list of r ndarrays (B, n, d)
-        lift : float or "scene"
-            The unit (positive), or ``"scene"`` / :data:`~pmplan.planners.base.SCENE_CODE`.
-        wp : ndarray (B, 7 (r - 1) + 1, m + n, d)
-            Output waypoints, at the breakpoints :func:`path_times` ``(r)``.
-        domain, strata, clearance : ndarrays (B,), (B, r + 2), (B,)
-            Outputs: labels, strata records, certified clearances.
-        backend : {"numba", "numpy"}, optional
-        validate : bool
-            Let the numba kernel check every query too (only where :meth:`validates` says it
-            does): an invalid query then fails the certificate.
-
-        Returns
-        -------
-        ndarray of bool, shape (B,)
-            The certificate of SPEC section 5 (endpoints, intermediate configurations,
-            obstacles fixed, finite, clearance > 0).
+        None for d > MAX_D: the kernel reproduces numpy's summation order for d <= MAX_D only,
+        and the reference plans the chunk. With ``validate`` the kernel also checks every query
+        (finite, no two equal points): an invalid one gets the flag ``INVALID``.
         """
-        if resolve_backend(backend) == "numba":
-            return _fused(obstacles, configs, lift, wp, domain, strata, clearance, validate)
-        obstacles = np.asarray(obstacles, dtype=float)
-        configs = [np.asarray(c, dtype=float) for c in configs]
-        raw = self.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
-        return _store_reference(raw, obstacles, configs, np.arange(obstacles.shape[0]), wp,
-                                domain, strata, clearance)
+        kern = kernels()
+        obstacles = kernel_array(obstacles)
+        configs = [kernel_array(c) for c in configs]
+        b, m, d = obstacles.shape
+        if d > kern.MAX_D:
+            return None
+        r = len(configs)
+        n = configs[0].shape[1]
+        middle = np.stack(configs[1:-1]) if r > 2 else np.empty((0, b, n, d))
+        flags = np.empty(b, np.uint8)
+        kern.plan_chunk(obstacles, configs[0], configs[-1], middle, lift, validate,
+                        out["waypoints"], out["domain"], out["strata"], out["clearance"], flags,
+                        kern.tables(r, m, n, d))
+        return flags
 
 
 OBSTACLE_LINE = register(ObstacleLinePlanner())

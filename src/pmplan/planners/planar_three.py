@@ -45,7 +45,7 @@ Paths (SPEC section 3) are polylines in the frame (u, h), traversed at constant 
 * T23_34: ``x -> (s_a, h(x)) -> (s_a, h3/2) -> (u(x'), h3/2) -> x'``; T23_43 is the reverse
   of the T23_34 path of the swapped query.
 
-Every polyline has at most 5 legs; a batch pads them to K = 6 waypoints by repeating the final
+Every polyline has at most 5 legs; a batch pads them to WAYPOINTS = 6 waypoints by repeating the final
 waypoint at time 1 (zero-duration pieces). A polyline of length 0 is the constant path.
 
 Why every path is collision-free: each leg either runs along a column that holds no obstacle
@@ -57,8 +57,9 @@ Implementations: the numpy code below is the *reference* (``backend="numpy"``); 
 ``backend="numba"`` runs the fused kernel of :mod:`pmplan._kernels_planar` (classification,
 polyline, constant-speed times and certificate in one pass per query, flagged queries
 re-decided here), whose waypoints, breakpoints, strata and clearances are identical. The
-planner plugs into the fast paths of :mod:`pmplan.api` through :meth:`PlanarThreePlanner.allocate`,
-:meth:`~PlanarThreePlanner.plan_certified` and :meth:`~PlanarThreePlanner.plan_one`.
+planner plugs into the run loop and the fast paths through the protocol of
+:class:`pmplan.planners.base.Planner`: :meth:`~PlanarThreePlanner.allocate`,
+:meth:`~PlanarThreePlanner.kernel` and :meth:`~PlanarThreePlanner.single_query`.
 
 References
 ----------
@@ -74,27 +75,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..certify import certify
-from ..certify import clearance as certified_clearance
-from ..configuration import kernel_array
+from ..backend import NUMBA, kernel_array, planar_kernels, resolve
 from ..frame import Frame
 from ..path import PiecewiseLinearPath
 from ..predicates import projection_classes
-from .base import RawPlan, lift_code, register, unit
-from .obstacle_line import resolve_backend
+from .base import Planner, RawPlan, lift_code, register, unit
 
 __all__ = [
     "DOMAIN_OF",
     "PLANAR_THREE",
     "STRATA",
-    "K",
+    "WAYPOINTS",
     "PlanarThreePlanner",
     "Strata",
     "classify",
-    "demo_examples",
     "frame_polyline_W1",
     "parse_stratum",
-    "stratum_queries",
     "stratum_short_name",
 ]
 
@@ -114,7 +110,7 @@ DOMAIN_OF: dict[str, int] = {
 }
 
 #: common number of waypoints of a batch (the longest polyline, T23_33, has 5 legs)
-K = 6
+WAYPOINTS = 6
 
 _FAMILIES = (1, 22, 23)
 _PAPER_SUPER = {1: "1", 22: "2,2", 23: "2,3"}
@@ -444,7 +440,7 @@ _RULES = {
 }
 
 
-class PlanarThreePlanner:
+class PlanarThreePlanner(Planner):
     """Planner of paper Section 4 for pi_{4,3}: d = 2, one robot, three obstacles, 4 domains."""
 
     name = "planar_three"
@@ -455,6 +451,13 @@ class PlanarThreePlanner:
     #: the query scaled by 2**k with its lift (the paper's unit) scaled by 2**k is planned as
     #: the path scaled by 2**k, bit for bit (see :mod:`pmplan.magnitude`)
     equivariant = True
+    #: the default for (2, 1, 3), where ``obstacle_line`` applies too
+    priority = 1
+    domain_prefix = "W"
+    uses_heights = True
+    phases = (
+        ("polyline leg", "straight leg of the polyline of paper Section 4, at constant speed"),
+    )
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         """Return None for (d, n, m) = (2, 1, 3), else why the planner does not apply."""
@@ -465,7 +468,7 @@ class PlanarThreePlanner:
             f"(d, n, m) = (2, 1, 3); got ({d}, {n}, {m}) (use the obstacle_line planner)"
         )
 
-    def domain_labels(self, d: int, n: int, m: int) -> list[int]:
+    def domain_labels(self, d: int, n: int, m: int, r: int = 2) -> list[int]:
         """The domains W1..W4: ``[1, 2, 3, 4]``."""
         return [1, 2, 3, 4]
 
@@ -512,23 +515,19 @@ class PlanarThreePlanner:
         below the resolution of its coordinates.
         """
         lift = lift_code(lift)
-        if resolve_backend(backend) == "numba":
-            args = _fusable(obstacles, start, goal)
-            if args is not None:
-                obstacles, start, goal = args
-                out = self.allocate(obstacles.shape[0], 2, 3, 1, 2)
-                _fused(obstacles, start, goal, lift, out["times"], out["waypoints"],
-                       out["domain"], out["strata"], out["clearance"], certified=False)
-                return RawPlan(domain=out["domain"], strata=out["strata"],
-                               path=PiecewiseLinearPath(out["times"], out["waypoints"]))
+        if resolve(backend) == NUMBA and _fusable(obstacles, start, goal) is not None:
+            out = self.allocate(np.shape(obstacles)[0], 2, 3, 1, 2)
+            self.plan_certified(obstacles, [start, goal], lift, out, backend=NUMBA)
+            return RawPlan(domain=out["domain"], strata=out["strata"],
+                           path=PiecewiseLinearPath(out["times"], out["waypoints"]))
         obstacles = np.asarray(obstacles, dtype=float)
         start = np.asarray(start, dtype=float)
         goal = np.asarray(goal, dtype=float)
         b = obstacles.shape[0]
         st = classify(obstacles, start, goal)
         sc = _scene(obstacles, start, goal, st, lift)
-        times = np.empty((b, K))
-        wp = np.empty((b, K, 4, 2))
+        times = np.empty((b, WAYPOINTS))
+        wp = np.empty((b, WAYPOINTS, 4, 2))
         for code in np.unique(st.code):
             idx = np.flatnonzero(st.code == code)
             build, reverse = _RULES[STRATA[code]]
@@ -537,12 +536,12 @@ class PlanarThreePlanner:
                 path = _constant_speed(sub.swapped(), build(sub.swapped())).reversed()
             else:
                 path = _constant_speed(sub, build(sub))
-            times[idx], wp[idx] = _pad(path, K)
+            times[idx], wp[idx] = _pad(path, WAYPOINTS)
         return RawPlan(domain=st.domain, strata=st.record, path=PiecewiseLinearPath(times, wp))
 
-    # --- the fused protocol of pmplan.api (_run_fused, _plan_fast) --------------------------
+    # --- the run loop and the fast path (pmplan.planners.base.Planner) -----------------------
     def allocate(self, b: int, r: int, m: int, n: int, d: int) -> dict:
-        """Output arrays of a batch of b queries: per-query breakpoints (b, K)."""
+        """Output arrays of a batch of b queries: per-query breakpoints (b, WAYPOINTS)."""
         if (r, m, n, d) != (2, 3, 1, 2):
             raise ValueError(
                 f"the planar_three planner plans (d, n, m) = (2, 1, 3) and r = 2; "
@@ -552,93 +551,57 @@ class PlanarThreePlanner:
             "domain": np.empty(b, np.int64),
             "strata": np.empty((b, 3), np.int64),
             "clearance": np.empty(b),
-            "times": np.empty((b, K)),
-            "waypoints": np.empty((b, K, 4, 2)),
+            "times": np.empty((b, WAYPOINTS)),
+            "waypoints": np.empty((b, WAYPOINTS, 4, 2)),
         }
 
-    def plan_certified(self, obstacles, configs, lift, wp, domain, strata, clearance, *,
-                       backend: str | None = None, times=None) -> np.ndarray:
-        """Plan and certify a chunk into preallocated outputs; return the certificate (B,).
-
-        Parameters
-        ----------
-        obstacles : ndarray (B, 3, 2)
-        configs : list of 2 ndarrays (B, 1, 2)
-            Start and goal robots.
-        lift : float or "scene"
-            The unit (see :meth:`plan`).
-        wp : ndarray (B, K, 4, 2)
-            Output waypoints.
-        domain, strata, clearance : ndarrays (B,), (B, 3), (B,)
-            Outputs: domains W_a, strata records ``(family, i, j)``, certified clearances.
-        backend : {"numba", "numpy"}, optional
-        times : ndarray (B, K)
-            Output breakpoints (per query: the paths run at constant speed).
-
-        Returns
-        -------
-        ndarray of bool, shape (B,)
-            The certificate of SPEC section 5 (endpoints, obstacles fixed, finite,
-            clearance > 0), identical for both backends.
-        """
-        lift = lift_code(lift)
+    def kernel(self, obstacles, configs, lift: float, out: dict,
+               validate: bool) -> np.ndarray | None:
+        """Plan a chunk with :func:`pmplan._kernels_planar.plan_planar` into ``out`` (per-query
+        breakpoints); return its flags, or None for arrays the kernel does not take (the
+        reference then decides, and raises its own errors)."""
         if len(configs) != 2:
             raise ValueError(f"the planar_three planner plans r = 2 configurations, got {len(configs)}")
-        start, goal = configs
-        if times is None:
-            times = np.empty((wp.shape[0], K))
-        if resolve_backend(backend) == "numba":
-            args = _fusable(obstacles, start, goal)
-            if args is not None:
-                return _fused(*args, lift, times, wp, domain, strata, clearance,
-                              certified=True)
-        obstacles = np.asarray(obstacles, dtype=float)
-        start = np.asarray(start, dtype=float)
-        goal = np.asarray(goal, dtype=float)
-        return _store_reference(obstacles, start, goal, lift, np.arange(obstacles.shape[0]),
-                                times, wp, domain, strata, clearance)
+        args = _fusable(obstacles, configs[0], configs[1])
+        if args is None:
+            return None
+        flags = np.empty(args[0].shape[0], np.uint8)
+        planar_kernels().plan_planar(*args, _EVEN, lift, False, out["times"], out["waypoints"],
+                                     out["domain"], out["strata"], out["clearance"], flags)
+        return flags
 
-    def plan_one(self, obstacles, start, goal, lift: float) -> tuple | None:
-        """Fast path of :func:`pmplan.plan` for one query: validate, plan, certify in one call.
+    def single_query(self, m: int, n: int, d: int):
+        """The single-query kernel call of :func:`pmplan.plan` for (m, n, d) = (3, 1, 2)
+        (:meth:`pmplan.planners.base.Planner.single_query`): ``run(obstacles, start, goal,
+        lift)`` returns ``(times (k,), waypoints (k, 4, 2), domain, strata row (tuple),
+        clearance)`` -- the path already compacted, as :func:`pmplan.plan` returns it -- or
+        None whenever the kernel flags the query or its certificate fails."""
+        kern = planar_kernels()
+        if not kern.AVAILABLE or (m, n, d) != (3, 1, 2):  # pragma: no cover
+            return None
+        kernel = kern.plan_planar_one
 
-        ``obstacles`` (3, 2), ``start``, ``goal`` (1, 2) as float64 arrays, ``lift`` a float
-        (positive, or :data:`~pmplan.planners.base.SCENE_CODE`). Returns
-        ``(times (k,), waypoints (k, 4, 2), domain, strata row (tuple), clearance)`` -- the
-        path already compacted (no zero-duration piece), as :func:`pmplan.plan` returns it -- or
-        None whenever anything is unusual (numba missing, a malformed or invalid query, a
-        query the kernel flags, a failed certificate), so that the caller takes the general
-        path, which raises the proper error or re-decides exactly.
-        """
-        kernel = self.__dict__.get("_plan_planar_one")
-        if kernel is None:  # first call: import the kernel module (numba) once
-            from .. import _kernels_planar as KP
-
-            if not KP.AVAILABLE:  # pragma: no cover
+        def run(obstacles, start, goal, lift):
+            t, wp, dom, f, i, j, clr, flags = kernel(obstacles, start, goal, _EVEN, lift)
+            if flags or not clr > 0:
                 return None
-            kernel = self.__dict__["_plan_planar_one"] = KP.plan_planar_one
-        if (obstacles.shape != (3, 2) or start.shape != (1, 2) or goal.shape != (1, 2)
-                or not (obstacles.flags.c_contiguous and start.flags.c_contiguous
-                        and goal.flags.c_contiguous)):
-            return None
-        t, wp, dom, f, i, j, clr, flags = kernel(obstacles, start, goal, _EVEN, lift_code(lift))
-        if flags or not clr > 0:
-            return None
-        return t, wp, int(dom), (f, i, j), float(clr)
+            return t, wp, int(dom), (f, i, j), float(clr)
+
+        return run
 
 
 # the breakpoints of a path of length 0 with k waypoints: _EVEN[k, :k] = linspace(0, 1, k)
 # (PiecewiseLinearPath.arc_length_reparametrised), for the kernel
-_EVEN = np.zeros((K + 1, K))
-for _k in range(2, K + 1):
+_EVEN = np.zeros((WAYPOINTS + 1, WAYPOINTS))
+for _k in range(2, WAYPOINTS + 1):
     _EVEN[_k, :_k] = np.linspace(0.0, 1.0, _k)
 
 
 def _fusable(obstacles, start, goal):
     """C-contiguous float64 arrays (B, 3, 2), (B, 1, 2), (B, 1, 2) for the kernel, or None
     (numba missing, other shapes: the reference decides, and raises its own errors)."""
-    from .. import _kernels_planar as KP
-
-    if not KP.AVAILABLE:  # pragma: no cover
+    kern = planar_kernels()
+    if not kern.AVAILABLE:  # pragma: no cover
         return None
     try:
         obstacles = kernel_array(obstacles)
@@ -652,184 +615,4 @@ def _fusable(obstacles, start, goal):
     return obstacles, start, goal
 
 
-def _fused(obstacles, start, goal, lift, times, wp, domain, strata, clearance, *,
-           certified: bool) -> np.ndarray | None:
-    """Plan (and certify) with the kernel of :mod:`pmplan._kernels_planar`, re-deciding
-    flagged queries exactly; fill the outputs in place.
-
-    ``FALLBACK`` queries are recomputed whole by the numpy reference (:meth:`PlanarThreePlanner.plan`
-    with ``backend="numpy"``) and certified by :func:`pmplan.certify.certify`; ``SUSPECT`` ones
-    get their clearance from :func:`pmplan.certify.clearance` (exact on the suspect pairs).
-    Returns the certificate (B,) when ``certified``, else None (no exact clearance is computed).
-    """
-    from .. import _kernels_planar as KP
-
-    b = obstacles.shape[0]
-    flags = np.empty(b, np.uint8)
-    KP.plan_planar(obstacles, start, goal, _EVEN, lift, False, times, wp, domain, strata,
-                   clearance, flags)
-    if not flags.any():
-        return clearance > 0 if certified else None
-    idx = np.flatnonzero(flags & KP.FALLBACK)
-    if not certified:
-        if idx.size:
-            raw = PLANAR_THREE.plan(obstacles[idx], start[idx], goal[idx], lift=lift,
-                                    backend="numpy")
-            times[idx], wp[idx] = raw.path.times, raw.path.waypoints
-            domain[idx], strata[idx] = raw.domain, raw.strata
-        return None
-    sus = np.flatnonzero(flags == KP.SUSPECT)
-    if sus.size:
-        clearance[sus] = certified_clearance(wp[sus], 3)
-    ok = (clearance > 0) & ((flags & KP.BROKEN) == 0)
-    if idx.size:
-        ok[idx] = _store_reference(obstacles, start, goal, lift, idx, times, wp, domain, strata,
-                                   clearance)
-    return ok
-
-
-def _store_reference(obstacles, start, goal, lift, idx, times, wp, domain, strata, clearance):
-    """Plan rows ``idx`` with the numpy reference, certify them (:func:`pmplan.certify.certify`,
-    as :func:`pmplan.api.plan_batch` certifies a RawPlan) and store them; return the certificate."""
-    obs, s, g = obstacles[idx], start[idx], goal[idx]
-    with np.errstate(all="ignore"):  # what overflows (coordinates ~1e308) fails the certificate
-        raw = PLANAR_THREE.plan(obs, s, g, lift=lift, backend="numpy")
-    pw = raw.path.waypoints
-    times[idx] = raw.path.times
-    wp[idx] = pw
-    domain[idx] = raw.domain
-    strata[idx] = raw.strata
-    clr, ok = certify(pw, np.concatenate([obs, s], axis=1), np.concatenate([obs, g], axis=1), 3,
-                      times=raw.path.times)
-    clearance[idx] = clr
-    return ok
-
-
 PLANAR_THREE = register(PlanarThreePlanner())
-
-
-# --------------------------------------------------------------------------------------------
-# exact example queries
-# --------------------------------------------------------------------------------------------
-def demo_examples() -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """Return four exact queries ``(obstacles (3, 2), start (1, 2), goal (1, 2))``, in W1..W4.
-
-    Obstacles o1 = (0, 0), o2 = (4, 0); strata T23_44 (W1, Figure ``T111`` right),
-    T22_22 (W2, Figure ``porenmedio`` right), T23_33 (W3, Figure ``grid``), T23_34 (W4).
-
-    Examples
-    --------
-    >>> [int(classify(o[None], s[None], g[None]).domain[0]) for o, s, g in demo_examples()]
-    [1, 2, 3, 4]
-    """
-
-    def f(*rows):
-        return np.array(rows, dtype=float)
-
-    return [
-        (f([0, 0], [4, 0], [5, 1.5]), f([1.5, -3]), f([7, -1.5])),
-        (f([0, 0], [4, 0], [0, 1.5]), f([4, 1.5]), f([0, -1.5])),
-        (f([0, 0], [4, 0], [2.5, 1.5]), f([2.5, -1.5]), f([0, 3])),
-        (f([0, 0], [4, 0], [2.5, 1.5]), f([0, -2]), f([6, 2.5])),
-    ]
-
-
-def _rejection(bad, draw, size: int) -> np.ndarray:
-    """Draw ``size`` values with ``draw(k)``, redrawing entry i while ``bad(values, i)``."""
-    out = draw(size)
-    redo = bad(out, np.arange(size))
-    while redo.any():
-        idx = np.flatnonzero(redo)
-        out[idx] = draw(idx.size)
-        redo = np.zeros(size, dtype=bool)
-        redo[idx] = bad(out[idx], idx)
-    return out
-
-
-def stratum_queries(
-    rng: np.random.Generator, stratum: str, count: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Return ``count`` exact queries in one stratum of paper Section 4.
-
-    Parameters
-    ----------
-    rng : numpy.random.Generator
-    stratum : str
-        ``"T22_23"`` (SPEC) or ``"T^{2,2}_{2,3}"`` (paper) style; see :data:`STRATA`.
-    count : int
-
-    Returns
-    -------
-    obstacles : ndarray, shape (count, 3, 2)
-    start, goal : ndarray, shape (count, 1, 2)
-
-    Notes
-    -----
-    Points are ``o1 + U w + V rot90(w)`` with ``o1`` an integer point, ``w`` a random nonzero
-    integer vector (random orientation of the line o1o2), ``o2 = o1 + k w`` (k in {1, 2, 3}),
-    and U, V on the half-integer grid; ``u = U |w|``, ``h = V |w|``. Every coordinate is a small
-    dyadic rational, exact in double precision, so the degeneracies of the stratum (equal
-    columns, equal heights) are exact. o3 lies on either side of L_C; x = x' may occur.
-
-    Examples
-    --------
-    >>> o, s, g = stratum_queries(np.random.default_rng(1), "T23_34", 5)
-    >>> o.shape, s.shape, g.shape
-    ((5, 3, 2), (5, 1, 2), (5, 1, 2))
-    >>> classify(o, s, g).record[:, 0].tolist()
-    [23, 23, 23, 23, 23]
-    """
-    name = parse_stratum(stratum)
-    fam, i, j = _split_name(name)
-    n = int(count)
-
-    def half_u(k):  # U on the half-integer grid in [-4, 8]
-        return rng.integers(-8, 17, size=k) / 2.0
-
-    def half_v(k):  # V on the half-integer grid in [-4, 4]
-        return rng.integers(-8, 9, size=k) / 2.0
-
-    def nonzero_v(k):  # V != 0, on either side of L_C
-        return rng.integers(1, 9, size=k) / 2.0 * rng.choice([-1.0, 1.0], size=k)
-
-    w = _rejection(lambda v, _: (v == 0).all(axis=1),
-                   lambda k: rng.integers(-3, 4, size=(k, 2)).astype(float), n)
-    o1 = rng.integers(-5, 6, size=(n, 2)).astype(float)
-    u2 = rng.integers(1, 4, size=n).astype(float)
-    if fam == 22:  # o3 on the column of o1 or o2, off L_C
-        u3, v3 = np.where(rng.random(n) < 0.5, 0.0, u2), nonzero_v(n)
-    else:  # o3 on its own column; on L_C (T1) or off it (T23)
-        u3 = _rejection(lambda v, ix: (v == 0) | (v == u2[ix]), half_u, n)
-        v3 = np.zeros(n) if fam == 1 else nonzero_v(n)
-    obs_uv = np.stack([np.zeros((n, 2)), np.stack([u2, np.zeros(n)], 1), np.stack([u3, v3], 1)], 1)
-
-    def on_obstacle(U, V, ix):
-        return ((obs_uv[ix, :, 0] == U[:, None]) & (obs_uv[ix, :, 1] == V[:, None])).any(axis=1)
-
-    def robot(c):
-        if fam == 1 and c == 1:  # on L_C, off the obstacles
-            U = _rejection(lambda v, ix: (v == 0) | (v == u2[ix]) | (v == u3[ix]), half_u, n)
-            return U, np.zeros(n)
-        if fam == 1:  # off L_C, any column
-            return half_u(n), nonzero_v(n)
-        on_col = (fam == 22 and c == 2) or (fam == 23 and c == 3)
-        if on_col:  # on an obstacle column, off the obstacles
-            cols = obs_uv[:, :, 0] if fam == 23 else obs_uv[:, :2, 0]
-            pick = rng.integers(0, cols.shape[1], size=n)
-            U = cols[np.arange(n), pick]
-            V = _rejection(lambda v, ix: on_obstacle(U[ix], v, ix), half_v, n)
-            return U, V
-        U = _rejection(lambda v, ix: (v[:, None] == obs_uv[ix, :, 0]).any(axis=1), half_u, n)
-        return U, half_v(n)
-
-    (ux, vx), (ug, vg) = robot(i), robot(j)
-    rot = np.stack([-w[:, 1], w[:, 0]], axis=1)
-
-    def world(U, V):
-        """o1 + U w + V rot90(w) for U, V of shape (n, P): points (n, P, 2), exact."""
-        return o1[:, None, :] + U[..., None] * w[:, None, :] + V[..., None] * rot[:, None, :]
-
-    obstacles = world(obs_uv[..., 0], obs_uv[..., 1])
-    start = world(ux[:, None], vx[:, None])
-    goal = world(ug[:, None], vg[:, None])
-    return obstacles, start, goal

@@ -1,0 +1,180 @@
+"""The results: :class:`Plan` (one query), :class:`PlanBatch` (a batch, vectorised) and
+:class:`PlannerInfo` (what :func:`pmplan.info` says). Data only: built by :mod:`pmplan.api`.
+
+A :class:`PlanBatch` behaves like a batch of scipy's ``Rotation``: ``len``, iteration over its
+plans, ``batch[i]`` (a :class:`Plan`) and ``batch[slice | mask | indices]`` (a PlanBatch).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .path import PiecewiseLinearPath
+from .planners.base import REGISTRY
+
+__all__ = ["Plan", "PlanBatch", "PlannerInfo"]
+
+
+@dataclass(frozen=True, init=False)
+class Plan:
+    """The answer to one query.
+
+    Attributes
+    ----------
+    domain : int
+        The label l of the domain of continuity W_l the query falls in.
+    stratum : str
+        The stratum in the paper's notation, e.g. ``"T_{3,5}"`` or ``"T^{2,3}_{3,4}"``.
+    clearance : float
+        Certified minimum distance between any two points along the whole motion.
+    path : PiecewiseLinearPath
+        ``path.times`` (K,), ``path.waypoints`` (K, m+n, d) with obstacles first; ``path(t)``.
+    planner : str
+        Name of the planner that produced it.
+    dims : tuple of int
+        ``(d, n, m)``.
+    """
+
+    domain: int
+    stratum: str
+    clearance: float
+    path: PiecewiseLinearPath
+    planner: str
+    dims: tuple[int, int, int]
+
+    def __init__(self, domain: int, stratum: str, clearance: float, path: PiecewiseLinearPath,
+                 planner: str, dims: tuple[int, int, int]) -> None:
+        # the one construction path, also the fast paths' (a frozen dataclass's own __init__
+        # sets field by field through object.__setattr__): the fields go into the instance
+        # dict at once; afterwards the dataclass refuses assignment (FrozenInstanceError)
+        vars(self).update(domain=domain, stratum=stratum, clearance=clearance, path=path,
+                          planner=planner, dims=dims)
+
+    @property
+    def m(self) -> int:
+        """Number of obstacles (the first m rows of every waypoint)."""
+        return self.dims[2]
+
+    @property
+    def obstacles(self) -> np.ndarray:
+        """The obstacles, shape (m, d)."""
+        return self.path.waypoints[0, : self.m]
+
+    @property
+    def start(self) -> np.ndarray:
+        """The robots' start positions, shape (n, d)."""
+        return self.path.waypoints[0, self.m :]
+
+    @property
+    def goal(self) -> np.ndarray:
+        """The robots' goal positions, shape (n, d)."""
+        return self.path.waypoints[-1, self.m :]
+
+    @property
+    def times(self) -> np.ndarray:
+        return self.path.times
+
+    @property
+    def waypoints(self) -> np.ndarray:
+        return self.path.waypoints
+
+
+@dataclass(frozen=True)
+class PlanBatch:
+    """The answers to a batch of B queries (vectorised :class:`Plan`).
+
+    Attributes
+    ----------
+    domain : ndarray of int64, shape (B,)
+    strata : ndarray of int64, shape (B, S)    the planner's stratum record
+    clearance : ndarray of float, shape (B,)
+    times : ndarray, shape (K,) or (B, K)
+    waypoints : ndarray, shape (B, K, m+n, d)
+    planner : str
+    dims : tuple (d, n, m)
+    """
+
+    domain: np.ndarray
+    strata: np.ndarray
+    clearance: np.ndarray
+    times: np.ndarray
+    waypoints: np.ndarray
+    planner: str
+    dims: tuple[int, int, int]
+    _names: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __len__(self) -> int:
+        return self.domain.shape[0]
+
+    @property
+    def path(self) -> PiecewiseLinearPath:
+        """The batch of paths as one :class:`PiecewiseLinearPath`."""
+        return PiecewiseLinearPath(self.times, self.waypoints)
+
+    @property
+    def stratum(self) -> np.ndarray:
+        """Stratum names, an object array of shape (B,)."""
+        d, n, m = self.dims
+        p = REGISTRY[self.planner]
+        out = np.empty(len(self), dtype=object)
+        for i, row in enumerate(self.strata):
+            key = tuple(row.tolist())
+            if key not in self._names:
+                self._names[key] = p.stratum_name(row, d, n, m)
+            out[i] = self._names[key]
+        return out
+
+    def __getitem__(self, key) -> Plan | PlanBatch:
+        """``batch[i]`` (an int): the :class:`Plan` of query i; ``batch[key]`` for a slice, a
+        boolean mask (B,) or an integer array: the :class:`PlanBatch` of those queries (as
+        numpy indexes ``domain``; shared breakpoints stay shared)."""
+        if isinstance(key, (int, np.integer)) and not isinstance(key, (bool, np.bool_)):
+            return self._plan(int(key))
+        if not isinstance(key, slice):
+            key = np.asarray(key)
+            if key.ndim != 1 or key.dtype.kind not in "biu":
+                raise IndexError(
+                    "a PlanBatch is indexed by an int, a slice, a boolean mask (B,) or an "
+                    f"integer array (k,); got {key.dtype} of shape {key.shape}"
+                )
+        return PlanBatch(
+            domain=self.domain[key], strata=self.strata[key], clearance=self.clearance[key],
+            times=self.times if self.times.ndim == 1 else self.times[key],
+            waypoints=self.waypoints[key], planner=self.planner, dims=self.dims,
+            _names=self._names,
+        )
+
+    def _plan(self, i: int) -> Plan:
+        d, n, m = self.dims
+        times = self.times if self.times.ndim == 1 else self.times[i]
+        path = PiecewiseLinearPath(times, self.waypoints[i]).compact()
+        return Plan(
+            domain=int(self.domain[i]),
+            stratum=REGISTRY[self.planner].stratum_name(self.strata[i], d, n, m),
+            clearance=float(self.clearance[i]),
+            path=path,
+            planner=self.planner,
+            dims=self.dims,
+        )
+
+    def __iter__(self):
+        for i in range(len(self)):
+            yield self._plan(i)
+
+
+@dataclass(frozen=True)
+class PlannerInfo:
+    """What pmplan offers for (d, n, m, r); see :func:`info`."""
+
+    d: int
+    n: int
+    m: int
+    r: int
+    planner: str | None
+    domains: int | None
+    labels: tuple[int, ...]
+    tc: int | None
+    optimal: bool
+    message: str

@@ -1,0 +1,380 @@
+"""The run loop: plan a batch chunk by chunk into the output arrays, certified, and raise the
+certificate's error; the progress display; the checks of ``workers`` and ``out=``.
+
+:func:`_run` is the one loop of every entry point of :mod:`pmplan.api` (a single query is a
+batch of one): per chunk of :data:`CHUNK` queries it asks the planner
+(:meth:`pmplan.planners.base.Planner.plan_certified`: kernel -> flagged rows -> exact
+re-decision -> certificate), or -- for queries at extreme magnitudes -- plans them scaled by a
+power of two and certifies what it scales back (:mod:`pmplan.magnitude`). Threads
+(``workers``) plan separate chunks. A path that fails its certificate is never returned: a
+:class:`~pmplan.errors.CertificationError` names the clause and, where the magnitudes are the
+cause, what to do.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import numpy as np
+
+from . import magnitude
+from .certify import CLEARANCE, certificate, check_times, describe
+from .configuration import check_query
+from .errors import CertificationError, InputError
+from .path import PiecewiseLinearPath
+from .planners.base import SCENE_CODE, Planner, scene_unit
+from .results import Plan, PlanBatch
+
+#: queries planned per chunk inside plan_batch: bounds the temporaries (memory) of a batch
+CHUNK = 8192
+
+
+def _raise_certificate(bad: np.ndarray, batched: bool, codes: np.ndarray | None = None,
+                       obstacles: np.ndarray | None = None, configs=None,
+                       lift=None, lift_is_unit: bool = True) -> None:
+    """Raise the :class:`CertificationError` of the queries ``bad`` (bool, (B,)).
+
+    ``codes`` (B,) are the clauses of :data:`pmplan.certify.CLAUSES` that failed (0 where only
+    the kernel's clearance failed); with the query (``obstacles``, ``configs``, ``lift``) the
+    message also says when the magnitudes, not the geometry, are the cause, and what to do
+    (``lift_is_unit``: the planner's unit is ``lift``; else it is the paper's absolute 1).
+    """
+    idx = np.flatnonzero(bad)
+    where = f" for queries {idx[:10].tolist()}{'...' if idx.size > 10 else ''}" if batched else ""
+    first = idx[0] if idx.size else 0
+    clause = int(codes[first]) if codes is not None and idx.size else 0
+    clause = clause or CLEARANCE
+    what = describe(clause)
+    hint = None
+    if obstacles is not None and idx.size:
+        unit = np.broadcast_to(np.asarray(lift, dtype=float), bad.shape)[first] \
+            if lift_is_unit else None
+        if unit is not None and unit == SCENE_CODE:  # lift="scene": the query's own unit
+            o = obstacles[first:first + 1]
+            _, e = np.frexp(np.abs(o).max())  # measured at 2**-e: no square under/overflows
+            with np.errstate(all="ignore"):
+                unit = float(np.ldexp(scene_unit(np.ldexp(o, -e))[0], e))
+        hint = _magnitude_hint(clause, obstacles[first], [c[first] for c in configs], unit)
+    if hint is None:
+        hint = ("the query is too nearly degenerate for double precision (two points would meet "
+                "or the path is not finite)")
+    raise CertificationError(
+        f"the planned path failed its certificate{where}: {what}; {hint}; nothing was returned",
+        indices=idx,
+    )
+
+
+def _magnitude_hint(clause: int, obstacles: np.ndarray, configs, lift: float | None
+                    ) -> str | None:
+    """Why a query at an extreme magnitude has no representable certified path, and what to do
+    (None for a query of ordinary magnitude). ``lift`` None: the planner's unit is the paper's
+    absolute 1, not ``lift``."""
+    with np.errstate(all="ignore"):
+        size = float(max(np.abs(obstacles).max(), *(np.abs(c).max() for c in configs)))
+    unit = 1.0 if lift is None else lift
+    if clause in (1, 5) and max(size, unit) > 2.0**LARGE:
+        more = "" if lift is None else ", or use a smaller `lift`"
+        return (f"the path leaves the range of double precision (coordinates up to {size:.3g}, "
+                f"unit {unit:.3g}): scale the scene down{more}")
+    if lift is None and size > 0 and unit < size * 2.0**-RESOLUTION:
+        return (f"the planner's unit (the paper's 1) is below the resolution of the coordinates "
+                f"(up to {size:.3g}): scale the scene down (by a power of two, which is exact)")
+    if size > 0 and unit < size * 2.0**-RESOLUTION:
+        return (f"`lift` = {lift:.3g} is below the resolution of the coordinates (up to "
+                f"{size:.3g}), so the lifted robots cannot leave the line: use a larger `lift` "
+                "(of the order of the scene's size, or lift=\"scene\", a unit that scales with the "
+                "obstacles)")
+    if 0 < size < 2.0**TINY:
+        return (f"the coordinates (up to {size:.3g}) are at the bottom of the range of double "
+                "precision, where the planner's constructions (e.g. eps(C), a gap divided by "
+                "m + n) lose their bits: scale the scene up (by a power of two, which is exact)")
+    return None
+
+
+#: a path may overflow when the coordinates exceed 2**LARGE
+LARGE = 1000
+#: a lift below 2**-RESOLUTION times the largest coordinate is lost in rounding
+RESOLUTION = 50
+#: coordinates below 2**TINY are near the subnormal range
+TINY = -1000
+
+
+def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
+    """Plan the queries of a chunk each at its power of two ``2**-k`` (:mod:`pmplan.magnitude`).
+
+    ``call(idx, obstacles, configs, lift)`` plans the rows ``idx`` of the chunk (given scaled)
+    into new arrays and returns ``(arrays, ok)`` where ``arrays`` has ``waypoints``,
+    ``clearance`` and the other outputs for those rows; the waypoints of scaled rows are scaled
+    back by ``2**k`` and the whole certificate is checked again on what is returned
+    (:func:`pmplan.certify.certificate`, which also gives the clearance). Yields ``(idx,
+    arrays, ok)`` per group.
+    """
+    m = obstacles.shape[1]
+    lift_arr = np.asarray(lift, dtype=float)
+    for kg in np.unique(k):
+        idx = np.flatnonzero(k == kg)
+        kg = int(kg)
+        if kg == 0:
+            if lift_arr.ndim:
+                lift_g = lift_arr[idx]
+            else:
+                lift_g = lift
+            with np.errstate(all="ignore"):  # an extreme query planned as given: certified below
+                arrays, ok = call(idx, obstacles[idx], [c[idx] for c in configs], lift_g)
+            yield idx, arrays, ok
+            continue
+        lift_g = np.ldexp(lift_arr[idx], -kg) if lift_arr.ndim else float(np.ldexp(lift, -kg))
+        arrays, ok = call(idx, np.ldexp(obstacles[idx], -kg),
+                          [np.ldexp(c[idx], -kg) for c in configs], lift_g)
+        with np.errstate(over="ignore", under="ignore"):
+            arrays["waypoints"] = np.ldexp(arrays["waypoints"], kg)
+        r = len(configs)
+        full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
+        via = [(j / (r - 1), full[j]) for j in range(1, r - 1)]
+        times = arrays["times"]
+        arrays["clearance"], clause = certificate(arrays["waypoints"], full[0], full[-1], m,
+                                                  times=times, via=via)
+        yield idx, arrays, ok & (clause == 0)
+
+
+def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
+         progress: bool = False, backend: str | None = None, workers: int = 1,
+         validate: bool = False, into: dict | None = None):
+    """Plan and certify in chunks; return the arrays of a PlanBatch.
+
+    The planner (:class:`pmplan.planners.base.Planner`) allocates the output arrays
+    (:meth:`~pmplan.planners.base.Planner.allocate`; ``into``, from :func:`_output_arrays`, are
+    existing ones) and fills them chunk by chunk, certified
+    (:meth:`~pmplan.planners.base.Planner.plan_certified`: kernel -> flagged rows -> exact
+    re-decision -> certificate), so no temporary is larger than a chunk. With ``workers > 1``
+    the chunks are planned by that many threads (the numba kernels release the GIL; every chunk
+    writes its own rows). With ``validate`` the planner's kernel also validates the queries
+    (see :meth:`~pmplan.planners.base.Planner.validates`): before a certificate error is raised, the
+    queries are checked (:func:`pmplan.configuration.check_query`), which raises the input
+    error if one of them is invalid -- the error the caller would have got from checking first.
+    """
+    b, m, d = obstacles.shape
+    n = configs[0].shape[1]
+    out = planner.allocate(b, len(configs), m, n, d) if into is None else into
+    per_query_times = out["times"].ndim == 2
+
+    r = len(configs)
+    # only a planner that maps 2**k C (with lift 2**k) to 2**k times the path of C is scaled;
+    # another one plans extreme queries as given (its reference under np.errstate) and its
+    # certificate decides
+    equivariant = planner.equivariant
+    # the breakpoints: shared ones are checked once here, per-query ones chunk by chunk
+    shared_times = 0 if per_query_times else int(check_times(out["times"]))
+
+    def chunk(lo: int) -> tuple[int, int, np.ndarray]:
+        hi = min(b, lo + CHUNK)
+        obs = obstacles[lo:hi]
+        cfg = [c[lo:hi] for c in configs]
+        wp = out["waypoints"][lo:hi]
+        times = out["times"][lo:hi] if per_query_times else out["times"]
+        k = None
+        lift_c = lift[lo:hi] if np.ndim(lift) else lift  # a per-query lift scales too
+        if equivariant and magnitude.needs_scaling([obs, *cfg], lift_c):
+            k = magnitude.exponents([obs, *cfg], lift_c)
+        if k is None:
+            rows = {"domain": out["domain"][lo:hi], "strata": out["strata"][lo:hi],
+                    "clearance": out["clearance"][lo:hi], "times": times, "waypoints": wp}
+            ok = planner.plan_certified(obs, cfg, lift, rows, backend=backend, validate=validate)
+        else:
+            ok = np.empty(hi - lo, dtype=bool)
+            call = _fused_call(planner, r, m, n, d, per_query_times, validate, backend)
+            for idx, arrays, ok_g in _scaled_call(planner, obs, cfg, lift_c, k, call):
+                wp[idx] = arrays["waypoints"]
+                out["domain"][lo + idx] = arrays["domain"]
+                out["strata"][lo + idx] = arrays["strata"]
+                out["clearance"][lo + idx] = arrays["clearance"]
+                if per_query_times:
+                    times[idx] = arrays["times"]
+                ok[idx] = ok_g
+        # the kernels certified the waypoints (clauses 5-10, read back from their outputs), the
+        # reference and the scaled rows by pmplan.certify; the breakpoints are checked here
+        if per_query_times:
+            ok &= check_times(times) == 0
+        elif shared_times:
+            ok[:] = False
+        return lo, hi, ok
+
+    starts = range(0, b, CHUNK)
+    bar = _Progress(progress, len(starts))
+    pool = None
+    if workers > 1 and len(starts) > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        pool = ThreadPoolExecutor(min(workers, len(starts)))
+    try:
+        bar.__enter__()
+        done = map(chunk, starts) if pool is None else pool.map(chunk, starts)
+        for lo, hi, ok in done:
+            bar.update()
+            if not ok.all():
+                if validate:  # an invalid query, or a certificate that fails
+                    check_query(obstacles, configs[0], configs[-1], batched=True)
+                bad = np.zeros(b, dtype=bool)
+                bad[lo:hi] = ~ok
+                _raise_certificate(bad, batched, _failed_clauses(out, bad, obstacles, configs),
+                                   obstacles, configs, lift, equivariant)
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
+        bar.__exit__(None, None, None)
+    return out
+
+
+def _failed_clauses(out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarray:
+    """The clause of the certificate (:func:`pmplan.certify.certificate`) that each failing
+    query (``bad``) of a fused run fails, for the error message; (B,) uint8."""
+    idx = np.flatnonzero(bad)[:10]
+    times = out["times"][idx] if out["times"].ndim == 2 else out["times"]
+    m, r = obstacles.shape[1], len(configs)
+    full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
+    via = [(k / (r - 1), full[k]) for k in range(1, r - 1)]
+    with np.errstate(all="ignore"):
+        _, clause = certificate(out["waypoints"][idx], full[0], full[-1], m, times=times,
+                                via=via)
+    codes = np.zeros(bad.shape[0], np.uint8)
+    codes[idx] = clause
+    return codes
+
+
+def _fused_call(planner, r: int, m: int, n: int, d: int, per_query_times: bool, validate: bool,
+                backend):
+    """``call(idx, obstacles, configs, lift) -> (arrays, ok)`` for :func:`_scaled_call`: the
+    fused planner planning rows into new arrays (:meth:`allocate`, :meth:`plan_certified`)."""
+
+    def call(idx, obstacles, configs, lift):
+        arrays = planner.allocate(idx.size, r, m, n, d)
+        ok = planner.plan_certified(obstacles, configs, lift, arrays, backend=backend,
+                                    validate=validate)
+        return arrays, ok
+
+    return call
+
+
+class _Progress:
+    """The progress display of a batch of ``total`` chunks, on stderr when ``show``.
+
+    While it is open, the notice :data:`pmplan._compiling.COMPILING` is written if a kernel is
+    compiled (the first run only: not when numba loads it from its on-disk cache). The tqdm bar
+    (for more than 4 chunks) starts when the first chunk is done (``update``), counting it, so
+    that its rate and time estimate never include that compilation; a kernel that only a later
+    chunk needs (the scalar kernel, for a query that is not generic) is announced once more.
+    """
+
+    def __init__(self, show: bool, total: int) -> None:
+        self.show, self.total, self.done = show, total, 0
+        self.bar = None
+        self.notice = None
+        self.handle = None
+
+    def __enter__(self) -> _Progress:
+        if self.show:
+            from ._compiling import announce_compile
+
+            self.notice = announce_compile(self.write)
+            self.handle = self.notice.__enter__()
+        return self
+
+    def write(self, message: str) -> None:
+        if self.bar is not None:
+            self.bar.write(f"pmplan: {message}", file=sys.stderr)
+        else:
+            print(f"pmplan: {message}", file=sys.stderr, flush=True)
+
+    def update(self) -> None:
+        """One more chunk done."""
+        self.done += 1
+        if not self.show or self.total <= 4:
+            return
+        if self.bar is None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=self.total, initial=self.done, desc="planning", unit="chunk",
+                            file=sys.stderr)
+            if self.handle is not None:
+                self.handle.rearm()
+        else:
+            self.bar.update()
+
+    def over(self, items):
+        """Yield the chunks ``items``, counting each one done when the next is asked for."""
+        with self:
+            for item in items:
+                yield item
+                self.update()
+
+    def __exit__(self, *exc) -> None:
+        if self.bar is not None:
+            self.bar.close()
+        if self.notice is not None:
+            self.notice.__exit__(None, None, None)
+            self.notice = None
+
+
+def _check_workers(workers) -> int:
+    """``workers`` as a thread count: a positive int, or -1 for every CPU of the machine."""
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or not (
+        workers >= 1 or workers == -1
+    ):
+        raise InputError(f"`workers` must be a positive integer or -1 (all CPUs), got {workers!r}")
+    return (os.cpu_count() or 1) if workers == -1 else int(workers)
+
+
+def _output_arrays(out, planner: Planner, dims: tuple[int, int, int], b: int, r: int,
+                   inputs: tuple) -> dict | None:
+    """The arrays of ``out`` (the ``out=`` argument of the batch functions) to plan into.
+
+    ``out`` must be a :class:`PlanBatch` of the same planner, dims and length whose arrays have
+    the shapes and dtypes a new batch would have, are writeable and C-contiguous, and share no
+    memory with the query (``inputs``). Shared breakpoints (``times`` of shape (K,)) are
+    rewritten. Returns None when ``out`` is None.
+    """
+    if out is None:
+        return None
+    if not isinstance(out, PlanBatch):
+        raise InputError(f"`out` must be a PlanBatch returned by plan_batch, got "
+                         f"{type(out).__name__}")
+    if out.planner != planner.name or tuple(out.dims) != dims or len(out) != b:
+        raise InputError(
+            f"`out` holds {len(out)} plans of the {out.planner} planner for (d, n, m) = "
+            f"{tuple(out.dims)}; this batch needs {b} of the {planner.name} planner for "
+            f"{dims}"
+        )
+    d, n, m = dims
+    template = planner.allocate(0, r, m, n, d)
+    arrays = {k: getattr(out, k) for k in template}
+    for k, a in arrays.items():
+        t = template[k]
+        want = t.shape if k == "times" and t.ndim == 1 else (b,) + t.shape[1:]
+        if a.shape != want or a.dtype != t.dtype:
+            raise InputError(
+                f"`out.{k}` has shape {a.shape} and dtype {a.dtype}; this batch needs shape "
+                f"{want} and dtype {t.dtype}"
+            )
+        if not (a.flags.writeable and a.flags.c_contiguous):
+            raise InputError(f"`out.{k}` must be a writeable C-contiguous array")
+        if any(np.may_share_memory(a, x) for x in inputs):
+            raise InputError(f"`out.{k}` shares memory with the query; pass separate arrays")
+    if template["times"].ndim == 1:
+        arrays["times"][...] = template["times"]
+    return arrays
+
+
+def _single(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
+    """The :class:`Plan` of a batch of one (no PlanBatch in between)."""
+    d, n, m = dims
+    times = out["times"]
+    path = PiecewiseLinearPath(times if times.ndim == 1 else times[0], out["waypoints"][0])
+    return Plan(
+        domain=int(out["domain"][0]),
+        stratum=planner.stratum_name(out["strata"][0], d, n, m),
+        clearance=float(out["clearance"][0]),
+        path=path.compact(),
+        planner=planner.name,
+        dims=dims,
+    )
