@@ -232,7 +232,7 @@ def test_domain_map_is_plan_at_every_pixel(base, which):
 def test_domain_map_planar_three_and_limits(base, monkeypatch):
     from pmplan.web import server
 
-    o, s, g = pmplan.planners.planar_three.demo_examples()[3]
+    o, s, g = pmplan.examples.planar_three_examples()[3]
     q = {"obstacles": o.tolist(), "start": s.tolist(), "goal": g.tolist()}
     req = {"query": q, "origin": [-2, -3], "step": 0.25, "size": [400, 400]}
     status, body = request(base, "/api/domain-map", req)

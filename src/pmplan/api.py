@@ -12,6 +12,7 @@ is a batch of one; :func:`plan` and
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 

@@ -29,7 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .planners.planar_three import _split_name, classify, parse_stratum
+from .planners.planar_three import _split_name, parse_stratum
 from .predicates import projection_classes
 
 __all__ = [
@@ -689,6 +689,7 @@ def planar_stratum_queries(
     >>> o, s, g = planar_stratum_queries(np.random.default_rng(1), "T23_34", 5)
     >>> o.shape, s.shape, g.shape
     ((5, 3, 2), (5, 1, 2), (5, 1, 2))
+    >>> from pmplan.planners.planar_three import classify
     >>> classify(o, s, g).record[:, 0].tolist()
     [23, 23, 23, 23, 23]
     """

@@ -9,7 +9,7 @@ Endpoints
 ``GET /api/examples``
     The paper's examples: one exact query in every stratum of Section 4
     (:func:`pmplan.figures.figure_queries`) and one in every domain of the demo
-    (:func:`pmplan.examples.obstacle_line_examples`, ``planar_three.demo_examples``).
+    (:func:`pmplan.examples.obstacle_line_examples`, ``planar_three_examples``).
 ``POST /api/plan`` (optional ``?samples=K``)
     The body is the JSON that ``pmplan plan`` reads (:func:`pmplan.io.parse_query`), the answer
     what it prints (:func:`pmplan.io.plan_to_dict`).
@@ -84,9 +84,9 @@ def examples() -> list[dict]:
     list of dict
         ``{"group", "name", "query"}``; ``query`` in the JSON form of ``pmplan plan``.
     """
-    from ..examples import obstacle_line_examples
+    from ..examples import obstacle_line_examples, planar_three_examples
     from ..figures import figure_queries
-    from ..planners.planar_three import DOMAIN_OF, demo_examples
+    from ..planners.planar_three import DOMAIN_OF
 
     def q(o, s, g):
         return {"obstacles": np.asarray(o).tolist(), "start": np.asarray(s).tolist(),
@@ -96,7 +96,7 @@ def examples() -> list[dict]:
     for k, (o, s, g) in enumerate(obstacle_line_examples(3)):
         out.append({"group": "demo: 3 robots, 2 obstacles (Section 3)", "name": f"W_{k + 4}",
                     "query": q(o, s, g)})
-    for k, (o, s, g) in enumerate(demo_examples()):
+    for k, (o, s, g) in enumerate(planar_three_examples()):
         out.append({"group": "demo: 1 robot, 3 obstacles (Section 4)", "name": f"W{k + 1}",
                     "query": q(o, s, g)})
     for name, (o, s, g) in figure_queries().items():
@@ -397,10 +397,9 @@ def url_of(sock: socket.socket) -> str:
 
 def warm_up() -> None:
     """Plan one small query per planner (compiles or loads the numba kernels once)."""
-    from ..examples import obstacle_line_examples
-    from ..planners.planar_three import demo_examples
+    from ..examples import obstacle_line_examples, planar_three_examples
 
-    for o, s, g in (obstacle_line_examples(1)[0], demo_examples()[0]):
+    for o, s, g in (obstacle_line_examples(1)[0], planar_three_examples()[0]):
         api.plan(o, s, g)
         api.plan_batch(o[None], s[None], g[None])
 
