@@ -194,12 +194,8 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     planner : str, optional
         ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
     lift : float or "scene"
-        The unit of the motion; default 1, the paper's (the height scale of the lift in the
-        obstacle-line planner, the 1 of ``H`` and ``s3`` in the planar one). ``"scene"``: the
-        obstacles' radius ``u(O) = max_k |o_k - o_1|`` of each query, for scenes far from
-        unit size (millimetres, kilometres) and for equivariance (a scaled, translated or
-        rotated query gets the scaled, translated or rotated plan). A bool or a string other
-        than ``"scene"`` is refused.
+        The unit of the motion (default 1, the paper's; ``"scene"``: each query's obstacles'
+        radius): see :func:`plan_batch`.
     backend : {"numba", "numpy"}, optional
         See :func:`plan_batch`.
 
@@ -452,12 +448,8 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
     obstacles : array_like, shape (m, d)
     configs : sequence of r array_like, each (n, d)
     lift : float or "scene"
-        The unit of the motion; default 1, the paper's (the height scale of the lift in the
-        obstacle-line planner, the 1 of ``H`` and ``s3`` in the planar one). ``"scene"``: the
-        obstacles' radius ``u(O) = max_k |o_k - o_1|`` of each query, for scenes far from
-        unit size (millimetres, kilometres) and for equivariance (a scaled, translated or
-        rotated query gets the scaled, translated or rotated plan). A bool or a string other
-        than ``"scene"`` is refused.
+        The unit of the motion (default 1, the paper's; ``"scene"``: each query's obstacles'
+        radius): see :func:`plan_batch`.
     backend : {"numba", "numpy"}, optional
         See :func:`plan_batch`.
 
