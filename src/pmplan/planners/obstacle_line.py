@@ -167,6 +167,15 @@ def path_times(r: int) -> np.ndarray:
     return out
 
 
+#: what ``pmplan verify`` says for odd d (:meth:`ObstacleLinePlanner.notes`) (measured by ``benchmarks/odd_d_pole.py``; README, "Odd d")
+POLE_NOTE = (
+    "odd d: near the pole N = e_d the modulus of continuity grows like 1/angle, about "
+    "2 n lambda / angle (lambda = lift + max_k |r(o_k)|); measured for d = 3, n = 2, lift 1: a "
+    "1e-9 move at 1e-8 rad from N moves the path by 0.4. Forced by topology (nu(e) is a unit "
+    "tangent field on S^(d-1) minus N and must wind around N), not a bug; the moduli above come "
+    "from queries away from N."
+)
+
 _TIMES2 = path_times(2)  # the breakpoints of every two-configuration path (read-only)
 
 
@@ -194,6 +203,10 @@ class ObstacleLinePlanner(Planner):
         ("projection reversed", "robots lift back off the line to F(C', 1)"),
         ("desingularization reversed", "robots step back along e to C', (desin) reversed"),
     )
+
+    def notes(self, d: int, n: int, m: int) -> list[str]:
+        """For odd d, :data:`POLE_NOTE` (the modulus of continuity near the pole, SPEC 4a)."""
+        return [POLE_NOTE] if d % 2 == 1 else []
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         """None for every d >= 2, n >= 1, m >= 2 (:func:`~pmplan.planners.base.out_of_scope`)."""

@@ -477,6 +477,44 @@ class PlanarThreePlanner(Planner):
         f, i, j = (int(v) for v in row)
         return f"T^{{{_PAPER_SUPER[f]}}}_{{{i},{j}}}"
 
+    # --- what pmplan.verify asks: the 12 strata of paper Section 4 ---------------------------
+    def stratum_count(self, d: int, n: int, m: int) -> int:
+        """The 12 strata of paper Section 4 (:data:`STRATA`)."""
+        return len(STRATA)
+
+    def exact_queries(self, rng, d: int, n: int, m: int, count: int):
+        """At least ``count`` exact queries, the same number in every stratum of :data:`STRATA`
+        (:func:`pmplan.generators.planar_stratum_queries`), round robin."""
+        from .. import generators as gen
+
+        obs, st, go = [], [], []
+        per = max(1, -(-count // len(STRATA)))
+        for name in STRATA:
+            o, s, g = gen.planar_stratum_queries(rng, name, per)
+            obs.append(o)
+            st.append(s)
+            go.append(g)
+        order = np.arange(per * len(STRATA)).reshape(len(STRATA), per).T.ravel()  # round robin
+        return tuple(np.concatenate(a)[order] for a in (obs, st, go))
+
+    def near_degenerate_queries(self, rng, d: int, n: int, m: int, count: int, scale: float):
+        """The noise of :func:`pmplan.generators.near_degenerate_queries` on the exact queries
+        of :meth:`exact_queries` (the strata of paper Section 4)."""
+        q = self.exact_queries(rng, d, n, m, count)
+        idx = rng.permutation(q[0].shape[0])[:count]
+        return tuple(a[idx] + scale * (1 + np.abs(a[idx])) * rng.normal(size=a[idx].shape)
+                     for a in q)
+
+    def perturb_within_stratum(self, rng, query, delta: float):
+        """An exact move inside the stratum, :func:`pmplan.generators.perturb_planar_stratum`."""
+        from .. import generators as gen
+
+        return gen.perturb_planar_stratum(rng, query, delta)
+
+    def stratum_row(self, obstacles, start, goal) -> np.ndarray:
+        """The record ``(family, i, j)`` of one query, :func:`classify`."""
+        return classify(obstacles[None], start[None], goal[None]).record[0]
+
     def plan(self, obstacles, start, goal, *, lift: float = 1.0,
              backend: str | None = None) -> RawPlan:
         """Plan a batch of queries (paper Section 4).
