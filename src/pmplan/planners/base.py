@@ -22,7 +22,7 @@ from typing import Callable, ClassVar
 
 import numpy as np
 
-from ..backend import NUMBA, NUMPY, kernels, resolve
+from ..backend import NUMBA, NUMPY, resolve, shared_kernels
 from ..certify import certificate
 from ..certify import clearance as exact_clearance
 from ..path import PiecewiseLinearPath
@@ -163,7 +163,7 @@ class Planner:
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
         """Plan a chunk with the numba kernel into ``out`` (the rows of :meth:`allocate`) and
-        return its flags (B,) uint8 (:mod:`pmplan._kernels`: ``FALLBACK``, ``SUSPECT``,
+        return its flags (B,) uint8 (:mod:`pmplan.kernels.common`: ``FALLBACK``, ``SUSPECT``,
         ``NONFINITE``, ``BROKEN``, ``INVALID``), or None when no kernel plans this chunk
         (then the reference plans it). Default: no kernel."""
         return None
@@ -343,7 +343,7 @@ def redecide(planner: Planner, flags: np.ndarray, obstacles, configs, lift, out:
     ``NONFINITE``, ``BROKEN`` and ``INVALID`` rows fail (the kernel read every clause of the
     certificate back from its outputs).
     """
-    kern = kernels()
+    kern = shared_kernels()
     clearance = out["clearance"]
     failed = kern.NONFINITE | kern.BROKEN | kern.INVALID
     ok = (flags & failed) == 0

@@ -242,7 +242,7 @@ class ObstacleLinePlanner(Planner):
 
         ``backend="numpy"`` runs the reference implementation below (numpy, exact predicates of
         :mod:`pmplan.predicates`); ``"numba"`` (the default when numba is installed) runs the
-        fused kernel of :mod:`pmplan._kernels`, whose waypoints and labels are identical.
+        fused kernel of :mod:`pmplan.kernels.obstacle_line`, whose waypoints and labels are identical.
         The input is not validated here (see :mod:`pmplan.configuration`).
         """
         if resolve(backend) == NUMBA:
@@ -306,7 +306,7 @@ class ObstacleLinePlanner(Planner):
         (a sequence of r arrays (n, d)), and a float ``lift`` (positive, or
         :data:`~pmplan.planners.base.SCENE_CODE`) -- or None when no kernel plans
         that shape (numba missing, d > MAX_D, m < 2, n < 1, r < 2). ``run`` returns None
-        whenever the kernel (:func:`pmplan._kernels._plan`, asked to validate, with the
+        whenever the kernel (:func:`pmplan.kernels.obstacle_line._plan`, asked to validate, with the
         index tables looked up once here) flags the query or the clearance is not positive:
         the general path then raises the proper error or re-decides exactly. The breakpoints
         are :func:`path_times` ``(r)`` (strictly increasing, so the path is already compact),
@@ -375,7 +375,7 @@ class ObstacleLinePlanner(Planner):
 
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
-        """Plan a chunk with :func:`pmplan._kernels.plan_chunk` into ``out``; return its flags.
+        """Plan a chunk with :func:`pmplan.kernels.obstacle_line.plan_chunk` into ``out``; return its flags.
 
         None for d > MAX_D: the kernel reproduces numpy's summation order for d <= MAX_D only,
         and the reference plans the chunk. With ``validate`` the kernel also checks every query

@@ -54,7 +54,7 @@ obstacle (H, h3/2; h(x), h(x') != 0 when all obstacles lie on L_C), or leaves x 
 height towards the first solid vertical, never reaching the next obstacle column.
 
 Implementations: the numpy code below is the *reference* (``backend="numpy"``); the default
-``backend="numba"`` runs the fused kernel of :mod:`pmplan._kernels_planar` (classification,
+``backend="numba"`` runs the fused kernel of :mod:`pmplan.kernels.planar` (classification,
 polyline, constant-speed times and certificate in one pass per query, flagged queries
 re-decided here), whose waypoints, breakpoints, strata and clearances are identical. The
 planner plugs into the run loop and the fast paths through the protocol of
@@ -532,7 +532,7 @@ class PlanarThreePlanner(Planner):
             built from the scene alone.
         backend : {"numba", "numpy"}, optional
             ``"numpy"`` runs the reference implementation below; ``"numba"`` (the default when
-            numba is installed) the fused kernel of :mod:`pmplan._kernels_planar`, whose
+            numba is installed) the fused kernel of :mod:`pmplan.kernels.planar`, whose
             waypoints, breakpoints, labels and strata are identical. The input is not
             validated here (see :mod:`pmplan.configuration`).
 
@@ -595,7 +595,7 @@ class PlanarThreePlanner(Planner):
 
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
-        """Plan a chunk with :func:`pmplan._kernels_planar.plan_planar` into ``out`` (per-query
+        """Plan a chunk with :func:`pmplan.kernels.planar.plan_planar` into ``out`` (per-query
         breakpoints); return its flags, or None for arrays the kernel does not take (the
         reference then decides, and raises its own errors)."""
         if len(configs) != 2:
