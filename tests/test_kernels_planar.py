@@ -5,8 +5,8 @@ reference code of :mod:`pmplan.planners.planar_three` with :mod:`pmplan.predicat
 :mod:`pmplan.frame`, :mod:`pmplan.path`, :mod:`pmplan.certify`) exactly. What is checked, and
 why it can fail:
 
-* waypoints, breakpoints (per query, padded to K = 6), domains, strata records and certified
-  clearances are *equal* (``==``, no tolerance: the kernel does the reference's floating-point
+* waypoints, breakpoints (per query, padded to WAYPOINTS = 6 points), domains, stratum records
+  and certified clearances are *equal* (``==``, no tolerance: the kernel does the reference's floating-point
   operations in the reference's order) on the exact constructions of all 12 strata (which the
   kernel decides alone: no flag, otherwise the comparison would be vacuous), on generic floats,
   on exactly degenerate grid queries, on near-degenerate and rescaled mixed batches (also
@@ -40,10 +40,8 @@ from pmplan.planners.planar_three import (
     DOMAIN_OF,
     PLANAR_THREE,
     STRATA,
+    WAYPOINTS,
     stratum_short_name,
-)
-from pmplan.planners.planar_three import (
-    WAYPOINTS as K,
 )
 
 
@@ -78,7 +76,7 @@ def assert_same_batch(a, b):
     if isinstance(a, tuple) or isinstance(b, tuple):
         assert a == b
         return
-    assert a.waypoints.shape == b.waypoints.shape == (len(b), K, 4, 2)
+    assert a.waypoints.shape == b.waypoints.shape == (len(b), WAYPOINTS, 4, 2)
     assert np.array_equal(a.waypoints, b.waypoints)
     assert np.array_equal(a.times, b.times)
     assert np.array_equal(a.domain, b.domain)
@@ -102,11 +100,11 @@ def _mixed(rng, names, count, exponent=0, noise=0.0):
 
 def test_tables_agree_with_the_planner():
     """The kernel's stratum codes and domains are the planner's (paper (w2)-(w4))."""
-    assert kernels_planar.WAYPOINTS is P3.WAYPOINTS == K  # one source
+    assert kernels_planar.WAYPOINTS is P3.WAYPOINTS is WAYPOINTS == 6  # one source
     assert np.array_equal(kernels_planar.CODE_LUT, P3._LUT)
     assert np.array_equal(kernels_planar._DOMAIN, [DOMAIN_OF[name] for name in STRATA])
-    assert P3._EVEN.shape == (K + 1, K)
-    for k in range(2, K + 1):
+    assert P3._EVEN.shape == (WAYPOINTS + 1, WAYPOINTS)
+    for k in range(2, WAYPOINTS + 1):
         assert np.array_equal(P3._EVEN[k, :k], np.linspace(0.0, 1.0, k))
 
 

@@ -519,7 +519,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     bar.update(1)
 
     dom = {label: DomainReport(label=label) for label in labels}
-    strata: dict[int, set] = {label: set() for label in labels}
+    met_strata: dict[int, set] = {label: set() for label in labels}  # stratum names by domain
     fam_stats: dict[str, dict] = {}
     failures: list[dict] = []
     problems: list[str] = []
@@ -542,7 +542,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
         for label in np.unique(batch.domain).tolist():
             sel = batch.domain == label
             dr = dom.setdefault(label, DomainReport(label=label))
-            strata.setdefault(label, set()).update(names[sel].tolist())
+            met_strata.setdefault(label, set()).update(names[sel].tolist())
             dr.queries += int(sel.sum())
             low = float(batch.clearance[sel].min())
             dr.min_clearance = low if dr.min_clearance is None else min(dr.min_clearance, low)
@@ -637,7 +637,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     bar.close()
 
     for label, dr in dom.items():
-        dr.strata = sorted(strata.get(label, set()))
+        dr.strata = sorted(met_strata.get(label, set()))
     realised = sorted(label for label, dr in dom.items() if dr.queries > 0)
     missing = sorted(set(labels) - set(realised))
     if failures:

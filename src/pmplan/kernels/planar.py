@@ -69,6 +69,7 @@ from .common import (
     _BIG,
     _MAXF,
     _OBSTACLE_TINY2,
+    _OPTS,
     _REL,
     _SMALL,
     _SURE,
@@ -108,7 +109,6 @@ CODE_LUT = _LUT
 _DOMAIN = _DOMAIN_BY_CODE
 _FAMILY = np.array(_FAMILIES, dtype=np.int64)
 
-_OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
 
 
 @njit(**_OPTS)

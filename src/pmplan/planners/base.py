@@ -78,7 +78,8 @@ class RawPlan:
     domain : ndarray of int64, shape (B,)
         The label ``l`` of the domain of continuity ``W_l`` of each query.
     strata : ndarray of int64, shape (B, S)
-        Planner-specific integers that name the stratum (see ``Planner.stratum_name``).
+        The stratum record of every query: planner-specific integers that name its stratum
+        (one row per query; ``Planner.stratum_name`` writes a row in the paper's notation).
     path : PiecewiseLinearPath
         Batch of paths, waypoints of shape (B, K, m+n, d).
     """

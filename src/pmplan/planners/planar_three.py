@@ -87,14 +87,15 @@ __all__ = [
     "STRATA",
     "WAYPOINTS",
     "PlanarThreePlanner",
-    "Strata",
+    "StratumClassification",
     "classify",
     "frame_polyline_W1",
     "parse_stratum",
     "stratum_short_name",
 ]
 
-#: the 12 strata of paper Section 4 in SPEC notation, in a fixed order (codes 0..11)
+#: the names of the 12 strata of paper Section 4 in SPEC notation, in a fixed order: the stratum
+#: code of :class:`StratumClassification` is the index here (0..11)
 STRATA: tuple[str, ...] = (
     "T1_11", "T1_12", "T1_21", "T1_22",
     "T22_22", "T22_23", "T22_32", "T22_33",
@@ -163,8 +164,9 @@ def _ndistinct(labels: np.ndarray) -> np.ndarray:
 
 
 @dataclass
-class Strata:
-    """Exact classification of a batch of B queries into the strata of paper Section 4.
+class StratumClassification:
+    """Exact classification of a batch of B queries into the strata of paper Section 4 (what
+    :func:`classify` returns; the strata themselves are named in :data:`STRATA`).
 
     Attributes
     ----------
@@ -186,7 +188,7 @@ class Strata:
     height_labels: np.ndarray
 
 
-def classify(obstacles, start, goal) -> Strata:
+def classify(obstacles, start, goal) -> StratumClassification:
     """Return the stratum and domain of every query (paper Section 4), decided exactly.
 
     Parameters
@@ -196,7 +198,7 @@ def classify(obstacles, start, goal) -> Strata:
 
     Returns
     -------
-    Strata
+    StratumClassification
 
     Examples
     --------
@@ -230,7 +232,7 @@ def classify(obstacles, start, goal) -> Strata:
         bad = int(np.flatnonzero(code < 0)[0])
         raise ValueError(f"query {bad} is in no stratum of paper Section 4: are its points distinct?")
     record = np.stack([family, i, j], axis=1).astype(np.int64)
-    return Strata(record=record, code=code, domain=_DOMAIN_BY_CODE[code], col_labels=cl,
+    return StratumClassification(record=record, code=code, domain=_DOMAIN_BY_CODE[code], col_labels=cl,
                   height_labels=hl)
 
 
@@ -266,7 +268,7 @@ class _Scene:
                       u, h, self.cols, self.rank_g, self.rank_x, self.unit)
 
 
-def _scene(obstacles, start, goal, st: Strata, lift=1.0) -> _Scene:
+def _scene(obstacles, start, goal, st: StratumClassification, lift=1.0) -> _Scene:
     o1, o2 = obstacles[:, 0], obstacles[:, 1]
     fr = Frame(o1, o2)
     pts = np.concatenate([obstacles, start, goal], axis=1)
