@@ -28,10 +28,10 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import _kernels_planar as KP
 from pmplan import api, running
 from pmplan.certify import CLAUSES, certificate, check_paths, check_times, describe
 from pmplan.errors import CertificationError
+from pmplan.kernels import planar as kernels_planar
 from pmplan.path import PiecewiseLinearPath
 from pmplan.planners import obstacle_line as OL
 from pmplan.planners import planar_three as P3
@@ -308,13 +308,13 @@ def test_planar_reference_never_returns_a_broken_path(monkeypatch, clause):
 
 @pytest.mark.parametrize("clause", TIME_CLAUSES)
 def test_planar_kernel_breakpoints_are_checked(monkeypatch, clause):
-    original = KP.plan_planar
+    original = kernels_planar.plan_planar
 
     def corrupted(obstacles, start, goal, even, lift, validate, times, wp, *rest):
         original(obstacles, start, goal, even, lift, validate, times, wp, *rest)
         CORRUPT[clause](times, wp, 3)
 
-    monkeypatch.setattr(KP, "plan_planar", corrupted)
+    monkeypatch.setattr(kernels_planar, "plan_planar", corrupted)
     batch = (np.repeat(O3[None], 5, axis=0), np.repeat(S3[None], 5, axis=0),
              np.repeat(G3[None], 5, axis=0))
     _raises_clause(clause, pmplan.plan_batch, *batch)

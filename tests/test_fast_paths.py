@@ -424,15 +424,15 @@ def test_mismatched_obstacles_raise():
 def test_input_forms_compile_no_new_specialisation():
     """Whatever the form of the input, the lean paths call the kernels with C-contiguous
     float64 arrays: no second specialisation is compiled (that would take seconds)."""
-    from pmplan import _kernels as K
+    from pmplan.kernels import obstacle_line as kernels_line
 
     rng = np.random.default_rng(13)
     o, s, g = rng.normal(size=(3, 3)), rng.normal(size=(2, 3)), rng.normal(size=(2, 3))
     pmplan.plan(o, s, g)
     pmplan.plan_sequence(o, [s, g, s, g])
-    before = len(K.plan_one.signatures), len(K._plan.signatures)
+    before = len(kernels_line.plan_one.signatures), len(kernels_line._plan.signatures)
     for form in FORMS.values():
         pmplan.plan(form(o), form(s), form(g), lift=2)
         for r in (2, 3, 5):
             pmplan.plan_sequence(form(o), [form(c) for c in (s, g, s, g, s)[:r]])
-    assert (len(K.plan_one.signatures), len(K._plan.signatures)) == before
+    assert (len(kernels_line.plan_one.signatures), len(kernels_line._plan.signatures)) == before

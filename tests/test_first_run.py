@@ -32,7 +32,9 @@ import sys
 import numpy as np
 
 import pmplan
-from pmplan import _kernels as K, _kernels_planar as KP, api, running
+from pmplan import api, running
+from pmplan.kernels import planar as kernels_planar
+from pmplan.kernels import validation as kernels_validation
 
 running.CHUNK = 4  # 20 queries: 5 chunks, enough for the bar
 rng = np.random.default_rng(5)
@@ -56,16 +58,17 @@ def hits(kernel):
 if sys.argv[1] == "cold":
     pmplan.plan_batch(o2, s2, g2, backend="numpy")  # compiles the validation kernel
     mark("progress=False")
-    print("validation kernel compiled", misses(K.valid_queries))
+    print("validation kernel compiled", misses(kernels_validation.valid_queries))
     pmplan.plan_batch(o, s, g, progress=True)  # compiles the planar kernel
     mark("cold")
-    print("planar kernel compiled", misses(KP.plan_planar))
+    print("planar kernel compiled", misses(kernels_planar.plan_planar))
     pmplan.plan_batch(o, s, g, progress=True)  # compiled before in this process
     mark("again")
 else:
     pmplan.plan_batch(o, s, g, progress=True)  # loaded from the disk cache
     mark("warm")
-    print("planar kernel loaded", hits(KP.plan_planar), "compiled", misses(KP.plan_planar))
+    print("planar kernel loaded", hits(kernels_planar.plan_planar), "compiled",
+          misses(kernels_planar.plan_planar))
 """
 
 

@@ -1,8 +1,9 @@
 """The fused numba kernel of the obstacle-line planner against its numpy reference.
 
-``backend="numba"`` (:mod:`pmplan._kernels`) must reproduce ``backend="numpy"`` (the reference
-code of :mod:`pmplan.predicates`, :mod:`pmplan.frame`, :mod:`pmplan.planners.obstacle_line`,
-:mod:`pmplan.certify`) exactly. What is checked, and why it can fail:
+``backend="numba"`` (:mod:`pmplan.kernels.obstacle_line`) must reproduce ``backend="numpy"``
+(the reference code of :mod:`pmplan.predicates`, :mod:`pmplan.frame`,
+:mod:`pmplan.planners.obstacle_line`, :mod:`pmplan.certify`) exactly. What is checked, and why
+it can fail:
 
 * waypoints, breakpoints, labels, stratum records and certified clearances are *equal* (``==``,
   no tolerance) for generic and exactly degenerate queries (hypothesis: d in {2, 3, 4},
@@ -14,15 +15,15 @@ code of :mod:`pmplan.predicates`, :mod:`pmplan.frame`, :mod:`pmplan.planners.obs
 * validation: every error of the fast single-query path has the reference path's type and
   message; the kernel's coincidence test agrees with ``coincident_pairs``;
 * chunked planning equals unchunked planning;
-* the SIMD path (:func:`pmplan._kernels._plan_lanes`, generic queries 64 at a time) gives the
-  scalar kernel's outputs bit for bit on batches that mix generic queries with every kind it
-  must hand over (lattice ties, coincident points, NaN, the pole, tiny gaps, huge scales), it
+* the SIMD path (:func:`pmplan.kernels.obstacle_line._plan_lanes`, generic queries 64 at a
+  time) gives the scalar kernel's outputs bit for bit on batches that mix generic queries with
+  every kind it must hand over (lattice ties, coincident points, NaN, the pole, tiny gaps, huge scales), it
   decides only top-stratum queries, and all of those in a random batch;
 * the kernel's shortcuts are exact: the generic column test (all projections pairwise farther
   apart than the filter bound, no sort) against near-ties just above / below the bound, the
   one-pass NaN detection on waypoints, and the one-pass validation of
-  :func:`pmplan.configuration.check_query` (:func:`pmplan._kernels.valid_queries`), which must
-  accept exactly the queries the reference checks accept, and leave the errors to them.
+  :func:`pmplan.configuration.check_query` (:func:`pmplan.kernels.validation.valid_queries`),
+  which must accept exactly the queries the reference checks accept, and leave the errors to them.
 """
 
 from __future__ import annotations
@@ -34,10 +35,11 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import _kernels as K
 from pmplan import api, configuration, running
 from pmplan.configuration import coincident_pairs
 from pmplan.errors import CertificationError, InputError, PmplanError
+from pmplan.kernels import obstacle_line as kernels_line
+from pmplan.kernels import validation as kernels_validation
 from pmplan.planners.obstacle_line import OBSTACLE_LINE, path_times
 
 
@@ -55,9 +57,9 @@ def _kernel_flags(obstacles, configs, lift=1.0):
     middle = np.stack(configs[1:-1]) if r > 2 else np.empty((0, b, n, d))
     wp = np.empty((b, 7 * (r - 1) + 1, m + n, d))
     flags = np.empty(b, np.uint8)
-    K.plan_chunk(obstacles, configs[0], configs[-1], middle, float(lift), False, wp,
+    kernels_line.plan_chunk(obstacles, configs[0], configs[-1], middle, float(lift), False, wp,
                  np.empty(b, np.int64), np.empty((b, r + 2), np.int64), np.empty(b), flags,
-                 K.tables(r, m, n, d))
+                 kernels_line.tables(r, m, n, d))
     return flags
 
 
@@ -117,7 +119,7 @@ def test_batch_equals_reference(case, lift):
     assert_same_batch(fast, ref)
     flags = _kernel_flags(obstacles, [start, goal], lift)
     if not degenerate:  # generic queries are decided by the kernel alone
-        assert not (flags & K.FALLBACK).any()
+        assert not (flags & kernels_line.FALLBACK).any()
 
 
 @settings(max_examples=25)
@@ -146,7 +148,7 @@ def test_integer_grid_queries_are_decided_by_the_kernel():
             np.concatenate([o, g], 1))
         o, s, g = o[keep], s[keep], g[keep]
         flags = _kernel_flags(o, [s, g])
-        assert not (flags & K.FALLBACK).any()
+        assert not (flags & kernels_line.FALLBACK).any()
         labels, _ = OBSTACLE_LINE.plan(o, s, g, backend="numba").strata, None
         ref = OBSTACLE_LINE.plan(o, s, g, backend="numpy")
         assert np.array_equal(labels, ref.strata)
@@ -173,7 +175,7 @@ def test_exact_tie_only_fractions_see_goes_to_the_reference():
     o = np.array([[[0.0, 0.0], [0.1, 0.3]]])
     s = np.array([[[0.3, -0.1], [1.0, 1.0]]])
     g = np.array([[[1.0, -1.0], [2.0, 2.0]]])
-    assert _kernel_flags(o, [s, g])[0] & K.FALLBACK
+    assert _kernel_flags(o, [s, g])[0] & kernels_line.FALLBACK
     fast = pmplan.plan_batch(o, s, g, backend="numba")
     assert_same_batch(fast, pmplan.plan_batch(o, s, g, backend="numpy"))
     assert fast.strata[0, 0] == 3  # x1 shares the column of o1: cp(C) = 3, not 4
@@ -189,7 +191,7 @@ def test_tiny_clearance_is_decided_exactly(scale):
     s = np.array([[[0.0, 1.0], [1e-10, 5.0]]]) * scale
     g = np.array([[[0.5, -1.0], [2.0, 2.0]]]) * scale
     lift = 1.0 * scale
-    assert _kernel_flags(o, [s, g], lift)[0] & K.SUSPECT
+    assert _kernel_flags(o, [s, g], lift)[0] & kernels_line.SUSPECT
     fast = pmplan.plan_batch(o, s, g, lift=lift, backend="numba")
     assert_same_batch(fast, pmplan.plan_batch(o, s, g, lift=lift, backend="numpy"))
     assert 0 < fast.clearance[0] < 1e-10 * scale
@@ -213,7 +215,7 @@ def test_certificate_failures_agree():
 
 def test_large_d_uses_the_reference():
     rng = np.random.default_rng(3)
-    d = K.MAX_D + 2
+    d = kernels_line.MAX_D + 2
     o, s, g = rng.normal(size=(3, 2, d)), rng.normal(size=(3, 2, d)), rng.normal(size=(3, 2, d))
     assert_same_batch(pmplan.plan_batch(o, s, g, backend="numba"),
                       pmplan.plan_batch(o, s, g, backend="numpy"))
@@ -290,7 +292,7 @@ def test_first_coincident_agrees_with_coincident_pairs(seed, n, d):
     x = rng.integers(-1, 2, size=(20, n, d)).astype(float)
     bad = coincident_pairs(np.concatenate([o, x], axis=1))
     want = int(np.flatnonzero(bad)[0]) if bad.any() else -1
-    assert K.first_coincident(o, x) == want
+    assert kernels_validation.first_coincident(o, x) == want
 
 
 @pytest.mark.parametrize("r", [2, 3, 5])
@@ -316,10 +318,11 @@ def test_non_finite_waypoints_are_flagged_wherever_they_are():
     flags = np.empty(1, np.uint8)
     clr = np.empty(1)
     with np.errstate(all="ignore"):
-        K.plan_chunk(o, s, g, np.empty((0, 1, 4, 2)), 1.0, False, wp, np.empty(1, np.int64),
-                     np.empty((1, 4), np.int64), clr, flags, K.tables(2, 2, 4, 2))
+        kernels_line.plan_chunk(o, s, g, np.empty((0, 1, 4, 2)), 1.0, False, wp,
+                                np.empty(1, np.int64), np.empty((1, 4), np.int64), clr, flags,
+                                kernels_line.tables(2, 2, 4, 2))
     assert np.isfinite(wp[0, -1]).all() and not np.isfinite(wp).all()
-    assert flags[0] & K.NONFINITE
+    assert flags[0] & kernels_line.NONFINITE
     assert np.isnan(clr[0])
 
 
@@ -361,10 +364,10 @@ def test_valid_queries_agrees_with_the_reference_checks(seed, n, m, d, special):
     elif special != 0.0:
         (o, s, g)[seed % 3][seed % 6, 0, seed % d] = special
     want = _reference_valid(o, s, g)
-    assert K.valid_queries(o, s, g) == want
+    assert kernels_validation.valid_queries(o, s, g) == want
     for b in range(6):  # and query by query
-        assert K.valid_queries(o[b:b + 1], s[b:b + 1], g[b:b + 1]) == _reference_valid(
-            o[b:b + 1], s[b:b + 1], g[b:b + 1])
+        one = (o[b:b + 1], s[b:b + 1], g[b:b + 1])
+        assert kernels_validation.valid_queries(*one) == _reference_valid(*one)
 
 
 @settings(max_examples=30)
@@ -444,12 +447,12 @@ def _run_chunk(o, cs, lift, scalar_only):
     kk = 7 * (r - 1) + 1
     out = (np.full((b, kk, m + n, d), 7.0), np.full(b, -1, np.int64),
            np.full((b, r + 2), -1, np.int64), np.full(b, -1.0), np.full(b, 99, np.uint8))
-    tab = K.tables(r, m, n, d)
+    tab = kernels_line.tables(r, m, n, d)
     with np.errstate(all="ignore"):
         if scalar_only:
-            K._plan(o, cs[0], cs[-1], middle, lift, True, *out, tab, np.arange(b), b)
+            kernels_line._plan(o, cs[0], cs[-1], middle, lift, True, *out, tab, np.arange(b), b)
         else:
-            K.plan_chunk(o, cs[0], cs[-1], middle, lift, True, *out, tab)
+            kernels_line.plan_chunk(o, cs[0], cs[-1], middle, lift, True, *out, tab)
     return out
 
 
@@ -463,7 +466,7 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
     queries, validated) are identical to the scalar kernel's on every query, the lanes really
     decide the generic ones, and they never decide a query that is not generic."""
     rng = np.random.default_rng(seed)
-    b = int(rng.integers(K.LANES_MIN, 3 * K.lanes(r, m, n, d) + 7))
+    b = int(rng.integers(kernels_line.LANES_MIN, 3 * kernels_line.lanes(r, m, n, d) + 7))
     o, cs = _mixed_batch(rng, b, d, m, n, r, special)
     lanes = _run_chunk(o, cs, lift, scalar_only=False)
     scalar = _run_chunk(o, cs, lift, scalar_only=True)
@@ -473,14 +476,15 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
         assert np.array_equal(a, z, equal_nan=True)
     # (the waypoints of a query flagged INVALID or FALLBACK are left unspecified: the caller
     # raises, or recomputes the query with the numpy reference)
-    kept = (flags & (K.INVALID | K.FALLBACK)) == 0
+    kept = (flags & (kernels_line.INVALID | kernels_line.FALLBACK)) == 0
     assert np.array_equal(lanes[0][kept], scalar[0][kept], equal_nan=True)
     # which queries did the lanes decide?
     middle = np.stack(cs[1:-1]) if r > 2 else np.empty((0, b, n, d))
     todo = np.empty(b, np.int64)
     out = [np.empty_like(x) for x in lanes]
     with np.errstate(all="ignore"):
-        nt = K._plan_lanes(o, cs[0], cs[-1], middle, lift, *out, todo, K.lanes(r, m, n, d))
+        nt = kernels_line._plan_lanes(o, cs[0], cs[-1], middle, lift, *out, todo,
+                                      kernels_line.lanes(r, m, n, d))
     decided = np.ones(b, bool)
     decided[todo[:nt]] = False
     strata = scalar[2]
@@ -488,7 +492,7 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
     if d % 2:
         generic &= strata[:, r + 1] == 0
     assert not (decided & ~generic).any()  # the lanes only decide top-stratum queries...
-    full = (b // K.lanes(r, m, n, d)) * K.lanes(r, m, n, d)
+    full = (b // kernels_line.lanes(r, m, n, d)) * kernels_line.lanes(r, m, n, d)
     if special == 0:  # ...and decide all of those in full blocks of a random batch
         assert decided[:full].all()
 
@@ -498,7 +502,7 @@ def test_large_batch_equals_reference():
     mixed, through the public API: numba equals the numpy reference."""
     rng = np.random.default_rng(7)
     for d, n, m in [(2, 4, 2), (3, 2, 3), (4, 3, 2)]:
-        b = 2 * K.lanes(2, m, n, d) + 5
+        b = 2 * kernels_line.lanes(2, m, n, d) + 5
         o, (s, g) = _mixed_batch(rng, b, d, m, n, 2, 0)
         lat = rng.choice(b, size=b // 4, replace=False)
         for a in (o, s, g):
@@ -519,7 +523,7 @@ def test_closest_pair_at_a_configuration(seed, dims, r):
     the SIMD path takes from the configurations themselves; numba equals the numpy reference."""
     d, n, m = dims
     rng = np.random.default_rng(seed)
-    b = 3 * K.lanes(r, m, n, d) + 3
+    b = 3 * kernels_line.lanes(r, m, n, d) + 3
     o = rng.normal(size=(b, m, d))
     cs = [rng.normal(size=(b, n, d)) for _ in range(r)]
     k = rng.integers(0, r, size=b)  # the configuration with the close pair
@@ -592,10 +596,10 @@ def test_one_specialisation():
     assert_same_batch(pmplan.plan_batch(np.asfortranarray(o), s[:, ::-1][:, ::-1], g.tolist()),
                       want)
     pmplan.plan_batch(o.astype(np.float32), s, g)  # (other values: planned, not compared)
-    for kernel in (K._plan, K.valid_queries, K._plan_lanes):
+    for kernel in (kernels_line._plan, kernels_validation.valid_queries, kernels_line._plan_lanes):
         assert len(kernel.signatures) == 1, kernel
     # compiled with _plan_lanes only on a cold cache (else loaded with it): never twice
-    assert len(K._pair_plane.signatures) <= 1
+    assert len(kernels_line._pair_plane.signatures) <= 1
 
 
 @pytest.mark.parametrize("bad", ["nan", "inf", "coincident_start", "coincident_goal",
@@ -634,8 +638,8 @@ def test_plan_batch_validates_in_one_pass(monkeypatch):
     """For the obstacle-line kernel the separate validation pass is skipped (the kernel
     validates); for the numpy backend and the planar planner it runs first."""
     calls = []
-    real = K.valid_queries
-    monkeypatch.setattr(K, "valid_queries", lambda *a: calls.append(1) or real(*a))
+    real = kernels_validation.valid_queries
+    monkeypatch.setattr(kernels_validation, "valid_queries", lambda *a: calls.append(1) or real(*a))
     rng = np.random.default_rng(2)
     o, s, g = (rng.normal(size=(50, k, 2)) for k in (2, 3, 3))
     pmplan.plan_batch(o, s, g)

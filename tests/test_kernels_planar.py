@@ -1,12 +1,12 @@
 """The fused numba kernel of the planar three-obstacle planner against its numpy reference.
 
-``backend="numba"`` (:mod:`pmplan._kernels_planar`) must reproduce ``backend="numpy"`` (the
+``backend="numba"`` (:mod:`pmplan.kernels.planar`) must reproduce ``backend="numpy"`` (the
 reference code of :mod:`pmplan.planners.planar_three` with :mod:`pmplan.predicates`,
 :mod:`pmplan.frame`, :mod:`pmplan.path`, :mod:`pmplan.certify`) exactly. What is checked, and
 why it can fail:
 
-* waypoints, breakpoints (per query, padded to K = 6), domains, strata records and certified
-  clearances are *equal* (``==``, no tolerance: the kernel does the reference's floating-point
+* waypoints, breakpoints (per query, padded to WAYPOINTS = 6 points), domains, stratum records
+  and certified clearances are *equal* (``==``, no tolerance: the kernel does the reference's floating-point
   operations in the reference's order) on the exact constructions of all 12 strata (which the
   kernel decides alone: no flag, otherwise the comparison would be vacuous), on generic floats,
   on exactly degenerate grid queries, on near-degenerate and rescaled mixed batches (also
@@ -30,19 +30,19 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import _kernels_planar as KP
 from pmplan import api, running
 from pmplan.errors import CertificationError, PmplanError
 from pmplan.generators import near_degenerate_queries, random_queries
+from pmplan.generators import planar_stratum_queries as stratum_queries
+from pmplan.kernels import planar as kernels_planar
 from pmplan.planners import planar_three as P3
 from pmplan.planners.planar_three import (
     DOMAIN_OF,
     PLANAR_THREE,
     STRATA,
-    WAYPOINTS as K,
+    WAYPOINTS,
     stratum_short_name,
 )
-from pmplan.generators import planar_stratum_queries as stratum_queries
 
 
 def _kernel(o, s, g, lift=1.0):
@@ -51,8 +51,8 @@ def _kernel(o, s, g, lift=1.0):
     b = o.shape[0]
     out = PLANAR_THREE.allocate(b, 2, 3, 1, 2)
     flags = np.empty(b, np.uint8)
-    KP.plan_planar(o, s, g, P3._EVEN, lift, False, out["times"], out["waypoints"], out["domain"],
-                   out["strata"], out["clearance"], flags)
+    kernels_planar.plan_planar(o, s, g, P3._EVEN, lift, False, out["times"], out["waypoints"],
+                               out["domain"], out["strata"], out["clearance"], flags)
     return flags, out
 
 
@@ -76,7 +76,7 @@ def assert_same_batch(a, b):
     if isinstance(a, tuple) or isinstance(b, tuple):
         assert a == b
         return
-    assert a.waypoints.shape == b.waypoints.shape == (len(b), K, 4, 2)
+    assert a.waypoints.shape == b.waypoints.shape == (len(b), WAYPOINTS, 4, 2)
     assert np.array_equal(a.waypoints, b.waypoints)
     assert np.array_equal(a.times, b.times)
     assert np.array_equal(a.domain, b.domain)
@@ -100,11 +100,11 @@ def _mixed(rng, names, count, exponent=0, noise=0.0):
 
 def test_tables_agree_with_the_planner():
     """The kernel's stratum codes and domains are the planner's (paper (w2)-(w4))."""
-    assert KP.WAYPOINTS is P3.WAYPOINTS == K  # one source
-    assert np.array_equal(KP.CODE_LUT, P3._LUT)
-    assert np.array_equal(KP._DOMAIN, [DOMAIN_OF[name] for name in STRATA])
-    assert P3._EVEN.shape == (K + 1, K)
-    for k in range(2, K + 1):
+    assert kernels_planar.WAYPOINTS is P3.WAYPOINTS is WAYPOINTS == 6  # one source
+    assert np.array_equal(kernels_planar.CODE_LUT, P3._LUT)
+    assert np.array_equal(kernels_planar._DOMAIN, [DOMAIN_OF[name] for name in STRATA])
+    assert P3._EVEN.shape == (WAYPOINTS + 1, WAYPOINTS)
+    for k in range(2, WAYPOINTS + 1):
         assert np.array_equal(P3._EVEN[k, :k], np.linspace(0.0, 1.0, k))
 
 
@@ -139,7 +139,7 @@ def test_random_batches_equal_reference(case):
     _both(o, s, g)
     if not degenerate:  # generic queries are decided by the kernel alone
         flags, _ = _kernel(o, s, g)
-        assert not (flags & KP.FALLBACK).any()
+        assert not (flags & kernels_planar.FALLBACK).any()
 
 
 @settings(max_examples=30)
@@ -187,7 +187,7 @@ def test_tiny_clearance_is_decided_exactly():
     s = np.array([[[1.0 + 1e-10, 0.0]]])
     g = np.array([[[2.0, 1.0]]])
     flags, _ = _kernel(o, s, g)
-    assert flags[0] == KP.SUSPECT
+    assert flags[0] == kernels_planar.SUSPECT
     fast = _both(o, s, g)
     assert stratum_short_name(fast.strata[0]) == "T1_12"
     assert 0.9e-10 < fast.clearance[0] < 1.1e-10
@@ -201,7 +201,7 @@ def test_exact_tie_only_fractions_see_goes_to_the_reference():
     s = np.array([[[0.3, -0.1]], [[0.0, -2.0]]])
     g = np.array([[[3.0, 3.0]], [[6.0, 2.5]]])
     flags, _ = _kernel(o, s, g)
-    assert flags.tolist() == [KP.FALLBACK, 0]
+    assert flags.tolist() == [kernels_planar.FALLBACK, 0]
     fast = _both(o, s, g)
     assert fast.strata.tolist() == [[23, 3, 4], [23, 3, 4]]
     raw = PLANAR_THREE.plan(o, s, g, backend="numba")
@@ -220,7 +220,7 @@ def test_overflowing_direction_goes_to_the_reference():
     g = np.array([[[7.0, -3.0]]])
     with np.errstate(all="ignore"):
         flags, _ = _kernel(o, s, g)
-        assert flags[0] & KP.FALLBACK
+        assert flags[0] & kernels_planar.FALLBACK
         _both(o, s, g)
 
 
@@ -303,5 +303,5 @@ def test_one_specialisation():
         a.flags.writeable = False
     pmplan.plan_batch(*frozen)
     PLANAR_THREE.plan(*frozen)
-    assert len(KP.plan_planar.signatures) == 1
-    assert len(KP.plan_planar_one.signatures) == 1
+    assert len(kernels_planar.plan_planar.signatures) == 1
+    assert len(kernels_planar.plan_planar_one.signatures) == 1

@@ -16,14 +16,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import pmplan
+from pmplan.examples import planar_three_examples as demo_examples
+from pmplan.generators import planar_stratum_queries as stratum_queries
 from pmplan.planners.planar_three import (
     PLANAR_THREE,
     STRATA,
-    WAYPOINTS as K,
+    WAYPOINTS,
     parse_stratum,
 )
-from pmplan.examples import planar_three_examples as demo_examples
-from pmplan.generators import planar_stratum_queries as stratum_queries
 
 #: the numpy path (the reference; the production path of every query the kernel hands back)
 #: gets the same independent checks as the default (numba) one
@@ -283,7 +283,7 @@ def test_exact_constructions_classify_and_certify(name, backend, data):
     batch = pmplan.plan_batch(o, s, g, backend=backend)
     assert strata_names(batch) == [name] * 4
     assert batch.domain.tolist() == [DOMAIN[name]] * 4
-    assert batch.waypoints.shape == (4, K, 4, 2) and batch.times.shape == (4, K)
+    assert batch.waypoints.shape == (4, WAYPOINTS, 4, 2) and batch.times.shape == (4, WAYPOINTS)
     assert np.all(batch.clearance > 0)
     assert np.array_equal(batch.waypoints[:, 0], np.concatenate([o, s], axis=1))
     assert np.array_equal(batch.waypoints[:, -1], np.concatenate([o, g], axis=1))
@@ -441,7 +441,7 @@ def test_zero_length_paths_are_constant():
     p = pmplan.plan(o, x, x)
     assert short(p.stratum) == "T1_22" and p.path.length() == 0
     assert np.all(p.path(np.linspace(0, 1, 11))[:, 3] == x[0])
-    # in the batch the constant path is padded to K waypoints, all equal
+    # in the batch the constant path is padded to WAYPOINTS waypoints, all equal
     batch = pmplan.plan_batch(o[None], x[None], x[None])
     assert np.all(batch.waypoints[0, :, 3] == x[0])
 

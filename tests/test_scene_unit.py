@@ -60,13 +60,14 @@ def _same_batch(p, q):
 
 def _planar_kernel(o, s, g, lift):
     """The planar kernel alone on a batch: (flags, outputs)."""
-    from pmplan import _kernels_planar as KP
+    from pmplan.kernels import planar as kernels_planar
 
     b = o.shape[0]
     out = P3.PLANAR_THREE.allocate(b, 2, 3, 1, 2)
     flags = np.empty(b, np.uint8)
-    KP.plan_planar(o, s, g, P3._EVEN, float(lift), False, out["times"], out["waypoints"],
-                   out["domain"], out["strata"], out["clearance"], flags)
+    kernels_planar.plan_planar(o, s, g, P3._EVEN, float(lift), False, out["times"],
+                               out["waypoints"], out["domain"], out["strata"], out["clearance"],
+                               flags)
     return flags, out
 
 

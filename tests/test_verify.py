@@ -234,7 +234,7 @@ def test_query_distance_is_the_largest_displacement():
 # the branches of the continuity step: perturbed queries refused, labels changed
 
 
-def _leave_the_stratum(rng, planner, q, delta):
+def _leave_the_stratum(planner, rng, q, delta):
     """A wrong "stratum-preserving" move: every robot off its column by ~delta (generic)."""
     o, s, g = (np.array(a, dtype=float) for a in q)
     return o, s + delta * rng.normal(size=s.shape), g + delta * rng.normal(size=g.shape)
@@ -243,9 +243,7 @@ def _leave_the_stratum(rng, planner, q, delta):
 def test_a_label_change_under_perturbation_is_a_problem(monkeypatch):
     """Perturbations that leave the stratum change the label of degenerate queries: verify must
     say so (and not count them in the continuity modulus)."""
-    import pmplan.verify as V
-
-    monkeypatch.setattr(V, "_perturb", _leave_the_stratum)
+    monkeypatch.setattr(Planner, "perturb_within_stratum", _leave_the_stratum)
     r = verify(d=2, n=2, m=2, queries=40, seed=0, progress=False)
     assert not r.ok
     (problem,) = [p for p in r.problems if "changed the label" in p]
@@ -260,9 +258,7 @@ def test_refused_perturbations_that_double_precision_can_represent_are_failures(
                                                                                 monkeypatch):
     """The broken planner refuses even domains; moved off their strata, queries of odd domains
     land in the even domain 8 (generic), so the perturbed family is refused: failures."""
-    import pmplan.verify as V
-
-    monkeypatch.setattr(V, "_perturb", _leave_the_stratum)
+    monkeypatch.setattr(Planner, "perturb_within_stratum", _leave_the_stratum)
     r = verify(planner=broken, d=2, n=2, m=2, queries=40, seed=0, progress=False)
     perturbed = [f for f in r.failures if f["family"] == "perturbed"]
     assert perturbed and all(f["rho"] >= RHO_MIN for f in perturbed)
@@ -277,14 +273,12 @@ def test_refused_perturbations_that_double_precision_can_represent_are_failures(
 def test_refused_nearly_degenerate_perturbations_are_excused(monkeypatch):
     """A perturbed query that double precision cannot represent (rho < 2^-26) may be refused:
     not a failure, and no modulus is computed from it."""
-    import pmplan.verify as V
-
     near = (np.array([[0.0, 0.0], [1.0, 2.0]]), np.array([[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]]),
             np.array([[5.0, 5.0], [6.0, -7.0]]))
     assert degeneracy_ratio(*(a[None] for a in near))[0] < RHO_MIN
     with pytest.raises(pmplan.CertificationError):
         pmplan.plan(*near)
-    monkeypatch.setattr(V, "_perturb", lambda rng, planner, q, delta: near)
+    monkeypatch.setattr(Planner, "perturb_within_stratum", lambda planner, rng, q, delta: near)
     r = verify(d=2, n=2, m=2, queries=40, seed=0, progress=False)
     assert r.ok, r.problems
     assert not [f for f in r.failures if f["family"] in ("perturbed", "exact+random")]
@@ -336,3 +330,23 @@ def test_verify_refuses_bad_sizes():
         verify(seed=-1, progress=False)
     with pytest.raises(pmplan.InputError, match="more than 200,000,000"):
         verify(d=40, n=40, m=40, progress=False)
+
+
+# --------------------------------------------------------------------------------------------
+# verify asks the planner (planners/base.py), never its name
+
+
+@pytest.mark.parametrize("name, dims", [("planar_three", (2, 1, 3)), ("obstacle_line", (3, 2, 2))])
+def test_verify_does_not_branch_on_a_planner_name(monkeypatch, name, dims):
+    """A planner registered under another name gets the same report: its query families, moves
+    inside a stratum, stratum names and notes come from its protocol, not from its name."""
+    cls = type(REGISTRY[name])
+    twin = type("Twin", (cls,), {"name": "twin_under_another_name"})()
+    monkeypatch.setitem(REGISTRY, twin.name, twin)
+    d, n, m = dims
+    a = json.loads(verify(planner=name, d=d, n=n, m=m, queries=40, progress=False).to_json())
+    b = json.loads(verify(planner=twin.name, d=d, n=n, m=m, queries=40, progress=False).to_json())
+    assert a.pop("planner") == name and b.pop("planner") == twin.name
+    assert a == b
+    assert a["ok"] and a["realised"] == a["labels"]
+    assert bool(a["notes"]) == (name == "obstacle_line" and d % 2 == 1)

@@ -1,8 +1,8 @@
 """The notice of the one-time compilation of pmplan's numba kernels (the first run only).
 
-Numba compiles a kernel of :mod:`pmplan._kernels` or :mod:`pmplan._kernels_planar` the first
-time it is called in a process, unless numba's on-disk cache (``cache=True``, next to the
-sources or under ``NUMBA_CACHE_DIR``) already holds its machine code, which loads in a fraction
+Numba compiles a kernel of the package :mod:`pmplan.kernels` the first time it is called in a
+process, unless numba's on-disk cache (``cache=True``, next to the sources or under
+``NUMBA_CACHE_DIR``) already holds its machine code, which loads in a fraction
 of a second. Numba reports a real compilation -- never a load from that cache, nor a kernel
 already compiled in the process -- as a ``numba:compile`` event before it starts, so the
 notice is shown exactly when a compilation happens. The progress display of the batch

@@ -2,10 +2,12 @@
 
 Every other module asks this one: the backend names (:data:`BACKENDS`), whether numba is there
 (:func:`available`), the default and the check of a name (:func:`resolve`, :func:`check`), and
-the kernel modules themselves, imported lazily on first use (importing them imports numba):
-:func:`kernels` (:mod:`pmplan._kernels`: the obstacle-line kernels and validation) and
-:func:`planar_kernels` (:mod:`pmplan._kernels_planar`). Without numba the numpy references plan
-everything (the kernels' ``AVAILABLE`` is False); both backends give identical plans.
+the kernel modules of the package :mod:`pmplan.kernels` themselves, imported lazily on first
+use (importing them imports numba): :func:`kernels` (:mod:`pmplan.kernels.obstacle_line`),
+:func:`planar_kernels` (:mod:`pmplan.kernels.planar`), :func:`validation_kernels`
+(:mod:`pmplan.kernels.validation`) and :func:`shared_kernels` (:mod:`pmplan.kernels.common`: the
+flag bits, ``AVAILABLE``). Without numba the numpy references plan everything (``AVAILABLE`` is
+False); both backends give identical plans.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import numpy as np
 from .errors import InputError
 
 __all__ = ["BACKENDS", "NUMBA", "NUMPY", "available", "check", "kernel_array", "kernels",
-           "planar_kernels", "resolve", "uses_kernels"]
+           "planar_kernels", "resolve", "shared_kernels", "uses_kernels", "validation_kernels"]
 
 NUMBA = "numba"
 NUMPY = "numpy"
@@ -25,29 +27,40 @@ BACKENDS = (NUMBA, NUMPY)
 _MODULES: dict = {}
 
 
-def kernels():
-    """:mod:`pmplan._kernels` (obstacle-line kernels, validation kernels), imported once."""
-    mod = _MODULES.get("ol")
+def _load(name: str):
+    """The kernel module ``pmplan.kernels.<name>``, imported once (it imports numba)."""
+    mod = _MODULES.get(name)
     if mod is None:
-        from . import _kernels as mod
+        import importlib
 
-        _MODULES["ol"] = mod
+        mod = _MODULES[name] = importlib.import_module(f"pmplan.kernels.{name}")
     return mod
+
+
+def kernels():
+    """:mod:`pmplan.kernels.obstacle_line` (the obstacle-line kernels), imported once."""
+    return _load("obstacle_line")
 
 
 def planar_kernels():
-    """:mod:`pmplan._kernels_planar` (the planar_three kernel), imported once."""
-    mod = _MODULES.get("planar")
-    if mod is None:
-        from . import _kernels_planar as mod
+    """:mod:`pmplan.kernels.planar` (the planar_three kernel), imported once."""
+    return _load("planar")
 
-        _MODULES["planar"] = mod
-    return mod
+
+def validation_kernels():
+    """:mod:`pmplan.kernels.validation` (finite coordinates, distinct points), imported once."""
+    return _load("validation")
+
+
+def shared_kernels():
+    """:mod:`pmplan.kernels.common` (the flag bits every kernel returns, ``AVAILABLE``), imported
+    once."""
+    return _load("common")
 
 
 def available() -> bool:
     """Whether the numba kernels can run (numba is installed)."""
-    return kernels().AVAILABLE
+    return shared_kernels().AVAILABLE
 
 
 def check(backend) -> None:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .backend import kernel_array, kernels
+from .backend import kernel_array, validation_kernels
 from .errors import CollisionError, InputError, NonFiniteError, ObstacleMismatchError, ShapeError
 
 __all__ = [
@@ -366,11 +366,11 @@ def _valid_fast(obstacles, start, goal, batched: bool, deep: bool = True):
     """Return the arrays of :func:`check_query` when the query is valid, else None.
 
     Converts like :func:`as_points` (:func:`as_real`), checks the axes and shapes, then (if
-    ``deep``) asks
-    :func:`pmplan._kernels.valid_queries` (finite, no two equal points in C or C') in one pass.
+    ``deep``) asks :func:`pmplan.kernels.validation.valid_queries` (finite, no two equal points
+    in C or C') in one pass.
     It never raises: None means "let the reference checks decide (and word the error)".
     """
-    kern = kernels()
+    kern = validation_kernels()
     if not kern.AVAILABLE:  # pragma: no cover
         return None
     try:
@@ -398,11 +398,12 @@ def _check_distinct(obstacles: np.ndarray, robots: np.ndarray, m: int, which: st
                     batched: bool) -> None:
     """Raise :class:`CollisionError` if two points of ``obstacles u robots`` coincide.
 
-    The fast path is one pass of the numba kernel :func:`pmplan._kernels.first_coincident`
-    (no temporary); only when it finds a coincidence (or numba is missing) does the numpy path
-    :func:`check_configuration` run, and it raises with the full message.
+    The fast path is one pass of the numba kernel
+    :func:`pmplan.kernels.validation.first_coincident` (no temporary); only when it finds a
+    coincidence (or numba is missing) does the numpy path :func:`check_configuration` run, and
+    it raises with the full message.
     """
-    kern = kernels()
+    kern = validation_kernels()
     if kern.AVAILABLE and kern.first_coincident(obstacles, robots) < 0:
         return
     check_configuration(np.concatenate([obstacles, robots], axis=1), m, which, batched)

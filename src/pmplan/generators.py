@@ -44,6 +44,7 @@ __all__ = [
     "near_degenerate_queries",
     "perturb_within_stratum",
     "planar_stratum_queries",
+    "perturb_planar_stratum",
 ]
 
 
@@ -747,3 +748,64 @@ def planar_stratum_queries(
     start = world(ux[:, None], vx[:, None])
     goal = world(ug[:, None], vg[:, None])
     return obstacles, start, goal
+
+
+def perturb_planar_stratum(rng: np.random.Generator, q, delta: float):
+    """Move one query of the planar three-obstacle planner inside its stratum by about delta.
+
+    One of two exact moves, chosen at random:
+
+    * a similarity about o1, ``y -> o1 + (I + a J)(y - o1) + t`` (J the rotation by 90 degrees,
+      ``a`` a power of two, ``t`` dyadic): it keeps every equality of columns and of heights;
+    * a dyadic translation of the whole scene, then every robot position and o3 moved by a
+      power of two times a direction their stratum allows (with ``w = o2 - o1``): along ``w``
+      for a point on L_C when o3 is on L_C (family T1), along ``rot90(w)`` for a point on an
+      obstacle column (families T22, T23, and o3 there), anywhere otherwise.
+
+    (Combining both in one move would need more than 53 bits.) The result is checked exactly
+    with :func:`pmplan.planners.planar_three.classify` and for distinct points; None if it left
+    the stratum (which does not happen for the dyadic queries of ``planar_stratum_queries``).
+    """
+    from .planners.planar_three import classify  # the planners import this module
+
+    o, s, g = (np.array(a, dtype=float) for a in q)
+    before = classify(o[None], s[None], g[None])
+    budget = delta / 3.0
+    o1 = o[0].copy()
+    radius = max(np.abs(np.concatenate([o, s, g]) - o1).max(), 1e-300)
+    tdir = rng.normal(size=2)
+    unit = 2.0 ** np.floor(np.log2(budget / 64))
+    t = np.round(tdir / np.abs(tdir).max() * budget / 2 / unit) * unit
+    if rng.random() < 0.5:
+        a = 2.0 ** np.floor(np.log2(budget / radius)) * rng.choice([-1.0, 1.0])
+
+        def sim(y):
+            rel = y - o1
+            return o1 + rel + a * np.stack([-rel[..., 1], rel[..., 0]], axis=-1) + t
+
+        o, s, g = sim(o), sim(s), sim(g)
+    else:
+        w = o[1] - o[0]
+        fam = int(before.record[0, 0])
+        cl, hl = before.col_labels[0], before.height_labels[0]
+        step = 2.0 ** np.floor(np.log2(budget))
+        o, s, g = o + t, s + t, g + t
+        for arr, i, row in ((o, 2, 2), (s, 0, 3), (g, 0, 4)):
+            if fam == 1 and hl[row] == hl[0]:  # on L_C (with o3 on it): stay on L_C
+                v = w
+            elif fam != 1 and cl[row] in cl[:3].tolist() and (row > 2 or fam == 22):
+                v = np.array([-w[1], w[0]])  # on an obstacle column: stay on it
+            else:  # free: any direction (dyadic, 6 bits)
+                v = np.round(rng.normal(size=2) * 32) / 32
+            if row == 2 and fam == 23:  # o3 alone in its column, but robots may share it
+                v = np.array([-w[1], w[0]])
+            size = np.abs(v).max()
+            if size > 0:
+                arr[i] = arr[i] + rng.choice([-1.0, 1.0]) * step / 2.0 ** np.ceil(np.log2(size)) * v
+    after = classify(o[None], s[None], g[None])
+    if not np.array_equal(after.record, before.record):
+        return None
+    for pts in (np.concatenate([o, s]), np.concatenate([o, g])):
+        if len({tuple(r) for r in pts.tolist()}) != pts.shape[0]:
+            return None
+    return o, s, g

@@ -201,7 +201,8 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
         if c.shape[1:] != configs[0].shape[1:] or c.shape[2] != d:
             raise InputError(f"`{name}` has shape {c.shape}; expected (B, n, d) = "
                              f"({c.shape[0]}, {n}, {d})")
-    p = api.choose_planner(d, n, m, "obstacle_line" if sequential else planner)
+    p = api.choose_planner(d, n, m, api.default_planner(d, n, m, sequential=True)
+                           if sequential else planner)
     template = p.allocate(0, len(configs), m, n, d)
     per_query_times = template["times"].ndim == 2
     record = _record(template, per_query_times)
@@ -520,9 +521,10 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     workers = api._check_workers(workers)
     api._check_backend(backend)
     r = k + 2
-    if r > 2 and planner not in (None, "obstacle_line"):
-        raise InputError("a query with 'via' is planned by the obstacle_line planner")
-    p = api.choose_planner(d, n, m, "obstacle_line" if r > 2 else planner)
+    if r > 2:
+        api._check_sequential(planner)
+    p = api.choose_planner(d, n, m, api.default_planner(d, n, m, sequential=True)
+                           if r > 2 else planner)
     nchunks = -(-b // chunk)
     lift_attr = lift if isinstance(lift, str) else float(lift)
     attrs = _attrs(p.name, lift_attr, (d, n, m), r, b, chunk)

@@ -32,10 +32,11 @@ gathers the evidence for one (d, n, m):
    ``pmplan.info(d, n, m).labels`` was realised.
 
 3. **Continuity inside a domain** (SPEC 5). Each exact and random query Q is moved inside its
-   stratum by about ``delta`` (:func:`pmplan.generators.perturb_within_stratum`; for
-   ``planar_three`` an exact similarity, or moves of the robot and o3 along their column or
-   line, see :func:`_perturb_planar_three`) to Q'; the *continuity modulus* of a domain is the
-   largest ratio ``sup_t |Gamma_Q(t) - Gamma_Q'(t)| / |Q - Q'|`` (:func:`path_distance`,
+   stratum by about ``delta`` (the planner's ``perturb_within_stratum``:
+   :func:`pmplan.generators.perturb_within_stratum`; for ``planar_three`` an exact similarity,
+   or moves of the robot and o3 along their column or line,
+   :func:`pmplan.generators.perturb_planar_stratum`) to Q'; the *continuity modulus* of a domain
+   is the largest ratio ``sup_t |Gamma_Q(t) - Gamma_Q'(t)| / |Q - Q'|`` (:func:`path_distance`,
    :func:`query_distance`). A perturbed query that changes its label is an error.
 
 4. **Jumps across domains**. Each exact query Q is moved by ``delta`` in a generic direction
@@ -70,8 +71,9 @@ from . import generators as gen
 from .errors import CertificationError, InputError
 from .frame import Frame
 from .path import PiecewiseLinearPath
-from .predicates import projection_classes
 from .planners.base import REGISTRY
+from .planners.obstacle_line import POLE_NOTE as OBSTACLE_LINE_POLE_NOTE
+from .predicates import projection_classes
 
 __all__ = [
     "RHO_MIN",
@@ -99,14 +101,8 @@ MIN_QUERIES = 10
 MAX_QUERIES = 100_000
 #: most coordinates one family may hold in its pairwise-distance array (queries * P**2 * d)
 MAX_NUMBERS = 200_000_000
-#: what ``verify`` says for odd d (measured by ``benchmarks/odd_d_pole.py``; README, "Odd d")
-POLE_NOTE = (
-    "odd d: near the pole N = e_d the modulus of continuity grows like 1/angle, about "
-    "2 n lambda / angle (lambda = lift + max_k |r(o_k)|); measured for d = 3, n = 2, lift 1: a "
-    "1e-9 move at 1e-8 rad from N moves the path by 0.4. Forced by topology (nu(e) is a unit "
-    "tangent field on S^(d-1) minus N and must wind around N), not a bug; the moduli above come "
-    "from queries away from N."
-)
+#: what ``verify`` says for odd d, the obstacle-line planner's note (``Planner.notes``)
+POLE_NOTE = OBSTACLE_LINE_POLE_NOTE
 
 
 # ------------------------------------------------------------------------------------------------
@@ -405,111 +401,6 @@ class Report:
 
 
 # ------------------------------------------------------------------------------------------------
-# query families
-
-
-def _exact_queries(rng, planner: str, d: int, n: int, m: int, count: int):
-    """Exact degenerate queries covering every stratum, round robin; a batch (B, ., d)."""
-    obs, st, go = [], [], []
-    if planner == "planar_three":
-        from .planners.planar_three import STRATA
-
-        per = max(1, -(-count // len(STRATA)))
-        for name in STRATA:
-            o, s, g = gen.planar_stratum_queries(rng, name, per)
-            obs.append(o)
-            st.append(s)
-            go.append(g)
-        order = np.arange(per * len(STRATA)).reshape(len(STRATA), per).T.ravel()  # round robin
-        return tuple(np.concatenate(a)[order] for a in (obs, st, go))
-    table = gen.strata(d, n, m)
-    for k in range(max(count, len(table))):
-        s = table[k % len(table)]
-        q = gen.column_query(rng, d, n, m, s.cp_start, s.cp_goal, cp_o=s.cp_o, pole=s.pole,
-                             integer=k % 2 == 0)
-        obs.append(q.obstacles)
-        st.append(q.start)
-        go.append(q.goal)
-    return np.stack(obs), np.stack(st), np.stack(go)
-
-
-def _near_degenerate(rng, planner: str, d: int, n: int, m: int, count: int, scale: float):
-    if planner != "planar_three":
-        return tuple(gen.near_degenerate_queries(rng, d, n, m, count, scale))
-    # the same noise as generators.near_degenerate_queries, on the strata of paper Section 4
-    q = _exact_queries(rng, planner, d, n, m, count)
-    idx = rng.permutation(q[0].shape[0])[:count]
-    return tuple(a[idx] + scale * (1 + np.abs(a[idx])) * rng.normal(size=a[idx].shape) for a in q)
-
-
-def _perturb_planar_three(rng, q, delta: float):
-    """Move one query of the planar three-obstacle planner inside its stratum by about delta.
-
-    One of two exact moves, chosen at random:
-
-    * a similarity about o1, ``y -> o1 + (I + a J)(y - o1) + t`` (J the rotation by 90 degrees,
-      ``a`` a power of two, ``t`` dyadic): it keeps every equality of columns and of heights;
-    * a dyadic translation of the whole scene, then every robot position and o3 moved by a
-      power of two times a direction their stratum allows (with ``w = o2 - o1``): along ``w``
-      for a point on L_C when o3 is on L_C (family T1), along ``rot90(w)`` for a point on an
-      obstacle column (families T22, T23, and o3 there), anywhere otherwise.
-
-    (Combining both in one move would need more than 53 bits.) The result is checked exactly
-    with :func:`pmplan.planners.planar_three.classify` and for distinct points; None if it left
-    the stratum (which does not happen for the dyadic queries of ``planar_stratum_queries``).
-    """
-    from .planners.planar_three import classify
-
-    o, s, g = (np.array(a, dtype=float) for a in q)
-    before = classify(o[None], s[None], g[None])
-    budget = delta / 3.0
-    o1 = o[0].copy()
-    radius = max(np.abs(np.concatenate([o, s, g]) - o1).max(), 1e-300)
-    tdir = rng.normal(size=2)
-    unit = 2.0 ** np.floor(np.log2(budget / 64))
-    t = np.round(tdir / np.abs(tdir).max() * budget / 2 / unit) * unit
-    if rng.random() < 0.5:
-        a = 2.0 ** np.floor(np.log2(budget / radius)) * rng.choice([-1.0, 1.0])
-
-        def sim(y):
-            rel = y - o1
-            return o1 + rel + a * np.stack([-rel[..., 1], rel[..., 0]], axis=-1) + t
-
-        o, s, g = sim(o), sim(s), sim(g)
-    else:
-        w = o[1] - o[0]
-        fam = int(before.record[0, 0])
-        cl, hl = before.col_labels[0], before.height_labels[0]
-        step = 2.0 ** np.floor(np.log2(budget))
-        o, s, g = o + t, s + t, g + t
-        for arr, i, row in ((o, 2, 2), (s, 0, 3), (g, 0, 4)):
-            if fam == 1 and hl[row] == hl[0]:  # on L_C (with o3 on it): stay on L_C
-                v = w
-            elif fam != 1 and cl[row] in cl[:3].tolist() and (row > 2 or fam == 22):
-                v = np.array([-w[1], w[0]])  # on an obstacle column: stay on it
-            else:  # free: any direction (dyadic, 6 bits)
-                v = np.round(rng.normal(size=2) * 32) / 32
-            if row == 2 and fam == 23:  # o3 alone in its column, but robots may share it
-                v = np.array([-w[1], w[0]])
-            size = np.abs(v).max()
-            if size > 0:
-                arr[i] = arr[i] + rng.choice([-1.0, 1.0]) * step / 2.0 ** np.ceil(np.log2(size)) * v
-    after = classify(o[None], s[None], g[None])
-    if not np.array_equal(after.record, before.record):
-        return None
-    for pts in (np.concatenate([o, s]), np.concatenate([o, g])):
-        if len({tuple(r) for r in pts.tolist()}) != pts.shape[0]:
-            return None
-    return o, s, g
-
-
-def _perturb(rng, planner: str, q, delta: float):
-    if planner == "planar_three":
-        return _perturb_planar_three(rng, q, delta)
-    return tuple(gen.perturb_within_stratum(rng, q, delta))
-
-
-# ------------------------------------------------------------------------------------------------
 # planning that survives certificate failures
 
 
@@ -531,17 +422,10 @@ def _plan_each(q, planner: str, lift=1.0):
     return None, keep, refused
 
 
-def _stratum_name(planner: str, d: int, n: int, m: int, q, i: int) -> str:
+def _stratum_name(p, d: int, n: int, m: int, q, i: int) -> str:
     """Return the stratum of query i of a batch, decided exactly (for failure reports)."""
     one = tuple(np.asarray(a, dtype=float)[i] for a in q)
-    p = api.choose_planner(d, n, m, planner)
-    if planner == "planar_three":
-        from .planners.planar_three import classify
-
-        row = classify(*(a[None] for a in one)).record[0]
-    else:
-        row = gen.stratum_of(one).record()
-    return p.stratum_name(np.asarray(row), d, n, m)
+    return p.stratum_name(np.asarray(p.stratum_row(*one)), d, n, m)
 
 
 def _take(q, idx):
@@ -622,25 +506,20 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     bar = tqdm(total=6, desc=f"verify {name} ({d},{n},{m})", unit="step", file=sys.stderr,
                disable=not progress, leave=False)
     families = {
-        "exact": _exact_queries(rng, name, d, n, m, n_exact),
+        "exact": p.exact_queries(rng, d, n, m, n_exact),
     }
-    if name == "planar_three":
-        from .planners.planar_three import STRATA
-
-        n_strata = len(STRATA)
-    else:
-        n_strata = len(gen.strata(d, n, m))
+    n_strata = p.stratum_count(d, n, m)
     families = {
         **families,
         "random": tuple(gen.random_queries(rng, d, n, m, n_random)),
     }
-    near = [_near_degenerate(rng, name, d, n, m, k, s)
+    near = [p.near_degenerate_queries(rng, d, n, m, k, s)
             for k, s in zip((n_near // 2, n_near - n_near // 2), NEAR_SCALES)]
     families["near-degenerate"] = tuple(np.concatenate(parts) for parts in zip(*near))
     bar.update(1)
 
     dom = {label: DomainReport(label=label) for label in labels}
-    strata: dict[int, set] = {label: set() for label in labels}
+    met_strata: dict[int, set] = {label: set() for label in labels}  # stratum names by domain
     fam_stats: dict[str, dict] = {}
     failures: list[dict] = []
     problems: list[str] = []
@@ -652,7 +531,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
         failed = [(i, msg) for i, msg in refused if not rho[i] < RHO_MIN]
         for i, msg in failed:
             failures.append({"family": fname, "index": i, "rho": float(rho[i]),
-                             "stratum": _stratum_name(name, d, n, m, q, i), "error": msg})
+                             "stratum": _stratum_name(p, d, n, m, q, i), "error": msg})
         fam_stats[fname] = {"queries": int(q[0].shape[0]), "planned": int(kept.size),
                             "excused": len(excused), "failed": len(failed)}
         bar.update(1)
@@ -663,7 +542,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
         for label in np.unique(batch.domain).tolist():
             sel = batch.domain == label
             dr = dom.setdefault(label, DomainReport(label=label))
-            strata.setdefault(label, set()).update(names[sel].tolist())
+            met_strata.setdefault(label, set()).update(names[sel].tolist())
             dr.queries += int(sel.sum())
             low = float(batch.clearance[sel].min())
             dr.min_clearance = low if dr.min_clearance is None else min(dr.min_clearance, low)
@@ -679,7 +558,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
         # a share of the family (the exact family is built round robin over the strata, so its
         # first queries cover every stratum)
         for i in range(min(kept.size, max(n_strata, kept.size // share))):
-            moved = _perturb(rng, name, (q[0][i], q[1][i], q[2][i]), DELTA)
+            moved = p.perturb_within_stratum(rng, (q[0][i], q[1][i], q[2][i]), DELTA)
             if moved is None:
                 continue
             base_o.append(q[0][i])
@@ -699,7 +578,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
             for i, msg in refused:
                 if not rho[i] < RHO_MIN:
                     failures.append({"family": fam_name, "index": i, "rho": float(rho[i]),
-                                     "stratum": _stratum_name(name, d, n, m, qq, i),
+                                     "stratum": _stratum_name(p, d, n, m, qq, i),
                                      "error": msg})
         both = np.intersect1d(k0, k1)
         if both.size:
@@ -758,7 +637,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     bar.close()
 
     for label, dr in dom.items():
-        dr.strata = sorted(strata.get(label, set()))
+        dr.strata = sorted(met_strata.get(label, set()))
     realised = sorted(label for label, dr in dom.items() if dr.queries > 0)
     missing = sorted(set(labels) - set(realised))
     if failures:
@@ -781,6 +660,6 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
         families=fam_stats,
         failures=failures,
         problems=problems,
-        notes=[POLE_NOTE] if d % 2 == 1 and name == "obstacle_line" else [],
+        notes=p.notes(d, n, m),
         lift=lift,
     )

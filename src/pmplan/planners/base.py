@@ -22,7 +22,7 @@ from typing import Callable, ClassVar
 
 import numpy as np
 
-from ..backend import NUMBA, NUMPY, kernels, resolve
+from ..backend import NUMBA, NUMPY, resolve, shared_kernels
 from ..certify import certificate
 from ..certify import clearance as exact_clearance
 from ..path import PiecewiseLinearPath
@@ -78,7 +78,8 @@ class RawPlan:
     domain : ndarray of int64, shape (B,)
         The label ``l`` of the domain of continuity ``W_l`` of each query.
     strata : ndarray of int64, shape (B, S)
-        Planner-specific integers that name the stratum (see ``Planner.stratum_name``).
+        The stratum record of every query: planner-specific integers that name its stratum
+        (one row per query; ``Planner.stratum_name`` writes a row in the paper's notation).
     path : PiecewiseLinearPath
         Batch of paths, waypoints of shape (B, K, m+n, d).
     """
@@ -163,7 +164,7 @@ class Planner:
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
         """Plan a chunk with the numba kernel into ``out`` (the rows of :meth:`allocate`) and
-        return its flags (B,) uint8 (:mod:`pmplan._kernels`: ``FALLBACK``, ``SUSPECT``,
+        return its flags (B,) uint8 (:mod:`pmplan.kernels.common`: ``FALLBACK``, ``SUSPECT``,
         ``NONFINITE``, ``BROKEN``, ``INVALID``), or None when no kernel plans this chunk
         (then the reference plans it). Default: no kernel."""
         return None
@@ -192,6 +193,63 @@ class Planner:
         configs = [np.asarray(c, dtype=float) for c in configs]
         return store_reference(self, obstacles, configs, lift, np.arange(obstacles.shape[0]),
                                out)
+
+    # --- what pmplan.verify asks: the planner's strata, exact queries in them, moves inside them ---
+    # Defaults: the column strata of the query space (SPEC 4b, paper Section 3;
+    # :func:`pmplan.generators.strata`), for a planner that decides on columns as the obstacle-line
+    # planner does. A planner with its own strata overrides all five.
+    def stratum_count(self, d: int, n: int, m: int) -> int:
+        """The number of strata :meth:`exact_queries` cycles through for (d, n, m)."""
+        from .. import generators as gen
+
+        return len(gen.strata(d, n, m))
+
+    def exact_queries(self, rng: np.random.Generator, d: int, n: int, m: int, count: int
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """At least ``count`` exact degenerate queries covering every stratum, round robin (the
+        first :meth:`stratum_count` queries meet every stratum): obstacles (B, m, d), starts and
+        goals (B, n, d). Default: :func:`pmplan.generators.column_query` on every stratum of
+        :func:`pmplan.generators.strata`, integer coordinates every other query."""
+        from .. import generators as gen
+
+        obs, st, go = [], [], []
+        table = gen.strata(d, n, m)
+        for k in range(max(count, len(table))):
+            s = table[k % len(table)]
+            q = gen.column_query(rng, d, n, m, s.cp_start, s.cp_goal, cp_o=s.cp_o, pole=s.pole,
+                                 integer=k % 2 == 0)
+            obs.append(q.obstacles)
+            st.append(q.start)
+            go.append(q.goal)
+        return np.stack(obs), np.stack(st), np.stack(go)
+
+    def near_degenerate_queries(self, rng: np.random.Generator, d: int, n: int, m: int,
+                                count: int, scale: float
+                                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``count`` exact degenerate queries whose ties are broken by about ``scale`` of the
+        scene. Default: :func:`pmplan.generators.near_degenerate_queries`."""
+        from .. import generators as gen
+
+        return tuple(gen.near_degenerate_queries(rng, d, n, m, count, scale))
+
+    def perturb_within_stratum(self, rng: np.random.Generator, query, delta: float):
+        """Move one query (obstacles, start, goal) inside its stratum by about ``delta``; return
+        the moved query, or None when the move left the stratum. Default:
+        :func:`pmplan.generators.perturb_within_stratum`."""
+        from .. import generators as gen
+
+        return tuple(gen.perturb_within_stratum(rng, query, delta))
+
+    def stratum_row(self, obstacles, start, goal) -> np.ndarray:
+        """The record of the stratum of one query, decided exactly (what
+        :meth:`stratum_name` reads). Default: :func:`pmplan.generators.stratum_of`."""
+        from .. import generators as gen
+
+        return np.asarray(gen.stratum_of((obstacles, start, goal)).record())
+
+    def notes(self, d: int, n: int, m: int) -> list[str]:
+        """Facts to read a check of (d, n, m) by (``pmplan verify`` prints them as notes)."""
+        return []
 
     # --- the single-query fast paths ---------------------------------------------------------
     def single_query(self, m: int, n: int, d: int) -> Callable | None:
@@ -286,7 +344,7 @@ def redecide(planner: Planner, flags: np.ndarray, obstacles, configs, lift, out:
     ``NONFINITE``, ``BROKEN`` and ``INVALID`` rows fail (the kernel read every clause of the
     certificate back from its outputs).
     """
-    kern = kernels()
+    kern = shared_kernels()
     clearance = out["clearance"]
     failed = kern.NONFINITE | kern.BROKEN | kern.INVALID
     ok = (flags & failed) == 0

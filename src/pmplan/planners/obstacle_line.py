@@ -167,6 +167,15 @@ def path_times(r: int) -> np.ndarray:
     return out
 
 
+#: what ``pmplan verify`` says for odd d (:meth:`ObstacleLinePlanner.notes`) (measured by ``benchmarks/odd_d_pole.py``; README, "Odd d")
+POLE_NOTE = (
+    "odd d: near the pole N = e_d the modulus of continuity grows like 1/angle, about "
+    "2 n lambda / angle (lambda = lift + max_k |r(o_k)|); measured for d = 3, n = 2, lift 1: a "
+    "1e-9 move at 1e-8 rad from N moves the path by 0.4. Forced by topology (nu(e) is a unit "
+    "tangent field on S^(d-1) minus N and must wind around N), not a bug; the moduli above come "
+    "from queries away from N."
+)
+
 _TIMES2 = path_times(2)  # the breakpoints of every two-configuration path (read-only)
 
 
@@ -194,6 +203,10 @@ class ObstacleLinePlanner(Planner):
         ("projection reversed", "robots lift back off the line to F(C', 1)"),
         ("desingularization reversed", "robots step back along e to C', (desin) reversed"),
     )
+
+    def notes(self, d: int, n: int, m: int) -> list[str]:
+        """For odd d, :data:`POLE_NOTE` (the modulus of continuity near the pole, SPEC 4a)."""
+        return [POLE_NOTE] if d % 2 == 1 else []
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         """None for every d >= 2, n >= 1, m >= 2 (:func:`~pmplan.planners.base.out_of_scope`)."""
@@ -229,7 +242,7 @@ class ObstacleLinePlanner(Planner):
 
         ``backend="numpy"`` runs the reference implementation below (numpy, exact predicates of
         :mod:`pmplan.predicates`); ``"numba"`` (the default when numba is installed) runs the
-        fused kernel of :mod:`pmplan._kernels`, whose waypoints and labels are identical.
+        fused kernel of :mod:`pmplan.kernels.obstacle_line`, whose waypoints and labels are identical.
         The input is not validated here (see :mod:`pmplan.configuration`).
         """
         if resolve(backend) == NUMBA:
@@ -293,7 +306,7 @@ class ObstacleLinePlanner(Planner):
         (a sequence of r arrays (n, d)), and a float ``lift`` (positive, or
         :data:`~pmplan.planners.base.SCENE_CODE`) -- or None when no kernel plans
         that shape (numba missing, d > MAX_D, m < 2, n < 1, r < 2). ``run`` returns None
-        whenever the kernel (:func:`pmplan._kernels._plan`, asked to validate, with the
+        whenever the kernel (:func:`pmplan.kernels.obstacle_line._plan`, asked to validate, with the
         index tables looked up once here) flags the query or the clearance is not positive:
         the general path then raises the proper error or re-decides exactly. The breakpoints
         are :func:`path_times` ``(r)`` (strictly increasing, so the path is already compact),
@@ -362,7 +375,7 @@ class ObstacleLinePlanner(Planner):
 
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
-        """Plan a chunk with :func:`pmplan._kernels.plan_chunk` into ``out``; return its flags.
+        """Plan a chunk with :func:`pmplan.kernels.obstacle_line.plan_chunk` into ``out``; return its flags.
 
         None for d > MAX_D: the kernel reproduces numpy's summation order for d <= MAX_D only,
         and the reference plans the chunk. With ``validate`` the kernel also checks every query

@@ -54,7 +54,7 @@ obstacle (H, h3/2; h(x), h(x') != 0 when all obstacles lie on L_C), or leaves x 
 height towards the first solid vertical, never reaching the next obstacle column.
 
 Implementations: the numpy code below is the *reference* (``backend="numpy"``); the default
-``backend="numba"`` runs the fused kernel of :mod:`pmplan._kernels_planar` (classification,
+``backend="numba"`` runs the fused kernel of :mod:`pmplan.kernels.planar` (classification,
 polyline, constant-speed times and certificate in one pass per query, flagged queries
 re-decided here), whose waypoints, breakpoints, strata and clearances are identical. The
 planner plugs into the run loop and the fast paths through the protocol of
@@ -87,14 +87,15 @@ __all__ = [
     "STRATA",
     "WAYPOINTS",
     "PlanarThreePlanner",
-    "Strata",
+    "StratumClassification",
     "classify",
     "frame_polyline_W1",
     "parse_stratum",
     "stratum_short_name",
 ]
 
-#: the 12 strata of paper Section 4 in SPEC notation, in a fixed order (codes 0..11)
+#: the names of the 12 strata of paper Section 4 in SPEC notation, in a fixed order: the stratum
+#: code of :class:`StratumClassification` is the index here (0..11)
 STRATA: tuple[str, ...] = (
     "T1_11", "T1_12", "T1_21", "T1_22",
     "T22_22", "T22_23", "T22_32", "T22_33",
@@ -163,8 +164,9 @@ def _ndistinct(labels: np.ndarray) -> np.ndarray:
 
 
 @dataclass
-class Strata:
-    """Exact classification of a batch of B queries into the strata of paper Section 4.
+class StratumClassification:
+    """Exact classification of a batch of B queries into the strata of paper Section 4 (what
+    :func:`classify` returns; the strata themselves are named in :data:`STRATA`).
 
     Attributes
     ----------
@@ -186,7 +188,7 @@ class Strata:
     height_labels: np.ndarray
 
 
-def classify(obstacles, start, goal) -> Strata:
+def classify(obstacles, start, goal) -> StratumClassification:
     """Return the stratum and domain of every query (paper Section 4), decided exactly.
 
     Parameters
@@ -196,7 +198,7 @@ def classify(obstacles, start, goal) -> Strata:
 
     Returns
     -------
-    Strata
+    StratumClassification
 
     Examples
     --------
@@ -230,7 +232,7 @@ def classify(obstacles, start, goal) -> Strata:
         bad = int(np.flatnonzero(code < 0)[0])
         raise ValueError(f"query {bad} is in no stratum of paper Section 4: are its points distinct?")
     record = np.stack([family, i, j], axis=1).astype(np.int64)
-    return Strata(record=record, code=code, domain=_DOMAIN_BY_CODE[code], col_labels=cl,
+    return StratumClassification(record=record, code=code, domain=_DOMAIN_BY_CODE[code], col_labels=cl,
                   height_labels=hl)
 
 
@@ -266,7 +268,7 @@ class _Scene:
                       u, h, self.cols, self.rank_g, self.rank_x, self.unit)
 
 
-def _scene(obstacles, start, goal, st: Strata, lift=1.0) -> _Scene:
+def _scene(obstacles, start, goal, st: StratumClassification, lift=1.0) -> _Scene:
     o1, o2 = obstacles[:, 0], obstacles[:, 1]
     fr = Frame(o1, o2)
     pts = np.concatenate([obstacles, start, goal], axis=1)
@@ -477,6 +479,44 @@ class PlanarThreePlanner(Planner):
         f, i, j = (int(v) for v in row)
         return f"T^{{{_PAPER_SUPER[f]}}}_{{{i},{j}}}"
 
+    # --- what pmplan.verify asks: the 12 strata of paper Section 4 ---------------------------
+    def stratum_count(self, d: int, n: int, m: int) -> int:
+        """The 12 strata of paper Section 4 (:data:`STRATA`)."""
+        return len(STRATA)
+
+    def exact_queries(self, rng, d: int, n: int, m: int, count: int):
+        """At least ``count`` exact queries, the same number in every stratum of :data:`STRATA`
+        (:func:`pmplan.generators.planar_stratum_queries`), round robin."""
+        from .. import generators as gen
+
+        obs, st, go = [], [], []
+        per = max(1, -(-count // len(STRATA)))
+        for name in STRATA:
+            o, s, g = gen.planar_stratum_queries(rng, name, per)
+            obs.append(o)
+            st.append(s)
+            go.append(g)
+        order = np.arange(per * len(STRATA)).reshape(len(STRATA), per).T.ravel()  # round robin
+        return tuple(np.concatenate(a)[order] for a in (obs, st, go))
+
+    def near_degenerate_queries(self, rng, d: int, n: int, m: int, count: int, scale: float):
+        """The noise of :func:`pmplan.generators.near_degenerate_queries` on the exact queries
+        of :meth:`exact_queries` (the strata of paper Section 4)."""
+        q = self.exact_queries(rng, d, n, m, count)
+        idx = rng.permutation(q[0].shape[0])[:count]
+        return tuple(a[idx] + scale * (1 + np.abs(a[idx])) * rng.normal(size=a[idx].shape)
+                     for a in q)
+
+    def perturb_within_stratum(self, rng, query, delta: float):
+        """An exact move inside the stratum, :func:`pmplan.generators.perturb_planar_stratum`."""
+        from .. import generators as gen
+
+        return gen.perturb_planar_stratum(rng, query, delta)
+
+    def stratum_row(self, obstacles, start, goal) -> np.ndarray:
+        """The record ``(family, i, j)`` of one query, :func:`classify`."""
+        return classify(obstacles[None], start[None], goal[None]).record[0]
+
     def plan(self, obstacles, start, goal, *, lift: float = 1.0,
              backend: str | None = None) -> RawPlan:
         """Plan a batch of queries (paper Section 4).
@@ -494,7 +534,7 @@ class PlanarThreePlanner(Planner):
             built from the scene alone.
         backend : {"numba", "numpy"}, optional
             ``"numpy"`` runs the reference implementation below; ``"numba"`` (the default when
-            numba is installed) the fused kernel of :mod:`pmplan._kernels_planar`, whose
+            numba is installed) the fused kernel of :mod:`pmplan.kernels.planar`, whose
             waypoints, breakpoints, labels and strata are identical. The input is not
             validated here (see :mod:`pmplan.configuration`).
 
@@ -557,7 +597,7 @@ class PlanarThreePlanner(Planner):
 
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
-        """Plan a chunk with :func:`pmplan._kernels_planar.plan_planar` into ``out`` (per-query
+        """Plan a chunk with :func:`pmplan.kernels.planar.plan_planar` into ``out`` (per-query
         breakpoints); return its flags, or None for arrays the kernel does not take (the
         reference then decides, and raises its own errors)."""
         if len(configs) != 2:

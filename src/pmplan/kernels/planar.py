@@ -27,7 +27,7 @@ Every floating-point operation is done in the reference's order (sums of two pro
 or fast-math reassociation is allowed, so waypoints, breakpoints and clearances are **bitwise
 identical** to the reference (up to the sign of zero coordinates, which ``==`` does not see).
 
-What the kernel does not decide it *flags* (the bits of :mod:`pmplan._kernels`); the Python
+What the kernel does not decide it *flags* (the bits of :mod:`pmplan.kernels.common`); the Python
 caller re-decides:
 
 ``FALLBACK``
@@ -60,18 +60,21 @@ import math
 
 import numpy as np
 
+from ..planners.planar_three import _DOMAIN_BY_CODE, _FAMILIES, _LUT, WAYPOINTS
+
 # shared with the obstacle-line kernel: the error-free transformations, the numba import (with
 # its no-numba fallback), the flag bits, the constants of the filter and the certificate, and
 # the closed-form distance of a piece
-from ._kernels import (
+from .common import (
     _BIG,
+    _MAXF,
+    _OBSTACLE_TINY2,
+    _OPTS,
     _REL,
     _SMALL,
     _SURE,
     _TINY,
     _U,
-    _MAXF,
-    _OBSTACLE_TINY2,
     AVAILABLE,
     BROKEN,
     FALLBACK,
@@ -82,7 +85,6 @@ from ._kernels import (
     _two_sum,
     njit,
 )
-from .planners.planar_three import _DOMAIN_BY_CODE, _FAMILIES, _LUT, WAYPOINTS
 
 __all__ = [
     "AVAILABLE",
@@ -107,7 +109,6 @@ CODE_LUT = _LUT
 _DOMAIN = _DOMAIN_BY_CODE
 _FAMILY = np.array(_FAMILIES, dtype=np.int64)
 
-_OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
 
 
 @njit(**_OPTS)

@@ -83,66 +83,58 @@ import math
 
 import numpy as np
 
-# one source: the unit roundoff and the underflow bound of pmplan.predicates' filter, and the
-# thresholds of pmplan.certify (numba reads these module globals as compile-time constants)
-from .certify import _MAXF, _OBSTACLE_TINY2, _REL, _SURE
-from .predicates import _TINY, _U
-
-try:
-    from numba import njit
-
-    AVAILABLE = True
-except ImportError:  # pragma: no cover - numba is a dependency; keep the numpy path usable
-    AVAILABLE = False
-
-    def njit(*args, **kwargs):
-        return lambda f: f
+# the numba import, the flag bits, the thresholds and the shared primitives: one source
+from .common import (
+    _BIG,
+    _INLINE,
+    _MAXF,
+    _OBSTACLE_TINY2,
+    _OPTS,
+    _REL,
+    _SMALL,
+    _SURE,
+    _TINY,
+    _U,
+    AVAILABLE,
+    BROKEN,
+    FALLBACK,
+    INVALID,
+    NONFINITE,
+    SUSPECT,
+    _segment_dist2_plane,
+    _segment_param,
+    _two_prod,
+    _two_sum,
+    njit,
+)
 
 __all__ = [
     "AVAILABLE",
     "BROKEN",
     "FALLBACK",
     "INVALID",
+    "LANES_MIN",
     "MAX_D",
     "NONFINITE",
     "SUSPECT",
-    "first_coincident",
     "lanes",
     "plan_chunk",
     "plan_one",
     "tables",
-    "valid_queries",
 ]
-
-FALLBACK = 1
-SUSPECT = 2
-NONFINITE = 4
-BROKEN = 8
-INVALID = 16
 
 #: numpy sums fewer than 8 terms sequentially (pairwise, with 8 accumulators, from 8 on): the
 #: kernel reproduces the sequential order, so it handles d <= 7; larger d uses the reference
 MAX_D = 7
 
-_BIG = 2.0**900  # TwoProduct's split overflows beyond this (as in pmplan.predicates)
-_SMALL = 2.0**-900  # below this TwoProduct's error term may underflow (as in pmplan.predicates)
 #: (validating) a coordinate beyond this is flagged FALLBACK: such queries are planned scaled
 #: by a power of two (2**pmplan.magnitude.LIMIT)
 _EXTREME = 2.0**430
-# an obstacle pair whose squared distance is below _OBSTACLE_TINY2 (pmplan.certify's) is
-# SUSPECT: the square may have underflowed; pmplan.certify.clearance decides it exactly
 
 
 #: chunks smaller than this are planned query by query (:func:`_plan`), larger ones mostly
 #: ``lanes(...)`` queries at a time (:func:`_plan_lanes`)
 LANES_MIN = 16
-
-_OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
-#: the small helpers: compiled once each and inlined by LLVM where it pays. Not numba's
-#: ``inline="always"``, which copies them into every caller before typing and cost about three
-#: seconds of every first run's compilation, with the same machine code speed (README, "first
-#: run"; the floating-point operations are the same either way: no fast-math, no contraction)
-_INLINE = _OPTS
 
 
 @njit(**_INLINE)
@@ -161,25 +153,6 @@ def _unit(w, n, out):  # pragma: no cover - compiled
     nn = math.sqrt(ss)
     for c in range(n):
         out[c] = out[c] / nn if nn > 0 else 0.0
-
-
-@njit(**_INLINE)
-def _two_sum(a, b):  # pragma: no cover - compiled
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
-
-
-@njit(**_INLINE)
-def _two_prod(a, b):  # pragma: no cover - compiled
-    p = a * b
-    c = 134217729.0 * a
-    ah = c - (c - a)
-    al = a - ah
-    c = 134217729.0 * b
-    bh = c - (c - b)
-    bl = b - bh
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
 
 
 @njit(**_INLINE)
@@ -293,31 +266,6 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
         if new:
             cp_o += 1
     return True, label + 1, cp_o, gap
-
-
-@njit(**_INLINE)
-def _segment_param(num, vv):  # pragma: no cover - compiled
-    """The parameter of the point of a piece closest to the origin, as
-    :func:`pmplan.certify.segment_clearance` computes it: ``num / vv`` (``num = -r0.v``,
-    ``vv = |v|^2``) clipped to [0, 1], and 0 when ``vv`` is not positive. Branch-free (selects),
-    so that the loops calling it vectorise."""
-    q = num / vv
-    q = 1.0 if num >= vv else q
-    q = 0.0 if num <= 0 else q
-    return q if vv > 0 else 0.0
-
-
-@njit(**_INLINE)
-def _segment_dist2_plane(rx, ry, r1x, r1y):  # pragma: no cover - compiled
-    """Squared minimum distance to the origin of the plane piece r0 -> r1 (relative
-    positions), in :func:`pmplan.certify.segment_clearance`'s arithmetic and order."""
-    vx = r1x - rx
-    vy = r1y - ry
-    vv = (0.0 + vx * vx) + vy * vy
-    q = _segment_param(-((0.0 + rx * vx) + ry * vy), vv)
-    qx = rx + q * vx
-    qy = ry + q * vy
-    return (0.0 + qx * qx) + qy * qy
 
 
 @njit(**_INLINE)
@@ -1323,101 +1271,3 @@ def plan_one(obstacles, start, goal, lift, tab):  # pragma: no cover - compiled
           sel, sel.shape[0])
     return (wp[0], domain[0], strata[0, 0], strata[0, 1], strata[0, 2], strata[0, 3],
             clearance[0], flags[0])
-
-
-@njit(**_OPTS)
-def first_coincident(obstacles, robots):  # pragma: no cover - compiled
-    """Return the first query b whose configuration ``obstacles[b] u robots[b]`` has two equal
-    points (compared with ``==``), or -1; shapes (B, m, d) and (B, n, d), C-contiguous."""
-    nb, m, d = obstacles.shape
-    n = robots.shape[1]
-    p = m + n
-    for b in range(nb):
-        for i in range(p):
-            for j in range(i + 1, p):
-                same = True
-                for c in range(d):
-                    a = obstacles[b, i, c] if i < m else robots[b, i - m, c]
-                    z = obstacles[b, j, c] if j < m else robots[b, j - m, c]
-                    if a != z:
-                        same = False
-                        break
-                if same:
-                    return b
-    return -1
-
-
-@njit(**_INLINE)
-def _coincide(x, b, i, y, j, d):  # pragma: no cover - compiled
-    """Point i of ``x[b]`` equals point j of ``y[b]`` (flat rows of d coordinates)."""
-    eq = True
-    for c in range(d):
-        eq &= x[b, i * d + c] == y[b, j * d + c]
-    return eq
-
-
-@njit(**_OPTS)
-def valid_queries(obstacles, start, goal):  # pragma: no cover - compiled
-    """True when every coordinate is finite and no two points of ``obstacles[b] u start[b]``
-    or of ``obstacles[b] u goal[b]`` are equal (``==``), for every query b.
-
-    Shapes (B, m, d), (B, n, d), (B, n, d), C-contiguous. One pass, no temporary: the fast
-    path of :func:`pmplan.configuration.check_query`, which runs its reference checks (and
-    raises their errors) when this returns False. Equal points have equal keys
-    ``sum_c x_c w_c`` (the same float operations), so a configuration whose keys are pairwise
-    different has no coincident points; only where two keys are equal are the points compared.
-    """
-    nb, m, d = obstacles.shape
-    n = start.shape[1]
-    p = m + n
-    wk = np.empty(d)
-    for c in range(d):
-        wk[c] = 1.0 / (1.0 + 0.7548776662466927 * c)
-    o = obstacles.reshape((nb, m * d))
-    s = start.reshape((nb, n * d))
-    g = goal.reshape((nb, n * d))
-    ks = np.empty(p)
-    kg = np.empty(p)
-    for b in range(nb):
-        ok = True
-        for x in range(m * d):
-            ok &= abs(o[b, x]) <= _MAXF  # False for inf and NaN
-        for x in range(n * d):
-            ok &= abs(s[b, x]) <= _MAXF
-            ok &= abs(g[b, x]) <= _MAXF
-        if not ok:
-            return False
-        for i in range(m):
-            v = 0.0
-            for c in range(d):
-                v += o[b, i * d + c] * wk[c]
-            ks[i] = v
-            kg[i] = v
-        for j in range(n):
-            v = 0.0
-            u = 0.0
-            for c in range(d):
-                v += s[b, j * d + c] * wk[c]
-                u += g[b, j * d + c] * wk[c]
-            ks[m + j] = v
-            kg[m + j] = u
-        hit = False
-        for i in range(1, p):
-            a = ks[i]
-            z = kg[i]
-            for j in range(i):
-                hit |= (ks[j] == a) | (kg[j] == z)
-        if not hit:
-            continue
-        for i in range(m):  # some keys are equal: compare those points
-            for j in range(i + 1, m):
-                if _coincide(o, b, i, o, j, d):
-                    return False
-            for j in range(n):
-                if _coincide(o, b, i, s, j, d) or _coincide(o, b, i, g, j, d):
-                    return False
-        for i in range(n):
-            for j in range(i + 1, n):
-                if _coincide(s, b, i, s, j, d) or _coincide(g, b, i, g, j, d):
-                    return False
-    return True
