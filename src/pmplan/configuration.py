@@ -68,12 +68,9 @@ def _inexact_int(v, name: str, index) -> InputError | None:
 
 def _not_real(name: str, what: str, index=None, fix: str | None = None) -> InputError:
     """The error for a value that is not a real number (``what`` names its type)."""
-    if fix is not None:
-        pass
-    elif "complex" not in what:
-        fix = _FIX
-    else:
-        fix = "pass real numbers, e.g. np.real(x) if the imaginary parts are zero"
+    if fix is None:
+        fix = _FIX if "complex" not in what else \
+            "pass real numbers, e.g. np.real(x) if the imaginary parts are zero"
     return InputError(f"{_where(name, index)} must hold real numbers, got {what}; {fix}")
 
 
