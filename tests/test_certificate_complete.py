@@ -33,8 +33,7 @@ from pmplan.certify import CLAUSES, certificate, check_paths, check_times, descr
 from pmplan.errors import CertificationError
 from pmplan.kernels import planar as kernels_planar
 from pmplan.path import PiecewiseLinearPath
-from pmplan.planners import obstacle_line as OL
-from pmplan.planners import planar_three as P3
+from pmplan.planners import obstacle_line, planar_three
 from pmplan.planners.base import REGISTRY, Planner, RawPlan
 
 # --------------------------------------------------------------------------------------------
@@ -118,7 +117,7 @@ def _raises_clause(clause: int, fn, *args, **kwargs):
 
 
 def _valid_batch():
-    raw = OL.OBSTACLE_LINE.plan_sequence(O2[None], [S2[None], VIA[None], G2[None]],
+    raw = obstacle_line.OBSTACLE_LINE.plan_sequence(O2[None], [S2[None], VIA[None], G2[None]],
                                          backend="numpy")
     t = np.array(raw.path.times)[None].copy()
     w = raw.path.waypoints.copy()
@@ -165,7 +164,7 @@ def test_every_clause_has_a_text_and_the_order_is_the_documented_one():
 @pytest.mark.parametrize("row", [0, 3, 6])
 @pytest.mark.parametrize("clause", TIME_CLAUSES)
 def test_time_clauses_find_the_one_broken_row_of_a_batch(row, clause):
-    t = np.tile(OL.path_times(2), (7, 1))
+    t = np.tile(obstacle_line.path_times(2), (7, 1))
     CORRUPT[clause](t[row : row + 1], np.zeros((1, t.shape[1], 3, 2)), 2)
     want = [clause if i == row else 0 for i in range(7)]
     assert check_times(t).tolist() == want
@@ -194,18 +193,18 @@ class _Corrupting(Planner):
         self.fn = fn
 
     def supports(self, d, n, m):
-        return OL.OBSTACLE_LINE.supports(d, n, m)
+        return obstacle_line.OBSTACLE_LINE.supports(d, n, m)
 
     def domain_labels(self, d, n, m):
-        return OL.OBSTACLE_LINE.domain_labels(d, n, m)
+        return obstacle_line.OBSTACLE_LINE.domain_labels(d, n, m)
 
     def stratum_name(self, row, d, n, m):
-        return OL.OBSTACLE_LINE.stratum_name(row, d, n, m)
+        return obstacle_line.OBSTACLE_LINE.stratum_name(row, d, n, m)
 
     sequential = True
 
     def allocate(self, b, r, m, n, d):
-        out = OL.OBSTACLE_LINE.allocate(b, r, m, n, d)
+        out = obstacle_line.OBSTACLE_LINE.allocate(b, r, m, n, d)
         out["times"] = np.empty((b, out["times"].shape[0]))
         return out
 
@@ -213,7 +212,7 @@ class _Corrupting(Planner):
         return self.plan_sequence(obstacles, [start, goal], lift=lift)
 
     def plan_sequence(self, obstacles, configs, *, lift=1.0, backend=None):
-        raw = OL.OBSTACLE_LINE.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
+        raw = obstacle_line.OBSTACLE_LINE.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
         b, k = raw.path.waypoints.shape[:2]
         t = np.broadcast_to(raw.path.times, (b, k)).copy()
         w = raw.path.waypoints.copy()
@@ -284,7 +283,7 @@ def _corrupt_reference(monkeypatch, planner_cls, method, fn, m):
 
 @pytest.mark.parametrize("clause", WAYPOINT_CLAUSES)
 def test_obstacle_line_reference_never_returns_a_broken_path(monkeypatch, clause):
-    _corrupt_reference(monkeypatch, OL.ObstacleLinePlanner, "plan_sequence", CORRUPT[clause], 2)
+    _corrupt_reference(monkeypatch, obstacle_line.ObstacleLinePlanner, "plan_sequence", CORRUPT[clause], 2)
     b2 = (O2[None], S2[None], G2[None])
     _raises_clause(clause, pmplan.plan, O2, S2, G2, backend="numpy")
     _raises_clause(clause, pmplan.plan_batch, *b2, backend="numpy")
@@ -295,7 +294,7 @@ def test_obstacle_line_reference_never_returns_a_broken_path(monkeypatch, clause
 
 @pytest.mark.parametrize("clause", sorted(CORRUPT))
 def test_planar_reference_never_returns_a_broken_path(monkeypatch, clause):
-    _corrupt_reference(monkeypatch, P3.PlanarThreePlanner, "plan", CORRUPT[clause], 3)
+    _corrupt_reference(monkeypatch, planar_three.PlanarThreePlanner, "plan", CORRUPT[clause], 3)
     _raises_clause(clause, pmplan.plan, O3, S3, G3, backend="numpy")
     batch = pmplan.plan_batch  # PlanBatch[i] only exists if the batch was returned
     _raises_clause(clause, batch, O3[None], S3[None], G3[None], backend="numpy")
@@ -324,19 +323,19 @@ def test_planar_kernel_breakpoints_are_checked(monkeypatch, clause):
 @pytest.mark.parametrize("clause", TIME_CLAUSES)
 def test_obstacle_line_shared_breakpoints_are_checked(monkeypatch, fresh_fast_paths, clause):
     def bad_times(r):
-        t = OL.path_times(r)[None].copy()
+        t = obstacle_line.path_times(r)[None].copy()
         CORRUPT[clause](t, np.zeros((1, t.shape[1], 3, 2)), 2)
         return t[0]
 
-    original = OL.ObstacleLinePlanner.allocate
+    original = obstacle_line.ObstacleLinePlanner.allocate
 
     def allocate(self, b, r, m, n, d):
         out = original(self, b, r, m, n, d)
         out["times"] = bad_times(r)
         return out
 
-    monkeypatch.setattr(OL.ObstacleLinePlanner, "allocate", allocate)
-    monkeypatch.setattr(OL.ObstacleLinePlanner, "path_times", lambda self, r: bad_times(r))
+    monkeypatch.setattr(obstacle_line.ObstacleLinePlanner, "allocate", allocate)
+    monkeypatch.setattr(obstacle_line.ObstacleLinePlanner, "path_times", lambda self, r: bad_times(r))
     for name, fn in _generic_entry_points().items():
         _raises_clause(clause, fn)
 

@@ -35,7 +35,7 @@ from pmplan.errors import CertificationError, PmplanError
 from pmplan.generators import near_degenerate_queries, random_queries
 from pmplan.generators import planar_stratum_queries as stratum_queries
 from pmplan.kernels import planar as kernels_planar
-from pmplan.planners import planar_three as P3
+from pmplan.planners import planar_three
 from pmplan.planners.planar_three import (
     DOMAIN_OF,
     PLANAR_THREE,
@@ -51,7 +51,7 @@ def _kernel(o, s, g, lift=1.0):
     b = o.shape[0]
     out = PLANAR_THREE.allocate(b, 2, 3, 1, 2)
     flags = np.empty(b, np.uint8)
-    kernels_planar.plan_planar(o, s, g, P3._EVEN, lift, False, out["times"], out["waypoints"],
+    kernels_planar.plan_planar(o, s, g, planar_three._EVEN, lift, False, out["times"], out["waypoints"],
                                out["domain"], out["strata"], out["clearance"], flags)
     return flags, out
 
@@ -100,12 +100,12 @@ def _mixed(rng, names, count, exponent=0, noise=0.0):
 
 def test_tables_agree_with_the_planner():
     """The kernel's stratum codes and domains are the planner's (paper (w2)-(w4))."""
-    assert kernels_planar.WAYPOINTS is P3.WAYPOINTS is WAYPOINTS == 6  # one source
-    assert np.array_equal(kernels_planar.CODE_LUT, P3._LUT)
+    assert kernels_planar.WAYPOINTS is planar_three.WAYPOINTS is WAYPOINTS == 6  # one source
+    assert np.array_equal(kernels_planar.CODE_LUT, planar_three._LUT)
     assert np.array_equal(kernels_planar._DOMAIN, [DOMAIN_OF[name] for name in STRATA])
-    assert P3._EVEN.shape == (WAYPOINTS + 1, WAYPOINTS)
+    assert planar_three._EVEN.shape == (WAYPOINTS + 1, WAYPOINTS)
     for k in range(2, WAYPOINTS + 1):
-        assert np.array_equal(P3._EVEN[k, :k], np.linspace(0.0, 1.0, k))
+        assert np.array_equal(planar_three._EVEN[k, :k], np.linspace(0.0, 1.0, k))
 
 
 @pytest.mark.parametrize("name", STRATA)

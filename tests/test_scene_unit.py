@@ -34,9 +34,9 @@ from strategies import queries
 
 import pmplan
 from pmplan import api
-from pmplan.planners import planar_three as P3
-from pmplan.planners.base import SCENE_CODE, scene_unit
 from pmplan.generators import planar_stratum_queries as stratum_queries
+from pmplan.planners import planar_three
+from pmplan.planners.base import SCENE_CODE, scene_unit
 from pmplan.planners.planar_three import STRATA
 
 
@@ -63,9 +63,9 @@ def _planar_kernel(o, s, g, lift):
     from pmplan.kernels import planar as kernels_planar
 
     b = o.shape[0]
-    out = P3.PLANAR_THREE.allocate(b, 2, 3, 1, 2)
+    out = planar_three.PLANAR_THREE.allocate(b, 2, 3, 1, 2)
     flags = np.empty(b, np.uint8)
-    kernels_planar.plan_planar(o, s, g, P3._EVEN, float(lift), False, out["times"],
+    kernels_planar.plan_planar(o, s, g, planar_three._EVEN, float(lift), False, out["times"],
                                out["waypoints"], out["domain"], out["strata"], out["clearance"],
                                flags)
     return flags, out
@@ -105,15 +105,15 @@ def test_planar_default_lift_is_the_papers_one(name):
     _same_batch(default, pmplan.plan_batch(o, s, g, lift=1))
     _same_batch(default, pmplan.plan_batch(o, s, g, lift=1.0, backend="numpy"))
     for lift in (1.0, 2.5, "scene"):
-        st_ = P3.classify(o, s, g)
-        sc = P3._scene(o, s, g, st_, lift)
+        st_ = planar_three.classify(o, s, g)
+        sc = planar_three._scene(o, s, g, st_, lift)
         unit = np.full(30, lift) if lift != "scene" else np.array([_u(q) for q in o])
         np.testing.assert_allclose(sc.unit, unit, rtol=4e-16)
         if name in ("T1_11", "T22_33", "T23_44"):
-            poly = P3.frame_polyline_W1(sc)
+            poly = planar_three.frame_polyline_W1(sc)
             assert _bits(poly[:, 1, 1]) == _bits(sc.unit + np.maximum(0.0, sc.h[:, 2]))
         if name.startswith("T23"):
-            assert _bits(P3._solid_verticals(sc)[:, 2]) == _bits(sc.cols[:, 2] + sc.unit)
+            assert _bits(planar_three._solid_verticals(sc)[:, 2]) == _bits(sc.cols[:, 2] + sc.unit)
         # the kernel (batch and single-query fast path) is the reference, bit for bit
         ref = pmplan.plan_batch(o, s, g, lift=lift, backend="numpy")
         _same_batch(pmplan.plan_batch(o, s, g, lift=lift), ref)
