@@ -367,6 +367,47 @@ def _clearance_exact(wf, b, dd, kk, p, d, npairs, pi, pj, thr2):  # pragma: no c
     return best, suspect
 
 
+@njit(**_INLINE)
+def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, pi, pj, amax, best_k, vv, rv, tt,
+                 d2):  # pragma: no cover - compiled
+    """The clearance of query ``b`` of :func:`_plan` from its waypoints ``wf[b]`` (SPEC 5).
+
+    ``amax`` is the largest |coordinate| of the waypoints (finite); ``ddf``/``dd`` and
+    ``best_k``, ``vv``, ``rv``, ``tt``, ``d2`` are scratch, ``ia``, ``ja``, ``pi``, ``pj`` the
+    index tables. Returns ``(clearance, flags)``: flags is ``SUSPECT`` where
+    :func:`pmplan.certify.clearance` must re-decide the query, else 0.
+    """
+    fl = 0
+    ndd = ddf.shape[0]
+    for x in range(ndd):
+        ddf[x] = wf[b, ia[x]] - wf[b, ja[x]]
+    # A float squared distance above thr2 is certainly above certify's suspect threshold
+    # 1e-9 max(scale, 1e-6 absval) <= 2.0000001e-9 amax; below it, decide as certify does.
+    thr2 = np.inf  # (outside that range every minimum is decided as certify does)
+    if 1e-130 < amax < 1e130:
+        thr2 = (_SURE * amax) * (_SURE * amax)
+    # a fast branch-free pass; if some minimum is small, the exact loop decides as certify
+    if d == 2:
+        best = _clearance_plane(dd, kk, npairs, best_k)
+    else:
+        best = _clearance_any(dd, kk, npairs, d, best_k, vv, rv, tt, d2)
+    if not best > thr2:
+        best, suspect = _clearance_exact(wf, b, dd, kk, p, d, npairs, pi, pj, thr2)
+        if suspect:
+            fl |= SUSPECT
+    for i in range(m):
+        for j in range(i + 1, m):
+            dist2 = 0.0
+            for c in range(d):
+                dc = wf[b, i * d + c] - wf[b, j * d + c]
+                dist2 += dc * dc
+            if not dist2 >= _OBSTACLE_TINY2:  # the square may have underflowed
+                fl |= SUSPECT
+            if dist2 < best:  # noqa: PLR1730 (explicit compare: NaN is never selected)
+                best = dist2
+    return math.sqrt(best), fl
+
+
 def _build_tables(r, m, n, d):
     """The index tables of :func:`_plan` for queries through r configurations of (d, n, m).
 
@@ -694,34 +735,10 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
             flags[b] = fl
             continue
         # --- clearance: closed-form minimum per piece and pair ------------------------------
-        for x in range(ndd):
-            ddf[x] = wf[b, ia[x]] - wf[b, ja[x]]
-        # A float squared distance above thr2 is certainly above certify's suspect threshold
-        # 1e-9 max(scale, 1e-6 absval) <= 2.0000001e-9 amax; below it, decide as certify does.
-        thr2 = np.inf  # (outside that range every minimum is decided as certify does)
-        if 1e-130 < amax < 1e130:
-            thr2 = (_SURE * amax) * (_SURE * amax)
-        # a fast branch-free pass; if some minimum is small, the exact loop decides as certify
-        if d == 2:
-            best = _clearance_plane(dd, kk, npairs, best_k)
-        else:
-            best = _clearance_any(dd, kk, npairs, d, best_k, vv, rv, tt, d2)
-        if not best > thr2:
-            best, suspect = _clearance_exact(wf, b, dd, kk, p, d, npairs, pi, pj, thr2)
-            if suspect:
-                fl |= SUSPECT
-        for i in range(m):
-            for j in range(i + 1, m):
-                dist2 = 0.0
-                for c in range(d):
-                    dc = wf[b, i * d + c] - wf[b, j * d + c]
-                    dist2 += dc * dc
-                if not dist2 >= _OBSTACLE_TINY2:  # the square may have underflowed
-                    fl |= SUSPECT
-                if dist2 < best:  # noqa: PLR1730 (explicit compare: NaN is never selected)
-                    best = dist2
-        clearance[b] = math.sqrt(best)
-        flags[b] = fl
+        clr, fl_c = _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, pi, pj, amax,
+                                 best_k, vv, rv, tt, d2)
+        clearance[b] = clr
+        flags[b] = fl | fl_c
 
 
 @njit(**_OPTS)
@@ -810,6 +827,136 @@ def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
             y1 = y2
         T[dst, l] = best
 
+
+@njit(**_OPTS)
+def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
+                   THR2):  # pragma: no cover - compiled
+    """The certificate of :func:`_plan_lanes` for one block of L queries (SPEC section 5).
+
+    ``S`` holds the waypoints of the block (row x: coordinate x of every lane), ``T`` the
+    lanes' scratch rows (``mx``, ``mx2``: the alternating running maximum; ``BAD``, ``ACC``,
+    ``ACC2``, ``Q``, ``THR2``: the rows of :func:`_plan_lanes`). Adds to row ``BAD`` (a lane
+    that is not finite, or whose minimum is not clearly above certify's threshold, goes to the
+    scalar kernel) and returns the row of T holding every lane's squared clearance.
+    """
+    L = S.shape[1]
+    # --- certificate: finite, clearance --------------------------------------------------
+    # (the obstacle rows, the endpoints and the configurations C_k are copies of the input
+    # here -- F(C_k, 1) = C_k + 0 e as values for finite e -- so the scalar kernel's BROKEN
+    # checks hold for every lane with finite waypoints, and the pieces 7k -> 7k + 1,
+    # 7k + 6 -> 7k + 7 do not move). Four waypoint rows per pass: the largest |coordinate|
+    # (certify's scale) and the finiteness test (v - v is NaN unless v is finite).
+    for l in range(L):
+        T[mx, l] = 0.0
+    quads = size - size % 4
+    for x in range(0, quads, 4):
+        for l in range(L):
+            v0 = S[x, l]
+            v1 = S[x + 1, l]
+            v2 = S[x + 2, l]
+            v3 = S[x + 3, l]
+            T[BAD, l] += ((v0 - v0) + (v1 - v1)) + ((v2 - v2) + (v3 - v3))
+            a0 = abs(v0)
+            a1 = abs(v1)
+            a2 = abs(v2)
+            a3 = abs(v3)
+            a0 = a1 if a1 > a0 else a0  # noqa: FURB136 (selects: NaN is caught by BAD)
+            a2 = a3 if a3 > a2 else a2  # noqa: FURB136
+            a0 = a2 if a2 > a0 else a0  # noqa: FURB136
+            z = T[mx, l]
+            T[mx2, l] = a0 if a0 > z else z  # noqa: FURB136
+        mx, mx2 = mx2, mx
+    for x in range(quads, size):
+        for l in range(L):
+            v = S[x, l]
+            av = abs(v)
+            T[BAD, l] += v - v
+            z = T[mx, l]
+            T[mx2, l] = av if av > z else z  # noqa: FURB136 (a select: NaN never chosen)
+        mx, mx2 = mx2, mx
+    mn = np.int64(13)  # not the literal 13: numba would compile _pair_plane for it too
+    mn2 = np.int64(14)
+    for l in range(L):
+        z = _SURE * T[mx, l]
+        T[THR2, l] = z * z if (T[mx, l] > 1e-130) & (T[mx, l] < 1e130) else np.inf
+        T[mn, l] = np.inf
+    if d == 2:
+        # every segment C_k -> C_k+1 (its stationary start and five moving pieces) per pair
+        for k in range(r - 1):
+            for i in range(p - 1):
+                for j in range(max(i + 1, m), p):
+                    _pair_plane(S, 7 * k * row, 2 * i, 2 * j, row, T, mn, mn2)
+                    mn, mn2 = mn2, mn
+        r0 = (kk - 1) * row
+        for i in range(p - 1):
+            for j in range(max(i + 1, m), p):
+                for l in range(L):
+                    x0 = S[r0 + 2 * i, l] - S[r0 + 2 * j, l]
+                    y0 = S[r0 + 2 * i + 1, l] - S[r0 + 2 * j + 1, l]
+                    a = x0 * x0 + y0 * y0
+                    z = T[mn, l]
+                    T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
+                mn, mn2 = mn2, mn
+    else:
+        # the pieces that do not move: the squared distance at their start, once per C_k
+        # (certify's arithmetic with v = 0 gives exactly this)
+        for k in range(r):
+            r0 = 7 * k * row
+            for i in range(p - 1):
+                for j in range(max(i + 1, m), p):
+                    for l in range(L):
+                        T[ACC, l] = 0.0
+                    for c in range(d):
+                        for l in range(L):
+                            rc = S[r0 + i * d + c, l] - S[r0 + j * d + c, l]
+                            T[ACC, l] += rc * rc
+                    _fold_min(T, ACC, mn, mn2)
+                    mn, mn2 = mn2, mn
+        for t in range(kk - 1):
+            if t % 7 == 0 or t % 7 == 6:
+                continue
+            r0 = t * row
+            for i in range(p - 1):
+                for j in range(max(i + 1, m), p):
+                    for l in range(L):
+                        T[ACC, l] = 0.0
+                        T[ACC2, l] = 0.0
+                    for c in range(d):
+                        si = r0 + i * d + c
+                        sj = r0 + j * d + c
+                        for l in range(L):
+                            rc = S[si, l] - S[sj, l]
+                            vc = (S[si + row, l] - S[sj + row, l]) - rc
+                            T[ACC, l] += vc * vc
+                            T[ACC2, l] += rc * vc
+                    for l in range(L):
+                        T[Q, l] = _segment_param(-T[ACC2, l], T[ACC, l])
+                        T[ACC, l] = 0.0
+                    for c in range(d):
+                        si = r0 + i * d + c
+                        sj = r0 + j * d + c
+                        for l in range(L):
+                            rc = S[si, l] - S[sj, l]
+                            vc = (S[si + row, l] - S[sj + row, l]) - rc
+                            qc = rc + T[Q, l] * vc
+                            T[ACC, l] += qc * qc
+                    _fold_min(T, ACC, mn, mn2)
+                    mn, mn2 = mn2, mn
+    for l in range(L):
+        T[BAD, l] += 0.0 if T[mn, l] > T[THR2, l] else 1.0
+    for i in range(m):
+        for j in range(i + 1, m):
+            for l in range(L):
+                T[ACC, l] = 0.0
+            for c in range(d):
+                for l in range(L):
+                    dc = S[i * d + c, l] - S[j * d + c, l]
+                    T[ACC, l] += dc * dc
+            for l in range(L):  # a square that may have underflowed: the scalar path
+                T[BAD, l] += 0.0 if T[ACC, l] >= _OBSTACLE_TINY2 else 1.0
+            _fold_min(T, ACC, mn, mn2)
+            mn, mn2 = mn2, mn
+    return mn
 
 @njit(**_OPTS)
 def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance, flags, todo,
@@ -1064,122 +1211,8 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         for x in range(row):
             for l in range(L):
                 S[(kk - 1) * row + x, l] = Y[(r - 1) * row + x, l]
-        # --- certificate: finite, clearance --------------------------------------------------
-        # (the obstacle rows, the endpoints and the configurations C_k are copies of the input
-        # here -- F(C_k, 1) = C_k + 0 e as values for finite e -- so the scalar kernel's BROKEN
-        # checks hold for every lane with finite waypoints, and the pieces 7k -> 7k + 1,
-        # 7k + 6 -> 7k + 7 do not move). Four waypoint rows per pass: the largest |coordinate|
-        # (certify's scale) and the finiteness test (v - v is NaN unless v is finite).
-        for l in range(L):
-            T[mx, l] = 0.0
-        quads = size - size % 4
-        for x in range(0, quads, 4):
-            for l in range(L):
-                v0 = S[x, l]
-                v1 = S[x + 1, l]
-                v2 = S[x + 2, l]
-                v3 = S[x + 3, l]
-                T[BAD, l] += ((v0 - v0) + (v1 - v1)) + ((v2 - v2) + (v3 - v3))
-                a0 = abs(v0)
-                a1 = abs(v1)
-                a2 = abs(v2)
-                a3 = abs(v3)
-                a0 = a1 if a1 > a0 else a0  # noqa: FURB136 (selects: NaN is caught by BAD)
-                a2 = a3 if a3 > a2 else a2  # noqa: FURB136
-                a0 = a2 if a2 > a0 else a0  # noqa: FURB136
-                z = T[mx, l]
-                T[mx2, l] = a0 if a0 > z else z  # noqa: FURB136
-            mx, mx2 = mx2, mx
-        for x in range(quads, size):
-            for l in range(L):
-                v = S[x, l]
-                av = abs(v)
-                T[BAD, l] += v - v
-                z = T[mx, l]
-                T[mx2, l] = av if av > z else z  # noqa: FURB136 (a select: NaN never chosen)
-            mx, mx2 = mx2, mx
-        mn = np.int64(13)  # not the literal 13: numba would compile _pair_plane for it too
-        mn2 = np.int64(14)
-        for l in range(L):
-            z = _SURE * T[mx, l]
-            T[THR2, l] = z * z if (T[mx, l] > 1e-130) & (T[mx, l] < 1e130) else np.inf
-            T[mn, l] = np.inf
-        if d == 2:
-            # every segment C_k -> C_k+1 (its stationary start and five moving pieces) per pair
-            for k in range(r - 1):
-                for i in range(p - 1):
-                    for j in range(max(i + 1, m), p):
-                        _pair_plane(S, 7 * k * row, 2 * i, 2 * j, row, T, mn, mn2)
-                        mn, mn2 = mn2, mn
-            r0 = (kk - 1) * row
-            for i in range(p - 1):
-                for j in range(max(i + 1, m), p):
-                    for l in range(L):
-                        x0 = S[r0 + 2 * i, l] - S[r0 + 2 * j, l]
-                        y0 = S[r0 + 2 * i + 1, l] - S[r0 + 2 * j + 1, l]
-                        a = x0 * x0 + y0 * y0
-                        z = T[mn, l]
-                        T[mn2, l] = a if a < z else z  # noqa: FURB136 (a select: NaN never chosen)
-                    mn, mn2 = mn2, mn
-        else:
-            # the pieces that do not move: the squared distance at their start, once per C_k
-            # (certify's arithmetic with v = 0 gives exactly this)
-            for k in range(r):
-                r0 = 7 * k * row
-                for i in range(p - 1):
-                    for j in range(max(i + 1, m), p):
-                        for l in range(L):
-                            T[ACC, l] = 0.0
-                        for c in range(d):
-                            for l in range(L):
-                                rc = S[r0 + i * d + c, l] - S[r0 + j * d + c, l]
-                                T[ACC, l] += rc * rc
-                        _fold_min(T, ACC, mn, mn2)
-                        mn, mn2 = mn2, mn
-            for t in range(kk - 1):
-                if t % 7 == 0 or t % 7 == 6:
-                    continue
-                r0 = t * row
-                for i in range(p - 1):
-                    for j in range(max(i + 1, m), p):
-                        for l in range(L):
-                            T[ACC, l] = 0.0
-                            T[ACC2, l] = 0.0
-                        for c in range(d):
-                            si = r0 + i * d + c
-                            sj = r0 + j * d + c
-                            for l in range(L):
-                                rc = S[si, l] - S[sj, l]
-                                vc = (S[si + row, l] - S[sj + row, l]) - rc
-                                T[ACC, l] += vc * vc
-                                T[ACC2, l] += rc * vc
-                        for l in range(L):
-                            T[Q, l] = _segment_param(-T[ACC2, l], T[ACC, l])
-                            T[ACC, l] = 0.0
-                        for c in range(d):
-                            si = r0 + i * d + c
-                            sj = r0 + j * d + c
-                            for l in range(L):
-                                rc = S[si, l] - S[sj, l]
-                                vc = (S[si + row, l] - S[sj + row, l]) - rc
-                                qc = rc + T[Q, l] * vc
-                                T[ACC, l] += qc * qc
-                        _fold_min(T, ACC, mn, mn2)
-                        mn, mn2 = mn2, mn
-        for l in range(L):
-            T[BAD, l] += 0.0 if T[mn, l] > T[THR2, l] else 1.0
-        for i in range(m):
-            for j in range(i + 1, m):
-                for l in range(L):
-                    T[ACC, l] = 0.0
-                for c in range(d):
-                    for l in range(L):
-                        dc = S[i * d + c, l] - S[j * d + c, l]
-                        T[ACC, l] += dc * dc
-                for l in range(L):  # a square that may have underflowed: the scalar path
-                    T[BAD, l] += 0.0 if T[ACC, l] >= _OBSTACLE_TINY2 else 1.0
-                _fold_min(T, ACC, mn, mn2)
-                mn, mn2 = mn2, mn
+        # --- certificate: finite, clearance (:func:`_certify_lanes`) -------------------------
+        mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2)
         # --- write the waypoints (query after query) and the decided queries' records -------
         for l in range(L):
             b = b0 + l
