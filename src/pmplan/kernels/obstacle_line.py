@@ -1064,6 +1064,64 @@ def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
         T[dst, l] = best
 
 
+@njit(**_INLINE)
+def _rel4(S, w, a, b, a3, b3, l):  # pragma: no cover - compiled
+    """The relative position of a pair at waypoint block ``w``, lane l (see :func:`_pair_space`)."""
+    return (S[w + a, l] - S[w + b, l], S[w + a + 1, l] - S[w + b + 1, l],
+            S[w + a + 2, l] - S[w + b + 2, l], S[w + a3, l] - S[w + b3, l])
+
+
+@njit(**_INLINE)
+def _dist2_space(r1, r2):  # pragma: no cover - compiled
+    """:func:`_dist2_lanes` for 4 coordinates (relative positions ``r1`` -> ``r2``): the sums
+    sequential; without the ``0.0 +`` (no value changes, see :func:`_dist2_lanes`)."""
+    vx = r2[0] - r1[0]
+    vy = r2[1] - r1[1]
+    vz = r2[2] - r1[2]
+    vu = r2[3] - r1[3]
+    vv = ((vx * vx + vy * vy) + vz * vz) + vu * vu
+    q = _segment_param(-(((r1[0] * vx + r1[1] * vy) + r1[2] * vz) + r1[3] * vu), vv)
+    qx = r1[0] + q * vx
+    qy = r1[1] + q * vy
+    qz = r1[2] + q * vz
+    qu = r1[3] + q * vu
+    return ((qx * qx + qy * qy) + qz * qz) + qu * qu
+
+
+@njit(**_OPTS)
+def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - compiled
+    """:func:`_pair_plane` in space, d = 3 or 4: one pair over one segment, every lane.
+
+    Coordinates 0-2 of the pair's points are at rows ``a``, ``b`` (+ 0, 1, 2) of a waypoint,
+    the fourth at rows ``a3``, ``b3`` (d = 4: ``a + 3``, ``b + 3``; d = 3: ``a3 == b3``, whose
+    difference is 0: the sums then add 0.0 last, which changes no value -- a sum of squares
+    is never -0, and the sign of a zero ``num`` does not change the parameter, see
+    :func:`_dist2_lanes`). The sums over the coordinates are sequential, in certify's order.
+    Written out piece by piece (no inner loop), so that the loop over the lanes vectorises.
+    """
+    for l in range(S.shape[1]):
+        r0 = _rel4(S, w0, a, b, a3, b3, l)
+        best = ((r0[0] * r0[0] + r0[1] * r0[1]) + r0[2] * r0[2]) + r0[3] * r0[3]
+        z = T[src, l]
+        best = best if best < z else z  # noqa: FURB136 (a select: NaN never chosen)
+        r1 = _rel4(S, w0 + row, a, b, a3, b3, l)
+        r2 = _rel4(S, w0 + 2 * row, a, b, a3, b3, l)
+        x = _dist2_space(r1, r2)
+        best = x if x < best else best  # noqa: FURB136
+        r1 = _rel4(S, w0 + 3 * row, a, b, a3, b3, l)
+        x = _dist2_space(r2, r1)
+        best = x if x < best else best  # noqa: FURB136
+        r2 = _rel4(S, w0 + 4 * row, a, b, a3, b3, l)
+        x = _dist2_space(r1, r2)
+        best = x if x < best else best  # noqa: FURB136
+        r1 = _rel4(S, w0 + 5 * row, a, b, a3, b3, l)
+        x = _dist2_space(r2, r1)
+        best = x if x < best else best  # noqa: FURB136
+        r2 = _rel4(S, w0 + 6 * row, a, b, a3, b3, l)
+        x = _dist2_space(r1, r2)
+        T[dst, l] = x if x < best else best  # noqa: FURB136
+
+
 @njit(**_OPTS)
 def _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover - compiled
     """Row ``mn`` of T = :func:`_sweep_min` of every lane of ``S`` whose waypoints are finite
@@ -1158,8 +1216,9 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
                 mn, mn2 = mn2, mn
     else:
         # the pieces that do not move: the squared distance at their start, once per C_k
-        # (certify's arithmetic with v = 0 gives exactly this)
-        for k in range(r):
+        # (certify's arithmetic with v = 0 gives exactly this); for d <= 4 _pair_space takes
+        # every segment C_k -> C_k+1, this only the last configuration
+        for k in range(r - 1 if d <= 4 else 0, r):
             r0 = 7 * k * row
             for i in range(p - 1):
                 for j in range(max(i + 1, m), p):
@@ -1171,7 +1230,14 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
                             T[ACC, l] += rc * rc
                     _fold_min(T, ACC, mn, mn2)
                     mn, mn2 = mn2, mn
-        for t in range(kk - 1):
+        for k in range(r - 1 if d <= 4 else 0):
+            for i in range(p - 1):
+                for j in range(max(i + 1, m), p):
+                    a3 = i * d + 3 if d == 4 else 0
+                    b3 = j * d + 3 if d == 4 else 0
+                    _pair_space(S, 7 * k * row, i * d, j * d, a3, b3, row, T, mn, mn2)
+                    mn, mn2 = mn2, mn
+        for t in range(kk - 1 if d > 4 else 0):
             if t % 7 == 0 or t % 7 == 6:
                 continue
             r0 = t * row
