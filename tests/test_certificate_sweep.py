@@ -18,6 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import pmplan
+from pmplan import certify
 from pmplan.certify import clearance as reference_clearance
 from pmplan.configuration import coincident_pairs
 from pmplan.kernels import obstacle_line as kernels_line
@@ -165,3 +166,23 @@ def test_sweep_prunes():
         names.update(saved)
     assert best == _unpruned(w, 8, n + m, m, d, -np.inf)[0]
     assert count[0] < 2 * (n + m)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3, 4, 7]), st.sampled_from([2, 3]),
+       st.sampled_from([62, 100, 256]), st.sampled_from(FAMILIES + ("planned",)))
+def test_reference_sweep_equals_every_pair(seed, d, m, n, family):
+    """The numpy reference :func:`pmplan.certify.clearance` from ``_SWEEP_MIN`` points on
+    evaluates only the pairs its sweep cannot exclude: the same clearances as every pair, on
+    planned paths and on arbitrary (random, integer, clustered, scaled) waypoints."""
+    rng = np.random.default_rng(seed)
+    if family == "planned":
+        o, s, g = (rng.normal(size=(2, k, d)) for k in (m, n, n))
+        w = pmplan.plan_batch(o, s, g).waypoints
+    else:
+        w = _points(rng, family, (2, 8, m + n, d))
+        w[:, :, :m] = w[:, :1, :m]
+        w[1, 3] = np.nan if seed % 5 == 0 else w[1, 3]  # (a row the sweep leaves to the loop)
+    assert m + n >= certify._SWEEP_MIN
+    assert np.array_equal(certify.clearance(w, m), certify.clearance(w, m, sweep=False),
+                          equal_nan=True)
