@@ -1088,6 +1088,15 @@ def _dist2_space(r1, r2):  # pragma: no cover - compiled
     return ((qx * qx + qy * qy) + qz * qz) + qu * qu
 
 
+@njit(**_INLINE)
+def _step_space(S, w, a, b, a3, b3, l, r1, best):  # pragma: no cover - compiled
+    """One piece of :func:`_pair_space`: the relative position ``r2`` at waypoint block ``w``,
+    and ``(r2, min(best, the squared minimum distance of the piece r1 -> r2))``."""
+    r2 = _rel4(S, w, a, b, a3, b3, l)
+    x = _dist2_space(r1, r2)
+    return r2, (x if x < best else best)  # noqa: FURB136 (a select: NaN never chosen)
+
+
 @njit(**_OPTS)
 def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - compiled
     """:func:`_pair_plane` in space, d = 3 or 4: one pair over one segment, every lane.
@@ -1105,21 +1114,12 @@ def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - co
         z = T[src, l]
         best = best if best < z else z  # noqa: FURB136 (a select: NaN never chosen)
         r1 = _rel4(S, w0 + row, a, b, a3, b3, l)
-        r2 = _rel4(S, w0 + 2 * row, a, b, a3, b3, l)
-        x = _dist2_space(r1, r2)
-        best = x if x < best else best  # noqa: FURB136
-        r1 = _rel4(S, w0 + 3 * row, a, b, a3, b3, l)
-        x = _dist2_space(r2, r1)
-        best = x if x < best else best  # noqa: FURB136
-        r2 = _rel4(S, w0 + 4 * row, a, b, a3, b3, l)
-        x = _dist2_space(r1, r2)
-        best = x if x < best else best  # noqa: FURB136
-        r1 = _rel4(S, w0 + 5 * row, a, b, a3, b3, l)
-        x = _dist2_space(r2, r1)
-        best = x if x < best else best  # noqa: FURB136
-        r2 = _rel4(S, w0 + 6 * row, a, b, a3, b3, l)
-        x = _dist2_space(r1, r2)
-        T[dst, l] = x if x < best else best  # noqa: FURB136
+        r1, best = _step_space(S, w0 + 2 * row, a, b, a3, b3, l, r1, best)
+        r1, best = _step_space(S, w0 + 3 * row, a, b, a3, b3, l, r1, best)
+        r1, best = _step_space(S, w0 + 4 * row, a, b, a3, b3, l, r1, best)
+        r1, best = _step_space(S, w0 + 5 * row, a, b, a3, b3, l, r1, best)
+        r1, best = _step_space(S, w0 + 6 * row, a, b, a3, b3, l, r1, best)
+        T[dst, l] = best
 
 
 @njit(**_OPTS)
@@ -1237,6 +1237,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
                     b3 = j * d + 3 if d == 4 else 0
                     _pair_space(S, 7 * k * row, i * d, j * d, a3, b3, row, T, mn, mn2)
                     mn, mn2 = mn2, mn
+        R = np.empty((2 * d, L))  # d > 4: the relative position and motion of a pair
         for t in range(kk - 1 if d > 4 else 0):
             if t % 7 == 0 or t % 7 == 6:
                 continue
@@ -1252,18 +1253,16 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
                         for l in range(L):
                             rc = S[si, l] - S[sj, l]
                             vc = (S[si + row, l] - S[sj + row, l]) - rc
+                            R[c, l] = rc
+                            R[d + c, l] = vc
                             T[ACC, l] += vc * vc
                             T[ACC2, l] += rc * vc
                     for l in range(L):
                         T[Q, l] = _segment_param(-T[ACC2, l], T[ACC, l])
                         T[ACC, l] = 0.0
                     for c in range(d):
-                        si = r0 + i * d + c
-                        sj = r0 + j * d + c
                         for l in range(L):
-                            rc = S[si, l] - S[sj, l]
-                            vc = (S[si + row, l] - S[sj + row, l]) - rc
-                            qc = rc + T[Q, l] * vc
+                            qc = R[c, l] + T[Q, l] * R[d + c, l]
                             T[ACC, l] += qc * qc
                     _fold_min(T, ACC, mn, mn2)
                     mn, mn2 = mn2, mn
