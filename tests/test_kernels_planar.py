@@ -398,7 +398,7 @@ def test_which_path_plans_a_query_never_shows(b, kind, seed):
 
 def test_simd_path_decides_the_generic_queries():
     """Not vacuous: the SIMD path plans every generic query of the full blocks (T23_44) and
-    leaves the degenerate ones and the last B mod LANES to the scalar kernel."""
+    leaves the degenerate ones to the scalar kernel (and the last B mod LANES: plan_chunk)."""
     L = kernels_planar.LANES
     rng = np.random.default_rng(11)
     for b in (L, 3 * L + 5):
@@ -409,7 +409,7 @@ def test_simd_path_decides_the_generic_queries():
         nt = kernels_planar._plan_lanes(o, s, g, P3._EVEN, 1.0, out["times"], out["waypoints"],
                                         out["domain"], out["strata"], out["clearance"], flags,
                                         todo)
-        assert nt == b % L and todo[:nt].tolist() == list(range(b - b % L, b))
+        assert nt == 0
         done = slice(0, b - b % L)
         assert not flags[done].any()
         assert (out["strata"][done] == [23, 4, 4]).all() and (out["domain"][done] == 1).all()
@@ -431,3 +431,29 @@ def test_simd_path_decides_the_generic_queries():
     assert chunk_flags.tolist() == [kernels_planar.INVALID if i in (9, 17) else 0
                                     for i in range(L)]
     assert stratum_short_name(chunk["strata"][5]) == "T23_34"
+
+
+def test_poor_blocks_are_skipped_and_planned_the_same():
+    """After a block with few generic queries the next 1, 2, 4, ... blocks go to the scalar
+    kernel untried; a good block resets that. The results are the scalar kernel's, bit for bit."""
+    L = kernels_planar.LANES
+    rng = np.random.default_rng(12)
+    o, s, g = (rng.standard_normal((12 * L, k, 2)) for k in (3, 1, 1))
+    ints = [rng.integers(-3, 4, size=(L, k, 2)).astype(float) for k in (3, 1, 1)]
+    ints[0][:, 1] = ints[0][:, 0] + [1.0, 2.0]
+    ints[0][:, 2] = ints[0][:, 0] + [3.0, 6.0]  # o3 on L_C: family T1, never generic
+    for blk in (0, 2, 5):  # poor blocks: 0 (skip 1), 2 (skip 2: 3, 4), 5 (skip 4: 6..9)
+        o[blk * L:(blk + 1) * L], s[blk * L:(blk + 1) * L], g[blk * L:(blk + 1) * L] = ints
+    out = PLANAR_THREE.allocate(12 * L, 2, 3, 1, 2)
+    flags = np.empty(12 * L, np.uint8)
+    todo = np.empty(12 * L, np.int64)
+    nt = kernels_planar._plan_lanes(o, s, g, P3._EVEN, 1.0, out["times"], out["waypoints"],
+                                    out["domain"], out["strata"], out["clearance"], flags, todo)
+    blocks = sorted(set((todo[:nt] // L).tolist()))
+    assert blocks == [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]
+    assert (todo[:nt] // L >= 10).sum() == 0  # 10, 11: tried again, generic, decided here
+    with np.errstate(all="ignore"):
+        fast = _kernel(o, s, g, validate=True)
+        slow = _kernel(o, s, g, validate=True, path="scalar")
+    assert _bits(*fast[::-1]) == _bits(*slow[::-1])
+

@@ -197,6 +197,56 @@ def _invalid(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy):  # pragma: no cover 
 
 
 @njit(**_INLINE_IR)
+def _projection(px, py, o1x, o1y, r0, r1):  # pragma: no cover - compiled
+    """``((p - o1) . r, |(p_0 - o1_0) r_0| + |(p_1 - o1_1) r_1|)``: a projection and what its
+    error bound grows with (:func:`pmplan.predicates.projection_values`)."""
+    t0 = (px - o1x) * r0
+    t1 = (py - o1y) * r1
+    return t0 + t1, abs(t0) + abs(t1)
+
+
+@njit(**_INLINE_IR)
+def _larger(a, b):  # pragma: no cover - compiled
+    """``max(a, b)`` as a select (b when NaN: then the projection it bounds is not finite, and
+    the query falls back either way)."""
+    return a if a > b else b  # noqa: FURB136
+
+
+@njit(**_INLINE_IR)
+def _threshold(ab):  # pragma: no cover - compiled
+    """The filter's error bound of projections whose terms are at most ``ab`` and the
+    threshold two of them must differ by to be told apart (:func:`_compare`)."""
+    bound = 4 * 1.01 * _U * ab + 3 * _TINY
+    return bound, 2.0 * (2.0 * bound) * (1 + 4 * _U)
+
+
+@njit(**_INLINE_IR)
+def _heights(o1x, o1y, o3x, o3y, xx, xy, gx, gy, w0, w1):  # pragma: no cover - compiled
+    """The heights ``(y - o1) . rot90(w)`` of o3, x, x' (o1's is 0), their error bound and
+    threshold: ``(h3, hx, hx', bound, threshold)``."""
+    h3v, ab = _projection(o3x, o3y, o1x, o1y, -w1, w0)
+    hxv, a = _projection(xx, xy, o1x, o1y, -w1, w0)
+    ab = _larger(a, ab)
+    hgv, a = _projection(gx, gy, o1x, o1y, -w1, w0)
+    bound, thr = _threshold(_larger(a, ab))
+    return h3v, hxv, hgv, bound, thr
+
+
+@njit(**_INLINE_IR)
+def _columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0, w1):  # pragma: no cover - compiled
+    """The columns ``(y - o1) . w`` of o2, o3, x, x' (o1's is 0), their error bound and
+    threshold: ``(c2, c3, cx, cx', bound, threshold)``."""
+    c2v, ab = _projection(o2x, o2y, o1x, o1y, w0, w1)
+    c3v, a = _projection(o3x, o3y, o1x, o1y, w0, w1)
+    ab = _larger(a, ab)
+    cxv, a = _projection(xx, xy, o1x, o1y, w0, w1)
+    ab = _larger(a, ab)
+    cgv, a = _projection(gx, gy, o1x, o1y, w0, w1)
+    bound, thr = _threshold(_larger(a, ab))
+    return c2v, c3v, cxv, cgv, bound, thr
+
+
+@njit(**_INLINE_IR)
 def _rank(s1, s2, s3, order):  # pragma: no cover - compiled
     """The rank (Figure ``grid``) of the obstacle column a point lies on, -1 for none: ``s1``,
     ``s2``, ``s3`` are the exact signs of its column against those of o1, o2, o3, ``order``
@@ -217,27 +267,11 @@ def _classify_columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0, w1,
     o1 (0), o2, o3, x, x' (paper Section 4, Figure ``grid``). Returns ``(decided, family
     index, i, j, rank of x, rank of x', order)``; ``order`` (T23) is the rank of o3 among the
     obstacle columns: 0 for o3 < o1 < o2, 1 for o1 < o3 < o2, 2 for o1 < o2 < o3."""
-    t0 = (o2x - o1x) * w0
-    t1 = (o2y - o1y) * w1
-    c2v = t0 + t1
-    ab = abs(t0) + abs(t1)
-    t0 = (o3x - o1x) * w0
-    t1 = (o3y - o1y) * w1
-    c3v = t0 + t1
-    ab = max(ab, abs(t0) + abs(t1))
-    t0 = (xx - o1x) * w0
-    t1 = (xy - o1y) * w1
-    cxv = t0 + t1
-    ab = max(ab, abs(t0) + abs(t1))
-    t0 = (gx - o1x) * w0
-    t1 = (gy - o1y) * w1
-    cgv = t0 + t1
-    ab = max(ab, abs(t0) + abs(t1))
-    bound = 4 * 1.01 * _U * ab + 3 * _TINY
+    c2v, c3v, cxv, cgv, bound, cthr = _columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy,
+                                               w0, w1)
     if not (math.isfinite(bound) and math.isfinite(c2v) and math.isfinite(c3v)
             and math.isfinite(cxv) and math.isfinite(cgv)):
         return False, 0, 0, 0, -1, -1, 0
-    cthr = 2.0 * (2.0 * bound) * (1 + 4 * _U)
     # o3 against o1 and o2 (o1 < o2 exactly: (o2 - o1) . w = |w|^2 > 0)
     ok1, s31 = _compare(c3v, 0.0, cthr, o3x, o3y, o1x, o1y, w0, w1, wexact)
     ok2, s32 = _compare(c3v, c2v, cthr, o3x, o3y, o2x, o2y, w0, w1, wexact)
@@ -274,24 +308,10 @@ def _classify(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0,
     _, ew0 = _two_sum(o2x, -o1x)
     _, ew1 = _two_sum(o2y, -o1y)
     wexact = ew0 == 0.0 and ew1 == 0.0
-    # heights (y - o1) . rot90(w) of o1 (0), o3, x, x' and their error bound
-    t0 = (o3x - o1x) * -w1
-    t1 = (o3y - o1y) * w0
-    h3v = t0 + t1
-    ab = abs(t0) + abs(t1)
-    t0 = (xx - o1x) * -w1
-    t1 = (xy - o1y) * w0
-    hxv = t0 + t1
-    ab = max(ab, abs(t0) + abs(t1))
-    t0 = (gx - o1x) * -w1
-    t1 = (gy - o1y) * w0
-    hgv = t0 + t1
-    ab = max(ab, abs(t0) + abs(t1))
-    bound = 4 * 1.01 * _U * ab + 3 * _TINY
+    h3v, hxv, hgv, bound, hthr = _heights(o1x, o1y, o3x, o3y, xx, xy, gx, gy, w0, w1)
     if not (math.isfinite(bound) and math.isfinite(h3v) and math.isfinite(hxv)
             and math.isfinite(hgv)):
         return False, 0, 0, 0, -1, -1, 0
-    hthr = 2.0 * (2.0 * bound) * (1 + 4 * _U)
     ok, s3 = _compare(h3v, 0.0, hthr, o3x, o3y, o1x, o1y, -w1, w0, wexact)
     if not ok:
         return False, 0, 0, 0, -1, -1, 0
@@ -321,6 +341,14 @@ def _frame(w0, w1):  # pragma: no cover - compiled
 
 
 @njit(**_INLINE_IR)
+def _coordinates(px, py, o1x, o1y, e0, e1, nu0, nu1):  # pragma: no cover - compiled
+    """The frame coordinates ``(u, h) = ((p - o1) . e, (p - o1) . nu)`` of a point p."""
+    r0 = px - o1x
+    r1 = py - o1y
+    return r0 * e0 + r1 * e1, r0 * nu0 + r1 * nu1
+
+
+@njit(**_INLINE_IR)
 def _vertical(r, order, norm, u3, unit):  # pragma: no cover - compiled
     """The column ``s_r`` of the vertical leg past the obstacle column of rank ``r`` (Figure
     ``grid``): ``s1 = (c1 + c2) / 2``, ``s2 = (c2 + c3) / 2``, ``s3 = c3 + unit`` for the
@@ -336,6 +364,13 @@ def _vertical(r, order, norm, u3, unit):  # pragma: no cover - compiled
 
 
 @njit(**_INLINE_IR)
+def _point(W, k, u, h):  # pragma: no cover - compiled
+    """Point k of the polyline in the frame: (u, h)."""
+    W[_PU, k] = u
+    W[_PH, k] = h
+
+
+@njit(**_INLINE_IR)
 def _polyline(code, unit, ua, ha, ub, hb, ra, rb, u3, h3, norm, d13, order,
               W):  # pragma: no cover - compiled
     """The polyline of stratum ``code`` in (u, h) coordinates from a = (ua, ha) to
@@ -345,15 +380,12 @@ def _polyline(code, unit, ua, ha, ub, hb, ra, rb, u3, h3, norm, d13, order,
     ``unit`` is the paper's 1 (``H = unit + max(0, h3)``, ``s3 = c3 + unit``), ``ra``, ``rb``
     the ranks of the obstacle columns a and b lie on and ``order`` the obstacles' (T23),
     ``d13 = |o3 - o1|`` (T1_22)."""
-    W[_PU, 0] = ua
-    W[_PH, 0] = ha
+    _point(W, 0, ua, ha)
     if code == 0 or code == 7 or code == 11:  # W1, Figure T111
         big_h = unit + (h3 if h3 > 0.0 else 0.0)  # noqa: FURB136 (np.maximum(0, h3))
         kk = 4
-        W[_PU, 1] = ua
-        W[_PH, 1] = big_h
-        W[_PU, 2] = ub
-        W[_PH, 2] = big_h
+        _point(W, 1, ua, big_h)
+        _point(W, 2, ub, big_h)
     elif code == 1 or code == 2:  # T1_12, T1_21, Figure Tstraight
         kk = 2
     elif code == 3 or code == 4:  # T1_22, T22_22, Figure porenmedio
@@ -362,41 +394,50 @@ def _polyline(code, unit, ua, ha, ub, hb, ra, rb, u3, h3, norm, d13, order,
         else:
             delta = 0.5 * norm
         kk = 4
-        W[_PU, 1] = delta
-        W[_PH, 1] = ha
-        W[_PU, 2] = delta
-        W[_PH, 2] = hb
+        _point(W, 1, delta, ha)
+        _point(W, 2, delta, hb)
     elif code == 5 or code == 6:  # T22_23 (T22_32 swapped), Figure t2223
         mid = 0.5 * norm
         h_half = 0.5 * h3
         kk = 5
-        W[_PU, 1] = mid
-        W[_PH, 1] = ha
-        W[_PU, 2] = mid
-        W[_PH, 2] = h_half
-        W[_PU, 3] = ub
-        W[_PH, 3] = h_half
+        _point(W, 1, mid, ha)
+        _point(W, 2, mid, h_half)
+        _point(W, 3, ub, h_half)
     else:  # T23_33, T23_34 (T23_43 swapped), Figure grid
         sa = _vertical(ra, order, norm, u3, unit)
         h_half = 0.5 * h3
-        W[_PU, 1] = sa
-        W[_PH, 1] = ha
-        W[_PU, 2] = sa
-        W[_PH, 2] = h_half
+        _point(W, 1, sa, ha)
+        _point(W, 2, sa, h_half)
         if code == 8:
             sb = _vertical(rb, order, norm, u3, unit)
             kk = 6
-            W[_PU, 3] = sb
-            W[_PH, 3] = h_half
-            W[_PU, 4] = sb
-            W[_PH, 4] = hb
+            _point(W, 3, sb, h_half)
+            _point(W, 4, sb, hb)
         else:
             kk = 5
-            W[_PU, 3] = ub
-            W[_PH, 3] = h_half
-    W[_PU, kk - 1] = ub
-    W[_PH, kk - 1] = hb
+            _point(W, 3, ub, h_half)
+    _point(W, kk - 1, ub, hb)
     return kk
+
+
+@njit(**_INLINE_IR)
+def _displaced(px, py, du, dh, e0, e1, nu0, nu1):  # pragma: no cover - compiled
+    """The point p moved by ``du e + dh nu`` (``planar_three._to_world``'s order)."""
+    return (px + du * e0) + dh * nu0, (py + du * e1) + dh * nu1
+
+
+@njit(**_INLINE_IR)
+def _select(cond, ax, ay, bx, by):  # pragma: no cover - compiled
+    """(ax, ay) where ``cond``, else (bx, by)."""
+    return (ax if cond else bx), (ay if cond else by)
+
+
+@njit(**_INLINE_IR)
+def _length(x0, y0, x1, y1):  # pragma: no cover - compiled
+    """The length of the piece (x0, y0) -> (x1, y1), as the reference computes it."""
+    dx = x1 - x0
+    dy = y1 - y0
+    return math.sqrt(dx * dx + dy * dy)
 
 
 @njit(**_INLINE_IR)
@@ -409,14 +450,10 @@ def _to_world(kk, W, o1x, o1y, e0, e1, nu0, nu1, ax, ay, ua, ha, bx, by, ub,
         W[_QX, i] = (o1x + W[_PU, i] * e0) + W[_PH, i] * nu0
         W[_QY, i] = (o1y + W[_PU, i] * e1) + W[_PH, i] * nu1
     if kk > 2:
-        du = W[_PU, 1] - ua
-        dh = W[_PH, 1] - ha
-        W[_QX, 1] = (ax + du * e0) + dh * nu0
-        W[_QY, 1] = (ay + du * e1) + dh * nu1
-        du = W[_PU, kk - 2] - ub
-        dh = W[_PH, kk - 2] - hb
-        W[_QX, kk - 2] = (bx + du * e0) + dh * nu0
-        W[_QY, kk - 2] = (by + du * e1) + dh * nu1
+        W[_QX, 1], W[_QY, 1] = _displaced(ax, ay, W[_PU, 1] - ua, W[_PH, 1] - ha, e0, e1, nu0,
+                                          nu1)
+        W[_QX, kk - 2], W[_QY, kk - 2] = _displaced(bx, by, W[_PU, kk - 2] - ub,
+                                                    W[_PH, kk - 2] - hb, e0, e1, nu0, nu1)
     W[_QX, 0] = ax
     W[_QY, 0] = ay
     W[_QX, kk - 1] = bx
@@ -439,9 +476,7 @@ def _constant_speed(kk, W, even):  # pragma: no cover - compiled
     total = 0.0
     W[_TM, 0] = 0.0
     for i in range(kk - 1):
-        dx = W[_QX, i + 1] - W[_QX, i]
-        dy = W[_QY, i + 1] - W[_QY, i]
-        total += math.sqrt(dx * dx + dy * dy)
+        total += _length(W[_QX, i], W[_QY, i], W[_QX, i + 1], W[_QY, i + 1])
         W[_TM, i + 1] = total
     for i in range(kk):
         if not (math.isfinite(W[_QX, i]) and math.isfinite(W[_QY, i])):
@@ -617,18 +652,9 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
         code = CODE_LUT[fam, ci, cj]
         # --- frame (pmplan.frame.Frame), (u, h) coordinates, the polyline (SPEC section 3) --
         e0, e1, norm, nu0, nu1 = _frame(w0, w1)
-        r0 = o3x - o1x
-        r1 = o3y - o1y
-        u3 = r0 * e0 + r1 * e1
-        h3 = r0 * nu0 + r1 * nu1
-        r0 = xx - o1x
-        r1 = xy - o1y
-        ux = r0 * e0 + r1 * e1
-        hx = r0 * nu0 + r1 * nu1
-        r0 = gx - o1x
-        r1 = gy - o1y
-        ug = r0 * e0 + r1 * e1
-        hg = r0 * nu0 + r1 * nu1
+        u3, h3 = _coordinates(o3x, o3y, o1x, o1y, e0, e1, nu0, nu1)
+        ux, hx = _coordinates(xx, xy, o1x, o1y, e0, e1, nu0, nu1)
+        ug, hg = _coordinates(gx, gy, o1x, o1y, e0, e1, nu0, nu1)
         swap = code == 6 or code == 10  # T22_32, T23_43: reverse of the swapped query's path
         if swap:
             ax, ay, ua, ha, ra = gx, gy, ug, hg, rank_g
@@ -662,6 +688,8 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
 LANES = 64
 #: the stratum every lane of :func:`_plan_lanes` is in: T23_44 (code 11, Figure T111, domain W1)
 _GENERIC = int(CODE_LUT[2, 4, 4])
+#: at most this many blocks in a row are handed to the scalar kernel untried (_plan_lanes)
+_MAX_SKIP = 32
 #: rows of the lanes' scratch: the ten input coordinates, then what the vector loop computes
 _O1X, _O1Y, _O2X, _O2Y, _O3X, _O3Y, _XX, _XY, _GX, _GY = range(10)
 _Q1X, _Q1Y, _Q2X, _Q2Y, _T1, _T2, _CLR, _BAD = range(10, 18)
@@ -684,46 +712,12 @@ def _lane_classes(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy):  # pragma: no c
     w1 = o2y - o1y
     bad = (w0 - w0) + (w1 - w1)  # NaN unless finite
     bad += 1.0 if (w0 == 0.0) & (w1 == 0.0) else 0.0
-    t0 = (o3x - o1x) * -w1
-    t1 = (o3y - o1y) * w0
-    h3v = t0 + t1
-    ab = abs(t0) + abs(t1)
-    t0 = (xx - o1x) * -w1
-    t1 = (xy - o1y) * w0
-    hxv = t0 + t1
-    a = abs(t0) + abs(t1)
-    ab = a if a > ab else ab  # noqa: FURB136 (max: both finite when the lane is accepted)
-    t0 = (gx - o1x) * -w1
-    t1 = (gy - o1y) * w0
-    hgv = t0 + t1
-    a = abs(t0) + abs(t1)
-    ab = a if a > ab else ab  # noqa: FURB136
-    bound = 4 * 1.01 * _U * ab + 3 * _TINY
+    h3v, hxv, hgv, bound, hthr = _heights(o1x, o1y, o3x, o3y, xx, xy, gx, gy, w0, w1)
     bad += (bound - bound) + (h3v - h3v) + (hxv - hxv) + (hgv - hgv)
-    hthr = 2.0 * (2.0 * bound) * (1 + 4 * _U)
     bad += _decided(h3v - 0.0, hthr)
-    t0 = (o2x - o1x) * w0
-    t1 = (o2y - o1y) * w1
-    c2v = t0 + t1
-    ab = abs(t0) + abs(t1)
-    t0 = (o3x - o1x) * w0
-    t1 = (o3y - o1y) * w1
-    c3v = t0 + t1
-    a = abs(t0) + abs(t1)
-    ab = a if a > ab else ab  # noqa: FURB136
-    t0 = (xx - o1x) * w0
-    t1 = (xy - o1y) * w1
-    cxv = t0 + t1
-    a = abs(t0) + abs(t1)
-    ab = a if a > ab else ab  # noqa: FURB136
-    t0 = (gx - o1x) * w0
-    t1 = (gy - o1y) * w1
-    cgv = t0 + t1
-    a = abs(t0) + abs(t1)
-    ab = a if a > ab else ab  # noqa: FURB136
-    bound = 4 * 1.01 * _U * ab + 3 * _TINY
+    c2v, c3v, cxv, cgv, bound, cthr = _columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy,
+                                               w0, w1)
     bad += (bound - bound) + (c2v - c2v) + (c3v - c3v) + (cxv - cxv) + (cgv - cgv)
-    cthr = 2.0 * (2.0 * bound) * (1 + 4 * _U)
     bad += _decided(c3v - 0.0, cthr) + _decided(c3v - c2v, cthr)
     bad += _decided(cxv - 0.0, cthr) + _decided(cxv - c2v, cthr) + _decided(cxv - c3v, cthr)
     bad += _decided(cgv - 0.0, cthr) + _decided(cgv - c2v, cthr) + _decided(cgv - c3v, cthr)
@@ -761,48 +755,22 @@ def _lanes_generic(S, even, lift):  # pragma: no cover - compiled
         gy = S[_GY, l]
         bad = _lane_classes(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy)
         e0, e1, _, nu0, nu1 = _frame(o2x - o1x, o2y - o1y)
-        h3 = (o3x - o1x) * nu0 + (o3y - o1y) * nu1
-        r0 = xx - o1x
-        r1 = xy - o1y
-        ux = r0 * e0 + r1 * e1
-        hx = r0 * nu0 + r1 * nu1
-        r0 = gx - o1x
-        r1 = gy - o1y
-        ug = r0 * e0 + r1 * e1
-        hg = r0 * nu0 + r1 * nu1
+        _, h3 = _coordinates(o3x, o3y, o1x, o1y, e0, e1, nu0, nu1)
+        ux, hx = _coordinates(xx, xy, o1x, o1y, e0, e1, nu0, nu1)
+        ug, hg = _coordinates(gx, gy, o1x, o1y, e0, e1, nu0, nu1)
         unit = lift if lift > 0 else _radius(o1x, o1y, o2x, o2y, o3x, o3y)
         big_h = unit + (h3 if h3 > 0.0 else 0.0)  # noqa: FURB136 (np.maximum(0, h3))
         # _to_world: frame points (ux, hx), (ux, H), (ug, H), (ug, hg)
-        du = ux - ux
-        dh = big_h - hx
-        q1x = (xx + du * e0) + dh * nu0
-        q1y = (xy + du * e1) + dh * nu1
-        du = ug - ug
-        dh = big_h - hg
-        q2x = (gx + du * e0) + dh * nu0
-        q2y = (gy + du * e1) + dh * nu1
-        same = (ux == ux) & (big_h == hx)
-        q1x = xx if same else q1x
-        q1y = xy if same else q1y
-        same = (ug == ux) & (big_h == big_h)
-        q2x = q1x if same else q2x
-        q2y = q1y if same else q2y
-        same = (ug == ug) & (hg == big_h)
-        q2x = gx if same else q2x
-        q2y = gy if same else q2y
-        same = (ug == ux) & (big_h == big_h)
-        q1x = q2x if same else q1x
-        q1y = q2y if same else q1y
+        q1x, q1y = _displaced(xx, xy, ux - ux, big_h - hx, e0, e1, nu0, nu1)
+        q2x, q2y = _displaced(gx, gy, ug - ug, big_h - hg, e0, e1, nu0, nu1)
+        q1x, q1y = _select((ux == ux) & (big_h == hx), xx, xy, q1x, q1y)
+        q2x, q2y = _select((ug == ux) & (big_h == big_h), q1x, q1y, q2x, q2y)
+        q2x, q2y = _select((ug == ug) & (hg == big_h), gx, gy, q2x, q2y)
+        q1x, q1y = _select((ug == ux) & (big_h == big_h), q2x, q2y, q1x, q1y)
         # _constant_speed
-        dx = q1x - xx
-        dy = q1y - xy
-        t1 = 0.0 + math.sqrt(dx * dx + dy * dy)
-        dx = q2x - q1x
-        dy = q2y - q1y
-        t2 = t1 + math.sqrt(dx * dx + dy * dy)
-        dx = gx - q2x
-        dy = gy - q2y
-        total = t2 + math.sqrt(dx * dx + dy * dy)
+        t1 = 0.0 + _length(xx, xy, q1x, q1y)
+        t2 = t1 + _length(q1x, q1y, q2x, q2y)
+        total = t2 + _length(q2x, q2y, gx, gy)
         bad += ((q1x - q1x) + (q1y - q1y)) + ((q2x - q2x) + (q2y - q2y)) + (total - total)
         pos = total > 0
         t1 = t1 / total if pos else even[4, 1]
@@ -855,8 +823,12 @@ def _plan_lanes(obstacles, start, goal, even, lift, times, wp, domain, strata, c
     no two equal points: every column is apart from the others), so ``validate`` changes
     nothing here.
 
-    The other queries -- and the last ``B mod L`` -- are listed in ``todo`` (their count is
-    returned) for :func:`plan_planar`. Arguments as :func:`plan_planar` (without ``validate``,
+    The other queries of the full blocks of L are listed in ``todo`` (their count is
+    returned) for :func:`plan_planar`; :func:`plan_chunk` adds the last ``B mod L``. A batch
+    with few generic queries (the strata mix, a degenerate batch) is not tried block after
+    block: after a block with fewer than L / 4 decided lanes the next 1, 2, 4, ...,
+    :data:`_MAX_SKIP` blocks go to the scalar kernel untried (which plans them the same way:
+    only the speed depends on it). Arguments as :func:`plan_planar` (without ``validate``,
     ``sel``, ``nsel``) plus ``todo`` int64 (B,).
     """
     nb = obstacles.shape[0]
@@ -865,8 +837,16 @@ def _plan_lanes(obstacles, start, goal, even, lift, times, wp, domain, strata, c
     fam = _FAMILY[2]
     nt = 0
     nfull = nb // LANES
+    skip = 0  # blocks still to hand to the scalar kernel untried
+    wait = 1  # blocks to skip after the next poor one
     for blk in range(nfull):
         b0 = blk * LANES
+        if skip:
+            skip -= 1
+            for l in range(LANES):
+                todo[nt] = b0 + l
+                nt += 1
+            continue
         for l in range(LANES):
             b = b0 + l
             S[_O1X, l] = obstacles[b, 0, 0]
@@ -880,6 +860,14 @@ def _plan_lanes(obstacles, start, goal, even, lift, times, wp, domain, strata, c
             S[_GX, l] = goal[b, 0, 0]
             S[_GY, l] = goal[b, 0, 1]
         _lanes_generic(S, even, lift)
+        ngood = 0
+        for l in range(LANES):
+            ngood += S[_BAD, l] == 0.0
+        if 4 * ngood < LANES:  # a poor block: skip the next blocks, twice as many each time
+            skip = wait
+            wait = min(2 * wait, _MAX_SKIP)
+        else:
+            wait = 1
         for l in range(LANES):
             b = b0 + l
             if S[_BAD, l] != 0.0:
@@ -903,9 +891,6 @@ def _plan_lanes(obstacles, start, goal, even, lift, times, wp, domain, strata, c
             strata[b, 2] = 4
             clearance[b] = S[_CLR, l]
             flags[b] = 0
-    for b in range(nfull * LANES, nb):
-        todo[nt] = b
-        nt += 1
     return nt
 
 
@@ -923,13 +908,14 @@ def plan_chunk(obstacles, start, goal, even, lift, validate, times, wp, domain, 
     caller would have numba compile both kernels into its own module a second time.
     """
     nb = obstacles.shape[0]
-    todo = np.empty(nb, np.int64)
+    todo = np.arange(nb, dtype=np.int64)
     nt = nb
     if nb >= LANES:
         nt = _plan_lanes(obstacles, start, goal, even, lift, times, wp, domain, strata,
                          clearance, flags, todo)
-    else:
-        todo[:] = np.arange(nb)
+        rest = nb % LANES  # the last B mod L queries: after the undecided ones
+        todo[nt:nt + rest] = np.arange(nb - rest, nb)
+        nt += rest
     if nt:  # (so that a run whose every query is generic never compiles plan_planar)
         plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain, strata,
                     clearance, flags, todo, nt)
