@@ -457,3 +457,26 @@ def test_poor_blocks_are_skipped_and_planned_the_same():
         slow = _kernel(o, s, g, validate=True, path="scalar")
     assert _bits(*fast[::-1]) == _bits(*slow[::-1])
 
+
+
+@pytest.mark.parametrize("b", [5, 200])
+@pytest.mark.parametrize("bad", ["nan", "inf", "start on o3", "o1 == o2", "goal on o1"])
+def test_batch_errors_validated_in_the_kernel_are_the_reference_errors(b, bad):
+    """The planar kernel validates the batch itself (no separate pass): an invalid query at
+    any row (in a block of the SIMD path or not) gives the reference's error."""
+    rng = np.random.default_rng(b)
+    o, s, g = (rng.standard_normal((b, k, 2)) for k in (3, 1, 1))
+    row = b - 3 if b > 64 else 1
+    if bad == "nan":
+        o[row, 2, 1] = np.nan
+    elif bad == "inf":
+        g[row, 0, 0] = -np.inf
+    elif bad == "start on o3":
+        s[row, 0] = o[row, 2]
+    elif bad == "o1 == o2":
+        o[row, 1] = o[row, 0]
+    else:
+        g[row, 0] = o[row, 0]
+    fast = _outcome(pmplan.plan_batch, o, s, g)
+    assert isinstance(fast, tuple) and issubclass(fast[0], PmplanError)
+    assert fast == _outcome(pmplan.plan_batch, o, s, g, backend="numpy")

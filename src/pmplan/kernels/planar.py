@@ -509,35 +509,6 @@ def _reverse(kk, W):  # pragma: no cover - compiled
 
 
 @njit(**_INLINE_IR)
-def _write(b, kk, W, o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, times,
-           wp):  # pragma: no cover - compiled
-    """Query ``b``'s breakpoints and waypoints, padded to WAYPOINTS (with 1.0 and the goal),
-    obstacles fixed; then clauses 1-9 of the certificate (:data:`pmplan.certify.CLAUSES`) read
-    back from what was written: finite times from 0 to 1 that never decrease, the start and
-    the goal exactly (the waypoints are finite: checked before; the obstacles are copies).
-    Returns ``BROKEN`` when a clause fails (never expected: a safety net), else 0."""
-    for t in range(WAYPOINTS):
-        src = t if t < kk else kk - 1
-        times[b, t] = W[_TM, t] if t < kk else 1.0
-        wp[b, t, 0, 0] = o1x
-        wp[b, t, 0, 1] = o1y
-        wp[b, t, 1, 0] = o2x
-        wp[b, t, 1, 1] = o2y
-        wp[b, t, 2, 0] = o3x
-        wp[b, t, 2, 1] = o3y
-        wp[b, t, 3, 0] = W[_QX, src]
-        wp[b, t, 3, 1] = W[_QY, src]
-    brk = not (times[b, 0] == 0.0 and times[b, WAYPOINTS - 1] == 1.0)
-    for t in range(WAYPOINTS):
-        brk |= not abs(times[b, t]) <= _MAXF
-        if t > 0:
-            brk |= not times[b, t] >= times[b, t - 1]
-    brk |= not (wp[b, 0, 3, 0] == xx and wp[b, 0, 3, 1] == xy
-                and wp[b, WAYPOINTS - 1, 3, 0] == gx and wp[b, WAYPOINTS - 1, 3, 1] == gy)
-    return BROKEN if brk else 0
-
-
-@njit(**_INLINE_IR)
 def _clearance(kk, W, o1x, o1y, o2x, o2y, o3x, o3y):  # pragma: no cover - compiled
     """The clearance of :func:`pmplan.certify.clearance` (robot against each obstacle, per
     piece, and the obstacle pairs) and ``SUSPECT`` when a float minimum is not certainly above
@@ -667,14 +638,37 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
             unit = _radius(o1x, o1y, o2x, o2y, o3x, o3y)
         d13 = math.hypot(o3x - o1x, o3y - o1y) if code == 3 else 0.0
         kk = _polyline(code, unit, ua, ha, ub, hb, ra, rb, u3, h3, norm, d13, order, W)
-        # --- to the plane, constant speed, reversal, output, certificate --------------------
+        # --- to the plane, constant speed, reversal -------------------------------------------
         _to_world(kk, W, o1x, o1y, e0, e1, nu0, nu1, ax, ay, ua, ha, bx, by, ub, hb)
         if not _constant_speed(kk, W, even):
             flags[b] = FALLBACK
             continue
         if swap:
             _reverse(kk, W)
-        fl = _write(b, kk, W, o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, times, wp)
+        # output: padded to WAYPOINTS (with 1.0 and the goal), obstacles fixed; then clauses
+        # 1-9 of the certificate (pmplan.certify.CLAUSES) read back from what was written:
+        # finite times from 0 to 1 that never decrease, the start and the goal exactly (the
+        # waypoints are finite: checked above; the obstacles are copies). Not a helper: passing
+        # times and wp to one cost 5-9 % of the scalar kernel (benchmarks/planar_bench.py).
+        for t in range(WAYPOINTS):
+            src = t if t < kk else kk - 1
+            times[b, t] = W[_TM, t] if t < kk else 1.0
+            wp[b, t, 0, 0] = o1x
+            wp[b, t, 0, 1] = o1y
+            wp[b, t, 1, 0] = o2x
+            wp[b, t, 1, 1] = o2y
+            wp[b, t, 2, 0] = o3x
+            wp[b, t, 2, 1] = o3y
+            wp[b, t, 3, 0] = W[_QX, src]
+            wp[b, t, 3, 1] = W[_QY, src]
+        brk = not (times[b, 0] == 0.0 and times[b, WAYPOINTS - 1] == 1.0)
+        for t in range(WAYPOINTS):
+            brk |= not abs(times[b, t]) <= _MAXF
+            if t > 0:
+                brk |= not times[b, t] >= times[b, t - 1]
+        brk |= not (wp[b, 0, 3, 0] == xx and wp[b, 0, 3, 1] == xy
+                    and wp[b, WAYPOINTS - 1, 3, 0] == gx and wp[b, WAYPOINTS - 1, 3, 1] == gy)
+        fl = BROKEN if brk else 0  # (a safety net: never expected)
         domain[b] = _DOMAIN[code]
         strata[b, 0] = _FAMILY[fam]
         strata[b, 1] = ci
