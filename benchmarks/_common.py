@@ -557,11 +557,12 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
         ]
         parts += sect
         doc += ["#" + s if s.startswith("## ") else s for s in sect]
-    scale = HERE / "scale_results.md"  # written by benchmarks/scale_bench.py
-    if scale.exists():
-        sect = scale.read_text().splitlines()
-        parts += sect
-        doc += ["#" + s if s.startswith("## ") else s for s in sect]
+    # sections written by benchmarks/scale_bench.py and benchmarks/planar_bench.py
+    for section in (HERE / "scale_results.md", HERE / "planar_results.md"):
+        if section.exists():
+            sect = section.read_text().splitlines()
+            parts += sect
+            doc += ["#" + s if s.startswith("## ") else s for s in sect]
     (HERE / "RESULTS.md").write_text("\n".join(parts))
     docs = ROOT / "docs"
     docs.mkdir(exist_ok=True)

@@ -6,18 +6,22 @@ Run from the repository root:
     python benchmarks/planar_bench.py --old REV --rounds 3 --B 100000
 
 The *old* code is the tree of ``REV`` (``git archive``, into a temporary folder); the *new* code
-is this checkout's ``src``. Every measurement is made by a worker process (``--worker SRC``),
-old and new alternating, ``--rounds`` times; every worker measures its figures against a copy
-of its own output in the same process, so the ratios compare across processes:
+is this checkout's ``src``. A worker process of the new code loads the old kernel module beside
+the new one and switches the planar planner between them in place (the old one also without
+validation in the kernel, so ``plan_batch`` validates in a separate pass, as it did); every
+figure is old, new and a copy measured in turn in that process, ``--rounds`` workers:
 
 * ``plan_batch(out=...)`` time / time of ONE ``np.copyto`` of the output waypoints (best of
-  ``--repeats`` each, interleaved), one core, for generic queries (standard normal
-  coordinates: the top stratum T23_44) and for the strata mix of ``benchmarks/_common.py``;
+  ``--repeats``), one core, for generic queries (standard normal coordinates: the top stratum
+  T23_44) and for the strata mix of ``benchmarks/_common.py``;
 * the scalar kernel alone on every query (the new one through its row selection, which is the
-  whole batch here) / the same copy: what splitting ``plan_planar`` into helpers costs;
-* single-query latency of ``pmplan.plan`` (p10 / p50 / p90 over ``--calls`` calls);
-* the first call of ``pmplan.plan`` on a (2,1,3) query in a fresh process with an empty numba
-  cache (``NUMBA_CACHE_DIR``), i.e. with every kernel it needs compiled (cold start).
+  whole batch here) / the same copy: what splitting ``plan_planar`` into helpers costs; and the
+  new ``plan_chunk`` (SIMD path, then the scalar kernel) alone;
+* single-query latency of ``pmplan.plan`` (p10 / p50 / p90 over ``--calls`` calls, blocks of
+  200 calls old and new alternating);
+* the first call of ``pmplan.plan`` on a (2,1,3) query in a fresh process (of the old tree, of
+  the new one) with an empty numba cache (``NUMBA_CACHE_DIR``): it compiles every kernel it
+  needs (cold start).
 
 Results: ``benchmarks/planar_results.json`` and the section ``benchmarks/planar_results.md``,
 which ``benchmarks/_common.write_reports`` includes in ``benchmarks/RESULTS.md`` (this script
@@ -45,34 +49,70 @@ SEED = 20261201
 
 
 # --------------------------------------------------------------------------- worker
-def _best(fn, repeats: int) -> float:
-    out = []
+def _load_old(path: str):
+    """The old ``pmplan/kernels/planar.py`` as the module ``pmplan.kernels._planar_old`` (its
+    relative imports resolve in this pmplan; numba caches it next to the file)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("pmplan.kernels._planar_old", path)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+class _Side:
+    """Switch this process between the old kernel and the new one, in place: the planner's
+    kernel module (``planar_three.planar_kernels``), whether the planner validates in its
+    kernel (the old one did not: ``pmplan.plan_batch`` then validates in a separate pass, as
+    it did) and the single-query fast paths cached by :mod:`pmplan.api`."""
+
+    def __init__(self, old):
+        import types
+
+        from pmplan import api
+        from pmplan.kernels import planar as kp
+        from pmplan.planners import planar_three as p3
+
+        self.api, self.p3, self.new = api, p3, p3.planar_kernels
+        self.shim = types.SimpleNamespace(AVAILABLE=True, plan_chunk=old.plan_planar,
+                                          plan_planar_one=old.plan_planar_one)
+        self.kp = kp
+
+    def __call__(self, side: str) -> None:
+        planner = self.p3.PLANAR_THREE
+        if side == "old":
+            self.p3.planar_kernels = lambda: self.shim
+            planner.validates = lambda d, backend=None: False
+        else:
+            self.p3.planar_kernels = self.new
+            planner.__dict__.pop("validates", None)
+        self.api._FAST.clear()
+
+
+def _interleaved(fns: dict, repeats: int) -> dict:
+    """Best time of every function, the functions called in turn ``repeats`` times."""
+    best = dict.fromkeys(fns, float("inf"))
     for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - t0)
-    return min(out)
+        for k, fn in fns.items():
+            t0 = time.perf_counter()
+            fn()
+            best[k] = min(best[k], time.perf_counter() - t0)
+    return best
 
 
-def _ratio(fn, copy, repeats: int) -> tuple[float, float]:
-    """(best time of fn, best time of copy), interleaved."""
-    tf, tc = [], []
-    for _ in range(repeats):
-        tf.append(_best(fn, 1))
-        tc.append(_best(copy, 1))
-    return min(tf), min(tc)
-
-
-def worker(b: int, repeats: int, calls: int) -> dict:
-    """Every in-process figure of the code on ``sys.path`` (one core)."""
+def worker(b: int, repeats: int, calls: int, old_file: str) -> dict:
+    """Every in-process figure, old and new side by side (one core)."""
     import gc
 
     sys.path.insert(0, str(HERE))
     import pmplan
     from _common import planar_three_mixed
-    from pmplan.kernels import planar as kp
     from pmplan.planners import planar_three as p3
 
+    old = _load_old(old_file)
+    side = _Side(old)
+    kp = side.kp
     gc.disable()
     rng = np.random.default_rng(SEED)
     res: dict = {"B": b}
@@ -83,45 +123,47 @@ def worker(b: int, repeats: int, calls: int) -> dict:
     for family, q in batches.items():
         out = pmplan.plan_batch(*q, planner="planar_three")
         dst = np.empty_like(out.waypoints)
-        np.copyto(dst, out.waypoints)
-
-        def into(q=q, out=out):
-            pmplan.plan_batch(*q, out=out, planner="planar_three")
-
-        def copy(dst=dst, src=out.waypoints):
-            np.copyto(dst, src)
-
-        into()
-        t, c = _ratio(into, copy, repeats)
-        res[f"{family}: plan_batch(out=)"] = t / c
-        # the scalar kernel alone, every query
         o, s, g = (np.ascontiguousarray(a) for a in q)
         arr = p3.PLANAR_THREE.allocate(b, 2, 3, 1, 2)
         flags = np.empty(b, np.uint8)
         args = (o, s, g, p3._EVEN, 1.0, True, arr["times"], arr["waypoints"], arr["domain"],
                 arr["strata"], arr["clearance"], flags)
-        if hasattr(kp, "plan_chunk"):  # new: the scalar kernel on a selection of rows (all)
-            sel = np.arange(b, dtype=np.int64)
+        sel = np.arange(b, dtype=np.int64)
 
-            def scalar(args=args, sel=sel):
-                kp.plan_planar(*args, sel, sel.shape[0])
-        else:  # old: the one kernel, scalar
+        def into(q=q, out=out, which="new"):
+            side(which)
+            pmplan.plan_batch(*q, out=out, planner="planar_three")
 
-            def scalar(args=args):
-                kp.plan_planar(*args)
-
-        scalar()
-        t, c = _ratio(scalar, copy, repeats)
-        res[f"{family}: scalar kernel alone"] = t / c
-    # single-query latency, generic queries
+        fns = {
+            "copy": lambda dst=dst, src=out.waypoints: np.copyto(dst, src),
+            "plan_batch(out=) old": lambda: into(which="old"),
+            "plan_batch(out=) new": lambda: into(which="new"),
+            "scalar kernel old (one function)": lambda args=args: old.plan_planar(*args),
+            "scalar kernel new (helpers)": lambda args=args, sel=sel: kp.plan_planar(*args, sel,
+                                                                                  b),
+            "kernel new (plan_chunk)": lambda args=args: kp.plan_chunk(*args),
+        }
+        for fn in fns.values():  # compile, fault the pages in
+            fn()
+        best = _interleaved(fns, repeats)
+        for k, v in best.items():
+            if k != "copy":
+                res[f"{family}: {k}"] = v / best["copy"]
+        side("new")
+    # single-query latency, generic queries: blocks of 200 calls, old and new alternating
     o, s, g = (rng.standard_normal((calls, k, 2)) for k in (3, 1, 1))
-    pmplan.plan(o[0], s[0], g[0])
-    lat = []
-    for i in range(calls):
-        t0 = time.perf_counter()
-        pmplan.plan(o[i], s[i], g[i])
-        lat.append(time.perf_counter() - t0)
-    res["latency_us"] = [float(1e6 * v) for v in np.percentile(lat, [10, 50, 90])]
+    lat = {"old": [], "new": []}
+    for lo in range(0, calls, 200):
+        for which in ("old", "new") if lo % 400 else ("new", "old"):
+            side(which)
+            pmplan.plan(o[lo], s[lo], g[lo])  # the fast path of this side
+            for i in range(lo, min(calls, lo + 200)):
+                t0 = time.perf_counter()
+                pmplan.plan(o[i], s[i], g[i])
+                lat[which].append(time.perf_counter() - t0)
+    side("new")
+    for which, v in lat.items():
+        res[f"latency_us {which}"] = [float(1e6 * x) for x in np.percentile(v, [10, 50, 90])]
     return res
 
 
@@ -135,7 +177,7 @@ def cold() -> float:
 
 
 # --------------------------------------------------------------------------- driver
-def _run(src: Path, args: list[str], cache: str | None = None) -> dict:
+def _run(src: Path, args: list[str], cache: str | None = None) -> object:
     env = dict(os.environ, PYTHONPATH=str(src), NUMBA_NUM_THREADS="1", OMP_NUM_THREADS="1")
     if cache is not None:
         env["NUMBA_CACHE_DIR"] = cache
@@ -156,35 +198,37 @@ def _rng(vals) -> str:
 
 
 def report(res: dict) -> str:
-    keys = [k for k in res["rounds"][0]["new"] if k not in ("B", "latency_us")]
+    rounds = res["rounds"]
     lines = [
         SECTION,
         "",
         (
-            f"Old = `{res['old']}`, new = `{res['new']}`, measured in the same run "
-            f"({res['date']}): worker processes alternating old / new, {len(res['rounds'])} "
-            f"rounds, one core each, B = {res['B']:,}. Each figure is a time divided by the time of "
-            "ONE `np.copyto` of the output waypoints measured in the same process (best of "
-            f"{res['repeats']} each, interleaved); ranges over the rounds. *generic*: standard "
-            "normal coordinates (the top stratum, T23_44); *strata mix*: spread evenly over "
-            "the 12 strata. The *scalar kernel alone* rows run the scalar kernel on every query "
-            "(old: `plan_planar` in one function; new: `plan_planar` split into helpers, on a selection of rows that is every row)."
+            f"Old = `{res['old']}` (the kernel before issue 17 item 2), new = `{res['new']}`, "
+            f"measured in the same run ({res['date']}), {len(rounds)} rounds (one process each, "
+            f"one core), B = {res['B']:,}; ranges over the rounds. Every figure is a time "
+            "divided by the time of ONE `np.copyto` of the output waypoints, old, new and the "
+            f"copy called in turn in the same process (best of {res['repeats']}). The old "
+            "planner is the old kernel behind the same `plan_batch`, with its separate "
+            "validation pass. *generic*: standard normal coordinates (the top stratum, T23_44, "
+            "which the SIMD path plans); *strata mix*: spread evenly over the 12 strata (exact "
+            "constructions: mostly the scalar kernel and its exact stages). The scalar kernel "
+            "rows run it on every query: old = one function, new = split into helpers."
         ),
         "",
-        "| figure | old | new |",
+        "| figure (/ one copy) | generic | strata mix |",
         "|---|---|---|",
     ]
+    keys = [k.split(": ", 1)[1] for k in rounds[0] if k.startswith("generic: ")]
     for k in keys:
-        o = [r["old"][k] for r in res["rounds"]]
-        n = [r["new"][k] for r in res["rounds"]]
-        lines.append(f"| {k} / one copy | {_rng(o)} | {_rng(n)} |")
-    for side in ("old", "new"):
-        pass
-    lat = {s: np.array([r[s]["latency_us"] for r in res["rounds"]]) for s in ("old", "new")}
-    for i, name in enumerate(("p10", "p50", "p90")):
-        lines.append(f"| `pmplan.plan` latency {name} (us) | {_rng(lat['old'][:, i])} | "
-                     f"{_rng(lat['new'][:, i])} |")
-    lines.append(f"| first `pmplan.plan` (2,1,3), empty numba cache (s) | "
+        g = [r[f"generic: {k}"] for r in rounds]
+        m = [r[f"strata mix: {k}"] for r in rounds]
+        lines.append(f"| {k} | {_rng(g)} | {_rng(m)} |")
+    lines += ["", "| single query, `pmplan.plan` (2,1,3) | old | new |", "|---|---|---|"]
+    for i, name in enumerate(("p10", "p50 (median)", "p90")):
+        o = [r["latency_us old"][i] for r in rounds]
+        n = [r["latency_us new"][i] for r in rounds]
+        lines.append(f"| latency {name}, us | {_rng(o)} | {_rng(n)} |")
+    lines.append(f"| first call, empty numba cache (compiles its kernels), s | "
                  f"{_rng(res['cold']['old'])} | {_rng(res['cold']['new'])} |")
     lines.append("")
     return "\n".join(lines)
@@ -213,9 +257,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--calls", type=int, default=3000)
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--cold", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--old-file", default=None, help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     if a.worker:
-        print(json.dumps(worker(a.B, a.repeats, a.calls)))
+        print(json.dumps(worker(a.B, a.repeats, a.calls, a.old_file)))
         return 0
     if a.cold:
         print(json.dumps(cold()))
@@ -228,19 +273,19 @@ def main(argv: list[str] | None = None) -> int:
     res = {"B": a.B, "repeats": a.repeats, "old": rev[:10], "new": head,
            "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "rounds": [],
            "cold": {"old": [], "new": []}}
-    args = ["--worker", "--B", str(a.B), "--repeats", str(a.repeats), "--calls", str(a.calls)]
     with tempfile.TemporaryDirectory() as tmp:
         srcs = {"old": _old_tree(rev, Path(tmp)), "new": ROOT / "src"}
-        for s in ("old", "new"):  # compile and cache both before timing anything
-            _run(srcs[s], ["--worker", "--B", "2000", "--repeats", "1", "--calls", "10"])
+        old_file = str(srcs["old"] / "pmplan" / "kernels" / "planar.py")
+        args = ["--worker", "--B", str(a.B), "--repeats", str(a.repeats), "--calls",
+                str(a.calls), "--old-file", old_file]
+        _run(srcs["new"], [*args[:2], "2000", "--repeats", "1", "--calls", "400", *args[-2:]])
         for rnd in range(a.rounds):
-            row = {}
+            row = _run(srcs["new"], args)
+            print(f"round {rnd + 1}: {row}", file=sys.stderr)
+            res["rounds"].append(row)
             for s in ("old", "new") if rnd % 2 == 0 else ("new", "old"):
-                row[s] = _run(srcs[s], args)
                 with tempfile.TemporaryDirectory() as cache:
                     res["cold"][s].append(_run(srcs[s], ["--cold"], cache=cache))
-                print(f"round {rnd + 1} {s}: {row[s]}", file=sys.stderr)
-            res["rounds"].append(row)
     (HERE / "planar_results.json").write_text(json.dumps(res, indent=1))
     text = report(res)
     (HERE / "planar_results.md").write_text(text)

@@ -460,23 +460,21 @@ def test_poor_blocks_are_skipped_and_planned_the_same():
 
 
 @pytest.mark.parametrize("b", [5, 200])
-@pytest.mark.parametrize("bad", ["nan", "inf", "start on o3", "o1 == o2", "goal on o1"])
-def test_batch_errors_validated_in_the_kernel_are_the_reference_errors(b, bad):
+@pytest.mark.parametrize("which, index, value", [
+    (0, (2, 1), np.nan),  # a NaN coordinate of o3
+    (2, (0, 0), -np.inf),  # an infinite coordinate of the goal
+    (1, (0,), "o3"),  # the start on o3
+    (0, (1,), "o1"),  # o2 == o1
+    (2, (0,), "o1"),  # the goal on o1
+])
+def test_batch_errors_validated_in_the_kernel_are_the_reference_errors(b, which, index, value):
     """The planar kernel validates the batch itself (no separate pass): an invalid query at
     any row (in a block of the SIMD path or not) gives the reference's error."""
     rng = np.random.default_rng(b)
-    o, s, g = (rng.standard_normal((b, k, 2)) for k in (3, 1, 1))
+    q = [rng.standard_normal((b, k, 2)) for k in (3, 1, 1)]
     row = b - 3 if b > 64 else 1
-    if bad == "nan":
-        o[row, 2, 1] = np.nan
-    elif bad == "inf":
-        g[row, 0, 0] = -np.inf
-    elif bad == "start on o3":
-        s[row, 0] = o[row, 2]
-    elif bad == "o1 == o2":
-        o[row, 1] = o[row, 0]
-    else:
-        g[row, 0] = o[row, 0]
-    fast = _outcome(pmplan.plan_batch, o, s, g)
+    point = {"o1": q[0][row, 0], "o3": q[0][row, 2]}
+    q[which][(row, *index)] = point[value] if isinstance(value, str) else value
+    fast = _outcome(pmplan.plan_batch, *q)
     assert isinstance(fast, tuple) and issubclass(fast[0], PmplanError)
-    assert fast == _outcome(pmplan.plan_batch, o, s, g, backend="numpy")
+    assert fast == _outcome(pmplan.plan_batch, *q, backend="numpy")

@@ -108,11 +108,14 @@ __all__ = [
 #: Family index 0, 1, 2 = T1, T22, T23. One source: the planner's table (the kernel's branches
 #: use the codes of planar_three.STRATA: 0 T1_11, ..., 11 T23_44).
 CODE_LUT = _LUT
-#: the helpers :func:`plan_planar` and :func:`_lanes_generic` are split into: inlined by numba
-#: before typing (``inline="always"``), so that no call passes an array (numba counts the
-#: references of every array argument of a call it does not inline, an atomic operation each)
-#: and the vector loop of :func:`_lanes_generic` has no call left (LLVM does not inline the
-#: larger ones). Each is called from one place, so this copies nothing twice.
+#: the larger helpers :func:`plan_planar` and :func:`_lanes_generic` are split into (and every
+#: one that takes an array): inlined by numba before typing (``inline="always"``), so that no
+#: call passes an array (numba counts the references of every array argument of a call it does
+#: not inline, atomic operations that cost about 15 % of the scalar kernel) and the vector loop
+#: of :func:`_lanes_generic` has no call left (LLVM does not inline the larger ones, and then
+#: does not vectorise). The small ones are left to LLVM (:data:`_INLINE`): inlining them here
+#: too added about 40 % to the first compilation of :func:`plan_planar_one` for no speed
+#: (benchmarks/planar_bench.py measures that compilation, old against new).
 _INLINE_IR = {**_OPTS, "inline": "always"}
 #: rows of the scalar kernel's one scratch array W (WAYPOINTS columns): the polyline in the
 #: frame (u, h), the robot's waypoints (x, y) and the breakpoints, before the reversal
@@ -196,7 +199,7 @@ def _invalid(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy):  # pragma: no cover 
     return bad
 
 
-@njit(**_INLINE_IR)
+@njit(**_INLINE)
 def _projection(px, py, o1x, o1y, r0, r1):  # pragma: no cover - compiled
     """``((p - o1) . r, |(p_0 - o1_0) r_0| + |(p_1 - o1_1) r_1|)``: a projection and what its
     error bound grows with (:func:`pmplan.predicates.projection_values`)."""
@@ -205,14 +208,14 @@ def _projection(px, py, o1x, o1y, r0, r1):  # pragma: no cover - compiled
     return t0 + t1, abs(t0) + abs(t1)
 
 
-@njit(**_INLINE_IR)
+@njit(**_INLINE)
 def _larger(a, b):  # pragma: no cover - compiled
     """``max(a, b)`` as a select (b when NaN: then the projection it bounds is not finite, and
     the query falls back either way)."""
     return a if a > b else b  # noqa: FURB136
 
 
-@njit(**_INLINE_IR)
+@njit(**_INLINE)
 def _threshold(ab):  # pragma: no cover - compiled
     """The filter's error bound of projections whose terms are at most ``ab`` and the
     threshold two of them must differ by to be told apart (:func:`_compare`)."""
@@ -246,7 +249,7 @@ def _columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0, w1):  # pragma: n
     return c2v, c3v, cxv, cgv, bound, thr
 
 
-@njit(**_INLINE_IR)
+@njit(**_INLINE)
 def _rank(s1, s2, s3, order):  # pragma: no cover - compiled
     """The rank (Figure ``grid``) of the obstacle column a point lies on, -1 for none: ``s1``,
     ``s2``, ``s3`` are the exact signs of its column against those of o1, o2, o3, ``order``
@@ -340,7 +343,7 @@ def _frame(w0, w1):  # pragma: no cover - compiled
     return e0, e1, w0 * e0 + w1 * e1, -e1 + 0.0, e0 + 0.0
 
 
-@njit(**_INLINE_IR)
+@njit(**_INLINE)
 def _coordinates(px, py, o1x, o1y, e0, e1, nu0, nu1):  # pragma: no cover - compiled
     """The frame coordinates ``(u, h) = ((p - o1) . e, (p - o1) . nu)`` of a point p."""
     r0 = px - o1x
@@ -348,7 +351,7 @@ def _coordinates(px, py, o1x, o1y, e0, e1, nu0, nu1):  # pragma: no cover - comp
     return r0 * e0 + r1 * e1, r0 * nu0 + r1 * nu1
 
 
-@njit(**_INLINE_IR)
+@njit(**_INLINE)
 def _vertical(r, order, norm, u3, unit):  # pragma: no cover - compiled
     """The column ``s_r`` of the vertical leg past the obstacle column of rank ``r`` (Figure
     ``grid``): ``s1 = (c1 + c2) / 2``, ``s2 = (c2 + c3) / 2``, ``s3 = c3 + unit`` for the
@@ -420,19 +423,19 @@ def _polyline(code, unit, ua, ha, ub, hb, ra, rb, u3, h3, norm, d13, order,
     return kk
 
 
-@njit(**_INLINE_IR)
+@njit(**_INLINE)
 def _displaced(px, py, du, dh, e0, e1, nu0, nu1):  # pragma: no cover - compiled
     """The point p moved by ``du e + dh nu`` (``planar_three._to_world``'s order)."""
     return (px + du * e0) + dh * nu0, (py + du * e1) + dh * nu1
 
 
-@njit(**_INLINE_IR)
+@njit(**_INLINE)
 def _select(cond, ax, ay, bx, by):  # pragma: no cover - compiled
     """(ax, ay) where ``cond``, else (bx, by)."""
     return (ax if cond else bx), (ay if cond else by)
 
 
-@njit(**_INLINE_IR)
+@njit(**_INLINE)
 def _length(x0, y0, x1, y1):  # pragma: no cover - compiled
     """The length of the piece (x0, y0) -> (x1, y1), as the reference computes it."""
     dx = x1 - x0
@@ -689,7 +692,7 @@ _O1X, _O1Y, _O2X, _O2Y, _O3X, _O3Y, _XX, _XY, _GX, _GY = range(10)
 _Q1X, _Q1Y, _Q2X, _Q2Y, _T1, _T2, _CLR, _BAD = range(10, 18)
 
 
-@njit(**_INLINE_IR)
+@njit(**_INLINE)
 def _decided(v, thr):  # pragma: no cover - compiled
     """1.0 unless the float filter of :func:`_compare` decides ``v`` (a difference of two
     projections) to be nonzero (``v > thr`` or ``-v > thr``), else 0.0; NaN gives 1.0."""
