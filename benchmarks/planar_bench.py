@@ -226,6 +226,11 @@ def report(res: dict) -> str:
         g = [r[f"generic: {k}"] for r in rounds]
         m = [r[f"strata mix: {k}"] for r in rounds]
         lines.append(f"| {k} | {_rng(g)} | {_rng(m)} |")
+    for new, old in (("plan_batch(out=) new", "plan_batch(out=) old"),
+                     ("scalar kernel new (helpers)", "scalar kernel old (one function)")):
+        g = [r[f"generic: {new}"] / r[f"generic: {old}"] for r in rounds]
+        m = [r[f"strata mix: {new}"] / r[f"strata mix: {old}"] for r in rounds]
+        lines.append(f"| {new} / {old}, same round | {_rng(g)} | {_rng(m)} |")
     lines += ["", "| single query, `pmplan.plan` (2,1,3) | old | new |", "|---|---|---|"]
     for i, name in enumerate(("p10", "p50 (median)", "p90")):
         o = [r["latency_us old"][i] for r in rounds]
@@ -264,7 +269,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--cold", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--old-file", default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--report", action="store_true",
+                    help="only write the report again from benchmarks/planar_results.json")
     a = ap.parse_args(argv)
+    if a.report:
+        text = report(json.loads((HERE / "planar_results.json").read_text()))
+        (HERE / "planar_results.md").write_text(text)
+        _put_section(text)
+        print(text)
+        return 0
     if a.worker:
         print(json.dumps(worker(a.B, a.repeats, a.calls, a.old_file)))
         return 0

@@ -2,8 +2,8 @@
 
 The numpy code of :mod:`pmplan.planners.planar_three` (with :mod:`pmplan.predicates`,
 :mod:`pmplan.frame`, :mod:`pmplan.path` and :mod:`pmplan.certify`) is the *reference*. The
-kernel :func:`plan_planar` computes, for every query of a chunk, in one pass and without any
-temporary larger than a few scalars, exactly what that reference computes:
+kernel computes, for every query of a chunk, in one pass and without any temporary larger than
+a few scalars, exactly what that reference computes:
 
 * the exact stratum (paper Section 4, Corollary ``lapart``): whether o3, x, x' lie on ``L_C``
   (heights ``(y - o1) . rot90(w)`` equal to 0) and which of x, x', o3 share a column with an
@@ -26,6 +26,15 @@ Every floating-point operation is done in the reference's order (sums of two pro
 ``a + b``, sums over legs are sequential, as numpy's below 8 terms) and no fused multiply-add
 or fast-math reassociation is allowed, so waypoints, breakpoints and clearances are **bitwise
 identical** to the reference (up to the sign of zero coordinates, which ``==`` does not see).
+
+Two paths, one result. :func:`plan_chunk` (what the planner calls) first runs the SIMD path
+:func:`_plan_lanes` (issue 17): the queries the float filter puts in the generic stratum
+T23_44 -- every query of a random batch -- are planned :data:`LANES` = 64 at a time, lanes
+innermost, with the same floating-point operations as selects (:func:`_lanes_generic`); every
+other query goes to the scalar kernel :func:`plan_planar`, which is split into the steps above
+(:func:`_classify`, :func:`_polyline`, :func:`_to_world`, :func:`_constant_speed`,
+:func:`_reverse`, :func:`_clearance`). Both write the same bits, so which one plans a query
+never shows (``tests/test_kernels_planar.py``).
 
 What the kernel does not decide it *flags* (the bits of :mod:`pmplan.kernels.common`); the Python
 caller re-decides:
@@ -111,11 +120,12 @@ CODE_LUT = _LUT
 #: the larger helpers :func:`plan_planar` and :func:`_lanes_generic` are split into (and every
 #: one that takes an array): inlined by numba before typing (``inline="always"``), so that no
 #: call passes an array (numba counts the references of every array argument of a call it does
-#: not inline, atomic operations that cost about 15 % of the scalar kernel) and the vector loop
-#: of :func:`_lanes_generic` has no call left (LLVM does not inline the larger ones, and then
-#: does not vectorise). The small ones are left to LLVM (:data:`_INLINE`): inlining them here
-#: too added about 40 % to the first compilation of :func:`plan_planar_one` for no speed
-#: (benchmarks/planar_bench.py measures that compilation, old against new).
+#: not inline, atomic operations: measured 5-25 % of the scalar kernel) and the vector loop of
+#: :func:`_lanes_generic` has no call left (LLVM does not inline the larger ones, and then does
+#: not vectorise). The small ones are left to LLVM (:data:`_INLINE`): inlining them here too
+#: made the first compilation of :func:`plan_planar_one` (CPU time) about 60 % longer than the
+#: one-function kernel's instead of about 25 %, for no speed (benchmarks/planar_bench.py
+#: measures that compilation, old against new).
 _INLINE_IR = {**_OPTS, "inline": "always"}
 #: rows of the scalar kernel's one scratch array W (WAYPOINTS columns): the polyline in the
 #: frame (u, h), the robot's waypoints (x, y) and the breakpoints, before the reversal
@@ -564,6 +574,11 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
                 clearance, flags, sel, nsel):  # pragma: no cover - compiled
     """Plan and certify the queries ``sel[:nsel]`` of a chunk, one at a time (the scalar
     kernel: every query, exactly; :func:`plan_chunk` hands it what the SIMD path leaves).
+
+    Split into helpers (issue 13 item 3). Measured against the one-function kernel it was, in
+    the same process (``benchmarks/planar_bench.py``, RESULTS.md "Planar kernel"): 1.06-1.18
+    times its time on generic queries (which a batch of 64 or more plans on the SIMD path),
+    0.96-1.10 on the strata mix; the output loop stays inline (as a helper it cost 5-9 %).
 
     Parameters
     ----------
