@@ -106,8 +106,9 @@ def worker(b: int, repeats: int, calls: int, old_file: str) -> dict:
     import gc
 
     sys.path.insert(0, str(HERE))
-    import pmplan
     from _common import planar_three_mixed
+
+    import pmplan
     from pmplan.planners import planar_three as p3
 
     old = _load_old(old_file)

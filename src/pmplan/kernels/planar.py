@@ -76,6 +76,7 @@ from ..planners.planar_three import _DOMAIN_BY_CODE, _FAMILIES, _LUT, WAYPOINTS
 # the closed-form distance of a piece
 from .common import (
     _BIG,
+    _INLINE,
     _MAXF,
     _OBSTACLE_TINY2,
     _OPTS,
@@ -83,7 +84,6 @@ from .common import (
     _SMALL,
     _SURE,
     _TINY,
-    _INLINE,
     _U,
     AVAILABLE,
     BROKEN,
@@ -102,8 +102,8 @@ __all__ = [
     "CODE_LUT",
     "FALLBACK",
     "INVALID",
-    "SUSPECT",
     "LANES",
+    "SUSPECT",
     "plan_chunk",
     "plan_planar",
     "plan_planar_one",
@@ -775,10 +775,12 @@ def _lanes_generic(S, even, lift):  # pragma: no cover - compiled
         # _to_world: frame points (ux, hx), (ux, H), (ug, H), (ug, hg)
         q1x, q1y = _displaced(xx, xy, ux - ux, big_h - hx, e0, e1, nu0, nu1)
         q2x, q2y = _displaced(gx, gy, ug - ug, big_h - hg, e0, e1, nu0, nu1)
-        q1x, q1y = _select((ux == ux) & (big_h == hx), xx, xy, q1x, q1y)
-        q2x, q2y = _select((ug == ux) & (big_h == big_h), q1x, q1y, q2x, q2y)
-        q2x, q2y = _select((ug == ug) & (hg == big_h), gx, gy, q2x, q2y)
-        q1x, q1y = _select((ug == ux) & (big_h == big_h), q2x, q2y, q1x, q1y)
+        # (the merging of equal frame points; a comparison of a value with itself is True in
+        # every lane that is decided here, where every value is finite, so it is left out)
+        q1x, q1y = _select(big_h == hx, xx, xy, q1x, q1y)
+        q2x, q2y = _select(ug == ux, q1x, q1y, q2x, q2y)
+        q2x, q2y = _select(hg == big_h, gx, gy, q2x, q2y)
+        q1x, q1y = _select(ug == ux, q2x, q2y, q1x, q1y)
         # _constant_speed
         t1 = 0.0 + _length(xx, xy, q1x, q1y)
         t2 = t1 + _length(q1x, q1y, q2x, q2y)
