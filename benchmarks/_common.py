@@ -557,8 +557,8 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
         ]
         parts += sect
         doc += ["#" + s if s.startswith("## ") else s for s in sect]
-    # the sections written by benchmarks/scale_bench.py and benchmarks/cert_bench.py
-    for section in (HERE / "scale_results.md", HERE / "cert_results.md"):
+    # the sections written by benchmarks/scale_bench.py, cert_bench.py and planar_bench.py
+    for section in (HERE / "scale_results.md", HERE / "cert_results.md", HERE / "planar_results.md"):
         if section.exists():
             sect = section.read_text().splitlines()
             parts += sect

@@ -18,6 +18,11 @@ why it can fail:
 * the same queries fail their certificate, with the same indices (``CertificationError``);
 * the single-query fast path (:meth:`PlanarThreePlanner.single_query`) gives the reference
   :class:`pmplan.Plan` and the reference errors; chunked planning equals unchunked planning;
+* the SIMD path (:func:`pmplan.kernels.planar._plan_lanes`, generic queries LANES at a time)
+  gives bit for bit what the scalar kernel gives (waypoints, breakpoints, domains, strata,
+  clearances, flags) on random, exactly degenerate (integer) and mixed batches of every size
+  around the lane width, and which path plans a query never shows (a query planned inside a
+  batch is the query planned alone);
 * the kernel is compiled for one signature only.
 """
 
@@ -30,12 +35,13 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import api, running
+from pmplan import running
 from pmplan.errors import CertificationError, PmplanError
 from pmplan.generators import near_degenerate_queries, random_queries
 from pmplan.generators import planar_stratum_queries as stratum_queries
 from pmplan.kernels import planar as kernels_planar
 from pmplan.planners import planar_three
+from pmplan.planners.base import SCENE_CODE
 from pmplan.planners.planar_three import (
     DOMAIN_OF,
     PLANAR_THREE,
@@ -45,14 +51,23 @@ from pmplan.planners.planar_three import (
 )
 
 
-def _kernel(o, s, g, lift=1.0):
-    """Run the kernel alone on a batch; return (flags (B,), outputs dict)."""
+def _kernel(o, s, g, lift=1.0, validate=False, path="chunk"):
+    """Run the kernel alone on a batch; return (flags (B,), outputs dict). ``path``: "chunk"
+    (:func:`plan_chunk`: the SIMD path, then the scalar kernel) or "scalar" (the scalar kernel
+    on every row). Outputs start as NaN (flags as 255), so rows a kernel leaves alone compare
+    equal too."""
     o, s, g = (np.ascontiguousarray(a, dtype=float) for a in (o, s, g))
     b = o.shape[0]
-    out = PLANAR_THREE.allocate(b, 2, 3, 1, 2)
-    flags = np.empty(b, np.uint8)
-    kernels_planar.plan_planar(o, s, g, planar_three._EVEN, lift, False, out["times"], out["waypoints"],
-                               out["domain"], out["strata"], out["clearance"], flags)
+    out = {k: np.full_like(v, np.nan if v.dtype.kind == "f" else -1)
+           for k, v in PLANAR_THREE.allocate(b, 2, 3, 1, 2).items()}
+    flags = np.full(b, 255, np.uint8)
+    args = (o, s, g, planar_three._EVEN, lift, validate, out["times"], out["waypoints"], out["domain"],
+            out["strata"], out["clearance"], flags)
+    if path == "chunk":
+        kernels_planar.plan_chunk(*args)
+    else:
+        sel = np.arange(b, dtype=np.int64)
+        kernels_planar.plan_planar(*args, sel, b)
     return flags, out
 
 
@@ -303,5 +318,163 @@ def test_one_specialisation():
         a.flags.writeable = False
     pmplan.plan_batch(*frozen)
     PLANAR_THREE.plan(*frozen)
+    o, s, g = (np.repeat(a, 40, axis=0) for a in (o, s, g))  # > LANES queries: the SIMD path
+    pmplan.plan_batch(o, s, g)
+    pmplan.plan_batch(o, s, g, workers=2)
     assert len(kernels_planar.plan_planar.signatures) == 1
+    assert len(kernels_planar._plan_lanes.signatures) == 1
     assert len(kernels_planar.plan_planar_one.signatures) == 1
+
+
+# --- the SIMD path (_plan_lanes) against the scalar kernel, bit for bit ----------------------
+SIZES = [0, 1, 15, 16, 63, 64, 65, 200]
+
+
+def _bits(out: dict, flags: np.ndarray) -> dict:
+    """Every output as raw bytes (so -0.0 and +0.0, and NaN payloads, differ)."""
+    res = {k: v.view(np.uint8).tobytes() for k, v in out.items()}
+    res["flags"] = flags.tobytes()
+    return res
+
+
+def _batch(rng, b: int, kind: str, extra: list):
+    """A batch of b queries: ``generic`` (standard normal, scaled by a power of two),
+    ``integer`` (small integer coordinates: exact ties, coincident points, o1 == o2), ``mixed``
+    (both, and exact constructions of every stratum, shuffled); ``extra`` (hypothesis queries)
+    is put at random rows."""
+    scale = 2.0 ** int(rng.integers(-30, 31))
+    gen = tuple(scale * rng.standard_normal((b, k, 2)) for k in (3, 1, 1))
+    ints = tuple(rng.integers(-3, 4, size=(b, k, 2)).astype(float) for k in (3, 1, 1))
+    if kind == "generic":
+        o, s, g = gen
+    elif kind == "integer":
+        o, s, g = ints
+    else:
+        cons = _mixed(rng, STRATA, b // len(STRATA) + 1)
+        pick = rng.integers(0, 3, size=b)
+        o, s, g = (np.where((pick == 0)[:, None, None], a, np.where(
+            (pick == 1)[:, None, None], c, k[:b])) for a, c, k in zip(gen, ints, cons))
+    o, s, g = (a.copy() for a in (o, s, g))
+    for q in extra:
+        if b:
+            row = int(rng.integers(0, b))
+            o[row], s[row], g[row] = q
+    return o, s, g
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(SIZES), st.sampled_from(["generic", "integer", "mixed"]),
+       st.integers(0, 2**32 - 1), st.booleans(), st.sampled_from([1.0, 0.5, SCENE_CODE]),
+       st.lists(st.booleans().flatmap(lambda degenerate: queries(2, 3, 1, degenerate=degenerate)),
+                max_size=3))
+def test_simd_path_equals_scalar_kernel(b, kind, seed, validate, lift, extra):
+    """plan_chunk (SIMD path + scalar kernel) == the scalar kernel on every row, bit for bit:
+    waypoints, times, domain, strata, clearance and flags (also the rows left unwritten)."""
+    rng = np.random.default_rng(seed)
+    o, s, g = _batch(rng, b, kind, extra)
+    with np.errstate(all="ignore"):
+        fast = _kernel(o, s, g, lift, validate)
+        slow = _kernel(o, s, g, lift, validate, path="scalar")
+    assert _bits(*fast[::-1]) == _bits(*slow[::-1])
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.sampled_from(SIZES[1:]), st.sampled_from(["generic", "integer", "mixed"]),
+       st.integers(0, 2**32 - 1))
+def test_which_path_plans_a_query_never_shows(b, kind, seed):
+    """A query planned inside a batch (SIMD path for the generic ones) is bit for bit the query
+    planned alone (the scalar kernel) and by pmplan.plan_batch at any position."""
+    rng = np.random.default_rng(seed)
+    o, s, g = _batch(rng, b, kind, [])
+    flags, out = _kernel(o, s, g, validate=True)
+    for i in rng.choice(b, size=min(b, 12), replace=False):
+        one_flags, one = _kernel(o[i:i + 1], s[i:i + 1], g[i:i + 1], validate=True)
+        assert _bits(one, one_flags) == _bits({k: v[i:i + 1] for k, v in out.items()},
+                                              flags[i:i + 1])
+    perm = rng.permutation(b)
+    pflags, pout = _kernel(o[perm], s[perm], g[perm], validate=True)
+    assert _bits(pout, pflags) == _bits({k: v[perm] for k, v in out.items()}, flags[perm])
+
+
+def test_simd_path_decides_the_generic_queries():
+    """Not vacuous: the SIMD path plans every generic query of the full blocks (T23_44) and
+    leaves the degenerate ones to the scalar kernel (and the last B mod LANES: plan_chunk)."""
+    L = kernels_planar.LANES
+    rng = np.random.default_rng(11)
+    for b in (L, 3 * L + 5):
+        o, s, g = (rng.standard_normal((b, k, 2)) for k in (3, 1, 1))
+        out = PLANAR_THREE.allocate(b, 2, 3, 1, 2)
+        flags = np.empty(b, np.uint8)
+        todo = np.empty(b, np.int64)
+        nt = kernels_planar._plan_lanes(o, s, g, planar_three._EVEN, 1.0, out["times"], out["waypoints"],
+                                        out["domain"], out["strata"], out["clearance"], flags,
+                                        todo)
+        assert nt == 0
+        done = slice(0, b - b % L)
+        assert not flags[done].any()
+        assert (out["strata"][done] == [23, 4, 4]).all() and (out["domain"][done] == 1).all()
+    # one query exactly on the column of o2 (x - o2 orthogonal to o2 - o1), one coincident with
+    # o3, one not finite: the scalar kernel decides them, the rest of their block stays here
+    o, s, g = (rng.standard_normal((L, k, 2)) for k in (3, 1, 1))
+    o[5] = [[0.0, 0.0], [2.0, 1.0], [-1.0, 3.0]]
+    s[5] = [[1.0, 3.0]]
+    s[9] = o[9, 2]
+    g[17, 0, 1] = np.nan
+    out = PLANAR_THREE.allocate(L, 2, 3, 1, 2)
+    flags = np.zeros(L, np.uint8)
+    todo = np.empty(L, np.int64)
+    nt = kernels_planar._plan_lanes(o, s, g, planar_three._EVEN, 1.0, out["times"], out["waypoints"],
+                                    out["domain"], out["strata"], out["clearance"], flags, todo)
+    assert todo[:nt].tolist() == [5, 9, 17]
+    with np.errstate(all="ignore"):
+        chunk_flags, chunk = _kernel(o, s, g, validate=True)
+    assert chunk_flags.tolist() == [kernels_planar.INVALID if i in (9, 17) else 0
+                                    for i in range(L)]
+    assert stratum_short_name(chunk["strata"][5]) == "T23_34"
+
+
+def test_poor_blocks_are_skipped_and_planned_the_same():
+    """After a block with few generic queries the next 1, 2, 4, ... blocks go to the scalar
+    kernel untried; a good block resets that. The results are the scalar kernel's, bit for bit."""
+    L = kernels_planar.LANES
+    rng = np.random.default_rng(12)
+    o, s, g = (rng.standard_normal((12 * L, k, 2)) for k in (3, 1, 1))
+    ints = [rng.integers(-3, 4, size=(L, k, 2)).astype(float) for k in (3, 1, 1)]
+    ints[0][:, 1] = ints[0][:, 0] + [1.0, 2.0]
+    ints[0][:, 2] = ints[0][:, 0] + [3.0, 6.0]  # o3 on L_C: family T1, never generic
+    for blk in (0, 2, 5):  # poor blocks: 0 (skip 1), 2 (skip 2: 3, 4), 5 (skip 4: 6..9)
+        o[blk * L:(blk + 1) * L], s[blk * L:(blk + 1) * L], g[blk * L:(blk + 1) * L] = ints
+    out = PLANAR_THREE.allocate(12 * L, 2, 3, 1, 2)
+    flags = np.empty(12 * L, np.uint8)
+    todo = np.empty(12 * L, np.int64)
+    nt = kernels_planar._plan_lanes(o, s, g, planar_three._EVEN, 1.0, out["times"], out["waypoints"],
+                                    out["domain"], out["strata"], out["clearance"], flags, todo)
+    blocks = sorted(set((todo[:nt] // L).tolist()))
+    assert blocks == [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]
+    assert (todo[:nt] // L >= 10).sum() == 0  # 10, 11: tried again, generic, decided here
+    with np.errstate(all="ignore"):
+        fast = _kernel(o, s, g, validate=True)
+        slow = _kernel(o, s, g, validate=True, path="scalar")
+    assert _bits(*fast[::-1]) == _bits(*slow[::-1])
+
+
+
+@pytest.mark.parametrize("b", [5, 200])
+@pytest.mark.parametrize("which, index, value", [
+    (0, (2, 1), np.nan),  # a NaN coordinate of o3
+    (2, (0, 0), -np.inf),  # an infinite coordinate of the goal
+    (1, (0,), "o3"),  # the start on o3
+    (0, (1,), "o1"),  # o2 == o1
+    (2, (0,), "o1"),  # the goal on o1
+])
+def test_batch_errors_validated_in_the_kernel_are_the_reference_errors(b, which, index, value):
+    """The planar kernel validates the batch itself (no separate pass): an invalid query at
+    any row (in a block of the SIMD path or not) gives the reference's error."""
+    rng = np.random.default_rng(b)
+    q = [rng.standard_normal((b, k, 2)) for k in (3, 1, 1)]
+    row = b - 3 if b > 64 else 1
+    point = {"o1": q[0][row, 0], "o3": q[0][row, 2]}
+    q[which][(row, *index)] = point[value] if isinstance(value, str) else value
+    fast = _outcome(pmplan.plan_batch, *q)
+    assert isinstance(fast, tuple) and issubclass(fast[0], PmplanError)
+    assert fast == _outcome(pmplan.plan_batch, *q, backend="numpy")

@@ -65,9 +65,9 @@ def _planar_kernel(o, s, g, lift):
     b = o.shape[0]
     out = planar_three.PLANAR_THREE.allocate(b, 2, 3, 1, 2)
     flags = np.empty(b, np.uint8)
-    kernels_planar.plan_planar(o, s, g, planar_three._EVEN, float(lift), False, out["times"],
-                               out["waypoints"], out["domain"], out["strata"], out["clearance"],
-                               flags)
+    kernels_planar.plan_chunk(o, s, g, planar_three._EVEN, float(lift), False, out["times"],
+                              out["waypoints"], out["domain"], out["strata"], out["clearance"],
+                              flags)
     return flags, out
 
 

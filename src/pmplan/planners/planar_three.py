@@ -597,7 +597,7 @@ class PlanarThreePlanner(Planner):
 
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
-        """Plan a chunk with :func:`pmplan.kernels.planar.plan_planar` into ``out`` (per-query
+        """Plan a chunk with :func:`pmplan.kernels.planar.plan_chunk` into ``out`` (per-query
         breakpoints); return its flags, or None for arrays the kernel does not take (the
         reference then decides, and raises its own errors)."""
         if len(configs) != 2:
@@ -606,9 +606,14 @@ class PlanarThreePlanner(Planner):
         if args is None:
             return None
         flags = np.empty(args[0].shape[0], np.uint8)
-        planar_kernels().plan_planar(*args, _EVEN, lift, False, out["times"], out["waypoints"],
-                                     out["domain"], out["strata"], out["clearance"], flags)
+        planar_kernels().plan_chunk(*args, _EVEN, lift, validate, out["times"], out["waypoints"],
+                                    out["domain"], out["strata"], out["clearance"], flags)
         return flags
+
+    def validates(self, d: int, backend: str | None = None) -> bool:
+        """Whether :meth:`kernel` validates the queries itself (``validate=True``): with the
+        numba kernel (flag ``INVALID``), so :func:`pmplan.plan_batch` needs no separate pass."""
+        return resolve(backend) == NUMBA and planar_kernels().AVAILABLE
 
     def single_query(self, m: int, n: int, d: int):
         """The single-query kernel call of :func:`pmplan.plan` for (m, n, d) = (3, 1, 2)
