@@ -493,181 +493,15 @@ def lanes(r, m, n, d):  # pragma: no cover - compiled
     return L
 
 
-@njit(**_INLINE)
-def _load_query(obstacles, first, last, middle, b, y):  # pragma: no cover - compiled
-    """Query ``b`` into ``y`` (r, m + n, d): configuration k, the obstacles first, then the
-    robots (``first``, ``middle[k - 1]``, ``last``; arguments as :func:`_plan`)."""
-    r, p, d = y.shape
-    m = obstacles.shape[1]
-    n = p - m
-    for k in range(r):
-        for i in range(m):
-            for c in range(d):
-                y[k, i, c] = obstacles[b, i, c]
-    for j in range(n):
-        for c in range(d):
-            y[0, m + j, c] = first[b, j, c]
-            y[r - 1, m + j, c] = last[b, j, c]
-    for k in range(1, r - 1):
-        for j in range(n):
-            for c in range(d):
-                y[k, m + j, c] = middle[k - 1, b, j, c]
-
-
-@njit(**_INLINE)
-def _validate_query(y):  # pragma: no cover - compiled
-    """The validation of :func:`_plan` on the configurations ``y`` (r, m + n, d) of a query:
-    ``INVALID`` (a coordinate not finite, or two equal points in one configuration), else
-    ``FALLBACK`` (a coordinate beyond ``_EXTREME``: the caller plans the query scaled by a power
-    of two, :mod:`pmplan.magnitude`), else 0."""
-    r, p, d = y.shape
-    fl = 0
-    extreme = False
-    for k in range(r):
-        for i in range(p):
-            for c in range(d):
-                if not math.isfinite(y[k, i, c]):
-                    fl = INVALID
-                elif not abs(y[k, i, c]) < _EXTREME:
-                    extreme = True
-            for j in range(i):
-                same = True
-                for c in range(d):
-                    if y[k, i, c] != y[k, j, c]:
-                        same = False
-                if same:
-                    fl = INVALID
-    if fl:
-        return fl
-    return FALLBACK if extreme else 0
-
-
-@njit(**_INLINE)
-def _frame(y, w, e, nu, h):  # pragma: no cover - compiled
-    """The frame of :mod:`pmplan.frame` for the obstacles of ``y[0]``: ``w = o2 - o1``, its unit
-    ``e`` and ``nu(e)`` (paper Section 3 for even d, SPEC 4a for odd d) into ``w``, ``e``,
-    ``nu`` (``h`` is scratch, (d,)). Returns ``(|w|, [e == N])``."""
-    d = w.shape[0]
-    for c in range(d):
-        w[c] = y[0, 1, c] - y[0, 0, c]
-    _unit(w, d, e)
-    norm = 0.0
-    for c in range(d):
-        norm += w[c] * e[c]
-    pole = 0
-    if d % 2 == 0:  # paper Section 3: nu(a1, b1, ...) = (-b1, a1, ...)
-        for c in range(0, d, 2):
-            nu[c] = -e[c + 1] + 0.0
-            nu[c + 1] = e[c] + 0.0
-    else:  # SPEC 4a
-        pole = 1 if w[d - 1] > 0 else 0
-        for c in range(d - 1):
-            if w[c] != 0:
-                pole = 0
-        if pole == 1:
-            for c in range(d):
-                nu[c] = 0.0
-            nu[0] = 1.0
-        else:
-            _unit(w, d - 1, h)
-            for c in range(d - 1):
-                nu[c] = -(h[0] * h[c]) * (1.0 + e[d - 1])
-            nu[0] += 1.0
-            nu[d - 1] = e[0]
-            for c in range(d):
-                nu[c] = nu[c] + 0.0
-    return norm, pole
-
-
-@njit(**_INLINE)
-def _columns(y, m, w, e, norm, vals, order, lab, cps, x1, x2):  # pragma: no cover - compiled
-    """Column classes (:func:`_classes`), desingularization ``(desin)`` and projection
-    ``(linear-transformation-obs)`` of every configuration ``y[k]``: ``cp(C_k)`` into ``cps[k]``,
-    the robots of ``F(C_k, 1)`` into ``x1[k]``, those of ``phi(F(C_k, 1), 1)`` into ``x2[k]``.
-    Returns ``(decided, cp_o)``; not decided: the query needs the reference (``FALLBACK``)."""
-    r, p, d = y.shape
-    n = p - m
-    nfl = float(n + m)
-    cp_o = 0
-    for k in range(r):
-        ok, cp, cpo_k, gap = _classes(y, k, p, m, d, w, vals, order, lab)
-        if not ok:
-            return False, 0
-        cps[k] = cp
-        cp_o = cpo_k
-        eps = gap / norm / nfl
-        sh = eps if cp < cpo_k + n else 0.0
-        for j in range(n):
-            shj = sh * float(j + 1)
-            s1 = 0.0
-            for c in range(d):
-                xc = y[k, m + j, c] + shj * e[c]
-                x1[k, j, c] = xc
-                s1 += (xc - y[k, 0, c]) * e[c]
-            for c in range(d):
-                x2[k, j, c] = y[k, 0, c] + s1 * e[c]
-    return True, cp_o
-
-
-@njit(**_INLINE)
-def _offsets(y, m, lift, e, nu, off):  # pragma: no cover - compiled
-    """The lift of the section ``(algorithm-gamma)``: ``off[j] = (j + 1) lambda nu(e)`` with
-    ``lambda = unit + max_k |r(o_k)|`` (SPEC 4b), the unit ``lift``, or for ``lift="scene"``
-    (``lift <= 0``, ``planners.base.SCENE_CODE``) the obstacles' radius
-    ``u(O) = sqrt(max_k sum_c (o_k,c - o_1,c)^2)`` (``planners.base.scene_unit``)."""
-    d = e.shape[0]
-    n = off.shape[0]
-    unit = lift
-    if not lift > 0:
-        q = 0.0
-        for i in range(1, m):
-            sq = 0.0
-            for c in range(d):
-                dc = y[0, i, c] - y[0, 0, c]
-                sq += dc * dc
-            if sq > q or i == 1 or math.isnan(sq):
-                q = sq
-        unit = math.sqrt(q)
-    lam = unit
-    if m > 2:
-        mx = 0.0
-        for i in range(2, m):
-            sc = 0.0
-            for c in range(d):
-                sc += (y[0, i, c] - y[0, 0, c]) * e[c]
-            q = 0.0
-            for c in range(d):
-                rc = (y[0, i, c] - y[0, 0, c]) - sc * e[c]
-                q += rc * rc
-            q = math.sqrt(q)
-            if q > mx or i == 2 or math.isnan(q):
-                mx = q
-        lam = unit + mx
-    for j in range(n):
-        li = lam * float(j + 1)
-        for c in range(d):
-            off[j, c] = li * nu[c]
-
-
-@njit(**_INLINE)
-def _write_waypoints(src, g1, g2, add, wb):  # pragma: no cover - compiled
-    """The waypoints of paper Remark ``constructing-sections-via-deformations`` into ``wb`` (one
-    query's row of the output, flat): element x is ``src[g1[x]]`` (+ ``src[g2[x]]`` where
-    ``add[x]``, :func:`_build_tables`). Returns ``(max |coordinate|, all finite)``, which the
-    certificate reads (``amax`` is certify's scale)."""
-    amax = 0.0
-    finite = True
-    for x in range(wb.shape[0]):
-        v1 = src[g1[x]]
-        v2 = v1 + src[g2[x]]
-        v = v2 if add[x] else v1
-        wb[x] = v
-        a = abs(v)
-        finite &= a <= _MAXF  # False for inf and NaN
-        amax = a if a > amax else amax  # noqa: FURB136 (NaN is caught by `finite`)
-    return amax, finite
-
-
+# _plan and _plan_lanes stay one function each (issue 13 item 3: over 150 lines, because
+# splitting costs more than 5 %). Split into named helpers (frame, column classes, lift,
+# waypoints...: commit 924b6d3), measured in one process, the variants alternating, CPU time
+# (time.thread_time, immune to the other jobs of this shared machine), 16,384 / 32,768 generic
+# queries per call, best of 30-60 (benchmarks/kernel_ab.py):
+#   _plan (every query scalar): (2,1,2) +17 % (7.85 -> 9.27 ms), (2,4,2) +10 %, (3,4,2) +8 %;
+#     with numba's inline="always" on the helpers still +7 to +9 %;
+#   _plan_lanes: (2,1,2) +14 to +19 % (3.02 -> 3.55 ms), (2,4,2), (3,4,2), (2,16,2) unchanged;
+#     with inline="always" +4 to +8 % on (2,1,2).
 @njit(**_OPTS)
 def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
           tab, sel, nsel):  # pragma: no cover - compiled
@@ -752,25 +586,142 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
     rv = np.empty(npairs)
     tt = np.empty(npairs)
     d2 = np.empty(npairs)
+    nfl = float(n + m)
+    odd = d % 2 == 1
     for ii in range(nsel):
         b = sel[ii]
         fl = 0
-        _load_query(obstacles, first, last, middle, b, y)
+        for k in range(r):
+            for i in range(m):
+                for c in range(d):
+                    y[k, i, c] = obstacles[b, i, c]
+        for j in range(n):
+            for c in range(d):
+                y[0, m + j, c] = first[b, j, c]
+                y[r - 1, m + j, c] = last[b, j, c]
+        for k in range(1, r - 1):
+            for j in range(n):
+                for c in range(d):
+                    y[k, m + j, c] = middle[k - 1, b, j, c]
         if validate:
-            fl = _validate_query(y)
-            if fl:  # INVALID, or FALLBACK: planned scaled by a power of two (pmplan.magnitude)
+            extreme = False
+            for k in range(r):
+                for i in range(p):
+                    for c in range(d):
+                        if not math.isfinite(y[k, i, c]):
+                            fl = INVALID
+                        elif not abs(y[k, i, c]) < _EXTREME:
+                            extreme = True
+                    for j in range(i):
+                        same = True
+                        for c in range(d):
+                            if y[k, i, c] != y[k, j, c]:
+                                same = False
+                        if same:
+                            fl = INVALID
+            if fl:
                 flags[b] = fl
                 continue
-        norm, pole = _frame(y, w, e, nu, h)  # pmplan.frame
-        # columns, desingularization (desin), projection (linear-transformation-obs)
-        ok, cp_o = _columns(y, m, w, e, norm, vals, order, lab, cps, x1, x2)
-        if not ok:
-            flags[b] = FALLBACK
+            if extreme:  # planned scaled by a power of two by the caller (pmplan.magnitude)
+                flags[b] = FALLBACK
+                continue
+        # --- frame (pmplan.frame): w = o2 - o1, e, |w|, nu(e), e == N ------------------------
+        for c in range(d):
+            w[c] = y[0, 1, c] - y[0, 0, c]
+        _unit(w, d, e)
+        norm = 0.0
+        for c in range(d):
+            norm += w[c] * e[c]
+        pole = 0
+        if not odd:  # paper Section 3: nu(a1, b1, ...) = (-b1, a1, ...)
+            for c in range(0, d, 2):
+                nu[c] = -e[c + 1] + 0.0
+                nu[c + 1] = e[c] + 0.0
+        else:  # SPEC 4a
+            pole = 1 if w[d - 1] > 0 else 0
+            for c in range(d - 1):
+                if w[c] != 0:
+                    pole = 0
+            if pole == 1:
+                for c in range(d):
+                    nu[c] = 0.0
+                nu[0] = 1.0
+            else:
+                _unit(w, d - 1, h)
+                for c in range(d - 1):
+                    nu[c] = -(h[0] * h[c]) * (1.0 + e[d - 1])
+                nu[0] += 1.0
+                nu[d - 1] = e[0]
+                for c in range(d):
+                    nu[c] = nu[c] + 0.0
+        # --- columns, desingularization (desin), projection (linear-transformation-obs) -------
+        cp_o = 0
+        for k in range(r):
+            ok, cp, cpo_k, gap = _classes(y, k, p, m, d, w, vals, order, lab)
+            if not ok:
+                fl |= FALLBACK
+                break
+            cps[k] = cp
+            cp_o = cpo_k
+            eps = gap / norm / nfl
+            sh = eps if cp < cpo_k + n else 0.0
+            for j in range(n):
+                shj = sh * float(j + 1)
+                s1 = 0.0
+                for c in range(d):
+                    xc = y[k, m + j, c] + shj * e[c]
+                    x1[k, j, c] = xc
+                    s1 += (xc - y[k, 0, c]) * e[c]
+                for c in range(d):
+                    x2[k, j, c] = y[k, 0, c] + s1 * e[c]
+        if fl:
+            flags[b] = fl
             continue
-        _offsets(y, m, lift, e, nu, off)  # the unit, lambda (SPEC 4b), the lift (algorithm-gamma)
+        # --- the unit: lift, or for lift="scene" (lift <= 0, planners.base.SCENE_CODE) the
+        # obstacles' radius u(O) = sqrt(max_k sum_c (o_k,c - o_1,c)^2) (planners.base.scene_unit)
+        unit = lift
+        if not lift > 0:
+            q = 0.0
+            for i in range(1, m):
+                sq = 0.0
+                for c in range(d):
+                    dc = y[0, i, c] - y[0, 0, c]
+                    sq += dc * dc
+                if sq > q or i == 1 or math.isnan(sq):
+                    q = sq
+            unit = math.sqrt(q)
+        # --- lambda (SPEC 4b) and the lift of the section (algorithm-gamma) -----------------
+        lam = unit
+        if m > 2:
+            mx = 0.0
+            for i in range(2, m):
+                sc = 0.0
+                for c in range(d):
+                    sc += (y[0, i, c] - y[0, 0, c]) * e[c]
+                q = 0.0
+                for c in range(d):
+                    rc = (y[0, i, c] - y[0, 0, c]) - sc * e[c]
+                    q += rc * rc
+                q = math.sqrt(q)
+                if q > mx or i == 2 or math.isnan(q):
+                    mx = q
+            lam = unit + mx
+        for j in range(n):
+            li = lam * float(j + 1)
+            for c in range(d):
+                off[j, c] = li * nu[c]
         # --- the waypoints, written into wp; the certificate (pmplan.certify) reads them back:
         # finite, obstacles fixed, the configurations C_k at waypoints 7k -------------------
-        amax, finite = _write_waypoints(src, g1, g2, add, wf[b])
+        amax = 0.0
+        finite = True
+        for x in range(size):
+            v1 = src[g1[x]]
+            v2 = v1 + src[g2[x]]
+            v = v2 if add[x] else v1
+            wf[b, x] = v
+            a = abs(v)
+            finite &= a <= _MAXF  # False for inf and NaN
+            amax = a if a > amax else amax  # noqa: FURB136 (NaN is caught by `finite`)
         if not finite:
             fl |= NONFINITE
         for t in range(1, kk):
@@ -1016,248 +967,6 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
             mn, mn2 = mn2, mn
     return mn
 
-@njit(**_INLINE)
-def _load_lanes(of, ff, lf, mf, b0, Y):  # pragma: no cover - compiled
-    """Queries ``b0 .. b0 + L - 1`` into ``Y``, lanes innermost: row ``(k p + i) d + c`` holds
-    coordinate c of point i of configuration k (obstacles first) of every lane. ``of``, ``ff``,
-    ``lf``, ``mf``: the obstacles, first, last and middle robots of :func:`_plan_lanes`, flat
-    per query."""
-    L = Y.shape[1]
-    md = of.shape[1]
-    nd = ff.shape[1]
-    r = mf.shape[0] + 2
-    row = md + nd
-    # --- the configurations, lanes innermost ---------------------------------------------
-    for l in range(L):
-        b = b0 + l
-        for k in range(r):
-            for x in range(md):
-                Y[k * row + x, l] = of[b, x]
-        for x in range(nd):
-            Y[md + x, l] = ff[b, x]
-            Y[(r - 1) * row + md + x, l] = lf[b, x]
-        for k in range(1, r - 1):
-            for x in range(nd):
-                Y[k * row + md + x, l] = mf[k - 1, b, x]
-
-
-@njit(**_INLINE)
-def _frame_lanes(Y, W, E, NU, H, T, BAD, NORM, ACC):  # pragma: no cover - compiled
-    """:func:`_frame` for every lane of :func:`_plan_lanes`: ``w``, ``e``, ``nu(e)`` into the
-    rows of ``W``, ``E``, ``NU`` (``H`` scratch), ``|w|`` into row ``NORM`` of ``T``; a lane at
-    the pole ``e == N`` (odd d) is marked in row ``BAD`` (``ACC``: a scratch row)."""
-    d, L = W.shape
-    odd = d % 2 == 1
-    # --- the frame: w = o2 - o1, e, |w|, nu(e) ------------------------------------------
-    for c in range(d):
-        for l in range(L):
-            W[c, l] = Y[d + c, l] - Y[c, l]
-    _unit_rows(W, d, E, T)
-    for l in range(L):
-        T[NORM, l] = 0.0
-    for c in range(d):
-        for l in range(L):
-            T[NORM, l] += W[c, l] * E[c, l]
-    if not odd:
-        for c in range(0, d, 2):
-            for l in range(L):
-                NU[c, l] = -E[c + 1, l] + 0.0
-                NU[c + 1, l] = E[c, l] + 0.0
-    else:
-        # the pole e == N is left to the scalar kernel
-        for l in range(L):
-            T[ACC, l] = 1.0 if W[d - 1, l] > 0 else 0.0
-        for c in range(d - 1):
-            for l in range(L):
-                T[ACC, l] = 0.0 if W[c, l] != 0 else T[ACC, l]
-        for l in range(L):
-            T[BAD, l] += T[ACC, l]
-        _unit_rows(W, d - 1, H, T)
-        for c in range(d - 1):
-            for l in range(L):
-                NU[c, l] = -(H[0, l] * H[c, l]) * (1.0 + E[d - 1, l])
-        for l in range(L):
-            NU[0, l] += 1.0
-            NU[d - 1, l] = E[0, l]
-        for c in range(d):
-            for l in range(L):
-                NU[c, l] = NU[c, l] + 0.0
-
-
-@njit(**_INLINE)
-def _columns_lanes(Y, W, E, V, X1, X2, T, m, BAD, ACC, ACC2, THR):  # pragma: no cover - compiled
-    """:func:`_columns` for every lane of :func:`_plan_lanes`, in the generic case only: a lane
-    with a configuration outside the top stratum (two projections not farther apart than the
-    filter bound) or a non-finite projection is marked in row ``BAD`` of ``T``. Writes the
-    robots of ``F(C_k, 1)`` and ``phi(F(C_k, 1), 1)`` into ``X1``, ``X2`` (row
-    ``(k n + j) d + c``; ``V``: the projections, scratch). Returns the rows ``(mx, mx2)`` of the
-    alternating running maximum, for the caller to go on with."""
-    p, L = V.shape
-    d = W.shape[0]
-    n = p - m
-    row = p * d
-    r = Y.shape[0] // row
-    # --- column classes: only the generic case, every point its own column --------------
-    mx = 11
-    mx2 = 12
-    for k in range(r):
-        yk = k * row
-        for l in range(L):
-            T[mx, l] = 0.0
-        for i in range(p):
-            for l in range(L):
-                T[ACC, l] = 0.0
-                T[ACC2, l] = 0.0
-            for c in range(d):
-                for l in range(L):
-                    t = (Y[yk + i * d + c, l] - Y[yk + c, l]) * W[c, l]
-                    T[ACC, l] += t
-                    T[ACC2, l] += abs(t)
-            for l in range(L):
-                v = T[ACC, l]
-                V[i, l] = v
-                T[BAD, l] += v - v  # NaN unless finite
-                a = T[ACC2, l]
-                z = T[mx, l]
-                T[mx2, l] = z if a <= z else a  # noqa: FURB136 (a select: NaN never chosen)
-            mx, mx2 = mx2, mx
-        mn = 13
-        mn2 = 14
-        for l in range(L):
-            bound = (d + 2) * 1.01 * _U * T[mx, l] + (d + 1) * _TINY
-            T[BAD, l] += bound - bound
-            T[THR, l] = 2.0 * (2.0 * bound) * (1 + 4 * _U)
-            T[mn, l] = np.inf
-        for i in range(1, p):
-            for j in range(i):
-                for l in range(L):
-                    df = abs(V[i, l] - V[j, l])
-                    z = T[mn, l]
-                    T[mn2, l] = df if df < z else z  # noqa: FURB136 (a select: NaN never chosen)
-                mn, mn2 = mn2, mn
-        for l in range(L):
-            T[BAD, l] += 0.0 if T[mn, l] > T[THR, l] else 1.0
-        # desingularization (desin) moves nothing here (cp = cp_o + n), projection
-        # (linear-transformation-obs)
-        for j in range(n):
-            for l in range(L):
-                T[ACC, l] = 0.0
-            for c in range(d):
-                yj = yk + (m + j) * d + c
-                x1 = (k * n + j) * d + c
-                for l in range(L):
-                    xc = Y[yj, l] + 0.0 * E[c, l]
-                    X1[x1, l] = xc
-                    T[ACC, l] += (xc - Y[yk + c, l]) * E[c, l]
-            for c in range(d):
-                x2 = (k * n + j) * d + c
-                for l in range(L):
-                    X2[x2, l] = Y[yk + c, l] + T[ACC, l] * E[c, l]
-    return mx, mx2
-
-
-@njit(**_INLINE)
-def _offsets_lanes(Y, E, NU, OFF, T, lift, m, mx, mx2, ACC, SC, Q):  # pragma: no cover - compiled
-    """:func:`_offsets` for every lane of :func:`_plan_lanes`: the lift of robot j into row
-    ``j d + c`` of ``OFF``. ``mx``, ``mx2``: the rows of T for the running maximum (returned,
-    swapped as used); ``ACC``, ``SC``, ``Q``: scratch rows of T."""
-    d, L = E.shape
-    n = OFF.shape[0] // d
-    # --- lambda (SPEC 4b) and the lift ---------------------------------------------------
-    for l in range(L):
-        T[mx, l] = 0.0
-    for i in range(2, m):
-        for l in range(L):
-            T[SC, l] = 0.0
-            T[Q, l] = 0.0
-        for c in range(d):
-            for l in range(L):
-                T[SC, l] += (Y[i * d + c, l] - Y[c, l]) * E[c, l]
-        for c in range(d):
-            for l in range(L):
-                rc = (Y[i * d + c, l] - Y[c, l]) - T[SC, l] * E[c, l]
-                T[Q, l] += rc * rc
-        for l in range(L):
-            qq = math.sqrt(T[Q, l])
-            z = T[mx, l]
-            T[mx2, l] = qq if (qq > z) | (i == 2) | math.isnan(qq) else z
-        mx, mx2 = mx2, mx
-    # the unit: lift, or the obstacles' radius u(O) of every lane (lift="scene", see _plan)
-    UNIT = 15
-    if lift > 0:
-        for l in range(L):
-            T[UNIT, l] = lift
-    else:
-        for i in range(1, m):
-            for l in range(L):
-                T[ACC, l] = 0.0
-            for c in range(d):
-                for l in range(L):
-                    dc = Y[i * d + c, l] - Y[c, l]
-                    T[ACC, l] += dc * dc
-            for l in range(L):
-                sq = T[ACC, l]
-                z = T[UNIT, l]
-                T[UNIT, l] = sq if (sq > z) | (i == 1) | math.isnan(sq) else z
-        for l in range(L):
-            T[UNIT, l] = math.sqrt(T[UNIT, l])
-    for j in range(n):
-        for c in range(d):
-            for l in range(L):
-                OFF[j * d + c, l] = ((T[UNIT, l] + T[mx, l]) * float(j + 1)) * NU[c, l]
-    return mx, mx2
-
-
-@njit(**_INLINE)
-def _waypoints_lanes(Y, X1, X2, OFF, S, m):  # pragma: no cover - compiled
-    """The waypoints of paper Remark ``constructing-sections-via-deformations`` for every lane
-    of :func:`_plan_lanes` into ``S`` (row ``(t p + i) d + c``), from the configurations ``Y``,
-    the robots ``X1``, ``X2`` (:func:`_columns_lanes`) and the lifts ``OFF``."""
-    L = S.shape[1]
-    nd = OFF.shape[0]
-    r = X1.shape[0] // nd
-    row = Y.shape[0] // r
-    md = row - nd
-    kk = S.shape[0] // row
-    # --- the waypoints (Remark constructing-sections-via-deformations) ------------------
-    for k in range(r - 1):
-        for s in range(7):
-            t0 = (7 * k + s) * row
-            lifted = s == 3 or s == 4
-            for x in range(md):
-                if lifted:
-                    for l in range(L):
-                        S[t0 + x, l] = Y[x, l] + 0.0
-                else:
-                    for l in range(L):
-                        S[t0 + x, l] = Y[x, l]
-            for x in range(nd):
-                if s == 0:
-                    for l in range(L):
-                        S[t0 + md + x, l] = Y[k * row + md + x, l]
-                elif s == 1:
-                    for l in range(L):
-                        S[t0 + md + x, l] = X1[k * nd + x, l]
-                elif s == 2:
-                    for l in range(L):
-                        S[t0 + md + x, l] = X2[k * nd + x, l]
-                elif s == 3:
-                    for l in range(L):
-                        S[t0 + md + x, l] = X2[k * nd + x, l] + OFF[x, l]
-                elif s == 4:
-                    for l in range(L):
-                        S[t0 + md + x, l] = X2[(k + 1) * nd + x, l] + OFF[x, l]
-                elif s == 5:
-                    for l in range(L):
-                        S[t0 + md + x, l] = X2[(k + 1) * nd + x, l]
-                else:
-                    for l in range(L):
-                        S[t0 + md + x, l] = X1[(k + 1) * nd + x, l]
-    for x in range(row):
-        for l in range(L):
-            S[(kk - 1) * row + x, l] = Y[(r - 1) * row + x, l]
-
-
 @njit(**_OPTS)
 def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance, flags, todo,
                L):  # pragma: no cover - compiled
@@ -1293,6 +1002,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     lf = last.reshape((nb, nd))
     mf = middle.reshape((r - 2, nb, nd))
     wf = wp.reshape((nb, size))
+    odd = d % 2 == 1
     Y = np.empty((r * row, L))  # configuration k, point i, coordinate c: row (k p + i) d + c
     S = np.empty((size, L))  # waypoint t, point i, coordinate c: row (t p + i) d + c
     X1 = np.empty((r * nd, L))  # robot j of F(C_k, 1): row (k n + j) d + c
@@ -1317,12 +1027,110 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     dom = 2 - (r - 1) * m + r * p
     for blk in range(nfull):
         b0 = blk * L
-        _load_lanes(of, ff, lf, mf, b0, Y)  # the configurations, lanes innermost
+        # --- the configurations, lanes innermost ---------------------------------------------
+        for l in range(L):
+            b = b0 + l
+            for k in range(r):
+                for x in range(md):
+                    Y[k * row + x, l] = of[b, x]
+            for x in range(nd):
+                Y[md + x, l] = ff[b, x]
+                Y[(r - 1) * row + md + x, l] = lf[b, x]
+            for k in range(1, r - 1):
+                for x in range(nd):
+                    Y[k * row + md + x, l] = mf[k - 1, b, x]
         for l in range(L):
             T[BAD, l] = 0.0
-        _frame_lanes(Y, W, E, NU, H, T, BAD, NORM, ACC)  # the frame: w = o2 - o1, e, |w|, nu(e)
-        # column classes (only the generic case), desingularization, projection
-        mx, mx2 = _columns_lanes(Y, W, E, V, X1, X2, T, m, BAD, ACC, ACC2, THR)
+        # --- the frame: w = o2 - o1, e, |w|, nu(e) ------------------------------------------
+        for c in range(d):
+            for l in range(L):
+                W[c, l] = Y[d + c, l] - Y[c, l]
+        _unit_rows(W, d, E, T)
+        for l in range(L):
+            T[NORM, l] = 0.0
+        for c in range(d):
+            for l in range(L):
+                T[NORM, l] += W[c, l] * E[c, l]
+        if not odd:
+            for c in range(0, d, 2):
+                for l in range(L):
+                    NU[c, l] = -E[c + 1, l] + 0.0
+                    NU[c + 1, l] = E[c, l] + 0.0
+        else:
+            # the pole e == N is left to the scalar kernel
+            for l in range(L):
+                T[ACC, l] = 1.0 if W[d - 1, l] > 0 else 0.0
+            for c in range(d - 1):
+                for l in range(L):
+                    T[ACC, l] = 0.0 if W[c, l] != 0 else T[ACC, l]
+            for l in range(L):
+                T[BAD, l] += T[ACC, l]
+            _unit_rows(W, d - 1, H, T)
+            for c in range(d - 1):
+                for l in range(L):
+                    NU[c, l] = -(H[0, l] * H[c, l]) * (1.0 + E[d - 1, l])
+            for l in range(L):
+                NU[0, l] += 1.0
+                NU[d - 1, l] = E[0, l]
+            for c in range(d):
+                for l in range(L):
+                    NU[c, l] = NU[c, l] + 0.0
+        # --- column classes: only the generic case, every point its own column --------------
+        mx = 11
+        mx2 = 12
+        for k in range(r):
+            yk = k * row
+            for l in range(L):
+                T[mx, l] = 0.0
+            for i in range(p):
+                for l in range(L):
+                    T[ACC, l] = 0.0
+                    T[ACC2, l] = 0.0
+                for c in range(d):
+                    for l in range(L):
+                        t = (Y[yk + i * d + c, l] - Y[yk + c, l]) * W[c, l]
+                        T[ACC, l] += t
+                        T[ACC2, l] += abs(t)
+                for l in range(L):
+                    v = T[ACC, l]
+                    V[i, l] = v
+                    T[BAD, l] += v - v  # NaN unless finite
+                    a = T[ACC2, l]
+                    z = T[mx, l]
+                    T[mx2, l] = z if a <= z else a  # noqa: FURB136 (a select: NaN never chosen)
+                mx, mx2 = mx2, mx
+            mn = 13
+            mn2 = 14
+            for l in range(L):
+                bound = (d + 2) * 1.01 * _U * T[mx, l] + (d + 1) * _TINY
+                T[BAD, l] += bound - bound
+                T[THR, l] = 2.0 * (2.0 * bound) * (1 + 4 * _U)
+                T[mn, l] = np.inf
+            for i in range(1, p):
+                for j in range(i):
+                    for l in range(L):
+                        df = abs(V[i, l] - V[j, l])
+                        z = T[mn, l]
+                        T[mn2, l] = df if df < z else z  # noqa: FURB136 (a select: NaN never chosen)
+                    mn, mn2 = mn2, mn
+            for l in range(L):
+                T[BAD, l] += 0.0 if T[mn, l] > T[THR, l] else 1.0
+            # desingularization (desin) moves nothing here (cp = cp_o + n), projection
+            # (linear-transformation-obs)
+            for j in range(n):
+                for l in range(L):
+                    T[ACC, l] = 0.0
+                for c in range(d):
+                    yj = yk + (m + j) * d + c
+                    x1 = (k * n + j) * d + c
+                    for l in range(L):
+                        xc = Y[yj, l] + 0.0 * E[c, l]
+                        X1[x1, l] = xc
+                        T[ACC, l] += (xc - Y[yk + c, l]) * E[c, l]
+                for c in range(d):
+                    x2 = (k * n + j) * d + c
+                    for l in range(L):
+                        X2[x2, l] = Y[yk + c, l] + T[ACC, l] * E[c, l]
         # a block with few generic queries (a degenerate batch) goes to the scalar kernel at
         # once: finishing the block costs about what the scalar kernel takes for L / 3 queries
         ngood = 0
@@ -1333,8 +1141,86 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                 todo[nt] = b0 + l
                 nt += 1
             continue
-        mx, mx2 = _offsets_lanes(Y, E, NU, OFF, T, lift, m, mx, mx2, ACC, SC, Q)  # lambda, lift
-        _waypoints_lanes(Y, X1, X2, OFF, S, m)  # Remark constructing-sections-via-deformations
+        # --- lambda (SPEC 4b) and the lift ---------------------------------------------------
+        for l in range(L):
+            T[mx, l] = 0.0
+        for i in range(2, m):
+            for l in range(L):
+                T[SC, l] = 0.0
+                T[Q, l] = 0.0
+            for c in range(d):
+                for l in range(L):
+                    T[SC, l] += (Y[i * d + c, l] - Y[c, l]) * E[c, l]
+            for c in range(d):
+                for l in range(L):
+                    rc = (Y[i * d + c, l] - Y[c, l]) - T[SC, l] * E[c, l]
+                    T[Q, l] += rc * rc
+            for l in range(L):
+                qq = math.sqrt(T[Q, l])
+                z = T[mx, l]
+                T[mx2, l] = qq if (qq > z) | (i == 2) | math.isnan(qq) else z
+            mx, mx2 = mx2, mx
+        # the unit: lift, or the obstacles' radius u(O) of every lane (lift="scene", see _plan)
+        UNIT = 15
+        if lift > 0:
+            for l in range(L):
+                T[UNIT, l] = lift
+        else:
+            for i in range(1, m):
+                for l in range(L):
+                    T[ACC, l] = 0.0
+                for c in range(d):
+                    for l in range(L):
+                        dc = Y[i * d + c, l] - Y[c, l]
+                        T[ACC, l] += dc * dc
+                for l in range(L):
+                    sq = T[ACC, l]
+                    z = T[UNIT, l]
+                    T[UNIT, l] = sq if (sq > z) | (i == 1) | math.isnan(sq) else z
+            for l in range(L):
+                T[UNIT, l] = math.sqrt(T[UNIT, l])
+        for j in range(n):
+            for c in range(d):
+                for l in range(L):
+                    OFF[j * d + c, l] = ((T[UNIT, l] + T[mx, l]) * float(j + 1)) * NU[c, l]
+        # --- the waypoints (Remark constructing-sections-via-deformations) ------------------
+        for k in range(r - 1):
+            for s in range(7):
+                t0 = (7 * k + s) * row
+                lifted = s == 3 or s == 4
+                for x in range(md):
+                    if lifted:
+                        for l in range(L):
+                            S[t0 + x, l] = Y[x, l] + 0.0
+                    else:
+                        for l in range(L):
+                            S[t0 + x, l] = Y[x, l]
+                for x in range(nd):
+                    if s == 0:
+                        for l in range(L):
+                            S[t0 + md + x, l] = Y[k * row + md + x, l]
+                    elif s == 1:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X1[k * nd + x, l]
+                    elif s == 2:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X2[k * nd + x, l]
+                    elif s == 3:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X2[k * nd + x, l] + OFF[x, l]
+                    elif s == 4:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X2[(k + 1) * nd + x, l] + OFF[x, l]
+                    elif s == 5:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X2[(k + 1) * nd + x, l]
+                    else:
+                        for l in range(L):
+                            S[t0 + md + x, l] = X1[(k + 1) * nd + x, l]
+        for x in range(row):
+            for l in range(L):
+                S[(kk - 1) * row + x, l] = Y[(r - 1) * row + x, l]
+        # --- certificate: finite, clearance (:func:`_certify_lanes`) -------------------------
         mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2)
         # --- write the waypoints (query after query) and the decided queries' records -------
         for l in range(L):
