@@ -55,6 +55,8 @@ _MAXF = 1.7976931348623157e308  # the largest finite float
 _OBSTACLE_TINY2 = 2.0**-1000
 # paths with waypoints outside [2**-_RANGE, 2**_RANGE) are measured scaled by a power of two
 _RANGE = 500
+# from this many points on, clearance() evaluates only the pairs _swept cannot exclude
+_SWEEP_MIN = 64
 
 #: the clauses of the certificate, by number (0: certified); :func:`certificate` reports the
 #: first one that fails
@@ -237,6 +239,109 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
     return val
 
 
+def _decided(a0, b0, a1, b1) -> np.ndarray:
+    """The decided minimum distance of every pair on its piece: points a0 -> a1 and b0 -> b1
+    (arrays (..., d)); the float closed form, exact (:func:`_exact_segment_clearance`) where it
+    is small against the pair's scale or not finite (a relative position or a square that
+    overflows), NaN where a waypoint is not finite."""
+    with np.errstate(over="ignore", invalid="ignore"):  # re-decided exactly below
+        r0 = a0 - b0
+        r1 = a1 - b1
+    dist = segment_clearance(r0, r1)
+    scale = np.maximum(np.abs(r0).max(-1), np.abs(r1).max(-1))
+    absval = np.maximum(np.maximum(np.abs(a0).max(-1), np.abs(b0).max(-1)),
+                        np.maximum(np.abs(a1).max(-1), np.abs(b1).max(-1)))
+    finite = np.isfinite(a0).all(-1) & np.isfinite(b0).all(-1) & np.isfinite(a1).all(-1) \
+        & np.isfinite(b1).all(-1)
+    with np.errstate(invalid="ignore", over="ignore"):
+        suspect = (~(dist > _REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(dist)) \
+            & finite
+    dist[~finite] = np.nan
+    for idx in zip(*np.nonzero(suspect)):
+        dist[idx] = _exact_segment_clearance(a0[idx], b0[idx], a1[idx], b1[idx])
+    return dist
+
+
+def _directions(w: np.ndarray, m: int) -> list[np.ndarray]:
+    """Candidate sweep directions for a path ``w`` (K, P, d): the obstacle line ``o2 - o1``
+    (and its normal in the plane), the coordinate axes, and the largest motion of a point on
+    each piece (the lift of the obstacle-line paths)."""
+    d = w.shape[2]
+    dirs = list(np.eye(d))
+    line = w[0, 1] - w[0, 0]
+    dirs.append(line)
+    if d == 2:
+        dirs.append(np.array([-line[1], line[0]]))
+    move = w[1:] - w[:-1]
+    norms = (move * move).sum(-1)
+    for t in range(move.shape[0]):
+        dirs.append(move[t, int(np.argmax(norms[t]))])
+    return [u / np.abs(u).max() for u in dirs if np.abs(u).max() > 0]
+
+
+def _swept(w: np.ndarray, m: int) -> float:
+    """:func:`clearance` of one path ``w`` (K, P, d), evaluating only the pairs of a piece that
+    may reach the minimum (NaN where it does not apply: waypoints not finite, or outside
+    ``(1e-130, 1e130)``, where the caller evaluates every pair).
+
+    The minimum of the pairs adjacent in each piece's order (below) bounds the result: ``U``.
+    On a piece, every point's projection on a direction u (of :func:`_directions`, the one
+    whose spans are shortest) spans ``[lo, hi]``; a pair whose gap ``lo_b - hi_a`` exceeds
+    ``((U + 1e-14 A) |u| + 2e-15 d A |u|_1) (1 + 1e-9)`` (A the largest |coordinate|) is
+    farther than U on the whole piece, exactly and in floating point (the float projection is
+    within ``1.0001 d eps A |u|_1`` of the exact one, the float closed form within
+    ``17 sqrt(d) eps A`` of an exact point of the piece: see
+    :func:`pmplan.kernels.obstacle_line._sweep_min`), so it can neither be the minimum nor
+    change it. The others are decided as :func:`clearance` decides every pair
+    (:func:`_decided`): the result is the same.
+    """
+    k, p, d = w.shape
+    amax = float(np.abs(w).max())
+    if not (np.isfinite(w).all() and 1e-130 < amax < 1e130):
+        return np.nan
+    dirs = _directions(w, m)
+    keys = np.stack([w @ u for u in dirs])  # (directions, K, P)
+    lo = np.minimum(keys[:, :-1], keys[:, 1:])  # (directions, K - 1, P)
+    hi = np.maximum(keys[:, :-1], keys[:, 1:])
+    spread = keys.max(-1) - keys.min(-1)
+    score = (hi - lo).sum(-1) / np.maximum(np.minimum(spread[:, :-1], spread[:, 1:]), 1e-300)
+    best = np.argmin(score, axis=0)  # the direction of each piece
+    pieces = np.arange(k - 1)
+    lo, hi = lo[best, pieces], hi[best, pieces]  # (K - 1, P)
+    order = np.argsort(lo, axis=1, kind="stable")
+    slo = np.take_along_axis(lo, order, 1)
+    shi = np.take_along_axis(hi, order, 1)
+
+    def decided(t, i, j):
+        a, b = np.minimum(i, j), np.maximum(i, j)
+        keep = b >= m
+        t, a, b = t[keep], a[keep], b[keep]
+        return _decided(w[t, a], w[t, b], w[t + 1, a], w[t + 1, b])
+
+    # U: the neighbours in every piece's order
+    tt = np.repeat(pieces, p - 1)
+    bound = decided(tt, order[:, :-1].ravel(), order[:, 1:].ravel()).min(initial=np.inf)
+    u = np.stack([dirs[i] for i in best])  # (K - 1, d)
+    margin = 1e-14 * amax * np.sqrt((u * u).sum(-1)) + 4e-15 * d * amax * np.abs(u).sum(-1)
+    thr = ((bound * np.sqrt((u * u).sum(-1)) + margin) * (1 + 1e-9))[:, None]
+    ts, ii, jj = [], [], []
+    act_t, act_x = np.nonzero(np.ones((k - 1, p - 1), bool))
+    step = 1
+    while act_t.size:
+        inside = act_x + step < p
+        act_t, act_x = act_t[inside], act_x[inside]
+        near = slo[act_t, act_x + step] - shi[act_t, act_x] <= thr[act_t, 0]
+        act_t, act_x = act_t[near], act_x[near]
+        ts.append(act_t)
+        ii.append(order[act_t, act_x])
+        jj.append(order[act_t, act_x + step])
+        step += 1
+    if ts:
+        cand = decided(np.concatenate(ts), np.concatenate(ii), np.concatenate(jj))
+        bound = min(bound, cand.min(initial=np.inf))
+    return min(bound, float(_obstacle_clearance(w[None], m)[0]))  # (m >= 2 here)
+
+
 def _scaled_rows(wp: np.ndarray, m: int):
     """The clearance of the paths whose waypoints lie outside ``[2**-_RANGE, 2**_RANGE)``
     (squares would underflow or overflow), computed on the path scaled by the power of two that
@@ -271,7 +376,7 @@ def _scaled_rows(wp: np.ndarray, m: int):
     return np.array(rows), np.array(values)
 
 
-def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
+def clearance(waypoints: np.ndarray, m: int, *, sweep: bool = True) -> np.ndarray:
     """Return the exact-where-it-matters clearance of a batch of paths.
 
     Parameters
@@ -280,6 +385,9 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
         Waypoints with the m obstacles first.
     m : int
         Number of obstacles (rows that must not move).
+    sweep : bool
+        From ``_SWEEP_MIN`` points on, evaluate only the pairs :func:`_swept` cannot exclude
+        (the result is the same; False: every pair).
 
     Returns
     -------
@@ -298,6 +406,13 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
     """
     wp = np.asarray(waypoints, dtype=float)
     b, k, p, d = wp.shape
+    if sweep and p >= _SWEEP_MIN and 2 <= m < p and k >= 2 and d < 8 and b:
+        out = np.array([_swept(row, m) for row in wp])
+        if not np.isnan(out).any():  # (NaN: a row the sweep does not take)
+            return out
+        rest = np.isnan(out)
+        out[rest] = clearance(wp[rest], m, sweep=False)
+        return out
     pi, pj = _pairs(p, m)
     out = np.full(b, np.inf)
     if pi.size == 0:
@@ -308,46 +423,32 @@ def clearance(waypoints: np.ndarray, m: int) -> np.ndarray:
         keep = np.ones(b, dtype=bool)
         keep[rows] = False
         if keep.any():
-            out[keep] = clearance(wp[keep], m)
+            out[keep] = clearance(wp[keep], m, sweep=sweep)
         out[rows] = values
         return out
-    with np.errstate(over="ignore", invalid="ignore"):  # re-decided exactly below
-        rel = wp[:, :, pi, :] - wp[:, :, pj, :]  # (B, K, pairs, d)
-    r0, r1 = rel[:, :-1], rel[:, 1:]
-    dist = segment_clearance(r0, r1)  # (B, K-1, pairs)
-    scale = np.maximum(np.abs(r0).max(-1), np.abs(r1).max(-1))
-    absval = np.maximum(
-        np.maximum(np.abs(wp[:, :-1, pi]).max(-1), np.abs(wp[:, :-1, pj]).max(-1)),
-        np.maximum(np.abs(wp[:, 1:, pi]).max(-1), np.abs(wp[:, 1:, pj]).max(-1)),
-    )
-    # a waypoint that is not finite is not a path: its certificate fails below. A relative
-    # position or a square that overflows (finite waypoints beyond ~1e154) and a small float
-    # minimum are re-decided exactly.
-    finite = np.isfinite(wp[:, :-1, pi]).all(-1) & np.isfinite(wp[:, :-1, pj]).all(-1) \
-        & np.isfinite(wp[:, 1:, pi]).all(-1) & np.isfinite(wp[:, 1:, pj]).all(-1)
-    with np.errstate(invalid="ignore", over="ignore"):
-        suspect = (~(dist > _REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(dist)) \
-            & finite
-    dist[~finite] = np.nan
-    for bi, ki, qi in zip(*np.nonzero(suspect)):
-        dist[bi, ki, qi] = _exact_segment_clearance(
-            wp[bi, ki, pi[qi]], wp[bi, ki, pj[qi]], wp[bi, ki + 1, pi[qi]], wp[bi, ki + 1, pj[qi]]
-        )
+    # a waypoint that is not finite is not a path: its certificate fails below
+    dist = _decided(wp[:, :-1, pi], wp[:, :-1, pj], wp[:, 1:, pi], wp[:, 1:, pj])
     out = dist.reshape(b, -1).min(axis=1, initial=np.inf)
     out[np.isnan(dist.reshape(b, -1)).any(axis=1)] = np.nan
     if m >= 2:
-        oi, oj = np.triu_indices(m, k=1)
-        with np.errstate(over="ignore", invalid="ignore"):
-            od = wp[:, 0, oi] - wp[:, 0, oj]
-            od2 = (od * od).sum(-1)  # (B, pairs), summed as the kernels sum it
-            odist = np.sqrt(od2)
-            bad = ~(od2 >= _OBSTACLE_TINY2) & np.isfinite(wp[:, 0, oi]).all(-1) \
-                & np.isfinite(wp[:, 0, oj]).all(-1)
-        for bi, qi in zip(*np.nonzero(bad)):  # the square overflowed or may have underflowed
-            a, c = wp[bi, 0, oi[qi]], wp[bi, 0, oj[qi]]
-            odist[bi, qi] = _exact_segment_clearance(a, c, a, c)
-        out = np.minimum(out, odist.min(axis=1))
+        out = np.minimum(out, _obstacle_clearance(wp, m))
     return out
+
+
+def _obstacle_clearance(wp: np.ndarray, m: int) -> np.ndarray:
+    """The smallest distance of two obstacles (they never move: at the first waypoint), (B,),
+    for m >= 2; exact where the square may have overflowed or underflowed."""
+    oi, oj = np.triu_indices(m, k=1)
+    with np.errstate(over="ignore", invalid="ignore"):
+        od = wp[:, 0, oi] - wp[:, 0, oj]
+        od2 = (od * od).sum(-1)  # (B, pairs), summed as the kernels sum it
+        odist = np.sqrt(od2)
+        bad = ~(od2 >= _OBSTACLE_TINY2) & np.isfinite(wp[:, 0, oi]).all(-1) \
+            & np.isfinite(wp[:, 0, oj]).all(-1)
+    for bi, qi in zip(*np.nonzero(bad)):  # the square overflowed or may have underflowed
+        a, c = wp[bi, 0, oi[qi]], wp[bi, 0, oj[qi]]
+        odist[bi, qi] = _exact_segment_clearance(a, c, a, c)
+    return odist.min(axis=1)
 
 
 def certificate(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, *,

@@ -136,6 +136,18 @@ _EXTREME = 2.0**430
 #: ``lanes(...)`` queries at a time (:func:`_plan_lanes`)
 LANES_MIN = 16
 
+#: from this many points (m + n) on, the clearance is the exact pruned sweep of
+#: :func:`_sweep_min` (query by query; in :func:`_plan_lanes` lane by lane); below it every pair
+#: is evaluated, vectorised (over the pairs, or over the lanes). Measured with
+#: ``benchmarks/cert_bench.py``
+SWEEP_MIN = 24
+#: the margins of the sweep's pruning, relative to the largest |coordinate| (see _sweep_min):
+#: the distance of the closed form's float point to an exact point of the piece, a float
+#: projection's error per coordinate, and a relative slack for every other rounding
+_PRUNE_Q = 1e-14
+_PRUNE_P = 1e-15
+_PRUNE_REL = 1e-9
+
 
 @njit(**_INLINE)
 def _unit(w, n, out):  # pragma: no cover - compiled
@@ -269,20 +281,8 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
 
 
 @njit(**_INLINE)
-def _clearance_plane(dd, kk, npairs, best):  # pragma: no cover - compiled
-    """Squared clearance in the plane (d = 2), branch-free over the pairs (vectorised).
-
-    ``dd[t, c, k]`` is coordinate c of the relative position of pair k at waypoint t; the
-    arithmetic is :func:`pmplan.certify.segment_clearance`'s, in its order, on every piece.
-    Returns the minimum float squared distance; ``best`` is scratch (npairs,).
-    """
-    for k in range(npairs):
-        best[k] = np.inf
-    for t in range(kk - 1):
-        for k in range(npairs):
-            dist2 = _segment_dist2_plane(dd[t, 0, k], dd[t, 1, k], dd[t + 1, 0, k],
-                                         dd[t + 1, 1, k])
-            best[k] = dist2 if dist2 < best[k] else best[k]  # noqa: FURB136
+def _row_min(best, npairs):  # pragma: no cover - compiled
+    """The minimum of ``best[:npairs]`` (NaN is never selected)."""
     out = np.inf
     for k in range(npairs):
         if best[k] < out:  # noqa: PLR1730 (explicit compare: NaN is never selected)
@@ -291,10 +291,26 @@ def _clearance_plane(dd, kk, npairs, best):  # pragma: no cover - compiled
 
 
 @njit(**_INLINE)
+def _clearance_plane(dd, kk, npairs, best):  # pragma: no cover - compiled
+    """Squared clearance in the plane (d = 2), branch-free over the pairs (vectorised).
+
+    ``dd[t, c, k]`` is coordinate c of the relative position of pair k at waypoint t; the
+    arithmetic is :func:`pmplan.certify.segment_clearance`'s, in its order, on every piece.
+    Returns the minimum float squared distance; ``best`` is scratch (npairs,).
+    """
+    best[:npairs] = np.inf
+    for t in range(kk - 1):
+        for k in range(npairs):
+            dist2 = _segment_dist2_plane(dd[t, 0, k], dd[t, 1, k], dd[t + 1, 0, k],
+                                         dd[t + 1, 1, k])
+            best[k] = dist2 if dist2 < best[k] else best[k]  # noqa: FURB136
+    return _row_min(best, npairs)
+
+
+@njit(**_INLINE)
 def _clearance_any(dd, kk, npairs, d, best, vv, rv, tt, d2):  # pragma: no cover - compiled
     """:func:`_clearance_plane` for any d (coordinate loops outside the pair loops)."""
-    for k in range(npairs):
-        best[k] = np.inf
+    best[:npairs] = np.inf
     for t in range(kk - 1):
         for k in range(npairs):
             vv[k] = 0.0
@@ -316,83 +332,298 @@ def _clearance_any(dd, kk, npairs, d, best, vv, rv, tt, d2):  # pragma: no cover
                 d2[k] += qc * qc
         for k in range(npairs):
             best[k] = d2[k] if d2[k] < best[k] else best[k]  # noqa: FURB136
-    out = np.inf
-    for k in range(npairs):
-        if best[k] < out:  # noqa: PLR1730 (explicit compare: NaN is never selected)
-            out = best[k]
-    return out
+    return _row_min(best, npairs)
 
 
 @njit(**_INLINE)
-def _clearance_exact(wf, b, dd, kk, p, d, npairs, pi, pj, thr2):  # pragma: no cover - compiled
-    """The clearance loop deciding small minima as :func:`pmplan.certify.clearance` does.
+def _piece_dist2(w, t0, a, b, row, d):  # pragma: no cover - compiled
+    """Float squared minimum distance of the points at offsets ``a`` < ``b`` of waypoint
+    block ``t0`` of ``w`` over the piece to the next waypoint (``t0 + row``): the arithmetic of
+    :func:`_clearance_any` (and of :func:`_segment_dist2_plane` for d = 2) on the relative
+    position ``w[t0 + a + c] - w[t0 + b + c]``, sums over c sequential."""
+    vv = 0.0
+    rv = 0.0
+    for c in range(d):
+        r0 = w[t0 + a + c] - w[t0 + b + c]
+        vc = (w[t0 + row + a + c] - w[t0 + row + b + c]) - r0
+        vv += vc * vc
+        rv += r0 * vc
+    q = _segment_param(-rv, vv)
+    dist2 = 0.0
+    for c in range(d):
+        r0 = w[t0 + a + c] - w[t0 + b + c]
+        qc = r0 + q * ((w[t0 + row + a + c] - w[t0 + row + b + c]) - r0)
+        dist2 += qc * qc
+    return dist2
 
-    Returns ``(min squared distance, suspect)``: ``suspect`` is True when some pair's float
-    minimum is not above certify's threshold ``1e-9 max(scale, 1e-6 absval)``.
+
+@njit(**_INLINE)
+def _directions(w, p, m, d, amax, aux):  # pragma: no cover - compiled
+    """The two sweep directions of :func:`_sweep_min` and their pruning margins, into ``aux``.
+
+    Direction 0 is the obstacle line ``o2 - o1`` (the columns: the projection, the lift and
+    their inverses move the points across it, not along it), direction 1 the lift of robot 0
+    (waypoint 3 minus waypoint 2: along the line the robots are lifted apart in it). Each is
+    scaled to largest |component| 1 (a coordinate axis if it is zero or not finite: any
+    direction gives a correct bound, these only make it tight). ``aux[2 d + k]`` is the norm of
+    direction k, ``aux[2 d + 2 + k]`` its margin ``_PRUNE_Q amax |w| + 2 _PRUNE_P d amax |w|_1``
+    (see :func:`_sweep_min`)."""
+    row = p * d
+    for c in range(d):
+        aux[c] = w[d + c] - w[c]
+        aux[d + c] = w[3 * row + m * d + c] - w[2 * row + m * d + c]
+    for k in range(2):
+        big = 0.0
+        for c in range(d):
+            a = abs(aux[k * d + c])
+            big = a if a > big else big  # noqa: FURB136
+        ok = big > 0 and big <= _MAXF
+        w1 = 0.0
+        w2 = 0.0
+        for c in range(d):
+            x = aux[k * d + c] / big if ok else (1.0 if c == 0 else 0.0)
+            aux[k * d + c] = x
+            w1 += abs(x)
+            w2 += x * x
+        w2 = math.sqrt(w2)
+        aux[2 * d + k] = w2
+        aux[2 * d + 2 + k] = _PRUNE_Q * amax * w2 + 2.0 * _PRUNE_P * d * amax * w1 + 1e-300
+
+
+@njit(**_INLINE)
+def _sort_by(key, order, p):  # pragma: no cover - compiled
+    """Insertion sort of ``order[:p]`` by ``key`` (ascending; fast when nearly sorted)."""
+    for x in range(1, p):
+        v = order[x]
+        kv = key[v]
+        y = x - 1
+        while y >= 0 and key[order[y]] > kv:
+            order[y + 1] = order[y]
+            y -= 1
+        order[y + 1] = v
+
+
+@njit(**_INLINE)
+def _bucket_sort(key, order, p, bk, cnt):  # pragma: no cover - compiled
+    """``order[:p]`` = the indices sorted by ``key`` (finite), in O(p) for spread keys: a
+    counting sort into p buckets of equal width, then :func:`_sort_by` (which alone makes it
+    correct). ``bk`` (p,), ``cnt`` (p + 1,) int64 scratch."""
+    kmin = key[0]
+    kmax = key[0]
+    for i in range(1, p):
+        kmin = key[i] if key[i] < kmin else kmin  # noqa: FURB136
+        kmax = key[i] if key[i] > kmax else kmax  # noqa: FURB136
+    span = kmax - kmin
+    scale = (p - 1) / span if span > 0 else 0.0
+    cnt[:] = 0
+    for i in range(p):
+        x = int((key[i] - kmin) * scale)
+        x = min(max(x, 0), p - 1)
+        bk[i] = x
+        cnt[x + 1] += 1
+    for x in range(p):
+        cnt[x + 1] += cnt[x]
+    for i in range(p):
+        x = bk[i]
+        order[cnt[x]] = i
+        cnt[x] += 1
+    _sort_by(key, order, p)
+
+
+@njit(**_OPTS)
+def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cover - compiled
+    """The clearance's minimum over the pieces and pairs, pruned exactly: a sweep per group.
+
+    ``w`` (kk p d,) are the waypoints of one obstacle-line path (obstacles first; kk = 7 (r - 1)
+    + 1), ``amax`` their largest |coordinate|, in ``(1e-130, 1e130)`` (the caller's range: no
+    square overflows, no margin underflows). Returns exactly the minimum over every piece and
+    every pair with a moving point of the float squared distance :func:`_piece_dist2` (the
+    arithmetic of :func:`pmplan.certify.segment_clearance`), computing it only for the pairs
+    that may reach the minimum found so far. Scratch: ``lo``, ``hi`` (p,), ``order`` int64
+    (4 p + 1,), ``aux`` (2 d + 4,). With ``cap`` finite, every pair that may be at most ``cap``
+    is computed too, and decided as :func:`_clearance_exact` decides it: returns ``(minimum,
+    suspect)``, ``suspect`` True when some float minimum at most ``cap`` is not above certify's
+    threshold (``cap = -inf``: only the minimum).
+
+    The pieces of a leg C_k -> C_k+1 come in three groups: 7k -> 7k + 3 (desingularization,
+    projection onto the obstacle line, lift: the points move across the line's direction u0,
+    not along it), 7k + 3 -> 7k + 4 (along the line, the robots lifted apart along the lift's
+    direction u1) and 7k + 4 -> 7k + 7 (as the first, at C_k+1's columns) (:func:`_directions`).
+    In a group, every point's projection on its direction spans ``[lo, hi]`` over the group's
+    waypoints; the points are sorted by ``lo`` (:func:`_bucket_sort` at a new configuration's
+    columns, otherwise the previous order fixed by :func:`_sort_by`), and for each point the
+    later ones are visited until the gap ``lo_b - hi_a`` exceeds
+    ``(sqrt(best) |u| + margin) (1 + _PRUNE_REL)``: every later point is at least that far along
+    u on all the group's pieces, and its float distance is above ``best``.
+
+    Why the margin is rigorous (``eps = 2**-53``): a float projection is within
+    ``1.0001 d eps amax |u|_1`` of the exact one (``_PRUNE_P d amax |u|_1``, ``_PRUNE_P = 1e-15``,
+    covers it 9 times), so the exact gap of the moving points along u, hence their exact
+    distance times |u|, is above ``(sqrt(best) + _PRUNE_Q amax) |u| (1 + _PRUNE_REL) / (1 + 9
+    eps)``; the float vector ``q`` of the closed form is within ``17 sqrt(d) eps amax < 5e-15
+    amax`` (d <= 7) of an exact point of the piece, so ``|q| > sqrt(best) (1 + _PRUNE_REL - 10
+    eps)``, and the float sum of its squares is at least ``|q|^2 (1 - eps)^d > best``. A pair
+    skipped is never below the minimum: the result is bitwise the unpruned one.
+
+    ``best`` starts as the float distance on the piece 1 -> 2 of the neighbours in the first
+    group's order closest at waypoint 2, where the robots lie on the obstacle line and the
+    columns' gaps make it small.
     """
-    best = np.inf
+    row = p * d
+    _directions(w, p, m, d, amax, aux)
     suspect = False
-    for t in range(kk - 1):
-        for k in range(npairs):
-            vv = 0.0
-            rv = 0.0
-            for c in range(d):
-                r0 = dd[t, c, k]
-                vc = dd[t + 1, c, k] - r0
-                vv += vc * vc
-                rv += r0 * vc
-            q = _segment_param(-rv, vv)
-            dist2 = 0.0
-            for c in range(d):
-                r0 = dd[t, c, k]
-                vc = dd[t + 1, c, k] - r0
-                qc = r0 + q * vc
-                dist2 += qc * qc
-            if not dist2 > thr2:
-                dist = math.sqrt(dist2)
-                scale = 0.0
-                absval = 0.0
-                i0 = (t * p + pi[k]) * d
-                j0 = (t * p + pj[k]) * d
-                i1 = i0 + p * d
-                j1 = j0 + p * d
+    oe = order[:p]
+    on = order[p:2 * p]
+    bk = order[2 * p:3 * p]
+    cnt = order[3 * p:]
+    best = np.inf
+    for g in range(3 * ((kk - 1) // 7)):
+        k = g // 3
+        u = g % 3 == 1
+        ts = 7 * k + (0 if g % 3 == 0 else (3 if u else 4))
+        te = ts + (1 if u else 3)  # the group's pieces: ts -> ts + 1, ..., te - 1 -> te
+        o = on if u else oe
+        dr = d if u else 0
+        for i in range(p):
+            a0 = np.inf
+            a1 = -np.inf
+            for t in range(ts, te + 1):
+                v = 0.0
                 for c in range(d):
-                    scale = max(scale, abs(dd[t, c, k]), abs(dd[t + 1, c, k]))
-                    absval = max(absval, abs(wf[b, i0 + c]), abs(wf[b, j0 + c]),
-                                 abs(wf[b, i1 + c]), abs(wf[b, j1 + c]))
-                if not dist > _REL * max(scale, absval * 1e-6):
-                    suspect = True
-            if dist2 < best:  # noqa: PLR1730 (explicit compare: NaN is never selected)
-                best = dist2
+                    v += w[t * row + i * d + c] * aux[dr + c]
+                a0 = v if v < a0 else a0  # noqa: FURB136 (NaN: then a0 > a1 below)
+                a1 = v if v > a1 else a1  # noqa: FURB136
+            lo[i] = a0
+            hi[i] = a1
+        if g < 2 or g % 3 == 2:  # C_0's columns, the first lift, C_k+1's columns
+            _bucket_sort(lo, o, p, bk, cnt)
+        else:
+            _sort_by(lo, o, p)
+        wn = aux[2 * d + int(u)]
+        mg = aux[2 * d + 2 + int(u)]
+        ok = True
+        for i in range(p):
+            ok &= abs(lo[i]) + abs(hi[i]) <= _MAXF  # (False for NaN: never with amax in range)
+        if not ok:
+            mg = np.inf  # every pair of the group is visited
+        if g == 0:  # the seed
+            near = np.inf
+            ia = 0
+            ib = 0
+            for x in range(p - 1):
+                a = min(o[x], o[x + 1])
+                b = max(o[x], o[x + 1])
+                s2 = 0.0
+                for c in range(d):
+                    rc = w[2 * row + a * d + c] - w[2 * row + b * d + c]
+                    s2 += rc * rc
+                if b >= m and s2 < near:
+                    near = s2
+                    ia = a * d
+                    ib = b * d
+            if ib:
+                best = _piece_dist2(w, row, ia, ib, row, d)
+        thr = (math.sqrt(max(best, cap)) * wn + mg) * (1.0 + _PRUNE_REL)
+        for x in range(p - 1):
+            a = o[x]
+            ha = hi[a]
+            for y in range(x + 1, p):
+                b = o[y]
+                if lo[b] - ha > thr:
+                    break
+                if a < m and b < m:
+                    continue
+                ia = min(a, b) * d
+                ib = max(a, b) * d
+                for t in range(ts, te):
+                    dist2 = _piece_dist2(w, t * row, ia, ib, row, d)
+                    if dist2 <= cap:
+                        suspect |= _suspect(w, t * row, ia, ib, row, d, dist2)
+                    if dist2 < best:
+                        best = dist2
+                        thr = (math.sqrt(max(best, cap)) * wn + mg) * (1.0 + _PRUNE_REL)
     return best, suspect
 
 
 @njit(**_INLINE)
-def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, pi, pj, amax, best_k, vv, rv, tt,
+def _suspect(w, t0, a, b, row, d, dist2):  # pragma: no cover - compiled
+    """Whether the float minimum ``dist2`` of the pair at offsets a, b on the piece from
+    waypoint block ``t0`` is not above certify's threshold ``1e-9 max(scale, 1e-6 absval)``
+    (then :func:`pmplan.certify.clearance` decides it exactly)."""
+    scale = 0.0
+    absval = 0.0
+    for c in range(d):
+        r0 = w[t0 + a + c] - w[t0 + b + c]
+        r1 = w[t0 + row + a + c] - w[t0 + row + b + c]
+        scale = max(scale, abs(r0), abs(r1))
+        absval = max(absval, abs(w[t0 + a + c]), abs(w[t0 + b + c]),
+                     abs(w[t0 + row + a + c]), abs(w[t0 + row + b + c]))
+    return not math.sqrt(dist2) > _REL * max(scale, absval * 1e-6)
+
+
+@njit(**_INLINE)
+def _clearance_exact(wf, b, kk, p, m, d, thr2):  # pragma: no cover - compiled
+    """The clearance loop deciding small minima as :func:`pmplan.certify.clearance` does.
+
+    Every piece and pair with a moving point of the waypoints ``wf[b]``. Returns ``(min
+    squared distance, suspect)``: ``suspect`` is True when some pair's float minimum is not
+    above certify's threshold ``1e-9 max(scale, 1e-6 absval)``.
+    """
+    row = p * d
+    w = wf[b]
+    best = np.inf
+    suspect = False
+    for t in range(kk - 1):
+        t0 = t * row
+        for i in range(p - 1):
+            for j in range(max(i + 1, m), p):
+                dist2 = _piece_dist2(w, t0, i * d, j * d, row, d)
+                if not dist2 > thr2:
+                    suspect |= _suspect(w, t0, i * d, j * d, row, d, dist2)
+                if dist2 < best:  # noqa: PLR1730 (explicit compare: NaN is never selected)
+                    best = dist2
+    return best, suspect
+
+
+@njit(**_OPTS)
+def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, amax, best_k, vv, rv, tt,
                  d2):  # pragma: no cover - compiled
     """The clearance of query ``b`` of :func:`_plan` from its waypoints ``wf[b]`` (SPEC 5).
 
     ``amax`` is the largest |coordinate| of the waypoints (finite); ``ddf``/``dd`` and
-    ``best_k``, ``vv``, ``rv``, ``tt``, ``d2`` are scratch, ``ia``, ``ja``, ``pi``, ``pj`` the
-    index tables. Returns ``(clearance, flags)``: flags is ``SUSPECT`` where
-    :func:`pmplan.certify.clearance` must re-decide the query, else 0.
+    ``best_k``, ``vv``, ``rv``, ``tt``, ``d2`` are scratch, ``ia``, ``ja`` the index tables
+    (empty from ``SWEEP_MIN`` points on: then the pruned sweep :func:`_sweep_min`). Returns
+    ``(clearance, flags)``: flags is ``SUSPECT`` where :func:`pmplan.certify.clearance` must
+    re-decide the query, else 0.
     """
     fl = 0
-    ndd = ddf.shape[0]
-    for x in range(ndd):
-        ddf[x] = wf[b, ia[x]] - wf[b, ja[x]]
     # A float squared distance above thr2 is certainly above certify's suspect threshold
     # 1e-9 max(scale, 1e-6 absval) <= 2.0000001e-9 amax; below it, decide as certify does.
-    thr2 = np.inf  # (outside that range every minimum is decided as certify does)
+    # (outside that range every minimum is decided as certify does)
+    best = 0.0
+    thr2 = np.inf
     if 1e-130 < amax < 1e130:
         thr2 = (_SURE * amax) * (_SURE * amax)
-    # a fast branch-free pass; if some minimum is small, the exact loop decides as certify
-    if d == 2:
-        best = _clearance_plane(dd, kk, npairs, best_k)
-    else:
-        best = _clearance_any(dd, kk, npairs, d, best_k, vv, rv, tt, d2)
+        # a fast pass; if some minimum is small, the exact loop decides as certify
+        if p >= SWEEP_MIN:
+            lo = np.empty(p)
+            hi = np.empty(p)
+            order = np.empty(4 * p + 1, np.int64)
+            aux = np.empty(2 * d + 4)
+            best, _ = _sweep_min(wf[b], kk, p, m, d, amax, lo, hi, order, aux, -np.inf)
+            if not best > thr2:  # the pairs that may be below thr2, as _clearance_exact
+                best, suspect = _sweep_min(wf[b], kk, p, m, d, amax, lo, hi, order, aux, thr2)
+                fl |= SUSPECT if suspect else 0
+                thr2 = -1.0  # (decided)
+        else:
+            for x in range(ddf.shape[0]):
+                ddf[x] = wf[b, ia[x]] - wf[b, ja[x]]
+            if d == 2:
+                best = _clearance_plane(dd, kk, npairs, best_k)
+            else:
+                best = _clearance_any(dd, kk, npairs, d, best_k, vv, rv, tt, d2)
     if not best > thr2:
-        best, suspect = _clearance_exact(wf, b, dd, kk, p, d, npairs, pi, pj, thr2)
+        best, suspect = _clearance_exact(wf, b, kk, p, m, d, thr2)
         if suspect:
             fl |= SUSPECT
     for i in range(m):
@@ -406,6 +637,13 @@ def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, pi, pj, amax, best
             if dist2 < best:  # noqa: PLR1730 (explicit compare: NaN is never selected)
                 best = dist2
     return math.sqrt(best), fl
+
+
+@njit(**_INLINE)
+def _brute_pairs(p, m):  # pragma: no cover - compiled
+    """The number of pairs with a moving point that the tables list for the brute-force
+    passes over the pairs (0 from ``SWEEP_MIN`` points on, where the sweep needs none)."""
+    return (p * (p - 1)) // 2 - (m * (m - 1)) // 2 if p < SWEEP_MIN else 0
 
 
 def _build_tables(r, m, n, d):
@@ -461,11 +699,11 @@ def _build_tables(r, m, n, d):
     for i in range(p * d):
         g1[(kk - 1) * row + i] = y0 + (r - 1) * p * d + i
     # the pairs with a moving point (i < j, j >= m), and the positions of their coordinates
-    npairs = (p * (p - 1)) // 2 - (m * (m - 1)) // 2
+    npairs = _brute_pairs(p, m)
     pi = np.empty(npairs, np.int64)
     pj = np.empty(npairs, np.int64)
     k = 0
-    for i in range(p - 1):
+    for i in range(p - 1 if npairs else 0):
         for j in range(max(i + 1, m), p):
             pi[k] = i
             pj[k] = j
@@ -570,13 +808,11 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
     x2 = src[x20:of0].reshape((r, n, d))
     off = src[of0:].reshape((n, d))
     size3 = 3 * size
-    npairs = (p * (p - 1)) // 2 - (m * (m - 1)) // 2  # pairs with a moving point
+    npairs = _brute_pairs(p, m)  # pairs with a moving point (0: the sweep, no tables)
     ndd = kk * d * npairs
     g1 = tab[0:size]
     g2 = tab[size:2 * size]
     add = tab[2 * size:size3]
-    pi = tab[size3:size3 + npairs]
-    pj = tab[size3 + npairs:size3 + 2 * npairs]
     ia = tab[size3 + 2 * npairs:size3 + 2 * npairs + ndd]
     ja = tab[size3 + 2 * npairs + ndd:size3 + 2 * npairs + 2 * ndd]
     ddf = np.empty(ndd)
@@ -744,8 +980,8 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
             flags[b] = fl
             continue
         # --- clearance: closed-form minimum per piece and pair ------------------------------
-        clr, fl_c = _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, pi, pj, amax,
-                                 best_k, vv, rv, tt, d2)
+        clr, fl_c = _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, amax, best_k,
+                                 vv, rv, tt, d2)
         clearance[b] = clr
         flags[b] = fl | fl_c
 
@@ -837,6 +1073,84 @@ def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
         T[dst, l] = best
 
 
+@njit(**_INLINE)
+def _rel4(S, w, a, b, a3, b3, l):  # pragma: no cover - compiled
+    """The relative position of a pair at waypoint block ``w``, lane l (see :func:`_pair_space`)."""
+    return (S[w + a, l] - S[w + b, l], S[w + a + 1, l] - S[w + b + 1, l],
+            S[w + a + 2, l] - S[w + b + 2, l], S[w + a3, l] - S[w + b3, l])
+
+
+@njit(**_INLINE)
+def _dist2_space(r1, r2):  # pragma: no cover - compiled
+    """:func:`_dist2_lanes` for 4 coordinates (relative positions ``r1`` -> ``r2``): the sums
+    sequential; without the ``0.0 +`` (no value changes, see :func:`_dist2_lanes`)."""
+    vx = r2[0] - r1[0]
+    vy = r2[1] - r1[1]
+    vz = r2[2] - r1[2]
+    vu = r2[3] - r1[3]
+    vv = ((vx * vx + vy * vy) + vz * vz) + vu * vu
+    q = _segment_param(-(((r1[0] * vx + r1[1] * vy) + r1[2] * vz) + r1[3] * vu), vv)
+    qx = r1[0] + q * vx
+    qy = r1[1] + q * vy
+    qz = r1[2] + q * vz
+    qu = r1[3] + q * vu
+    return ((qx * qx + qy * qy) + qz * qz) + qu * qu
+
+
+@njit(**_OPTS)
+def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - compiled
+    """:func:`_pair_plane` in space, d = 3 or 4: one pair over one segment, every lane.
+
+    Coordinates 0-2 of the pair's points are at rows ``a``, ``b`` (+ 0, 1, 2) of a waypoint,
+    the fourth at rows ``a3``, ``b3`` (d = 4: ``a + 3``, ``b + 3``; d = 3: ``a3 == b3``, whose
+    difference is 0: the sums then add 0.0 last, which changes no value -- a sum of squares
+    is never -0, and the sign of a zero ``num`` does not change the parameter, see
+    :func:`_dist2_lanes`). The sums over the coordinates are sequential, in certify's order.
+    Written out piece by piece (no inner loop), so that the loop over the lanes vectorises.
+    """
+    for l in range(S.shape[1]):
+        r0 = _rel4(S, w0, a, b, a3, b3, l)
+        best = ((r0[0] * r0[0] + r0[1] * r0[1]) + r0[2] * r0[2]) + r0[3] * r0[3]
+        z = T[src, l]
+        best = best if best < z else z  # noqa: FURB136 (a select: NaN never chosen)
+        r1 = _rel4(S, w0 + row, a, b, a3, b3, l)
+        r2 = _rel4(S, w0 + 2 * row, a, b, a3, b3, l)
+        x = _dist2_space(r1, r2)
+        best = x if x < best else best  # noqa: FURB136
+        r1 = _rel4(S, w0 + 3 * row, a, b, a3, b3, l)
+        x = _dist2_space(r2, r1)
+        best = x if x < best else best  # noqa: FURB136
+        r2 = _rel4(S, w0 + 4 * row, a, b, a3, b3, l)
+        x = _dist2_space(r1, r2)
+        best = x if x < best else best  # noqa: FURB136
+        r1 = _rel4(S, w0 + 5 * row, a, b, a3, b3, l)
+        x = _dist2_space(r2, r1)
+        best = x if x < best else best  # noqa: FURB136
+        r2 = _rel4(S, w0 + 6 * row, a, b, a3, b3, l)
+        x = _dist2_space(r1, r2)
+        T[dst, l] = x if x < best else best  # noqa: FURB136
+
+
+@njit(**_OPTS)
+def _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover - compiled
+    """Row ``mn`` of T = :func:`_sweep_min` of every lane of ``S`` whose waypoints are finite
+    (row ``BAD`` zero) with the largest |coordinate| (row ``mx``) in range (row ``THR2``
+    finite); the other lanes go to the scalar kernel anyway (inf: not above THR2)."""
+    L = S.shape[1]
+    size = S.shape[0]
+    w = np.empty(size)
+    lo = np.empty(p)
+    hi = np.empty(p)
+    order = np.empty(4 * p + 1, np.int64)
+    aux = np.empty(2 * d + 4)
+    for l in range(L):
+        T[mn, l] = np.inf
+        if T[BAD, l] == 0 and T[THR2, l] < np.inf:
+            for x in range(size):
+                w[x] = S[x, l]
+            T[mn, l] = _sweep_min(w, kk, p, m, d, T[mx, l], lo, hi, order, aux, -np.inf)[0]
+
+
 @njit(**_OPTS)
 def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
                    THR2):  # pragma: no cover - compiled
@@ -889,7 +1203,10 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
         z = _SURE * T[mx, l]
         T[THR2, l] = z * z if (T[mx, l] > 1e-130) & (T[mx, l] < 1e130) else np.inf
         T[mn, l] = np.inf
-    if d == 2:
+    if p >= SWEEP_MIN:
+        # many points: the exact pruned sweep, lane by lane (each lane has its own order)
+        _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d)
+    elif d == 2:
         # every segment C_k -> C_k+1 (its stationary start and five moving pieces) per pair
         for k in range(r - 1):
             for i in range(p - 1):
@@ -908,8 +1225,9 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
                 mn, mn2 = mn2, mn
     else:
         # the pieces that do not move: the squared distance at their start, once per C_k
-        # (certify's arithmetic with v = 0 gives exactly this)
-        for k in range(r):
+        # (certify's arithmetic with v = 0 gives exactly this); for d <= 4 _pair_space takes
+        # every segment C_k -> C_k+1, this only the last configuration
+        for k in range(r - 1 if d <= 4 else 0, r):
             r0 = 7 * k * row
             for i in range(p - 1):
                 for j in range(max(i + 1, m), p):
@@ -921,7 +1239,14 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
                             T[ACC, l] += rc * rc
                     _fold_min(T, ACC, mn, mn2)
                     mn, mn2 = mn2, mn
-        for t in range(kk - 1):
+        for k in range(r - 1 if d <= 4 else 0):
+            for i in range(p - 1):
+                for j in range(max(i + 1, m), p):
+                    a3 = i * d + 3 if d == 4 else 0
+                    b3 = j * d + 3 if d == 4 else 0
+                    _pair_space(S, 7 * k * row, i * d, j * d, a3, b3, row, T, mn, mn2)
+                    mn, mn2 = mn2, mn
+        for t in range(kk - 1 if d > 4 else 0):
             if t % 7 == 0 or t % 7 == 6:
                 continue
             r0 = t * row
