@@ -228,7 +228,10 @@ def planar_three_mixed(rng: np.random.Generator, b: int):
     mod = _planar_three_module()
     strata = _planar_three_strata(mod)
     counts = [b // len(strata) + (1 if i < b % len(strata) else 0) for i in range(len(strata))]
-    from pmplan.generators import planar_stratum_queries
+    try:
+        from pmplan.generators import planar_stratum_queries
+    except ImportError:  # an older pmplan (``run.py --baseline``): it was in the planner module
+        planar_stratum_queries = mod.stratum_queries
 
     parts = [planar_stratum_queries(rng, s, c) for s, c in zip(strata, counts) if c > 0]
     obs = np.concatenate([np.asarray(p[0], float) for p in parts])
@@ -289,16 +292,25 @@ def _baseline_rows(res: dict, part: str) -> tuple[dict, str]:
     return rows, f"{base['ref']} ({base['commit']})"
 
 
+def _head(cols: list[str], name: str) -> list[str]:
+    """The head and rule lines of a throughput table, with the baseline ``name``'s columns."""
+    if name:
+        cols = [*cols, f"queries/s at {name}", "new / old"]
+    return ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+
+
+def _vs_old(old: dict, r: dict) -> str:
+    """The baseline's columns of throughput row ``r``."""
+    o = old.get((r["case"], r["family"], r["B"]))
+    q = o["qps_best"] if o else float("nan")
+    return f" {_fmt(q)} | {_fmt(r['qps_best'] / q)} |"
+
+
 def _throughput_md(res: dict) -> str:
     old, name = _baseline_rows(res, "throughput")
-    head = ("| case | queries | B | queries/s (best) | queries/s (median) | time / one copy of "
-            "the output (best) | the same with out= | out=, every core | speed-up, every core "
-            "| output MB |")
-    rule = "|---|---|---|---|---|---|---|---|---|---|"
-    if name:
-        head += f" queries/s at {name} | new / old |"
-        rule += "---|---|"
-    lines = [head, rule]
+    lines = _head(["case", "queries", "B", "queries/s (best)", "queries/s (median)",
+                   "time / one copy of the output (best)", "the same with out=",
+                   "out=, every core", "speed-up, every core", "output MB"], name)
     for r in res["throughput"]:
         line = (
             f"| {r['case']} | {r['family']} | {r['B']:,} | {_fmt(r['qps_best'])} | "
@@ -306,11 +318,7 @@ def _throughput_md(res: dict) -> str:
             f"{_fmt(r.get('copy_ratio_out_best'))} | {_fmt(r.get('copy_ratio_out_all_best'))} | "
             f"{_fmt(r.get('speedup_all'))} | {r['out_mb']:.0f} |"
         )
-        if name:
-            o = old.get((r["case"], r["family"], r["B"]))
-            q = o["qps_best"] if o else float("nan")
-            line += f" {_fmt(q)} | {_fmt(r['qps_best'] / q)} |"
-        lines.append(line)
+        lines.append(line + (_vs_old(old, r) if name else ""))
     return "\n".join(lines)
 
 
@@ -319,13 +327,8 @@ def _summary_md(res: dict, rows: list) -> str:
     ``plan_batch(out=...)`` over one copy of the output on one core and on every core, the
     speed-up, and the old throughput when there is a baseline."""
     old, name = _baseline_rows(res, "throughput")
-    head = ("| case | B | queries/s, one core | ratio, one core | ratio, every core | "
-            "speed-up, every core |")
-    rule = "|---|---|---|---|---|---|"
-    if name:
-        head += f" queries/s at {name} | new / old |"
-        rule += "---|---|"
-    lines = [head, rule]
+    lines = _head(["case", "B", "queries/s, one core", "ratio, one core", "ratio, every core",
+                   "speed-up, every core"], name)
     for dims, b in rows:
         found = [r for r in res["throughput"] if r["dims"] == list(dims) and r["B"] == b
                  and r["family"] == "generic"]
@@ -335,11 +338,7 @@ def _summary_md(res: dict, rows: list) -> str:
         line = (f"| {r['case']} | {b:,} | {_fmt(r['qps_best'])} | "
                 f"{_fmt(r.get('copy_ratio_out_best'))} | {_fmt(r.get('copy_ratio_out_all_best'))} "
                 f"| {_fmt(r.get('speedup_all'))} |")
-        if name:
-            o = old.get((r["case"], r["family"], b))
-            q = o["qps_best"] if o else float("nan")
-            line += f" {_fmt(q)} | {_fmt(r['qps_best'] / q)} |"
-        lines.append(line)
+        lines.append(line + (_vs_old(old, r) if name else ""))
     return "\n".join(lines)
 
 

@@ -185,7 +185,11 @@ def throughput(rng, quick: bool, log, batch: int | None = None,
                 if (family == "degenerate" and m == 3 and n == 1 and d == 2)
                 else family
             )
-            pmplan.plan_batch(*_queries(rng, family, 1000, d, n, m), **kw)  # warm-up / JIT
+            try:
+                pmplan.plan_batch(*_queries(rng, family, 1000, d, n, m), **kw)  # warm-up / JIT
+            except Exception as exc:  # noqa: BLE001 - e.g. an older pmplan (--baseline)
+                skipped.append(f"{_label(d, n, m)} {family}: {type(exc).__name__}: {exc}"[:300])
+                continue
             est = None
             for b in _sizes((d, n, m), quick, batch):
                 probe = pmplan.plan_batch(*_queries(rng, "generic", 8, d, n, m), **kw)
