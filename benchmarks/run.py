@@ -367,9 +367,9 @@ def latency(rng, quick: bool, log) -> list[dict]:
 def memory(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
     """tracemalloc peak and RSS growth during plan_batch, relative to the output waypoints."""
     rows = []
-    b = batch or 100_000
     cases = [c for c in CASES if c != (2, 1, 3) or planar_three_available()]
     for d, n, m in cases:
+        b = _sizes((d, n, m), True, batch)[0]
         kw = _planner_kw(d, n, m)
         q = generic_queries(rng, b, d, n, m)
         pmplan.plan_batch(*(a[:100] for a in q), **kw)  # warm-up / JIT
@@ -646,7 +646,7 @@ def main(argv: list[str] | None = None) -> int:
         tp, skipped = throughput(rng_tp, args.quick, log, args.batch)
         log("where the time goes ((2,4,2), plan_batch):")
         bd = breakdown(rng, args.quick, log, args.batch)
-        log(f"memory (plan_batch, B = {args.batch or 100_000:,}):")
+        log("memory (plan_batch; B = 100,000, fewer for n = 64, 256):")
         mem = memory(rng, args.quick, log, args.batch)
         log("scaling:")
         sn, sr = scaling(rng, args.quick, log, args.batch)
