@@ -661,11 +661,12 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
         ]
         parts += sect
         doc += ["#" + s if s.startswith("## ") else s for s in sect]
-    scale = HERE / "scale_results.md"  # written by benchmarks/scale_bench.py
-    if scale.exists():
-        sect = scale.read_text().splitlines()
-        parts += sect
-        doc += ["#" + s if s.startswith("## ") else s for s in sect]
+    # the sections written by benchmarks/scale_bench.py and benchmarks/cert_bench.py
+    for section in (HERE / "scale_results.md", HERE / "cert_results.md"):
+        if section.exists():
+            sect = section.read_text().splitlines()
+            parts += sect
+            doc += ["#" + s if s.startswith("## ") else s for s in sect]
     owned = {line.rstrip() for line in parts if line.startswith("## ")}
     parts += _foreign_sections(HERE / "RESULTS.md", owned)
     (HERE / "RESULTS.md").write_text("\n".join(parts))

@@ -136,11 +136,12 @@ _EXTREME = 2.0**430
 #: ``lanes(...)`` queries at a time (:func:`_plan_lanes`)
 LANES_MIN = 16
 
-#: from this many points (m + n) on, the clearance is the exact pruned sweep of
-#: :func:`_sweep_min` (query by query; in :func:`_plan_lanes` lane by lane); below it every pair
-#: is evaluated, vectorised (over the pairs, or over the lanes). Measured with
-#: ``benchmarks/cert_bench.py``
-SWEEP_MIN = 24
+#: from this many points (m + n) on, in the plane and in space, the clearance is the exact
+#: pruned sweep of :func:`_sweep_min` (query by query; in :func:`_plan_lanes` lane by lane);
+#: below it every pair is evaluated, vectorised (over the pairs, or over the lanes). Measured
+#: with ``benchmarks/cert_bench.py`` (one core, ratio to a copy of the output, brute / sweep):
+#: (2,22,2) 6.9-12.2 / 9.9-14.0, (2,40,2) 11.5-14.2 / 10.8-12.3, (3,30,2) 11.6-15.0 / 9.3-10.7
+SWEEP_MIN = (40, 24)
 #: the margins of the sweep's pruning, relative to the largest |coordinate| (see _sweep_min):
 #: the distance of the closed form's float point to an exact point of the piece, a float
 #: projection's error per coordinate, and a relative slack for every other rounding
@@ -605,7 +606,7 @@ def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, amax, best_k, vv, 
     if 1e-130 < amax < 1e130:
         thr2 = (_SURE * amax) * (_SURE * amax)
         # a fast pass; if some minimum is small, the exact loop decides as certify
-        if p >= SWEEP_MIN:
+        if _sweeps(p, d):
             lo = np.empty(p)
             hi = np.empty(p)
             order = np.empty(4 * p + 1, np.int64)
@@ -640,10 +641,16 @@ def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, amax, best_k, vv, 
 
 
 @njit(**_INLINE)
-def _brute_pairs(p, m):  # pragma: no cover - compiled
+def _sweeps(p, d):  # pragma: no cover - compiled
+    """Whether the clearance of p points in dimension d is the sweep (:data:`SWEEP_MIN`)."""
+    return p >= (SWEEP_MIN[0] if d == 2 else SWEEP_MIN[1])
+
+
+@njit(**_INLINE)
+def _brute_pairs(p, m, d):  # pragma: no cover - compiled
     """The number of pairs with a moving point that the tables list for the brute-force
-    passes over the pairs (0 from ``SWEEP_MIN`` points on, where the sweep needs none)."""
-    return (p * (p - 1)) // 2 - (m * (m - 1)) // 2 if p < SWEEP_MIN else 0
+    passes over the pairs (0 where the sweep needs none, :func:`_sweeps`)."""
+    return 0 if _sweeps(p, d) else (p * (p - 1)) // 2 - (m * (m - 1)) // 2
 
 
 def _build_tables(r, m, n, d):
@@ -699,7 +706,7 @@ def _build_tables(r, m, n, d):
     for i in range(p * d):
         g1[(kk - 1) * row + i] = y0 + (r - 1) * p * d + i
     # the pairs with a moving point (i < j, j >= m), and the positions of their coordinates
-    npairs = _brute_pairs(p, m)
+    npairs = _brute_pairs(p, m, d)
     pi = np.empty(npairs, np.int64)
     pj = np.empty(npairs, np.int64)
     k = 0
@@ -808,7 +815,7 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
     x2 = src[x20:of0].reshape((r, n, d))
     off = src[of0:].reshape((n, d))
     size3 = 3 * size
-    npairs = _brute_pairs(p, m)  # pairs with a moving point (0: the sweep, no tables)
+    npairs = _brute_pairs(p, m, d)  # pairs with a moving point (0: the sweep, no tables)
     ndd = kk * d * npairs
     g1 = tab[0:size]
     g2 = tab[size:2 * size]
@@ -1097,6 +1104,15 @@ def _dist2_space(r1, r2):  # pragma: no cover - compiled
     return ((qx * qx + qy * qy) + qz * qz) + qu * qu
 
 
+@njit(**_INLINE)
+def _step_space(S, w, a, b, a3, b3, l, r1, best):  # pragma: no cover - compiled
+    """One piece of :func:`_pair_space`: the relative position ``r2`` at waypoint block ``w``,
+    and ``(r2, min(best, the squared minimum distance of the piece r1 -> r2))``."""
+    r2 = _rel4(S, w, a, b, a3, b3, l)
+    x = _dist2_space(r1, r2)
+    return r2, (x if x < best else best)  # noqa: FURB136 (a select: NaN never chosen)
+
+
 @njit(**_OPTS)
 def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - compiled
     """:func:`_pair_plane` in space, d = 3 or 4: one pair over one segment, every lane.
@@ -1114,21 +1130,12 @@ def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - co
         z = T[src, l]
         best = best if best < z else z  # noqa: FURB136 (a select: NaN never chosen)
         r1 = _rel4(S, w0 + row, a, b, a3, b3, l)
-        r2 = _rel4(S, w0 + 2 * row, a, b, a3, b3, l)
-        x = _dist2_space(r1, r2)
-        best = x if x < best else best  # noqa: FURB136
-        r1 = _rel4(S, w0 + 3 * row, a, b, a3, b3, l)
-        x = _dist2_space(r2, r1)
-        best = x if x < best else best  # noqa: FURB136
-        r2 = _rel4(S, w0 + 4 * row, a, b, a3, b3, l)
-        x = _dist2_space(r1, r2)
-        best = x if x < best else best  # noqa: FURB136
-        r1 = _rel4(S, w0 + 5 * row, a, b, a3, b3, l)
-        x = _dist2_space(r2, r1)
-        best = x if x < best else best  # noqa: FURB136
-        r2 = _rel4(S, w0 + 6 * row, a, b, a3, b3, l)
-        x = _dist2_space(r1, r2)
-        T[dst, l] = x if x < best else best  # noqa: FURB136
+        r1, best = _step_space(S, w0 + 2 * row, a, b, a3, b3, l, r1, best)
+        r1, best = _step_space(S, w0 + 3 * row, a, b, a3, b3, l, r1, best)
+        r1, best = _step_space(S, w0 + 4 * row, a, b, a3, b3, l, r1, best)
+        r1, best = _step_space(S, w0 + 5 * row, a, b, a3, b3, l, r1, best)
+        r1, best = _step_space(S, w0 + 6 * row, a, b, a3, b3, l, r1, best)
+        T[dst, l] = best
 
 
 @njit(**_OPTS)
@@ -1203,7 +1210,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
         z = _SURE * T[mx, l]
         T[THR2, l] = z * z if (T[mx, l] > 1e-130) & (T[mx, l] < 1e130) else np.inf
         T[mn, l] = np.inf
-    if p >= SWEEP_MIN:
+    if _sweeps(p, d):
         # many points: the exact pruned sweep, lane by lane (each lane has its own order)
         _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d)
     elif d == 2:
@@ -1246,6 +1253,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
                     b3 = j * d + 3 if d == 4 else 0
                     _pair_space(S, 7 * k * row, i * d, j * d, a3, b3, row, T, mn, mn2)
                     mn, mn2 = mn2, mn
+        R = np.empty((2 * d, L))  # d > 4: the relative position and motion of a pair
         for t in range(kk - 1 if d > 4 else 0):
             if t % 7 == 0 or t % 7 == 6:
                 continue
@@ -1261,18 +1269,16 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
                         for l in range(L):
                             rc = S[si, l] - S[sj, l]
                             vc = (S[si + row, l] - S[sj + row, l]) - rc
+                            R[c, l] = rc
+                            R[d + c, l] = vc
                             T[ACC, l] += vc * vc
                             T[ACC2, l] += rc * vc
                     for l in range(L):
                         T[Q, l] = _segment_param(-T[ACC2, l], T[ACC, l])
                         T[ACC, l] = 0.0
                     for c in range(d):
-                        si = r0 + i * d + c
-                        sj = r0 + j * d + c
                         for l in range(L):
-                            rc = S[si, l] - S[sj, l]
-                            vc = (S[si + row, l] - S[sj + row, l]) - rc
-                            qc = rc + T[Q, l] * vc
+                            qc = R[c, l] + T[Q, l] * R[d + c, l]
                             T[ACC, l] += qc * qc
                     _fold_min(T, ACC, mn, mn2)
                     mn, mn2 = mn2, mn
