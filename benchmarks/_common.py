@@ -228,7 +228,10 @@ def planar_three_mixed(rng: np.random.Generator, b: int):
     mod = _planar_three_module()
     strata = _planar_three_strata(mod)
     counts = [b // len(strata) + (1 if i < b % len(strata) else 0) for i in range(len(strata))]
-    from pmplan.generators import planar_stratum_queries
+    try:
+        from pmplan.generators import planar_stratum_queries
+    except ImportError:  # an older pmplan (``run.py --baseline``): it was in the planner module
+        planar_stratum_queries = mod.stratum_queries
 
     parts = [planar_stratum_queries(rng, s, c) for s, c in zip(strata, counts) if c > 0]
     obs = np.concatenate([np.asarray(p[0], float) for p in parts])
@@ -276,18 +279,66 @@ def _machine_md(info: dict) -> str:
     return "\n".join(["| | |", "|---|---|"] + [f"| {k} | {v} |" for k, v in rows])
 
 
+def _baseline_rows(res: dict, part: str) -> tuple[dict, str]:
+    """The rows of ``part`` ("throughput" or "latency") of the ``--baseline`` run by key, and
+    the baseline's name (empty when there is none)."""
+    base = res.get("baseline")
+    if not base:
+        return {}, ""
+    if part == "throughput":
+        rows = {(r["case"], r["family"], r["B"]): r for r in base.get(part, [])}
+    else:
+        rows = {r["case"]: r for r in base.get(part, [])}
+    return rows, f"{base['ref']} ({base['commit']})"
+
+
+def _head(cols: list[str], name: str) -> list[str]:
+    """The head and rule lines of a throughput table, with the baseline ``name``'s columns."""
+    if name:
+        cols = [*cols, f"queries/s at {name}", "new / old"]
+    return ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+
+
+def _vs_old(old: dict, r: dict) -> str:
+    """The baseline's columns of throughput row ``r``."""
+    o = old.get((r["case"], r["family"], r["B"]))
+    q = o["qps_best"] if o else float("nan")
+    return f" {_fmt(q)} | {_fmt(r['qps_best'] / q)} |"
+
+
 def _throughput_md(res: dict) -> str:
-    head = (
-        "| case | queries | B | queries/s (best) | queries/s (median) | time / one copy of "
-        "the output (best) | the same with out= | output MB |\n|---|---|---|---|---|---|---|---|"
-    )
-    lines = [head]
+    old, name = _baseline_rows(res, "throughput")
+    lines = _head(["case", "queries", "B", "queries/s (best)", "queries/s (median)",
+                   "time / one copy of the output (best)", "the same with out=",
+                   "out=, every core", "speed-up, every core", "output MB"], name)
     for r in res["throughput"]:
-        lines.append(
+        line = (
             f"| {r['case']} | {r['family']} | {r['B']:,} | {_fmt(r['qps_best'])} | "
             f"{_fmt(r['qps_median'])} | {_fmt(r['copy_ratio_best'])} | "
-            f"{_fmt(r.get('copy_ratio_out_best'))} | {r['out_mb']:.0f} |"
+            f"{_fmt(r.get('copy_ratio_out_best'))} | {_fmt(r.get('copy_ratio_out_all_best'))} | "
+            f"{_fmt(r.get('speedup_all'))} | {r['out_mb']:.0f} |"
         )
+        lines.append(line + (_vs_old(old, r) if name else ""))
+    return "\n".join(lines)
+
+
+def _summary_md(res: dict, rows: list) -> str:
+    """The issue's table: for each (case, B) of ``rows`` (generic queries), the time of
+    ``plan_batch(out=...)`` over one copy of the output on one core and on every core, the
+    speed-up, and the old throughput when there is a baseline."""
+    old, name = _baseline_rows(res, "throughput")
+    lines = _head(["case", "B", "queries/s, one core", "ratio, one core", "ratio, every core",
+                   "speed-up, every core"], name)
+    for dims, b in rows:
+        found = [r for r in res["throughput"] if r["dims"] == list(dims) and r["B"] == b
+                 and r["family"] == "generic"]
+        if not found:
+            continue
+        r = found[0]
+        line = (f"| {r['case']} | {b:,} | {_fmt(r['qps_best'])} | "
+                f"{_fmt(r.get('copy_ratio_out_best'))} | {_fmt(r.get('copy_ratio_out_all_best'))} "
+                f"| {_fmt(r.get('speedup_all'))} |")
+        lines.append(line + (_vs_old(old, r) if name else ""))
     return "\n".join(lines)
 
 
@@ -303,15 +354,22 @@ def _breakdown_md(res: dict) -> str:
 
 
 def _latency_md(res: dict) -> str:
-    lines = [
-        "| case | median latency (us) | p10 (us) | p90 (us) | calls |",
-        "|---|---|---|---|---|",
-    ]
+    old, name = _baseline_rows(res, "latency")
+    head = "| case | p10 (us) | p50, median (us) | p90 (us) | calls |"
+    rule = "|---|---|---|---|---|"
+    if name:
+        head += f" p50 at {name} (us) |"
+        rule += "---|"
+    lines = [head, rule]
     for r in res["latency"]:
-        lines.append(
-            f"| {r['case']} | {_fmt(r['median_us'])} | {_fmt(r['p10_us'])} | "
+        line = (
+            f"| {r['case']} | {_fmt(r['p10_us'])} | {_fmt(r['median_us'])} | "
             f"{_fmt(r['p90_us'])} | {r['calls']} |"
         )
+        if name:
+            o = old.get(r["case"])
+            line += f" {_fmt(o['median_us'] if o else float('nan'))} |"
+        lines.append(line)
     return "\n".join(lines)
 
 
@@ -403,11 +461,47 @@ How to read it:
 """
 
 
+def _sections(text: str) -> list[tuple[str, list[str]]]:
+    """The ``## `` sections of a markdown text: (title line, its lines), in order; what comes
+    before the first one is left out."""
+    out: list[tuple[str, list[str]]] = []
+    for line in text.splitlines():
+        if line.startswith("## "):
+            out.append((line.rstrip(), [line]))
+        elif out:
+            out[-1][1].append(line)
+    return out
+
+
+def _foreign_sections(path: Path, owned: set[str]) -> list[str]:
+    """The lines of every ``## `` section of the file ``path`` whose title is not in ``owned``
+    -- the sections other scripts write into RESULTS.md (the explore load test, the refinement,
+    the certificate...) -- so that rewriting the file keeps them, in their order."""
+    if not path.exists():
+        return []
+    lines: list[str] = []
+    for title, sect in _sections(path.read_text()):
+        if title not in owned:
+            while sect and not sect[-1].strip():
+                sect = sect[:-1]
+            lines += [*sect, ""]
+    return lines
+
+
+SUMMARY_EXPLAIN = """\
+Generic queries, `plan_batch(..., out=earlier_batch)` (no new memory) divided by ONE `np.copyto`
+of the output waypoints, measured in the same run: on one core, and with `workers=-1` (one
+thread per core, {cores} here); the speed-up is the one-core time over the every-core time.
+With `--baseline REF`, the throughput of REF measured in the same run (a separate process on
+the same queries, just before this one's)."""
+
+
 def write_reports(results: dict | None = None, ompl: dict | None = None) -> None:
     """Write ``benchmarks/RESULTS.md`` and ``docs/benchmarks.md`` from the saved JSON results.
 
     Whichever of ``results`` / ``ompl`` is given is saved first; the other is read from its
-    JSON file if a previous run left one, so the two scripts can run separately.
+    JSON file if a previous run left one, so the two scripts can run separately. Every section
+    of the old RESULTS.md this function does not write (another script's) is kept.
     """
     if results is not None:
         RESULTS_JSON.write_text(json.dumps(results, indent=1, default=float))
@@ -450,6 +544,12 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
             "## Goals",
             "",
             _goals_md(results),
+            "",
+            "## Summary: time / one copy of the output, one core and every core",
+            "",
+            SUMMARY_EXPLAIN.format(cores=results["machine"]["cores"]),
+            "",
+            _summary_md(results, results.get("summary_rows", [])),
             "",
             "## Batch throughput (`plan_batch`, one core)",
             "",
@@ -516,6 +616,10 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
             "",
             _goals_md(results),
             "",
+            "### Summary: time / one copy of the output, one core and every core",
+            "",
+            _summary_md(results, results.get("summary_rows", [])),
+            "",
             "### Batch throughput (one core)",
             "",
             _throughput_md(results),
@@ -563,6 +667,8 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
             sect = section.read_text().splitlines()
             parts += sect
             doc += ["#" + s if s.startswith("## ") else s for s in sect]
+    owned = {line.rstrip() for line in parts if line.startswith("## ")}
+    parts += _foreign_sections(HERE / "RESULTS.md", owned)
     (HERE / "RESULTS.md").write_text("\n".join(parts))
     docs = ROOT / "docs"
     docs.mkdir(exist_ok=True)

@@ -5,6 +5,7 @@ Usage (from the repository root)::
     python benchmarks/run.py            # full run (several minutes)
     python benchmarks/run.py --quick    # B = 100,000 only, fewer repeats (about a minute or two)
     python benchmarks/run.py --ompl     # also run benchmarks/ompl_compare.py (needs pmplan[bench])
+    python benchmarks/run.py --quick --baseline REF   # and git ref REF, same queries, same run
 
 It prints every measurement and the goal ratios, and writes ``benchmarks/RESULTS.md``,
 ``benchmarks/results.json``, ``docs/benchmarks.md`` and ``docs/scaling.png``.
@@ -12,18 +13,22 @@ It prints every measurement and the goal ratios, and writes ``benchmarks/RESULTS
 What is measured (see ``benchmarks/README.md`` for how to read it):
 
 * **throughput** of :func:`pmplan.plan_batch` on one core, queries/s, for (d, n, m) =
-  (2,1,2), (2,4,2), (2,16,2), (4,4,2), (3,4,2), (2,4,5) and the planar three-obstacle planner
-  (2,1,3), at B = 100,000 and 1,000,000; each with generic and exactly degenerate queries; next
-  to it the ratio of the batch time to ONE ``np.copyto`` of an array as large as the output
-  waypoints, measured in the same run (a machine-independent yardstick);
-* **latency** of one :func:`pmplan.plan` call (median over many calls);
+  (2,1,2), (2,4,2), (2,16,2), (2,64,2), (2,256,2), (4,4,2), (3,4,2), (2,4,5) and the planar
+  three-obstacle planner (2,1,3), at B = 100,000 and 1,000,000 (fewer for n = 64, 256: see
+  ``SIZES``); each with generic and (n <= 16) exactly degenerate queries; next to it the ratio
+  of the batch time to ONE ``np.copyto`` of an array as large as the output waypoints, measured
+  in the same run (a machine-independent yardstick), and the same with ``workers=-1`` (every
+  core) and its speed-up;
+* **latency** of one :func:`pmplan.plan` call (p10 / p50 / p90 over many calls), every planner;
 * **memory**: peak traced allocation during ``plan_batch`` / output waypoint bytes
   (tracemalloc), and peak resident-set growth / output bytes;
-* **scaling** with the number of robots n (1 .. 64) and with the number r of configurations of
+* **scaling** with the number of robots n (1 .. 256) and with the number r of configurations of
   sequential planning (:func:`pmplan.plan_sequence_batch`, r = 2 .. 10).
 
 Only the public API is used, so a faster core or a new planner is picked up automatically; the
-planar three-obstacle cases are skipped while that planner is absent. The RNG is seeded
+planar three-obstacle cases are skipped while that planner is absent. ``--baseline REF`` runs the
+latency and throughput parts of this script once more, first, in a separate process on a
+temporary clone at REF (same seeds, same queries), and reports old and new side by side. The RNG is seeded
 (``--seed``). This file is not a test: pytest never collects it (``benchmarks/conftest.py``).
 """
 
@@ -31,8 +36,11 @@ from __future__ import annotations
 
 import argparse
 import gc
+import json
+import os
 import subprocess
 import sys
+import tempfile
 import time
 import tracemalloc
 from pathlib import Path
@@ -60,7 +68,21 @@ import pmplan
 __all__ = ["main"]
 
 #: (d, n, m) of the throughput table; (2, 1, 3) is the planar three-obstacle planner
-CASES = [(2, 1, 2), (2, 4, 2), (2, 16, 2), (4, 4, 2), (3, 4, 2), (2, 4, 5), (2, 1, 3)]
+CASES = [(2, 1, 2), (2, 4, 2), (2, 16, 2), (2, 64, 2), (2, 256, 2), (4, 4, 2), (3, 4, 2),
+         (2, 4, 5), (2, 1, 3)]
+#: the batch sizes of the many-robot cases (instead of 100,000 and 1,000,000): their output is
+#: 8.4 kB (n = 64) and 33 kB (n = 256) per query (169 and 33 MB here, about the (2,16,2) and
+#: (2,1,2) outputs), and a quadratic certificate plans a (2,256,2) query in milliseconds
+SIZES = {(2, 64, 2): [20_000], (2, 256, 2): [1_000]}
+#: the numbers of robots of the scaling table and plot (d = 2, m = 2)
+SCALING_N = (1, 2, 4, 8, 16, 32, 64, 128, 256)
+#: latency goals, us (median of one pmplan.plan call), by case label
+LATENCY_GOALS = {"(2,4,2)": 10.0, "planar_three (2,1,3)": 10.0, "(2,16,2)": 25.0}
+#: the rows of the summary table (the issue's table): (d, n, m), B
+SUMMARY = [((2, 4, 2), 100_000), ((2, 4, 2), 1_000_000), ((2, 16, 2), 100_000),
+           ((2, 64, 2), 20_000), ((2, 256, 2), 1_000), ((3, 4, 2), 100_000),
+           ((4, 4, 2), 100_000), ((2, 1, 3), 100_000), ((2, 1, 2), 100_000),
+           ((2, 4, 5), 100_000)]
 #: a batch whose output waypoints would exceed this many bytes is not run (shared 24 GiB machine)
 MAX_OUTPUT_BYTES = 3 * 2**30
 #: a B = 1,000,000 case estimated (from B = 100,000) to take longer than this is skipped
@@ -92,10 +114,12 @@ def _planner_kw(d: int, n: int, m: int) -> dict:
     return {"planner": "planar_three"} if (d, n, m) == (2, 1, 3) else {}
 
 
-def _time_batch_and_copy(q, kw: dict, quick: bool) -> tuple[list[float], list[float],
-                                                             list[float]]:
-    """Interleaved timings of plan_batch(*q), of plan_batch(*q, out=...) into the arrays of an
-    earlier batch, and of one np.copyto of the output waypoints (into an existing array)."""
+def _time_batch_and_copy(q, kw: dict, quick: bool) -> dict[str, list[float]]:
+    """Interleaved timings of plan_batch(*q) (``batch``), of plan_batch(*q, out=...) into the
+    arrays of an earlier batch on one core (``out``) and on every core (``out_all``,
+    ``workers=-1``), and of one np.copyto of the output waypoints into an existing array
+    (``copy``). A timing the pmplan under test does not support (``out=`` or ``workers`` of an
+    old version, ``--baseline``) is left empty."""
 
     def batch():
         return pmplan.plan_batch(*q, **kw)
@@ -113,33 +137,61 @@ def _time_batch_and_copy(q, kw: dict, quick: bool) -> tuple[list[float], list[fl
     def into():
         pmplan.plan_batch(*q, out=res, **kw)
 
-    tb, tc, tr = [first], [], []
+    def into_all():
+        pmplan.plan_batch(*q, out=res, workers=-1, **kw)
+
+    t = {"batch": [first], "copy": [], "out": [], "out_all": []}
+    calls = {"out": into, "out_all": into_all}
+    for name, fn in list(calls.items()):
+        try:
+            fn()
+        except TypeError:  # an old pmplan without out= / workers
+            del calls[name]
     for _ in range(reps):
-        tb += timeit(batch, 1)
-        tr += timeit(into, 1)
-        tc += timeit(copy, 1)
-    return tb, tc, tr
+        t["batch"] += timeit(batch, 1)
+        for name, fn in calls.items():
+            t[name] += timeit(fn, 1)
+        t["copy"] += timeit(copy, 1)
+    return t
 
 
-def throughput(rng, quick: bool, log, batch: int | None = None) -> tuple[list[dict], list[str]]:
-    """Batch throughput and copy ratio for every case, family and B."""
+def _best(ts: list[float]) -> float:
+    return min(ts) if ts else float("nan")
+
+
+def _sizes(case: tuple[int, int, int], quick: bool, batch: int | None) -> list[int]:
+    """The batch sizes of one throughput case."""
+    if batch:
+        return [batch]
+    if case in SIZES:
+        return SIZES[case]
+    return [100_000] if quick else [100_000, 1_000_000]
+
+
+def throughput(rng, quick: bool, log, batch: int | None = None,
+               cases: list | None = None) -> tuple[list[dict], list[str]]:
+    """Batch throughput and copy ratio for every case, family and B, on one core and on every
+    core (``workers=-1``, with ``out=``: the speed-up of the threads of one call)."""
     rows, skipped = [], []
-    sizes = [batch] if batch else [100_000] if quick else [100_000, 1_000_000]
-    for d, n, m in CASES:
+    for d, n, m in cases or CASES:
         if (d, n, m) == (2, 1, 3) and not planar_three_available():
             skipped.append("planar_three (2,1,3): planner not installed")
             continue
         kw = _planner_kw(d, n, m)
-        families = ["generic", "degenerate"]
+        families = ["generic"] if n > 16 else ["generic", "degenerate"]
         for family in families:
             fam_label = (
                 "strata mix"
                 if (family == "degenerate" and m == 3 and n == 1 and d == 2)
                 else family
             )
-            pmplan.plan_batch(*_queries(rng, family, 1000, d, n, m), **kw)  # warm-up / JIT
+            try:
+                pmplan.plan_batch(*_queries(rng, family, 1000, d, n, m), **kw)  # warm-up / JIT
+            except Exception as exc:  # noqa: BLE001 - e.g. an older pmplan (--baseline)
+                skipped.append(f"{_label(d, n, m)} {family}: {type(exc).__name__}: {exc}"[:300])
+                continue
             est = None
-            for b in sizes:
+            for b in _sizes((d, n, m), quick, batch):
                 probe = pmplan.plan_batch(*_queries(rng, "generic", 8, d, n, m), **kw)
                 out_bytes = probe.waypoints.nbytes // 8 * b
                 if out_bytes > MAX_OUTPUT_BYTES:
@@ -154,14 +206,14 @@ def throughput(rng, quick: bool, log, batch: int | None = None) -> tuple[list[di
                     )
                     continue
                 try:
-                    tb, tc, tr = _time_batch_and_copy(_queries(rng, family, b, d, n, m), kw,
-                                                      quick)
+                    t = _time_batch_and_copy(_queries(rng, family, b, d, n, m), kw, quick)
                 except Exception as exc:  # noqa: BLE001 - report, do not crash the suite
                     skipped.append(
                         f"{_label(d, n, m)} {family} B={b:,}: {type(exc).__name__}: {exc}"[:300]
                     )
                     continue
                 gc.collect()
+                tb, tc = t["batch"], t["copy"]
                 est = min(tb) / b
                 row = {
                     "case": _label(d, n, m),
@@ -174,9 +226,13 @@ def throughput(rng, quick: bool, log, batch: int | None = None) -> tuple[list[di
                     "batch_s_best": min(tb),
                     "copy_ratio_best": min(tb) / min(tc),
                     "copy_ratio_median": float(np.median(tb) / np.median(tc)),
-                    "out_s_best": min(tr),
-                    "qps_out_best": b / min(tr),
-                    "copy_ratio_out_best": min(tr) / min(tc),
+                    "out_s_best": _best(t["out"]),
+                    "qps_out_best": b / _best(t["out"]),
+                    "copy_ratio_out_best": _best(t["out"]) / min(tc),
+                    "out_all_s_best": _best(t["out_all"]),
+                    "qps_out_all_best": b / _best(t["out_all"]),
+                    "copy_ratio_out_all_best": _best(t["out_all"]) / min(tc),
+                    "speedup_all": _best(t["out"]) / _best(t["out_all"]),
                     "out_mb": out_bytes / 1e6,
                     "repeats": len(tb),
                 }
@@ -184,7 +240,8 @@ def throughput(rng, quick: bool, log, batch: int | None = None) -> tuple[list[di
                 log(
                     f"  {row['case']:22s} {fam_label:10s} B={b:>9,}  {row['qps_best']:>12,.0f} q/s"
                     f" (median {row['qps_median']:,.0f})  batch/copy = {row['copy_ratio_best']:.2f}"
-                    f" (out=: {row['copy_ratio_out_best']:.2f})"
+                    f" (out=: {row['copy_ratio_out_best']:.2f}; every core: "
+                    f"{row['copy_ratio_out_all_best']:.2f}, speed-up {row['speedup_all']:.2f})"
                 )
     return rows, skipped
 
@@ -258,10 +315,11 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
 
 
 def latency(rng, quick: bool, log) -> list[dict]:
-    """Median wall time of one pmplan.plan call (and one plan_sequence call, r = 3)."""
+    """Wall time of one pmplan.plan call, p10 / p50 / p90 over many calls, for every planner
+    (and one plan_sequence call, r = 3)."""
     calls = 300 if quick else 2000
     rows = []
-    cases = [(2, 1, 2), (2, 4, 2), (3, 4, 2), (2, 4, 5), (2, 16, 2)]
+    cases = [(2, 1, 2), (2, 4, 2), (3, 4, 2), (4, 4, 2), (2, 4, 5), (2, 16, 2)]
     if planar_three_available():
         cases.append((2, 1, 3))
     for case in cases + ["seq"]:
@@ -300,7 +358,7 @@ def latency(rng, quick: bool, log) -> list[dict]:
             }
         )
         log(
-            f"  {label:30s} median {np.median(us):9.1f} us  (p10 {np.percentile(us, 10):.1f}, "
+            f"  {label:30s} p50 {np.median(us):9.1f} us  (p10 {np.percentile(us, 10):.1f}, "
             f"p90 {np.percentile(us, 90):.1f})"
         )
     return rows
@@ -309,9 +367,9 @@ def latency(rng, quick: bool, log) -> list[dict]:
 def memory(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
     """tracemalloc peak and RSS growth during plan_batch, relative to the output waypoints."""
     rows = []
-    b = batch or 100_000
     cases = [c for c in CASES if c != (2, 1, 3) or planar_three_available()]
     for d, n, m in cases:
+        b = _sizes((d, n, m), True, batch)[0]
         kw = _planner_kw(d, n, m)
         q = generic_queries(rng, b, d, n, m)
         pmplan.plan_batch(*(a[:100] for a in q), **kw)  # warm-up / JIT
@@ -368,8 +426,9 @@ def scaling(rng, quick: bool, log, batch: int | None = None) -> tuple[list[dict]
     rows_n, rows_r = [], []
     # ~ B * (n + m): keeps the output size similar across n
     budget = 3 * batch if batch else 300_000 if quick else 1_200_000
-    for n in (1, 2, 4, 8, 16, 32, 64):
-        b = max(2_000, budget // (n + 2))
+    for n in SCALING_N:
+        # fewer queries from n = 64 on (the certificate's pairs grow as n^2), at least 500
+        b = max(500, budget // (n + 2) // max(1, n // 32))
         q = generic_queries(rng, b, 2, n, 2)
         pmplan.plan_batch(*(a[:200] for a in q))
         rows_n.append(_cost_row("n", n, b, lambda q=q: pmplan.plan_batch(*q), log))
@@ -451,16 +510,30 @@ def goals(results: dict) -> list[dict]:
                 "met": worst <= 3,
             }
         )
-    lat = [r for r in results["latency"] if r["case"] == "(2,4,2)"]
-    if lat:
-        out.append(
-            {
-                "goal": "single-query latency, (2,4,2)",
-                "target": "<= 20 us",
-                "measured": f"{lat[0]['median_us']:.1f} us",
-                "met": lat[0]["median_us"] <= 20,
-            }
-        )
+    # issue 17: time of plan_batch(out=...) / one copy, generic, one core, B = 100,000
+    ratio = {tuple(r["dims"]): r["copy_ratio_out_best"] for r in results["throughput"]
+             if r["family"] == "generic" and r["B"] == SIZES.get(tuple(r["dims"]), [100_000])[0]}
+    for dims, limit in (((2, 16, 2), 5.0), ((3, 4, 2), 4.0), ((4, 4, 2), 4.0), ((2, 1, 3), 3.0)):
+        if dims in ratio:
+            out.append({"goal": f"plan_batch(out=) / one copy, {_label(*dims)} generic, one core",
+                        "target": f"<= {limit:g}", "measured": f"{ratio[dims]:.2f}",
+                        "met": ratio[dims] <= limit})
+    if (2, 16, 2) in ratio and (2, 64, 2) in ratio:
+        grow = ratio[(2, 64, 2)] / ratio[(2, 16, 2)]
+        out.append({"goal": "the same ratio, (2,64,2) over (2,16,2)", "target": "<= 1.5",
+                    "measured": f"{grow:.2f}", "met": grow <= 1.5})
+    for case, limit in LATENCY_GOALS.items():
+        lat = [r for r in results["latency"] if r["case"] == case]
+        if lat:
+            out.append(
+                {
+                    "goal": f"single-query latency (p50), {case}",
+                    "target": f"<= {limit:g} us",
+                    "measured": f"{lat[0]['median_us']:.1f} us (p10 {lat[0]['p10_us']:.1f}, "
+                                f"p90 {lat[0]['p90_us']:.1f})",
+                    "met": lat[0]["median_us"] <= limit,
+                }
+            )
     if results["memory"]:
         worst = max(results["memory"], key=lambda r: r["tracemalloc_ratio"])
         out.append(
@@ -485,6 +558,41 @@ def goals(results: dict) -> list[dict]:
     return out
 
 
+def _rngs(seed: int) -> tuple[np.random.Generator, np.random.Generator]:
+    """The generators of the latency and the throughput queries: their own streams, so that a
+    ``--baseline`` process draws the same queries as this one."""
+    return np.random.default_rng([seed, 1]), np.random.default_rng([seed, 2])
+
+
+def baseline(ref: str, args, log) -> dict | None:
+    """Latency and throughput of the pmplan of git ref ``ref``, measured by this script in a
+    separate process (``--part``) with ``PYTHONPATH`` at a temporary clone of the repository
+    checked out at ``ref``; the same seeds, hence the same queries. None if it failed."""
+    git = ["git", "-C", str(ROOT)]
+    try:
+        sha = subprocess.run([*git, "rev-parse", "--verify", f"{ref}^{{commit}}"], check=True,
+                             capture_output=True, text=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError) as exc:
+        log(f"  --baseline {ref}: not a commit of {ROOT} ({exc})")
+        return None
+    with tempfile.TemporaryDirectory(prefix="pmplan-baseline-") as tmp:
+        clone = Path(tmp) / "tree"
+        subprocess.run(["git", "clone", "-q", "--shared", "--no-checkout", str(ROOT), str(clone)],
+                       check=True)
+        subprocess.run(["git", "-C", str(clone), "checkout", "-q", sha], check=True)
+        out = Path(tmp) / "baseline.json"
+        cmd = [sys.executable, str(HERE / "run.py"), "--part", str(out), "--seed", str(args.seed)]
+        cmd += ["--quick"] if args.quick else []
+        cmd += ["--batch", str(args.batch)] if args.batch else []
+        env = dict(os.environ, PYTHONPATH=str(clone / "src"))
+        log(f"baseline {ref} ({sha[:10]}), in a separate process (first run: it compiles):")
+        if subprocess.call(cmd, env=env) != 0 or not out.exists():
+            log(f"  --baseline {ref}: the baseline run failed")
+            return None
+        data = json.loads(out.read_text())
+    return {"ref": ref, "commit": sha[:10], **data}
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="B = 100,000 only, fewer repeats")
@@ -501,26 +609,44 @@ def main(argv: list[str] | None = None) -> int:
         default=None,
         help="smoke test: use this B everywhere instead of 100,000 / 1,000,000",
     )
+    ap.add_argument(
+        "--baseline",
+        metavar="REF",
+        default=None,
+        help="also measure latency and throughput of git ref REF (a temporary clone, a separate "
+        "process, the same queries) and show old and new side by side",
+    )
+    ap.add_argument("--part", metavar="JSON", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
 
     def log(msg: str) -> None:
-        print(msg, flush=True)
+        print(("  [baseline] " if args.part else "") + msg, flush=True)
 
     t_start = time.perf_counter()
+    if args.part:  # the process of --baseline: latency and throughput only, as JSON
+        rng_lat, rng_tp = _rngs(args.seed)
+        lat = latency(rng_lat, args.quick, log)
+        tp, skipped = throughput(rng_tp, args.quick, log, args.batch)
+        Path(args.part).write_text(json.dumps(
+            {"pmplan": pmplan.__version__, "latency": lat, "throughput": tp, "skipped": skipped},
+            default=float))
+        return 0
     if not args.only_ompl:
         rng = np.random.default_rng(args.seed)
+        rng_lat, rng_tp = _rngs(args.seed)
         info = machine_info()
         log(
             f"pmplan benchmarks on {info['cpu']} ({info['cores']} cores), Python {info['python']}, "
             f"numpy {info['numpy']}, numba {info['numba']}, {info['date']}"
         )
+        base = baseline(args.baseline, args, log) if args.baseline else None
         log("latency (pmplan.plan):")
-        lat = latency(rng, args.quick, log)
+        lat = latency(rng_lat, args.quick, log)
         log("throughput (plan_batch):")
-        tp, skipped = throughput(rng, args.quick, log, args.batch)
+        tp, skipped = throughput(rng_tp, args.quick, log, args.batch)
         log("where the time goes ((2,4,2), plan_batch):")
         bd = breakdown(rng, args.quick, log, args.batch)
-        log(f"memory (plan_batch, B = {args.batch or 100_000:,}):")
+        log("memory (plan_batch; B = 100,000, fewer for n = 64, 256):")
         mem = memory(rng, args.quick, log, args.batch)
         log("scaling:")
         sn, sr = scaling(rng, args.quick, log, args.batch)
@@ -537,6 +663,8 @@ def main(argv: list[str] | None = None) -> int:
             "memory": mem,
             "scaling_n": sn,
             "scaling_r": sr,
+            "baseline": base,
+            "summary_rows": [[list(dims), b] for dims, b in SUMMARY],
         }
         results["goals"] = goals(results)
         results["total_s"] = time.perf_counter() - t_start

@@ -738,6 +738,15 @@ def lanes(r, m, n, d):  # pragma: no cover - compiled
     return L
 
 
+# _plan and _plan_lanes stay one function each (issue 13 item 3: over 150 lines, because
+# splitting costs more than 5 %). Split into named helpers (frame, column classes, lift,
+# waypoints...: commit 924b6d3), measured in one process, the variants alternating, CPU time
+# (time.thread_time, immune to the other jobs of this shared machine), 16,384 / 32,768 generic
+# queries per call, best of 30-60 (benchmarks/kernel_ab.py):
+#   _plan (every query scalar): (2,1,2) +17 % (7.85 -> 9.27 ms), (2,4,2) +10 %, (3,4,2) +8 %;
+#     with numba's inline="always" on the helpers still +7 to +9 %;
+#   _plan_lanes: (2,1,2) +14 to +19 % (3.02 -> 3.55 ms), (2,4,2), (3,4,2), (2,16,2) unchanged;
+#     with inline="always" +4 to +8 % on (2,1,2).
 @njit(**_OPTS)
 def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
           tab, sel, nsel):  # pragma: no cover - compiled
