@@ -645,7 +645,7 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
         The obstacles' radius.
     waypoints : int, optional
         Sub-pieces per piece of the raw path at the finest level, a power of two (default
-        :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 4: 28 pieces per leg of the obstacle-line
+        :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 2: 14 pieces per leg of the obstacle-line
         planner). The refined path has ``(K - 1) waypoints + 1`` breakpoints.
     steps : int, optional
         Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 48), split over the

@@ -77,7 +77,7 @@ __all__ = [
 ]
 
 #: default sub-pieces per raw piece at the finest level (a power of two): 7 raw pieces per leg
-#: of the obstacle-line planner give 28 pieces per leg (measured: benchmarks/refine_bench.py)
+#: of the obstacle-line planner give 14 pieces per leg (measured: benchmarks/refine_bench.py)
 DEFAULT_WAYPOINTS = 2
 #: default number of steps (each a clearing and a shortening substep), split over the levels
 DEFAULT_STEPS = 48
@@ -473,7 +473,9 @@ def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius:
     """
     wp = np.asarray(waypoints, dtype=float)
     bsz, _, p, _ = wp.shape
-    if bsz and np.abs(wp).max() >= 2.0**RANGE:
+    if bsz == 0:
+        return np.empty(0), np.empty(0), np.ones(0, dtype=bool)
+    if np.abs(wp).max() >= 2.0**RANGE:
         return _scaled_report(wp, m, radius, obstacle_radius)
     a, b, _ = pairs(p, m)
     rr = a >= m
