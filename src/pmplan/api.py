@@ -712,7 +712,7 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
     r = p.configurations(np.asarray(times)) if np.ndim(times) == 1 else 2
     stage = RefineStage(times, wp, clearance, m, r, radius, obstacle_radius, s, steps, backend)
     check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in stage.fixed], radius, obstacle_radius,
-                batched=not single)
+                batched=not single, kernel=stage.kernel)
     run_stage(stage, progress=progress, workers=workers)
     extra = stage.extra()
     if single:

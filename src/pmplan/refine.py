@@ -523,7 +523,7 @@ def _scaled_report(wp, m, radius, obstacle_radius):
 
 
 def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_radius: float,
-                batched: bool) -> None:
+                batched: bool, kernel: bool = False) -> None:
     """Raise :class:`~pmplan.errors.CollisionError` (an InputError) if a configuration the path
     must pass through (start, goal, intermediate) violates the radii: two robots closer than
     ``2 radius`` or a robot closer than ``radius + obstacle_radius`` to an obstacle (exact)."""
@@ -534,7 +534,15 @@ def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_ra
     m = obstacles.shape[1]
     full = np.concatenate([np.concatenate([obstacles, c], axis=1) for c in configs])
     wp = np.stack([full, full], axis=1)  # constant paths, (r B, 2, P, d)
-    _, _, ok = radius_report(wp, m, radius, obstacle_radius)
+    ok = None
+    if kernel and wp.shape[-1] < MAX_SEQUENTIAL_D:  # the kernel's measure; exact when close
+        from .kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
+
+        _, flags = measure_batch(wp, m, (2.0 * radius, radius + obstacle_radius))
+        if not (flags & (CLOSE | SUSPECT)).any():
+            ok = (flags & SHORT) == 0
+    if ok is None:
+        _, _, ok = radius_report(wp, m, radius, obstacle_radius)
     if ok.all():
         return
     k, i = divmod(int(np.flatnonzero(~ok)[0]), obstacles.shape[0])
