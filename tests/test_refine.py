@@ -11,15 +11,22 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from strategies import queries
 
 import pmplan
 from pmplan.certify import _exact_segment_dist2, certificate
 from pmplan.errors import CollisionError, InputError
 from pmplan.kernels.refine import refine_batch
 from pmplan.planners.base import REGISTRY
-from pmplan.refine import (DEFAULT_STEPS, DEFAULT_WAYPOINTS, check_parameters, pairs,
-                           radius_report, refine_paths, schedule)
-from strategies import queries
+from pmplan.refine import (
+    DEFAULT_STEPS,
+    DEFAULT_WAYPOINTS,
+    check_parameters,
+    pairs,
+    radius_report,
+    refine_paths,
+    schedule,
+)
 
 R = sys.modules["pmplan.refine"]  # the module (pmplan.refine is the function)
 OMPL_OBSTACLES = np.array([[0.35, 0.5], [0.65, 0.5]])
@@ -43,7 +50,7 @@ def _exact_min2(wp: np.ndarray, pa, pb) -> Fraction | None:
 
 def _check_refined(raw: pmplan.Plan, ref: pmplan.Plan, configs, radius=0.0, obstacle_radius=0.0):
     """Everything a refined plan promises, checked independently."""
-    d, n, m = raw.dims
+    _d, n, m = raw.dims
     obstacles = raw.obstacles
     assert ref.refined and not raw.refined
     assert ref.domain == raw.domain and ref.stratum == raw.stratum
@@ -233,7 +240,10 @@ def test_translation_rotation_scaling_to_tolerance():
         th = rng.uniform(0, 2 * np.pi)
         rot = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
         shift, scale = rng.normal(size=2), 3.7
-        tf = lambda x: scale * x @ rot.T + shift  # noqa: E731
+
+        def tf(x, rot=rot, shift=shift, scale=scale):
+            return scale * x @ rot.T + shift
+
         b = pmplan.plan(tf(o), tf(s), tf(g), lift="scene", refine=True)
         if a.domain != b.domain:
             continue  # the rotation moved the query across a stratum (the frame uses e_d)
@@ -320,13 +330,13 @@ def test_extreme_magnitudes_refined_scaled():
 # --- parameters ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("kwargs,match", [
-    (dict(radius=-1.0), "radius"), (dict(radius=True), "radius"),
-    (dict(radius=float("nan")), "radius"), (dict(radius=float("inf")), "radius"),
-    (dict(radius="1"), "radius"), (dict(obstacle_radius=-0.5), "obstacle_radius"),
-    (dict(steps=0), "steps"), (dict(steps=2.0), "steps"), (dict(steps=True), "steps"),
-    (dict(waypoints=3), "waypoints"), (dict(waypoints=0), "waypoints"),
-    (dict(waypoints=128), "waypoints"), (dict(workers=0), "workers"),
-    (dict(progress="yes"), "progress"), (dict(backend="gpu"), "backend"),
+    ({"radius": -1.0}, "radius"), ({"radius": True}, "radius"),
+    ({"radius": float("nan")}, "radius"), ({"radius": float("inf")}, "radius"),
+    ({"radius": "1"}, "radius"), ({"obstacle_radius": -0.5}, "obstacle_radius"),
+    ({"steps": 0}, "steps"), ({"steps": 2.0}, "steps"), ({"steps": True}, "steps"),
+    ({"waypoints": 3}, "waypoints"), ({"waypoints": 0}, "waypoints"),
+    ({"waypoints": 128}, "waypoints"), ({"workers": 0}, "workers"),
+    ({"progress": "yes"}, "progress"), ({"backend": "gpu"}, "backend"),
 ])
 def test_bad_parameters(kwargs, match):
     raw = pmplan.plan([[0, 0], [2, 0]], [[0, 1]], [[1, -1]])
@@ -363,7 +373,7 @@ def test_defaults_documented_and_schedule():
 def test_radius_report_exact_at_ties():
     """A robot passing an obstacle at exactly distance 1: respected at 1, not at 1 + ulp."""
     wp = np.array([[[0.0, 0.0], [-1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0]]])[None]
-    rd, od, ok = radius_report(wp, 1, 0.5, 0.5)
+    _rd, od, ok = radius_report(wp, 1, 0.5, 0.5)
     assert od[0] == 1.0 and ok[0]
     _, _, ok = radius_report(wp, 1, 0.5, np.nextafter(0.5, 1))
     assert not ok[0]

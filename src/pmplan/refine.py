@@ -61,18 +61,25 @@ from functools import lru_cache
 
 import numpy as np
 
-from .certify import (_REL, CLEARANCE, _exact_segment_clearance, _exact_segment_dist2,
-                      certificate, check_paths, describe)
+from .certify import (
+    _REL,
+    CLEARANCE,
+    _exact_segment_clearance,
+    _exact_segment_dist2,
+    certificate,
+    check_paths,
+    describe,
+)
 from .errors import CertificationError, CollisionError, InputError
 from .planners.base import Stage
 
 __all__ = [
-    "DEFAULT_WAYPOINTS",
     "DEFAULT_STEPS",
+    "DEFAULT_WAYPOINTS",
     "check_parameters",
     "check_radii",
-    "refine_paths",
     "radius_report",
+    "refine_paths",
     "schedule",
 ]
 
@@ -150,7 +157,7 @@ def check_parameters(radius, obstacle_radius, waypoints, steps):
     Examples
     --------
     >>> check_parameters(0, 0.5, None, None)
-    (0.0, 0.5, 4, 48)
+    (0.0, 0.5, 2, 48)
     >>> check_parameters(-1.0, 0, None, None)
     Traceback (most recent call last):
     ...
@@ -185,11 +192,11 @@ def check_refine_flag(refine, radius, obstacle_radius) -> bool:
 
 
 def schedule(waypoints: int, steps: int) -> list[tuple[int, int]]:
-    """The levels ``(sub-pieces s, steps at that level)``: s = 1, 2, 4, .., waypoints, the steps
-    split evenly (the later levels get the remainder).
+    """The levels ``(sub-pieces s, steps at that level)``: s = 1, 2, 4, .., waypoints, each level
+    :data:`GROWTH` times the steps of the next finer one (rounded; they sum to ``steps``).
 
     >>> schedule(4, 48)
-    [(1, 16), (2, 16), (4, 16)]
+    [(1, 27), (2, 14), (4, 7)]
     >>> schedule(1, 5)
     [(1, 5)]
     """
@@ -676,7 +683,7 @@ class RefineStage(Stage):
         rd, od, ok = (self.robot_distance[lo:hi], self.obstacle_distance[lo:hi],
                       self.respects[lo:hi])
         if self.kernel and out.shape[-1] < MAX_SEQUENTIAL_D:
-            from .kernels.refine import CLOSE, SUSPECT, SHORT, measure_batch
+            from .kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
 
             need = (2.0 * self.radius, self.radius + self.obstacle_radius)
             vals, flags = measure_batch(out, m, need)
@@ -709,6 +716,6 @@ class RefineStage(Stage):
     def extra(self) -> dict:
         """The refinement record of the batch (:attr:`pmplan.results.PlanBatch._extra`)."""
         b = self.size
-        return dict(radius=np.full(b, self.radius), obstacle_radius=np.full(b, self.obstacle_radius),
-                    refined=np.ones(b, dtype=bool), robot_distance=self.robot_distance,
-                    obstacle_distance=self.obstacle_distance, respects_radius=self.respects)
+        return {"radius": np.full(b, self.radius), "obstacle_radius": np.full(b, self.obstacle_radius),
+                    "refined": np.ones(b, dtype=bool), "robot_distance": self.robot_distance,
+                    "obstacle_distance": self.obstacle_distance, "respects_radius": self.respects}
