@@ -350,6 +350,9 @@ def test_bad_flags_and_arguments():
         pmplan.plan(*q, radius=0.1)  # radii without refine: refused, not ignored
     with pytest.raises(InputError, match="refine"):
         pmplan.plan(*q, refine=1)
+    raw = pmplan.plan_batch(*(np.asarray(x, dtype=float)[None] for x in q))
+    with pytest.raises(InputError, match="out="):
+        pmplan.plan_batch(*(np.asarray(x, dtype=float)[None] for x in q), refine=True, out=raw)
     with pytest.raises(InputError, match="already refined"):
         pmplan.refine(pmplan.plan(*q, refine=True))
     with pytest.raises(InputError, match="Plan or a PlanBatch"):

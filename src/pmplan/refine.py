@@ -131,6 +131,10 @@ _MSG_REFINE = "`refine` must be True or False, got {value!r}"
 _MSG_PLAN = "refine() takes a Plan or a PlanBatch returned by pmplan, got {value}"
 _MSG_REFINED = ("this plan is already refined (radius {radius}); refine the unrefined plan "
                 "(plan(..., refine=False)) with the radii you want")
+_MSG_REFINE_OUT = ("`out=` cannot be combined with refine=True (a refined batch has more "
+                   "breakpoints): plan into `out`, then call pmplan.refine on it")
+_MSG_REFINE_DASK = ("refine=True plans eagerly: pass numpy arrays, or refine the computed "
+                    "batch with pmplan.refine")
 _MSG_RADII_UNREFINED = ("`radius` and `obstacle_radius` apply to refined motions: pass "
                         "refine=True (or call pmplan.refine on the plan)")
 _MSG_TOO_CLOSE = ("{what}: {pair} are {dist:.6g} apart{where}, closer than {need} = "
