@@ -145,15 +145,23 @@ def test_radius_zero_still_shortens_and_clears():
     assert ref.respects_radius  # radii 0
 
 
+def _ompl_refined(s, g):
+    """The refined plan of the OMPL scene (radius = obstacle_radius = 0.025), or None when
+    the start or goal violates the radii."""
+    try:
+        return pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1, refine=True, radius=0.025,
+                           obstacle_radius=0.025)
+    except CollisionError:
+        return None
+
+
 def test_radius_reached_on_the_ompl_scene():
     rng = np.random.default_rng(5)
     for _ in range(5):
         s = rng.uniform(0.05, 0.95, (2, 2))
         g = rng.uniform(0.05, 0.95, (2, 2))
-        try:
-            ref = pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1, refine=True, radius=0.025,
-                              obstacle_radius=0.025)
-        except CollisionError:
+        ref = _ompl_refined(s, g)
+        if ref is None:
             continue
         _check_refined(pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1), ref, [s, g], 0.025, 0.025)
         assert ref.respects_radius and ref.robot_distance >= 0.05
@@ -205,14 +213,9 @@ def test_continuity_probe_ompl_scene():
     for _ in range(12):
         s = rng.uniform(0.1, 0.9, (2, 2))
         g = rng.uniform(0.1, 0.9, (2, 2))
-        try:
-            a = pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1, refine=True, radius=0.025,
-                            obstacle_radius=0.025)
-            b = pmplan.plan(OMPL_OBSTACLES, s + 1e-6 * rng.normal(size=s.shape), g, lift=0.1,
-                            refine=True, radius=0.025, obstacle_radius=0.025)
-        except CollisionError:
-            continue
-        if a.domain == b.domain:
+        a = _ompl_refined(s, g)
+        b = _ompl_refined(s + 1e-6 * rng.normal(size=s.shape), g)
+        if a is not None and b is not None and a.domain == b.domain:
             ts = np.linspace(0, 1, 201)
             sups.append(np.abs(a.path(ts) - b.path(ts)).max())
     assert sups and max(sups) < 1e-4
