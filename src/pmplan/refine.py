@@ -610,6 +610,7 @@ class RefineStage(Stage):
     """
 
     chunk = 512
+    label = "refining"
 
     def __init__(self, times, waypoints, clearance, m: int, r: int, radius: float,
                  obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None):

@@ -213,11 +213,12 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
     return out
 
 
-def _each_chunk(chunk, starts: range, progress: bool, workers: int, check) -> None:
+def _each_chunk(chunk, starts: range, progress: bool, workers: int, check,
+                desc: str = "planning") -> None:
     """Call ``chunk(lo) -> (lo, hi, ok)`` for every start (``workers`` threads: the numba
     kernels release the GIL; every chunk writes its own rows), with the progress display, and
     ``check(lo, hi, ok)`` on each result in order (it raises the error of a failed chunk)."""
-    bar = _Progress(progress, len(starts))
+    bar = _Progress(progress, len(starts), desc)
     pool = None
     if workers > 1 and len(starts) > 1:
         from concurrent.futures import ThreadPoolExecutor
@@ -252,7 +253,7 @@ def run_stage(stage: Stage, progress: bool = False, workers: int = 1) -> None:
             bad[lo:hi] = ~ok
             stage.fail(bad)
 
-    _each_chunk(chunk, range(0, b, stage.chunk), progress, workers, check)
+    _each_chunk(chunk, range(0, b, stage.chunk), progress, workers, check, stage.label)
 
 
 def _failed_clauses(out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarray:
@@ -295,8 +296,8 @@ class _Progress:
     chunk needs (the scalar kernel, for a query that is not generic) is announced once more.
     """
 
-    def __init__(self, show: bool, total: int) -> None:
-        self.show, self.total, self.done = show, total, 0
+    def __init__(self, show: bool, total: int, desc: str = "planning") -> None:
+        self.show, self.total, self.done, self.desc = show, total, 0, desc
         self.bar = None
         self.notice = None
         self.handle = None
@@ -323,7 +324,7 @@ class _Progress:
         if self.bar is None:
             from tqdm import tqdm
 
-            self.bar = tqdm(total=self.total, initial=self.done, desc="planning", unit="chunk",
+            self.bar = tqdm(total=self.total, initial=self.done, desc=self.desc, unit="chunk",
                             file=sys.stderr)
             if self.handle is not None:
                 self.handle.rearm()
