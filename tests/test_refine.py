@@ -136,6 +136,26 @@ def test_respects_radius_truthful_integer_queries(data, radius, obstacle_radius)
     _check_refined(raw, ref, [s, g], radius, obstacle_radius)
 
 
+@pytest.mark.parametrize("dims", [(2, 3, 2), (3, 2, 3), (2, 1, 3)])
+@settings(max_examples=12, deadline=None)
+@given(data=st.data(), frac=st.sampled_from([0.1, 0.45, 0.5]))
+def test_respects_radius_truthful_random_queries(dims, data, frac):
+    """Random queries with radii a fraction of the starts' and goals' smallest distance (so
+    they are valid; 0.5 of it is exactly reachable at the endpoints): the report is exact."""
+    d, n, m = dims
+    o, s, g = data.draw(queries(d, m, n))
+    gap = min(float(np.linalg.norm(c[:, None] - c[None], axis=-1)[np.triu_indices(m + n, 1)]
+                    .min()) for c in (_full(o, s), _full(o, g)))
+    radius = obstacle_radius = frac * gap
+    raw = pmplan.plan(o, s, g)
+    try:
+        ref = pmplan.refine(raw, radius=radius, obstacle_radius=obstacle_radius)
+    except CollisionError:
+        assert frac == 0.5  # 2 * radius == gap may round above the float distance
+        return
+    _check_refined(raw, ref, [s, g], radius, obstacle_radius)
+
+
 def test_radius_zero_still_shortens_and_clears():
     o = OMPL_OBSTACLES
     raw = pmplan.plan(o, [[0.1, 0.5], [0.2, 0.2]], [[0.9, 0.5], [0.8, 0.8]], lift=0.1)
