@@ -189,15 +189,15 @@ def test_radius_reached_on_the_ompl_scene():
 
 
 def test_unreachable_radius_reported_false_still_certified():
-    """A raw path that passes an obstacle at 2/3 while the target is 0.9: four steps cannot
-    clear it; the plan says so and is still certified."""
-    o = np.array([[0.0, 0.0], [2.0, 0.0]])
-    s, g = np.array([[0.0, 1.0]]), np.array([[0.0, -1.0]])
+    """Obstacles of radius 0.3 one apart make a wall the raw path passes through (between them,
+    0.5 from each): no continuous deformation that keeps the endpoints reaches 0.6 there. The
+    plan says so and is still certified."""
+    o = np.array([[0.0, 0.0], [1.0, 0.0]])
+    s, g = np.array([[0.5, 1.0]]), np.array([[0.5, -1.0]])
     raw = pmplan.plan(o, s, g, lift=0.01)
-    assert raw.obstacle_distance == pytest.approx(2 / 3)
-    ref = pmplan.refine(raw, radius=0.45, obstacle_radius=0.45, steps=4)
-    _check_refined(raw, ref, [s, g], 0.45, 0.45)
-    assert not ref.respects_radius and 2 / 3 < ref.obstacle_distance < 0.9
+    ref = pmplan.refine(raw, radius=0.3, obstacle_radius=0.3)
+    _check_refined(raw, ref, [s, g], 0.3, 0.3)
+    assert not ref.respects_radius and 0 < ref.obstacle_distance < 0.6
 
 
 # --- continuity inside a stratum ---------------------------------------------------------
