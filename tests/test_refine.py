@@ -82,7 +82,10 @@ def _check_refined(raw: pmplan.Plan, ref: pmplan.Plan, configs, radius=0.0, obst
         ok_rr = True
     ok_ro = ro2 >= (Fraction(radius) + Fraction(obstacle_radius)) ** 2
     assert ref.respects_radius == (ok_rr and ok_ro)
-    assert min(ref.robot_distance, ref.obstacle_distance) >= ref.clearance or m >= 2
+    oo = min(np.linalg.norm(obstacles[i] - obstacles[j]) for i in range(m)
+             for j in range(i + 1, m))
+    assert ref.clearance == pytest.approx(min(ref.robot_distance, ref.obstacle_distance, oo),
+                                          rel=1e-12)
 
 
 # --- property tests: every planner, random and exactly degenerate queries ------------------
