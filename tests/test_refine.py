@@ -326,6 +326,19 @@ def test_batch_matches_single_and_slices():
     assert np.all(raw.clearance <= np.minimum(raw.robot_distance, raw.obstacle_distance))
 
 
+@pytest.mark.parametrize("dims", [(8, 2, 2), (9, 1, 3)])
+def test_high_dimension_numpy_planner(dims):
+    """d >= 8: the planner's numpy path, the kernel's refinement, the numpy measurement."""
+    d, n, m = dims
+    rng = np.random.default_rng(d)
+    o, s, g = rng.normal(size=(m, d)), rng.normal(size=(n, d)), rng.normal(size=(n, d))
+    raw = pmplan.plan(o, s, g)
+    ref = pmplan.refine(raw, radius=0.01)
+    _check_refined(raw, ref, [s, g], 0.01)
+    assert np.array_equal(ref.path.waypoints,
+                          pmplan.refine(raw, radius=0.01, backend="numpy").path.waypoints)
+
+
 def test_empty_batch():
     e = pmplan.plan_batch(np.zeros((0, 2, 2)), np.zeros((0, 2, 2)), np.zeros((0, 2, 2)),
                           refine=True, radius=0.1)
