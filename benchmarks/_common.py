@@ -661,12 +661,14 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
         ]
         parts += sect
         doc += ["#" + s if s.startswith("## ") else s for s in sect]
-    # the sections written by benchmarks/scale_bench.py, cert_bench.py and planar_bench.py
-    for section in (HERE / "scale_results.md", HERE / "cert_results.md", HERE / "planar_results.md"):
+    # the sections written by benchmarks/scale_bench.py, cert_bench.py, planar_bench.py and
+    # refine_bench.py (their headings one level down in docs/benchmarks.md)
+    for name in ("scale_results.md", "cert_results.md", "planar_results.md", "refine_results.md"):
+        section = HERE / name
         if section.exists():
             sect = section.read_text().splitlines()
             parts += sect
-            doc += ["#" + s if s.startswith("## ") else s for s in sect]
+            doc += ["#" + s if s.startswith(("## ", "### ")) else s for s in sect]
     owned = {line.rstrip() for line in parts if line.startswith("## ")}
     parts += _foreign_sections(HERE / "RESULTS.md", owned)
     (HERE / "RESULTS.md").write_text("\n".join(parts))

@@ -1,0 +1,742 @@
+"""Refined motions: a planner's path shortened and cleared by a fixed continuous map R.
+
+Definition. For a planner ``s`` with domains of continuity ``W_1..W_k`` and a map ``R`` from
+paths to paths that is **continuous**, keeps the endpoints, the intermediate configurations and
+the obstacles fixed and never creates a collision, ``R o s`` is again a planner, continuous on
+every ``W_l``: it has the same domains, hence the same number of them, and is optimal whenever
+``s`` is (paper Section 2: the sectional category counts domains of continuous sections, and a
+continuous map of sections keeps their domains). The refined plan keeps the domain label and the
+stratum of the unrefined one.
+
+The map ``R`` (:func:`refine_paths`) is a FIXED number of steps of a continuous update of the
+waypoints at FIXED times -- no accept/reject, no line search, no stop on convergence, no random
+numbers, no discrete choice (only min, max and clip of continuous quantities):
+
+1. *Coarse-to-fine grid.* Every piece of the raw path is cut into ``s = 1, 2, 4, .., S`` equal
+   sub-pieces (``S = waypoints``); going from ``s`` to ``2 s`` inserts the midpoint of every
+   piece, which keeps the path (and its collision-freeness) and is continuous in the query.
+   Every raw breakpoint stays a breakpoint, so the intermediate configurations stay exactly at
+   their times.
+2. *Steps.* At each level, ``steps`` are split evenly; a step is a *clearing* substep followed
+   by a *shortening* substep. Shortening moves every interior waypoint a fraction
+   :data:`ALPHA` toward the point of the chord of its two neighbours at its time (red-black:
+   the odd waypoints first, then the even ones toward the moved odd ones); clearing
+   pushes the two points of a pair apart at the waypoints (weight :data:`OMEGA`) and at the
+   *soft closest point* of every piece (the push shared by the two ends of the piece in
+   proportion), by :data:`BETA` times the deficit ``max(T* - |x_a - x_b|, 0)`` below the push
+   target
+   ``T* = (1 + ETA) T``. Both moves are multiplied by a *mobility* in [0, 1], a continuous
+   function of the times that is 0 at the fixed times (start, goal, intermediate
+   configurations) and at zero-duration pieces.
+3. *Collision-free by construction.* On a linear piece the relative position of two points is a
+   convex combination of its values at the two ends, so if the ends of points a and b move by at
+   most ``delta_a`` and ``delta_b`` the pair's distance anywhere on the piece changes by at most
+   ``delta_a + delta_b``. Every move of point a at waypoint j is therefore scaled down (a
+   continuous clip) to its *cap*: the minimum, over the pairs (a, b) and the two pieces adjacent
+   to j, of ``c (D - F(D))`` where ``D`` is the exact closed-form minimum distance of the pair on
+   that piece (the certificate's, :func:`pmplan.certify.segment_clearance`), ``F`` a floor below
+   ``D`` and ``c = 1/2`` for two robots, ``1`` for a robot and an obstacle (which never moves).
+   Then every distance stays above its floor: shortening uses ``F = min(T (1 + MARGIN), D)``
+   (a pair at or above the target never goes below it), clearing uses ``F = PHI D`` below ``T``,
+   rising continuously to ``T (1 + MARGIN)`` at ``T*``.
+
+The targets: ``T = 2 radius`` between robots and ``radius + obstacle_radius`` between a robot and
+an obstacle; when a target is 0 (no radius asked), ``KAPPA`` times the raw plan's clearance, so
+that the refined path keeps a clearance of the order of the raw one. Nothing here is an
+absolute length: the map commutes with translations and rotations, and with scalings when the
+radii scale too (bit for bit for powers of two).
+
+The final path is certified exactly as every plan (:mod:`pmplan.certify`); the result also
+reports the exact minimum robot-robot and robot-obstacle distances and whether the radii are
+respected (:func:`radius_report`), decided exactly where the float value is close.
+
+This module is the numpy reference of the kernel :mod:`pmplan.kernels.refine` (bitwise equal):
+vectorised over the batch and the pieces, looping over pairs and coordinates in the kernel's
+order.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+from functools import lru_cache
+
+import numpy as np
+
+from .certify import (
+    _REL,
+    CLEARANCE,
+    _exact_segment_clearance,
+    _exact_segment_dist2,
+    certificate,
+    check_paths,
+    describe,
+)
+from .errors import CertificationError, CollisionError, InputError
+from .planners.base import Stage
+
+__all__ = [
+    "DEFAULT_STEPS",
+    "DEFAULT_WAYPOINTS",
+    "check_parameters",
+    "check_radii",
+    "radius_report",
+    "refine_paths",
+    "schedule",
+]
+
+#: default sub-pieces per raw piece at the finest level (a power of two): 7 raw pieces per leg
+#: of the obstacle-line planner give 14 pieces per leg (measured: benchmarks/refine_bench.py)
+DEFAULT_WAYPOINTS = 2
+#: default number of steps (each a clearing and a shortening substep), split over the levels
+DEFAULT_STEPS = 56
+#: the largest ``waypoints`` accepted
+MAX_WAYPOINTS = 64
+#: the largest ``steps`` accepted
+MAX_STEPS = 100_000
+#: shortening gain: the fraction of the way to the chord point moved per step
+ALPHA = 1.0
+#: clearing gain: the fraction of the deficit pushed per step
+BETA = 0.5
+#: clearing floor: a pair below its target may lose at most 1 - PHI of its distance per step
+#: (measured with the 1e-6 probe: 0.25 against 0.5, smaller largest probes and shorter paths)
+PHI = 0.25
+#: push target T* = (1 + ETA) T at the coarsest level, divided by DECAY at every finer one
+#: (:func:`overshoot`): the clearing overshoots the target
+ETA = 0.5
+#: the protected level is T (1 + MARGIN), far above the rounding of the update
+MARGIN = 2.0**-30
+#: the soft closest point of a piece: ``clip(-r0.v / (|v|^2 + LAMBDA (|r0|^2 + |r1|^2)), 0,
+#: 1)``, continuous where the exact one (LAMBDA = 0) jumps (v -> 0); its slope is of order
+#: 1 / LAMBDA, so a larger LAMBDA keeps the continuity modulus small (measured: 2**-4 halves
+#: the largest 1e-6 probe of n = 8 against 2**-12, at the same lengths)
+LAMBDA = 2.0**-4
+#: the weight of the push at the waypoints (along the pair's relative position there) against
+#: the push at the soft closest point of each piece (weight 1). Where a pair nearly touches at a
+#: waypoint (clearance c) its direction turns by delta / c under a move delta of the query, so
+#: it carries most of the continuity modulus; without it a pair pushed only at soft points,
+#: nearly along the piece, can be squeezed to a clearance of 1e-17 (measured on the n = 8 rows
+#: of benchmarks/refine_bench.py). 1/2: fewer 1e-6 probes above 1e-4 (9 against 22 of 640 for
+#: 1), no squeezed path
+OMEGA = 0.5
+#: the steps of a level are GROWTH times those of the next finer level (coarse steps are cheap)
+GROWTH = 2.0
+#: the overshoot of a level is DECAY times smaller than that of the next coarser one
+DECAY = 2.0
+#: the clearing-only steps at the end, a fraction of ``steps`` (they settle the pairs the
+#: shortening pressed below their target)
+FINAL = 0.125
+#: with no radius, the target clearance is KAPPA times the raw plan's clearance
+KAPPA = 0.5
+#: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
+MOBILITY = 4.0
+#: the kernel measures the refined paths for d below this (numpy sums fewer than 8 terms
+#: sequentially, as the kernel does; beyond, numpy's pairwise sums round differently)
+MAX_SEQUENTIAL_D = 8
+#: waypoints outside [2**-RANGE, 2**RANGE) are refined scaled by a power of two (exact)
+RANGE = 400
+
+# the messages of the parameter checks (one source; the CLI prints them as they are)
+_MSG_RADIUS = ("`{name}` must be a finite real number >= 0 (a length in the scene's units), "
+               "got {value!r}")
+_MSG_WAYPOINTS = ("`waypoints` must be a power of two from 1 to {max} (sub-pieces per piece of "
+                  "the raw path), got {value!r}")
+_MSG_STEPS = "`steps` must be an int from 1 to {max} (refinement steps), got {value!r}"
+_MSG_REFINE = "`refine` must be True or False, got {value!r}"
+_MSG_PLAN = "refine() takes a Plan or a PlanBatch returned by pmplan, got {value}"
+_MSG_REFINED = ("this plan is already refined (radius {radius}); refine the unrefined plan "
+                "(plan(..., refine=False)) with the radii you want")
+_MSG_REFINE_OUT = ("`out=` cannot be combined with refine=True (a refined batch has more "
+                   "breakpoints): plan into `out`, then call pmplan.refine on it")
+_MSG_REFINE_DASK = ("refine=True plans eagerly: pass numpy arrays, or refine the computed "
+                    "batch with pmplan.refine")
+_MSG_RADII_UNREFINED = ("`radius` and `obstacle_radius` apply to refined motions: pass "
+                        "refine=True (or call pmplan.refine on the plan)")
+_MSG_TOO_CLOSE = ("{what}: {pair} are {dist:.6g} apart{where}, closer than {need} = "
+                  "{value:.6g}; move them apart or use smaller radii")
+
+
+def _is_real(x) -> bool:
+    return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(
+        x, (bool, np.bool_))
+
+
+def check_radius(value, name: str) -> float:
+    """``value`` as a float if it is a finite real >= 0 (not a bool), else an InputError."""
+    if not _is_real(value) or not math.isfinite(float(value)) or float(value) < 0:
+        raise InputError(_MSG_RADIUS.format(name=name, value=value))
+    return float(value)
+
+
+def check_parameters(radius, obstacle_radius, waypoints, steps):
+    """Validate the refinement parameters; return ``(radius, obstacle_radius, waypoints,
+    steps)`` with the defaults filled in. Raises :class:`~pmplan.errors.InputError` naming the
+    parameter and what it must be.
+
+    Examples
+    --------
+    >>> check_parameters(0, 0.5, None, None)
+    (0.0, 0.5, 2, 56)
+    >>> check_parameters(-1.0, 0, None, None)
+    Traceback (most recent call last):
+    ...
+    pmplan.errors.InputError: `radius` must be a finite real number >= 0 (a length in the scene's units), got -1.0
+    """
+    radius = check_radius(radius, "radius")
+    obstacle_radius = check_radius(obstacle_radius, "obstacle_radius")
+    if waypoints is None:
+        waypoints = DEFAULT_WAYPOINTS
+    elif (isinstance(waypoints, (bool, np.bool_)) or not isinstance(waypoints, (int, np.integer))
+          or not 1 <= waypoints <= MAX_WAYPOINTS or waypoints & (waypoints - 1)):
+        raise InputError(_MSG_WAYPOINTS.format(max=MAX_WAYPOINTS, value=waypoints))
+    if steps is None:
+        steps = DEFAULT_STEPS
+    elif (isinstance(steps, (bool, np.bool_)) or not isinstance(steps, (int, np.integer))
+          or not 1 <= steps <= MAX_STEPS):
+        raise InputError(_MSG_STEPS.format(max=MAX_STEPS, value=steps))
+    return radius, obstacle_radius, int(waypoints), int(steps)
+
+
+def check_refine_flag(refine, radius, obstacle_radius) -> bool:
+    """The ``refine=`` argument of the planning functions: a bool; radii without it are refused
+    (they would be silently ignored)."""
+    if not isinstance(refine, (bool, np.bool_)):
+        raise InputError(_MSG_REFINE.format(value=refine))
+    if not refine:
+        check_radius(radius, "radius")
+        check_radius(obstacle_radius, "obstacle_radius")
+        if radius != 0 or obstacle_radius != 0:
+            raise InputError(_MSG_RADII_UNREFINED)
+    return bool(refine)
+
+
+def schedule(waypoints: int, steps: int) -> list[tuple[int, int]]:
+    """The levels ``(sub-pieces s, steps at that level)``: s = 1, 2, 4, .., waypoints, each level
+    :data:`GROWTH` times the steps of the next finer one (rounded; they sum to ``steps``).
+
+    >>> schedule(4, 48)
+    [(1, 27), (2, 14), (4, 7)]
+    >>> schedule(1, 5)
+    [(1, 5)]
+    """
+    levels = waypoints.bit_length()
+    w = [GROWTH ** (levels - 1 - i) for i in range(levels)]
+    cum = [0.0]
+    for x in w:
+        cum.append(cum[-1] + x)
+    at = [int(steps * c / cum[-1] + 0.5) for c in cum]
+    return [(1 << i, at[i + 1] - at[i]) for i in range(levels)]
+
+
+def overshoot(level: int) -> float:
+    """The overshoot of the push target at a level: ``T* = (1 + ETA DECAY**-level) T`` (large
+    at the coarse levels, where it frees the caps, small at the fine ones, where it costs
+    length; DECAY = 4 or 8 measured no shorter, and kept fewer paths clear of r at n = 8)."""
+    return ETA * DECAY**-level
+
+
+def final_steps(steps: int) -> int:
+    """The clearing-only steps after the last level: ``FINAL`` of ``steps``, at least 1."""
+    return max(1, int(FINAL * steps))
+
+
+@lru_cache(maxsize=256)
+def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pairs (a < b) with a moving point b (index >= m): ``a``, ``b`` (int64) and ``c``
+    (1/2 for two robots, 1 for an obstacle and a robot), in the kernel's order (read-only,
+    cached)."""
+    a, b = np.triu_indices(p, k=1)
+    keep = b >= m
+    a, b = a[keep].astype(np.int64), b[keep].astype(np.int64)
+    c = np.where(a >= m, 0.5, 1.0)
+    for arr in (a, b, c):
+        arr.flags.writeable = False
+    return a, b, c
+
+
+# --- the grid ------------------------------------------------------------------------------
+
+def subdivide_times(times: np.ndarray, s: int) -> np.ndarray:
+    """Breakpoints of every piece cut into ``s`` equal sub-pieces: ``t_k + (j/s)(t_{k+1} -
+    t_k)``, j = 0..s-1, then the last; shape (..., (K-1) s + 1). The raw breakpoints stay."""
+    t0, t1 = times[..., :-1], times[..., 1:]
+    fr = np.arange(s) / s
+    sub = t0[..., None] + fr * (t1 - t0)[..., None]
+    out = np.concatenate([sub.reshape(times.shape[:-1] + (-1,)), times[..., -1:]], axis=-1)
+    return out
+
+
+def subdivide(wp: np.ndarray) -> np.ndarray:
+    """Insert the midpoint ``0.5 P_i + 0.5 P_{i+1}`` of every piece: (B, K, P, d) -> (B, 2K-1,
+    P, d). The path is the same polyline (up to the rounding of the midpoints)."""
+    b, k = wp.shape[:2]
+    out = np.empty((b, 2 * k - 1) + wp.shape[2:])
+    out[:, ::2] = wp
+    out[:, 1::2] = 0.5 * wp[:, :-1] + 0.5 * wp[:, 1:]
+    return out
+
+
+def mobility(times: np.ndarray, r: int) -> np.ndarray:
+    """The mobility of every waypoint, (..., W): ``clip(MOBILITY (W-1) g, 0, 1)`` with ``g`` the
+    smallest of the times to the two neighbours and to the fixed times ``k/(r-1)``; 0 at the
+    ends. Continuous in the times."""
+    w = times.shape[-1]
+    out = np.zeros(times.shape)
+    t = times[..., 1:-1]
+    g = np.minimum(t - times[..., :-2], times[..., 2:] - t)
+    for k in range(r):
+        g = np.minimum(g, np.abs(t - k / (r - 1)))
+    out[..., 1:-1] = np.clip((MOBILITY * (w - 1)) * g, 0.0, 1.0)
+    return out
+
+
+def chord_fraction(times: np.ndarray) -> np.ndarray:
+    """``f_j = (t_j - t_{j-1}) / (t_{j+1} - t_{j-1})`` of the interior waypoints (..., W-2);
+    1/2 where the two neighbours share their time (the mobility is 0 there)."""
+    num = times[..., 1:-1] - times[..., :-2]
+    den = times[..., 2:] - times[..., :-2]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.5)
+
+
+# --- one substep -----------------------------------------------------------------------------
+
+def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Sum over the last axis in the kernel's order: ``(0 + x0 y0) + x1 y1 + ..``."""
+    s = 0.0 + x[..., 0] * y[..., 0]
+    for k in range(1, x.shape[-1]):
+        s = s + x[..., k] * y[..., k]
+    return s
+
+
+def piece_minima(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Closed-form minimum distance of every pair (a, b) on every piece: (B, W-1, pairs), in
+    the arithmetic of :func:`pmplan.certify.segment_clearance` (the kernels' order)."""
+    rel = x[:, :, a, :] - x[:, :, b, :]
+    r0, r1 = rel[:, :-1], rel[:, 1:]
+    v = r1 - r0
+    vv = _dot(v, v)
+    num = -_dot(r0, v)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q = num / vv
+    q = np.where(num >= vv, 1.0, q)
+    q = np.where(num <= 0, 0.0, q)
+    q = np.where(vv > 0, q, 0.0)
+    qx = r0 + q[..., None] * v
+    return np.sqrt(_dot(qx, qx))
+
+
+def _caps(x, a, b, c, free) -> np.ndarray:
+    """The cap of every point at every waypoint, (B, W, P): the minimum over its pairs and the
+    two adjacent pieces of ``free`` (B, W-1, pairs), already multiplied by ``c``."""
+    bsz, w, p = x.shape[:3]
+    cap = np.full((bsz, w, p), np.inf)
+    for q in range(a.shape[0]):
+        g = free[:, :, q]
+        for pt in (a[q], b[q]):
+            cap[:, :-1, pt] = np.minimum(cap[:, :-1, pt], g)
+            cap[:, 1:, pt] = np.minimum(cap[:, 1:, pt], g)
+    return cap
+
+
+def _apply(x, delta, cap, m, j=slice(None)) -> None:
+    """Move the robots at the waypoints ``j`` by ``delta`` clipped to ``cap`` (both of those
+    waypoints): ``x += delta min(1, cap/|delta|)``."""
+    nrm = np.sqrt(_dot(delta, delta))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scale = np.where(nrm > cap, cap / nrm, 1.0)
+    x[:, j, m:] = x[:, j, m:] + delta[:, :, m:] * scale[:, :, m:, None]
+
+
+def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
+    d = piece_minima(x, a, b)
+    keep = tgt * (1.0 + MARGIN)
+    free = c * np.maximum(d - keep[:, None, :], 0.0)
+    cap = _caps(x, a, b, c, free)
+    w = x.shape[1]
+    # red-black: the odd waypoints toward the chords of the even ones, then the even ones
+    # toward the chords of the moved odd ones; each move within its cap (of the positions at
+    # the start of the substep, where the distances were measured)
+    for first in (1, 2):
+        j = slice(first, w - 1, 2)
+        xm, xp = x[:, first - 1:w - 2:2], x[:, first + 1::2]
+        chord = xm + frac[:, first - 1::2, None, None] * (xp - xm)
+        delta = (ALPHA * mob[:, j])[..., None, None] * (chord - x[:, j])
+        _apply(x, delta, cap[:, j], m, j)
+
+
+def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
+    d = piece_minima(x, a, b)
+    keep = tgt * (1.0 + MARGIN)  # (B, pairs)
+    star = tgt * (1.0 + eta)
+    low = PHI * tgt
+    slope = (keep - low) / (star - tgt)
+    t_ = tgt[:, None, :]
+    floor = np.where(d <= t_, PHI * d,
+                     np.where(d >= star[:, None, :], keep[:, None, :],
+                              low[:, None, :] + (d - t_) * slope[:, None, :]))
+    free = c * np.maximum(d - floor, 0.0)
+    cap = _caps(x, a, b, c, free)
+    push = np.zeros(x.shape)
+    for q in range(a.shape[0]):
+        pa, pb, cq, sq = a[q], b[q], c[q], star[:, q][:, None]
+        rel = x[:, :, pa] - x[:, :, pb]  # (B, W, d)
+        dist = np.sqrt(_dot(rel, rel))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fac = np.where(dist > 0, (OMEGA * cq) * np.maximum(sq - dist, 0.0) / dist, 0.0)
+        r0, r1 = rel[:, :-1], rel[:, 1:]
+        v = r1 - r0
+        # the soft closest point of the piece: continuous even where v -> 0
+        soft = np.clip(-_dot(r0, v) / (_dot(v, v) + LAMBDA * (_dot(r0, r0) + _dot(r1, r1))),
+                       0.0, 1.0)
+        relm = r0 + soft[..., None] * v
+        distm = np.sqrt(_dot(relm, relm))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            facm = np.where(distm > 0, cq * np.maximum(sq - distm, 0.0) / distm, 0.0)
+        # no push on a piece whose every point is at least sq apart (d: its exact minimum)
+        facm = np.where(d[:, :, q] < sq, facm, 0.0)
+        fw = fac[..., None] * rel
+        push[:, :, pb] = push[:, :, pb] - fw
+        if pa >= m:
+            push[:, :, pa] = push[:, :, pa] + fw
+        f1 = (facm * soft)[..., None] * relm
+        f0 = (facm - facm * soft)[..., None] * relm
+        push[:, 1:, pb] = push[:, 1:, pb] - f1
+        push[:, :-1, pb] = push[:, :-1, pb] - f0
+        if pa >= m:
+            push[:, 1:, pa] = push[:, 1:, pa] + f1
+            push[:, :-1, pa] = push[:, :-1, pa] + f0
+    delta = (BETA * mob)[..., None, None] * push
+    _apply(x, delta, cap, m)
+
+
+def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
+                 waypoints_per_piece: int = DEFAULT_WAYPOINTS, steps: int = DEFAULT_STEPS
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Apply the refinement map R to a batch of certified paths (the numpy reference).
+
+    Parameters
+    ----------
+    times : ndarray, shape (K,) or (B, K)
+        The raw breakpoints (the intermediate configurations at ``k / (r - 1)``).
+    waypoints : ndarray, shape (B, K, P, d)
+        The raw waypoints, obstacles first (rows ``< m``), in the normal float range.
+    m, r : int
+        Obstacles; configurations the path passes through (2: start and goal).
+    target : ndarray, shape (B, 2)
+        The target distances ``T`` between two robots and between a robot and an obstacle
+        (positive).
+    waypoints_per_piece, steps : int
+        ``S`` (a power of two) and the number of steps (see the module docstring).
+
+    Returns
+    -------
+    times : ndarray, shape ((K-1) S + 1,) or (B, (K-1) S + 1)
+    waypoints : ndarray, shape (B, (K-1) S + 1, P, d)
+    """
+    times = np.asarray(times, dtype=float)
+    x = np.array(waypoints, dtype=float)
+    p = x.shape[2]
+    a, b, c = pairs(p, m)
+    tgt = np.where(a >= m, target[:, :1], target[:, 1:2])  # (B, pairs)
+    t = times
+    for level, (s, n_steps) in enumerate(schedule(waypoints_per_piece, steps)):
+        if level:
+            x = subdivide(x)
+        t = subdivide_times(times, s)
+        tb = np.broadcast_to(t, x.shape[:2])
+        mob = mobility(tb, r)
+        frac = chord_fraction(tb)
+        eta = overshoot(level)
+        for _ in range(n_steps):
+            _clear(x, m, a, b, c, tgt, mob, eta)
+            _shorten(x, m, a, b, c, tgt, frac, mob)
+    for _ in range(final_steps(steps)):
+        _clear(x, m, a, b, c, tgt, mob, eta)
+    return t, x
+
+
+# --- the radii -------------------------------------------------------------------------------
+
+def targets(radius: float, obstacle_radius: float, raw_clearance: np.ndarray) -> np.ndarray:
+    """The target distances (B, 2): ``2 radius`` (robot-robot) and ``radius + obstacle_radius``
+    (robot-obstacle), each replaced by ``KAPPA`` times the raw clearance when it is 0."""
+    c = KAPPA * np.asarray(raw_clearance, dtype=float)
+    rr = 2.0 * radius
+    ro = radius + obstacle_radius
+    return np.stack([c if rr == 0 else np.full(c.shape, rr),
+                     c if ro == 0 else np.full(c.shape, ro)], axis=1)
+
+
+def _minima_exact(wp: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The piece minima (B, K-1, pairs) of :func:`piece_minima`, re-decided exactly where the
+    certificate re-decides them (:func:`pmplan.certify.clearance`: a float minimum not clearly
+    above the rounding of its evaluation is recomputed in rational arithmetic)."""
+    d = piece_minima(wp, a, b)
+    if a.size == 0 or d.size == 0:
+        return d
+    pa, pb = wp[:, :, a, :], wp[:, :, b, :]
+    r = np.abs(pa - pb).max(-1)
+    scale = np.maximum(r[:, :-1], r[:, 1:])
+    absval = np.maximum(np.abs(pa).max(-1), np.abs(pb).max(-1))
+    absval = np.maximum(absval[:, :-1], absval[:, 1:])
+    with np.errstate(invalid="ignore", over="ignore"):
+        suspect = ~(d > _REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(d)
+    for bi, ki, qi in zip(*np.nonzero(suspect)):
+        d[bi, ki, qi] = _exact_segment_clearance(wp[bi, ki, a[qi]], wp[bi, ki, b[qi]],
+                                                 wp[bi, ki + 1, a[qi]], wp[bi, ki + 1, b[qi]])
+    return d
+
+
+def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius: float):
+    """``(robot_distance, obstacle_distance, respects)`` of a batch of paths (B, K, P, d).
+
+    The distances are the minima over the pieces of the certificate's closed-form piece minima
+    (exact where the certificate is, :func:`_minima_exact`); ``inf`` for the robot-robot one
+    when n = 1. ``respects`` is decided exactly: the true minimum distance between two robots
+    is >= ``2 radius`` and between a robot and an obstacle >= ``radius + obstacle_radius``
+    (rational arithmetic on the waypoint floats where the float minimum is within 1e-9 of the
+    bound).
+    """
+    wp = np.asarray(waypoints, dtype=float)
+    bsz, _, p, _ = wp.shape
+    if bsz == 0:
+        return np.empty(0), np.empty(0), np.ones(0, dtype=bool)
+    if np.abs(wp).max() >= 2.0**RANGE:
+        return _scaled_report(wp, m, radius, obstacle_radius)
+    a, b, _ = pairs(p, m)
+    rr = a >= m
+    d = _minima_exact(wp, a, b).reshape(bsz, -1, a.size)
+    robot = d[:, :, rr].reshape(bsz, -1).min(axis=1, initial=np.inf)
+    obst = d[:, :, ~rr].reshape(bsz, -1).min(axis=1, initial=np.inf)
+    ok = _at_least(wp, d[:, :, rr], a[rr], b[rr], 2 * Fraction(radius))
+    ok &= _at_least(wp, d[:, :, ~rr], a[~rr], b[~rr],
+                    Fraction(radius) + Fraction(obstacle_radius))
+    return robot, obst, ok
+
+
+def _at_least(wp, d, pa, pb, need: Fraction) -> np.ndarray:
+    """Whether every pair (pa, pb), of piece minima ``d`` (B, K-1, pairs), keeps an exact
+    distance >= ``need`` along every path (B,): the float minimum decides where it is clearly
+    above or below, the exact one otherwise."""
+    bsz = wp.shape[0]
+    ok = np.ones(bsz, dtype=bool)
+    if pa.size == 0 or need == 0:
+        return ok
+    f = float(need)
+    with np.errstate(invalid="ignore"):
+        sure = d > f * (1 + 1e-9) + 1e-300
+        fail = d < f * (1 - 1e-9)
+    ok &= ~fail.reshape(bsz, -1).any(axis=1)
+    need2 = need * need
+    for bi, ki, qi in zip(*np.nonzero(~sure & ~fail)):
+        if ok[bi] and _exact_segment_dist2(wp[bi, ki, pa[qi]], wp[bi, ki, pb[qi]],
+                                           wp[bi, ki + 1, pa[qi]], wp[bi, ki + 1, pb[qi]]) < need2:
+            ok[bi] = False
+    return ok
+
+
+def _scaled_report(wp, m, radius, obstacle_radius):
+    """:func:`radius_report` for paths beyond the float range of squares: each scaled by a
+    power of two (exact where the bits allow) and its distances scaled back."""
+    out = [np.empty(wp.shape[0]), np.empty(wp.shape[0]), np.zeros(wp.shape[0], dtype=bool)]
+    for i in range(wp.shape[0]):
+        _, e = np.frexp(np.abs(wp[i]).max())
+        rd, od, ok = radius_report(np.ldexp(wp[i:i + 1], -e), m, float(np.ldexp(radius, -e)),
+                                   float(np.ldexp(obstacle_radius, -e)))
+        with np.errstate(over="ignore"):
+            out[0][i], out[1][i], out[2][i] = np.ldexp(rd[0], e), np.ldexp(od[0], e), ok[0]
+    return tuple(out)
+
+
+def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_radius: float,
+                batched: bool, kernel: bool = False) -> None:
+    """Raise :class:`~pmplan.errors.CollisionError` (an InputError) if a configuration the path
+    must pass through (start, goal, intermediate) violates the radii: two robots closer than
+    ``2 radius`` or a robot closer than ``radius + obstacle_radius`` to an obstacle (exact)."""
+    if radius == 0 and obstacle_radius == 0:
+        return
+    r = len(configs)
+    names = ["start", *[f"configuration {k}" for k in range(2, r)], "goal"]
+    m = obstacles.shape[1]
+    full = np.concatenate([np.concatenate([obstacles, c], axis=1) for c in configs])
+    wp = np.stack([full, full], axis=1)  # constant paths, (r B, 2, P, d)
+    ok = None
+    if kernel and wp.shape[-1] < MAX_SEQUENTIAL_D:  # the kernel's measure; exact when close
+        from .kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
+
+        _, flags = measure_batch(wp, m, (2.0 * radius, radius + obstacle_radius))
+        if not (flags & (CLOSE | SUSPECT)).any():
+            ok = (flags & SHORT) == 0
+    if ok is None:
+        _, _, ok = radius_report(wp, m, radius, obstacle_radius)
+    if ok.all():
+        return
+    k, i = divmod(int(np.flatnonzero(~ok)[0]), obstacles.shape[0])
+    _raise_too_close(full[k * obstacles.shape[0] + i], m, radius, obstacle_radius, names[k],
+                     i if batched else None)
+
+
+def _raise_too_close(conf, m, radius, obstacle_radius, name, index) -> None:
+    p = conf.shape[0]
+    a, b, _ = pairs(p, m)
+    label = [f"o{k + 1}" for k in range(m)] + [f"x{k + 1}" for k in range(p - m)]
+    best = None
+    for pa, pb in zip(a, b):
+        need, value = (("2 * radius", 2 * radius) if pa >= m else
+                       ("radius + obstacle_radius", radius + obstacle_radius))
+        sq = _exact_segment_dist2(conf[pa], conf[pb], conf[pa], conf[pb])
+        if sq < Fraction(value) ** 2:
+            best = (label[pa], label[pb], math.sqrt(float(sq)), need, value)
+            break
+    pa, pb, dist, need, value = best
+    where = f" in query {index}" if index is not None else ""
+    raise CollisionError(
+        _MSG_TOO_CLOSE.format(what=f"the {name} configuration" if name in ("start", "goal")
+                              else name, pair=f"points {pa} and {pb}",
+                              dist=dist, where=where, need=need, value=value),
+        index=index, which=name, pair=(pa, pb))
+
+
+# --- the stage: refine a batch chunk by chunk, certified ---------------------------------------
+
+_MSG_FAILED = ("the refined path failed its certificate{where}: {what}; the query is too nearly "
+               "degenerate for the refinement in double precision: use the unrefined plan "
+               "(refine=False); nothing was returned")
+
+
+class RefineStage(Stage):
+    """The refinement of a batch of certified paths as a stage of the run loop
+    (:func:`pmplan.running.run_stage`): per chunk, the kernel (:mod:`pmplan.kernels.refine`)
+    or the numpy reference (:func:`refine_paths`), then the whole certificate
+    (:func:`pmplan.certify.certificate`, never skipped) and the radii (:func:`radius_report`).
+
+    Parameters
+    ----------
+    times : ndarray, shape (K,) or (B, K)
+    waypoints : ndarray, shape (B, K, P, d)
+        The certified raw paths (not modified).
+    clearance : ndarray, shape (B,)
+        Their clearance (the targets when a radius is 0, see :func:`targets`).
+    m, r : int
+    radius, obstacle_radius : float
+    waypoints_per_piece, steps : int
+    backend : str or None
+        ``"numpy"``: the reference; else the kernel.
+    """
+
+    chunk = 512
+    label = "refining"
+
+    def __init__(self, times, waypoints, clearance, m: int, r: int, radius: float,
+                 obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None):
+        from .backend import NUMBA, resolve
+
+        self.raw_times = np.asarray(times, dtype=float)
+        self.raw = waypoints
+        self.size = waypoints.shape[0]
+        self.m, self.r = m, r
+        self.radius, self.obstacle_radius = radius, obstacle_radius
+        self.s, self.steps = waypoints_per_piece, steps
+        self.kernel = resolve(backend) == NUMBA
+        self.target = targets(radius, obstacle_radius, clearance)
+        k = self.raw_times.shape[-1]
+        w = (k - 1) * self.s + 1
+        b, _, p, d = waypoints.shape
+        self.times = subdivide_times(self.raw_times, self.s)
+        self.waypoints = np.empty((b, w, p, d))
+        self.clearance = np.empty(b)
+        self.robot_distance = np.empty(b)
+        self.obstacle_distance = np.empty(b)
+        self.respects = np.empty(b, dtype=bool)
+        self.clause = np.zeros(b, np.uint8)
+        # the fixed waypoints: the raw ones at the times k / (r - 1)
+        self.fixed = [int(np.flatnonzero(self.raw_times[..., :] == j / (r - 1))[0])
+                      if self.raw_times.ndim == 1 else (0 if j == 0 else k - 1)
+                      for j in range(r)]
+
+    def _refine(self, times, wp, target):
+        if self.kernel:
+            from .kernels.refine import refine_batch
+
+            return refine_batch(times, wp, self.m, self.r, target, self.s, self.steps)
+        return refine_paths(times, wp, self.m, self.r, target, self.s, self.steps)
+
+    def run(self, lo: int, hi: int) -> np.ndarray:
+        raw = self.raw[lo:hi]
+        times = self.raw_times if self.raw_times.ndim == 1 else self.raw_times[lo:hi]
+        target = self.target[lo:hi]
+        out = self.waypoints[lo:hi]
+        with np.errstate(invalid="ignore"):
+            amax = np.abs(raw).reshape(hi - lo, -1).max(axis=1, initial=0.0)
+        extreme = ~((amax >= 2.0**-RANGE) & (amax < 2.0**RANGE))
+        normal = np.flatnonzero(~extreme)
+        if normal.size == hi - lo:
+            out[...] = self._refine(times, raw, target)[1]
+        elif normal.size:
+            out[normal] = self._refine(times if times.ndim == 1 else times[normal], raw[normal],
+                                       target[normal])[1]
+        for i in np.flatnonzero(extreme):  # scaled by a power of two into range, exactly
+            _, e = np.frexp(amax[i])
+            t_i = times if times.ndim == 1 else times[i:i + 1]
+            res = self._refine(t_i, np.ldexp(raw[i:i + 1], -e), np.ldexp(target[i:i + 1], -e))[1]
+            with np.errstate(over="ignore", under="ignore"):
+                out[i] = np.ldexp(res[0], e)
+            out[i, :, :self.m] = raw[i, 0, :self.m]
+            for kj in self.fixed:
+                out[i, kj * self.s] = raw[i, kj]
+        self._certify(lo, hi, raw, out, extreme)
+        return self.clause[lo:hi] == 0
+
+    def _certify(self, lo, hi, raw, out, exact) -> None:
+        """The whole certificate of the refined rows (clauses 1-9 by
+        :func:`pmplan.certify.check_paths`; the clearance, clause 10, and the radii by the
+        kernel's measurement in the certificate's arithmetic, re-decided by
+        :func:`pmplan.certify.certificate` and :func:`radius_report` where it flags a row --
+        or by them alone)."""
+        m, r = self.m, self.r
+        tt = self.times if self.times.ndim == 1 else self.times[lo:hi]
+        configs = [raw[:, kj] for kj in self.fixed]
+        via = [(j / (r - 1), configs[j]) for j in range(1, r - 1)]
+        with np.errstate(all="ignore"):
+            clause = check_paths(tt, out, configs[0], configs[-1], m, via)
+        clr = self.clearance[lo:hi]
+        rd, od, ok = (self.robot_distance[lo:hi], self.obstacle_distance[lo:hi],
+                      self.respects[lo:hi])
+        if self.kernel and out.shape[-1] < MAX_SEQUENTIAL_D:
+            from .kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
+
+            need = (2.0 * self.radius, self.radius + self.obstacle_radius)
+            vals, flags = measure_batch(out, m, need)
+            clr[:], rd[:], od[:] = vals[:, 0], vals[:, 1], vals[:, 2]
+            ok[:] = (flags & SHORT) == 0
+            exact = exact | ((flags & (SUSPECT | CLOSE)) != 0)
+            redo = np.flatnonzero(exact)
+        else:
+            redo = np.arange(hi - lo)
+        if redo.size:
+            sub = out[redo]
+            tsub = tt if tt.ndim == 1 else tt[redo]
+            with np.errstate(all="ignore"):
+                c, _ = certificate(sub, configs[0][redo], configs[-1][redo], m, times=tsub,
+                                   via=[(t, cf[redo]) for t, cf in via])
+                rd[redo], od[redo], ok[redo] = radius_report(sub, m, self.radius,
+                                                             self.obstacle_radius)
+            clr[redo] = c
+        clause[(clause == 0) & ~(clr > 0)] = CLEARANCE
+        self.clause[lo:hi] = clause
+
+    def fail(self, bad: np.ndarray) -> None:
+        idx = np.flatnonzero(bad)
+        where = f" for queries {idx[:10].tolist()}{'...' if idx.size > 10 else ''}" \
+            if self.size > 1 else ""
+        raise CertificationError(
+            _MSG_FAILED.format(where=where, what=describe(int(self.clause[idx[0]]))),
+            indices=idx)
+
+    def extra(self) -> dict:
+        """The refinement record of the batch (:attr:`pmplan.results.PlanBatch._extra`)."""
+        b = self.size
+        return {"radius": np.full(b, self.radius), "obstacle_radius": np.full(b, self.obstacle_radius),
+                    "refined": np.ones(b, dtype=bool), "robot_distance": self.robot_distance,
+                    "obstacle_distance": self.obstacle_distance, "respects_radius": self.respects}
