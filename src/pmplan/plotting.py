@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["TIME_CMAP", "robot_colors", "time_cmap", "plan_title", "draw_plan", "legend_handles",
-           "plan_grid"]
+__all__ = ["TIME_CMAP", "robot_colors", "time_cmap", "plan_title", "draw_radii", "draw_plan",
+           "legend_handles", "plan_grid"]
 
 #: the colormap of time along the paths (plasma without its palest tenth, visible on white)
 TIME_CMAP = "plasma"
@@ -44,15 +44,47 @@ def plan_title(plan) -> str:
     """Return the panel title of a plan in matplotlib mathtext, e.g. ``$W_{4}$: $T_{2,2}$``.
 
     The stratum names of both planners are TeX (``T_{2,2}``, ``T^{2,3}_{4,4}``), so they are set
-    as mathematics rather than printed raw.
+    as mathematics rather than printed raw. A refined plan (:func:`pmplan.refine`) says so
+    before the same domain label and stratum as its raw plan.
 
     Examples
     --------
     >>> import pmplan
-    >>> plan_title(pmplan.plan([[0, 0], [2, 0]], [[1, 1]], [[1, -1]]))
+    >>> p = pmplan.plan([[0, 0], [2, 0]], [[1, 1]], [[1, -1]])
+    >>> plan_title(p)
     'obstacle_line  $W_{6}$: $T_{3,3}$'
+    >>> plan_title(pmplan.refine(p))
+    'obstacle_line refined  $W_{6}$: $T_{3,3}$'
     """
-    return f"{plan.planner}  $W_{{{plan.domain}}}$: ${plan.stratum}$"
+    refined = " refined" if plan.refined else ""
+    return f"{plan.planner}{refined}  $W_{{{plan.domain}}}$: ${plan.stratum}$"
+
+
+def draw_radii(plan, ax, points, *, obstacles: bool = True, color="0.5", alpha: float = 0.18,
+               zorder: float = 2):
+    """Draw the robots of ``plan`` as discs of ``plan.radius`` at ``points`` (P, 2) (robots
+    after the m obstacles), and (if ``obstacles``) the obstacles as discs of
+    ``plan.obstacle_radius``, in data units; nothing for a zero radius.
+
+    Returns
+    -------
+    list of matplotlib.collections.EllipseCollection
+        The discs of the robots, then those of the obstacles (one collection each, if drawn).
+    """
+    from matplotlib.collections import EllipseCollection
+
+    m = plan.dims[2]
+    added = []
+    for sel, r in ((slice(m, None), plan.radius),
+                   (slice(0, m), plan.obstacle_radius if obstacles else 0.0)):
+        if r > 0:
+            xy = np.asarray(points, dtype=float)[sel]
+            c = EllipseCollection(2 * r, 2 * r, 0.0, units="xy", offsets=xy,
+                                  offset_transform=ax.transData, facecolors=color, alpha=alpha,
+                                  edgecolors="none", zorder=zorder)
+            ax.add_collection(c)
+            added.append(c)
+    return added
 
 
 def _time_segments(plan, j: int, samples: int):
@@ -113,6 +145,8 @@ def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
                                                 lw=1.2, mutation_scale=11))
         ax.plot(*plan.start[j], "o", color=cmap(0.0), ms=8, mfc="white", mew=2, zorder=6)
         ax.plot(*plan.goal[j], "*", color=cmap(1.0), mec="black", mew=0.6, ms=13, zorder=6)
+    draw_radii(plan, ax, plan.path.waypoints[0])  # robots and obstacles of a radius
+    draw_radii(plan, ax, plan.path.waypoints[-1], obstacles=False)
     labels = [(f"$o_{{{k + 1}}}$", o) for k, o in enumerate(obs)]
     labels += [(f"$x_{{{j + 1}}}$", plan.start[j]) for j in range(n)]
     labels += [(f"$x_{{{j + 1}}}'$", plan.goal[j]) for j in range(n)]
