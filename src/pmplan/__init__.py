@@ -23,6 +23,7 @@ from .api import (
     plan_sequence,
     plan_sequence_batch,
     planner_names,
+    refine,
 )
 from .errors import (
     CertificationError,
@@ -53,6 +54,7 @@ __all__ = [
     "plan_sequence",
     "plan_sequence_batch",
     "planner_names",
+    "refine",
     "PmplanError",
     "InputError",
     "ShapeError",

@@ -22,11 +22,14 @@ from . import planners as _planners  # noqa: F401  (registers the planners)
 from .certify import check_times
 from .configuration import _plain, as_lift, as_points, as_real, check_query, check_same_obstacles
 from .errors import InputError, PmplanError, ShapeError, UnsupportedError
-from .path import _unchecked_path
+from .path import PiecewiseLinearPath, _unchecked_path
 from .planners.base import (REGISTRY, SCENE_CODE, Planner, default_planner, lift_code,
                             out_of_scope)
+from .refine import _MSG_PLAN, _MSG_REFINED, RefineStage, check_parameters, check_radii
+from .refine import check_refine_flag
 from .results import Plan, PlanBatch, PlannerInfo
 from .running import CHUNK, _check_workers, _output_arrays, _Progress, _run, _single  # noqa: F401
+from .running import run_stage
 
 __all__ = [
     "Plan",
@@ -38,6 +41,7 @@ __all__ = [
     "plan_sequence",
     "plan_sequence_batch",
     "plan_query",
+    "refine",
     "info",
     "planner_names",
     "parametrised_tc",
@@ -80,7 +84,8 @@ _check_backend = _backend.check
 def plan_batch(
     obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
     progress: bool = False, backend: str | None = None, workers: int = 1,
-    out: PlanBatch | None = None,
+    out: PlanBatch | None = None, refine: bool = False, radius: float = 0.0,
+    obstacle_radius: float = 0.0,
 ) -> PlanBatch:
     """Plan a batch of B queries at once (vectorised :func:`plan`).
 
@@ -147,6 +152,11 @@ def plan_batch(
     >>> batch.domain.shape, batch.waypoints.shape, batch.times.shape
     ((5,), (5, 8, 5, 2), (8,))
     """
+    if _asks_refine(refine, radius, obstacle_radius):
+        raw = plan_batch(obstacles, start, goal, planner=planner, lift=lift, progress=progress,
+                         backend=backend, workers=workers, out=out)
+        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
+                            progress=progress, workers=workers, backend=backend)
     if _is_dask(obstacles, start, goal):  # lazy plans of dask arrays (the optional extra)
         from . import scale
 
@@ -182,7 +192,8 @@ def _is_dask(*arrays) -> bool:
 
 
 def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
-         backend: str | None = None) -> Plan:
+         backend: str | None = None, refine: bool = False, radius: float = 0.0,
+         obstacle_radius: float = 0.0) -> Plan:
     """Plan one query: a certified collision-free motion from ``start`` to ``goal``.
 
     Parameters
@@ -219,6 +230,12 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     >>> p.path(0.0)[2], p.path(1.0)[2]
     (array([0., 1.]), array([ 1., -1.]))
     """
+    if refine is not False or radius or obstacle_radius or type(radius) is not float \
+            or type(obstacle_radius) is not float:
+        if _asks_refine(refine, radius, obstacle_radius):
+            raw = plan(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
+            return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
+                                backend=backend)
     if _backend.uses_kernels(backend):
         fast = _plan_fast(obstacles, start, goal, planner, lift)
         if fast is not None:
@@ -412,7 +429,8 @@ def _check_sequence(obstacles, configs, batched: bool):
 
 def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
                         backend: str | None = None, progress: bool = False,
-                        workers: int = 1, out: PlanBatch | None = None) -> PlanBatch:
+                        workers: int = 1, out: PlanBatch | None = None, refine: bool = False,
+                        radius: float = 0.0, obstacle_radius: float = 0.0) -> PlanBatch:
     """Plan batches of motions through r >= 2 configurations (SPEC 4c).
 
     ``obstacles`` (B, m, d); ``configs`` a list of r arrays (B, n, d). The path passes through
@@ -420,6 +438,11 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     e == N in odd d). ``lift``, ``backend``, ``progress``, ``workers``, ``out``: see
     :func:`plan_batch`.
     """
+    if _asks_refine(refine, radius, obstacle_radius):
+        raw = plan_sequence_batch(obstacles, configs, lift=lift, backend=backend,
+                                  progress=progress, workers=workers, out=out)
+        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
+                            progress=progress, workers=workers, backend=backend)
     if isinstance(configs, (list, tuple)) and _is_dask(obstacles, *configs):
         from . import scale
 
@@ -440,7 +463,8 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
 
 
 def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
-                  backend: str | None = None) -> Plan:
+                  backend: str | None = None, refine: bool = False, radius: float = 0.0,
+                  obstacle_radius: float = 0.0) -> Plan:
     """Plan one motion through r >= 2 robot configurations with the same obstacles (SPEC 4c).
 
     Parameters
@@ -461,6 +485,12 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
     >>> p.path(0.5)[2]
     array([ 1., -1.])
     """
+    if refine is not False or radius or obstacle_radius or type(radius) is not float \
+            or type(obstacle_radius) is not float:
+        if _asks_refine(refine, radius, obstacle_radius):
+            raw = plan_sequence(obstacles, configs, lift=lift, backend=backend)
+            return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
+                                backend=backend)
     if _backend.uses_kernels(backend):
         fast = _plan_sequence_fast(obstacles, configs, lift)
         if fast is not None:
@@ -594,3 +624,117 @@ def plan_query(query: dict, planner: str | None = None) -> Plan:
         configs = [query["start"], *query["via"], query["goal"]]
         return plan_sequence(query["obstacles"], configs, lift=lift)
     return plan(query["obstacles"], query["start"], query["goal"], planner=planner, lift=lift)
+
+
+def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_radius: float = 0.0,
+           waypoints: int | None = None, steps: int | None = None, workers: int = 1,
+           progress: bool | None = None, backend: str | None = None) -> Plan | PlanBatch:
+    """Refine a plan (or a batch): a shorter motion that keeps the radii, still certified,
+    continuous on the same domains (so still optimal). See :mod:`pmplan.refine`.
+
+    Parameters
+    ----------
+    plan_or_batch : Plan or PlanBatch
+        Unrefined plans returned by :func:`plan`, :func:`plan_batch`, :func:`plan_sequence` or
+        :func:`plan_sequence_batch`.
+    radius : float
+        The robots' radius: the refinement aims at keeping any two robots ``2 radius`` apart
+        and every robot ``radius + obstacle_radius`` off every obstacle. Default 0: it keeps
+        half the raw plan's clearance instead (:data:`pmplan.refine.KAPPA`).
+    obstacle_radius : float
+        The obstacles' radius.
+    waypoints : int, optional
+        Sub-pieces per piece of the raw path at the finest level, a power of two (default
+        :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 4: 28 pieces per leg of the obstacle-line
+        planner). The refined path has ``(K - 1) waypoints + 1`` breakpoints.
+    steps : int, optional
+        Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 48), split over the
+        coarse-to-fine levels 1, 2, 4, .., ``waypoints``. The defaults were chosen from the
+        length / time measurements of ``benchmarks/refine_bench.py``.
+    workers : int
+        Threads refining separate chunks (-1: one per CPU); the result does not depend on it.
+    progress : bool, optional
+        Show a progress bar for large batches (as :func:`plan_batch`).
+    backend : {"numba", "numpy"}, optional
+        The kernel (default) or the numpy reference; both give identical paths.
+
+    Returns
+    -------
+    Plan or PlanBatch
+        The same type as given, with the same domains and strata; ``refined`` True,
+        ``radius``, ``obstacle_radius``, ``robot_distance``, ``obstacle_distance`` (exact
+        minima along the refined path) and ``respects_radius`` (decided exactly: never True
+        when the radii are not kept).
+
+    Raises
+    ------
+    InputError
+        For a bad parameter, an already refined plan, or a start, goal or intermediate
+        configuration that violates the radii (:class:`~pmplan.errors.CollisionError` naming
+        the two points).
+    CertificationError
+        If a refined path fails its certificate (nothing is returned).
+
+    Examples
+    --------
+    >>> p = plan([[0.35, 0.5], [0.65, 0.5]], [[0.1, 0.5]], [[0.9, 0.5]])
+    >>> q = refine(p, radius=0.025, obstacle_radius=0.025)
+    >>> q.domain == p.domain, q.stratum == p.stratum, q.refined, q.respects_radius
+    (True, True, True, True)
+    >>> bool(q.path.length() < p.path.length())
+    True
+    """
+    radius, obstacle_radius, s, steps = check_parameters(radius, obstacle_radius, waypoints,
+                                                         steps)
+    workers = _check_workers(workers)
+    if progress is None:
+        progress = False
+    if not isinstance(progress, (bool, np.bool_)):
+        raise InputError(f"`progress` must be True, False or None, got {progress!r}")
+    _check_backend(backend)
+    single = isinstance(plan_or_batch, Plan)
+    if single:
+        batch = plan_or_batch
+        times = batch.path.times
+        wp = batch.path.waypoints[None]
+        clearance = np.array([batch.clearance])
+        refined = batch.refined
+    elif isinstance(plan_or_batch, PlanBatch):
+        batch = plan_or_batch
+        times, wp, clearance = batch.times, batch.waypoints, batch.clearance
+        refined = bool(batch.refined.any())
+    else:
+        raise InputError(_MSG_PLAN.format(value=type(plan_or_batch).__name__))
+    if refined:
+        raise InputError(_MSG_REFINED.format(radius=f"{float(np.max(batch.radius)):g}"))
+    p = REGISTRY[batch.planner]
+    d, n, m = batch.dims
+    r = p.configurations(np.asarray(times)) if np.ndim(times) == 1 else 2
+    stage = RefineStage(times, wp, clearance, m, r, radius, obstacle_radius, s, steps, backend)
+    check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in stage.fixed], radius, obstacle_radius,
+                batched=not single)
+    run_stage(stage, progress=progress, workers=workers)
+    extra = stage.extra()
+    if single:
+        path = PiecewiseLinearPath(stage.times, stage.waypoints[0])
+        return Plan(batch.domain, batch.stratum, float(stage.clearance[0]), path.compact(),
+                    batch.planner, batch.dims, **{k: v[0].item() for k, v in extra.items()})
+    return PlanBatch(domain=batch.domain.copy(), strata=batch.strata.copy(),
+                     clearance=stage.clearance, times=stage.times, waypoints=stage.waypoints,
+                     planner=batch.planner, dims=batch.dims, _names=batch._names, _extra=extra)
+
+
+#: :func:`refine` under a name the planning functions' ``refine=`` flag does not hide
+refine_plans = refine
+
+
+def _asks_refine(refine, radius, obstacle_radius) -> bool:
+    """Whether a planning function was asked ``refine=True`` (the flag and the radii checked:
+    :func:`pmplan.refine.check_refine_flag`; radii without the flag are refused)."""
+    if refine is False and type(radius) is float and type(obstacle_radius) is float \
+            and radius == 0.0 and obstacle_radius == 0.0:
+        return False
+    if check_refine_flag(refine, radius, obstacle_radius):
+        check_parameters(radius, obstacle_radius, None, None)
+        return True
+    return False

@@ -205,8 +205,8 @@ def segment_clearance(r0: np.ndarray, r1: np.ndarray) -> np.ndarray:
         return np.sqrt((q * q).sum(-1))
 
 
-def _exact_segment_clearance(a0, b0, a1, b1) -> float:
-    """Exact min distance between points moving linearly a0->a1 and b0->b1 (rational)."""
+def _exact_segment_dist2(a0, b0, a1, b1) -> Fraction:
+    """Exact squared min distance between points moving linearly a0->a1 and b0->b1."""
     r0 = [Fraction(x) - Fraction(y) for x, y in zip(a0.tolist(), b0.tolist())]
     r1 = [Fraction(x) - Fraction(y) for x, y in zip(a1.tolist(), b1.tolist())]
     v = [q - p for p, q in zip(r0, r1)]
@@ -215,7 +215,12 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
         t = Fraction(0)
     else:
         t = min(max(-sum(p * q for p, q in zip(r0, v)) / vv, Fraction(0)), Fraction(1))
-    sq = sum((p + t * q) ** 2 for p, q in zip(r0, v))
+    return sum((p + t * q) ** 2 for p, q in zip(r0, v))
+
+
+def _exact_segment_clearance(a0, b0, a1, b1) -> float:
+    """Exact min distance between points moving linearly a0->a1 and b0->b1 (rational)."""
+    sq = _exact_segment_dist2(a0, b0, a1, b1)
     if sq == 0:
         return 0.0
     try:

@@ -8,6 +8,7 @@ plans, ``batch[i]`` (a :class:`Plan`) and ``batch[slice | mask | indices]`` (a P
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -35,6 +36,16 @@ class Plan:
         Name of the planner that produced it.
     dims : tuple of int
         ``(d, n, m)``.
+    radius, obstacle_radius : float
+        The radii a refined plan was asked for (:func:`pmplan.refine`); 0.0 when unrefined.
+    refined : bool
+        Whether the path is a refined motion (:mod:`pmplan.refine`).
+    robot_distance, obstacle_distance : float
+        Minimum robot-robot (``inf`` when n = 1) and robot-obstacle distances along the path,
+        by the certificate's closed-form piece minima.
+    respects_radius : bool
+        ``robot_distance >= 2 radius`` and ``obstacle_distance >= radius + obstacle_radius``,
+        decided exactly (always True for radii 0).
     """
 
     domain: int
@@ -43,14 +54,44 @@ class Plan:
     path: PiecewiseLinearPath
     planner: str
     dims: tuple[int, int, int]
+    radius: float = 0.0
+    obstacle_radius: float = 0.0
+    refined: bool = False
 
     def __init__(self, domain: int, stratum: str, clearance: float, path: PiecewiseLinearPath,
-                 planner: str, dims: tuple[int, int, int]) -> None:
+                 planner: str, dims: tuple[int, int, int], radius: float = 0.0,
+                 obstacle_radius: float = 0.0, refined: bool = False, **measured) -> None:
         # the one construction path, also the fast paths' (a frozen dataclass's own __init__
         # sets field by field through object.__setattr__): the fields go into the instance
-        # dict at once; afterwards the dataclass refuses assignment (FrozenInstanceError)
+        # dict at once; afterwards the dataclass refuses assignment (FrozenInstanceError).
+        # ``measured``: robot_distance, obstacle_distance, respects_radius when known
         vars(self).update(domain=domain, stratum=stratum, clearance=clearance, path=path,
-                          planner=planner, dims=dims)
+                          planner=planner, dims=dims, radius=radius,
+                          obstacle_radius=obstacle_radius, refined=refined, **measured)
+
+    @cached_property
+    def _measured(self) -> tuple[float, float, bool]:
+        from .refine import radius_report
+
+        rd, od, ok = radius_report(self.path.waypoints[None], self.m, self.radius,
+                                   self.obstacle_radius)
+        return float(rd[0]), float(od[0]), bool(ok[0])
+
+    @cached_property
+    def robot_distance(self) -> float:
+        """Minimum distance between two robots along the path (``inf`` when n = 1)."""
+        return self._measured[0]
+
+    @cached_property
+    def obstacle_distance(self) -> float:
+        """Minimum distance between a robot and an obstacle along the path."""
+        return self._measured[1]
+
+    @cached_property
+    def respects_radius(self) -> bool:
+        """Whether the robots, discs of ``radius``, keep off each other and off the obstacles
+        (discs of ``obstacle_radius``) along the whole path -- decided exactly."""
+        return self._measured[2]
 
     @property
     def m(self) -> int:
@@ -94,6 +135,8 @@ class PlanBatch:
     waypoints : ndarray, shape (B, K, m+n, d)
     planner : str
     dims : tuple (d, n, m)
+    radius, obstacle_radius, refined, robot_distance, obstacle_distance, respects_radius
+        As in :class:`Plan`, arrays of shape (B,).
     """
 
     domain: np.ndarray
@@ -104,6 +147,54 @@ class PlanBatch:
     planner: str
     dims: tuple[int, int, int]
     _names: dict = field(default_factory=dict, repr=False, compare=False)
+    #: the refinement record: arrays (B,) ``radius``, ``obstacle_radius``, ``refined`` and,
+    #: once measured, ``robot_distance``, ``obstacle_distance``, ``respects_radius``
+    _extra: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def _record(self, key: str) -> np.ndarray:
+        if key not in self._extra:
+            b = len(self)
+            if key in ("radius", "obstacle_radius"):
+                self._extra[key] = np.zeros(b)
+            elif key == "refined":
+                self._extra[key] = np.zeros(b, dtype=bool)
+            else:
+                from .refine import radius_report
+
+                rd, od, ok = radius_report(self.waypoints, self.dims[2], self.radius,
+                                           self.obstacle_radius)
+                self._extra.update(robot_distance=rd, obstacle_distance=od, respects_radius=ok)
+        return self._extra[key]
+
+    @property
+    def radius(self) -> np.ndarray:
+        """The robots' radius asked of every plan (B,) (0 where unrefined)."""
+        return self._record("radius")
+
+    @property
+    def obstacle_radius(self) -> np.ndarray:
+        """The obstacles' radius asked of every plan (B,) (0 where unrefined)."""
+        return self._record("obstacle_radius")
+
+    @property
+    def refined(self) -> np.ndarray:
+        """Whether every plan is a refined motion (B,) bool."""
+        return self._record("refined")
+
+    @property
+    def robot_distance(self) -> np.ndarray:
+        """Minimum robot-robot distance along every path (B,) (``inf`` when n = 1)."""
+        return self._record("robot_distance")
+
+    @property
+    def obstacle_distance(self) -> np.ndarray:
+        """Minimum robot-obstacle distance along every path (B,)."""
+        return self._record("obstacle_distance")
+
+    @property
+    def respects_radius(self) -> np.ndarray:
+        """Whether every path keeps the radii (B,) bool, decided exactly."""
+        return self._record("respects_radius")
 
     def __len__(self) -> int:
         return self.domain.shape[0]
@@ -143,7 +234,7 @@ class PlanBatch:
             domain=self.domain[key], strata=self.strata[key], clearance=self.clearance[key],
             times=self.times if self.times.ndim == 1 else self.times[key],
             waypoints=self.waypoints[key], planner=self.planner, dims=self.dims,
-            _names=self._names,
+            _names=self._names, _extra={k: v[key] for k, v in self._extra.items()},
         )
 
     def _plan(self, i: int) -> Plan:
@@ -157,6 +248,7 @@ class PlanBatch:
             path=path,
             planner=self.planner,
             dims=self.dims,
+            **{k: v[i].item() for k, v in self._extra.items()},
         )
 
     def __iter__(self):

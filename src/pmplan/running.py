@@ -23,7 +23,7 @@ from .certify import CLEARANCE, certificate, check_times, describe
 from .configuration import check_query
 from .errors import CertificationError, InputError
 from .path import PiecewiseLinearPath
-from .planners.base import SCENE_CODE, Planner, scene_unit
+from .planners.base import SCENE_CODE, Planner, Stage, scene_unit
 from .results import Plan, PlanBatch
 
 #: queries planned per chunk inside plan_batch: bounds the temporaries (memory) of a batch
@@ -224,6 +224,39 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
             pool.shutdown(cancel_futures=True)
         bar.__exit__(None, None, None)
     return out
+
+
+def run_stage(stage: Stage, progress: bool = False, workers: int = 1) -> None:
+    """Run a stage (:class:`pmplan.planners.base.Stage`, e.g. the refinement) over its rows
+    chunk by chunk, as :func:`_run` runs a planner: ``workers`` threads plan separate chunks
+    (the numba kernels release the GIL), ``progress`` shows the bar; the first chunk whose
+    certificate fails raises the stage's error (:meth:`~pmplan.planners.base.Stage.fail`)."""
+    b = stage.size
+    starts = range(0, b, stage.chunk)
+    bar = _Progress(progress, len(starts))
+    pool = None
+    if workers > 1 and len(starts) > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        pool = ThreadPoolExecutor(min(workers, len(starts)))
+
+    def chunk(lo: int):
+        hi = min(b, lo + stage.chunk)
+        return lo, hi, stage.run(lo, hi)
+
+    try:
+        bar.__enter__()
+        done = map(chunk, starts) if pool is None else pool.map(chunk, starts)
+        for lo, hi, ok in done:
+            bar.update()
+            if not ok.all():
+                bad = np.zeros(b, dtype=bool)
+                bad[lo:hi] = ~ok
+                stage.fail(bad)
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
+        bar.__exit__(None, None, None)
 
 
 def _failed_clauses(out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarray:

@@ -161,6 +161,21 @@ class Planner:
         are per query."""
         return None
 
+    def configurations(self, times: np.ndarray) -> int:
+        """The number r of configurations a path of this planner with breakpoints ``times``
+        (K,) passes through (start, intermediate ones at ``k / (r - 1)``, goal), for the stages
+        that must keep them fixed (:func:`pmplan.refine`). Default: the r whose shared
+        :meth:`path_times` are ``times`` (r <= K), else 2."""
+        k = times.shape[-1]
+        if self.sequential and times.ndim == 1:
+            for r in range(2, k + 1):
+                shared = self.path_times(r)
+                if shared is None or shared.shape[0] > k:
+                    break
+                if shared.shape[0] == k and np.array_equal(shared, times):
+                    return r
+        return 2
+
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
         """Plan a chunk with the numba kernel into ``out`` (the rows of :meth:`allocate`) and
@@ -269,6 +284,30 @@ class Planner:
         """As :meth:`single_query` for one query through r configurations: ``run(obstacles,
         configs, lift)``."""
         return None
+
+
+class Stage:
+    """The protocol of a stage: a map applied to planned paths after the planner, chunk by
+    chunk, by the run loop (:func:`pmplan.running.run_stage`, with ``workers`` and the progress
+    display of :func:`pmplan.plan_batch`). The refinement (:class:`pmplan.refine.RefineStage`)
+    is one.
+
+    Subclass it: :attr:`size` (the batch length B), :attr:`chunk` and :meth:`run`, which
+    processes rows ``lo:hi`` into the stage's own output arrays (each chunk writes its own rows,
+    so chunks may run in parallel threads) and returns their certificate (bool, (hi - lo,)).
+    """
+
+    #: rows per chunk
+    chunk: ClassVar[int] = 1024
+    #: the batch length B
+    size: int = 0
+
+    def run(self, lo: int, hi: int) -> np.ndarray:
+        raise NotImplementedError
+
+    def fail(self, bad: np.ndarray) -> None:
+        """Raise the error of the rows ``bad`` (bool, (B,)) whose certificate failed."""
+        raise NotImplementedError
 
 
 REGISTRY: dict[str, Planner] = {}

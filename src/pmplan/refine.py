@@ -1,0 +1,614 @@
+"""Refined motions: a planner's path shortened and cleared by a fixed continuous map R.
+
+Definition. For a planner ``s`` with domains of continuity ``W_1..W_k`` and a map ``R`` from
+paths to paths that is **continuous**, keeps the endpoints, the intermediate configurations and
+the obstacles fixed and never creates a collision, ``R o s`` is again a planner, continuous on
+every ``W_l``: it has the same domains, hence the same number of them, and is optimal whenever
+``s`` is (paper Section 2: the sectional category counts domains of continuous sections, and a
+continuous map of sections keeps their domains). The refined plan keeps the domain label and the
+stratum of the unrefined one.
+
+The map ``R`` (:func:`refine_paths`) is a FIXED number of steps of a continuous update of the
+waypoints at FIXED times -- no accept/reject, no line search, no stop on convergence, no random
+numbers, no discrete choice (only min, max and clip of continuous quantities):
+
+1. *Coarse-to-fine grid.* Every piece of the raw path is cut into ``s = 1, 2, 4, .., S`` equal
+   sub-pieces (``S = waypoints``); going from ``s`` to ``2 s`` inserts the midpoint of every
+   piece, which keeps the path (and its collision-freeness) and is continuous in the query.
+   Every raw breakpoint stays a breakpoint, so the intermediate configurations stay exactly at
+   their times.
+2. *Steps.* At each level, ``steps`` are split evenly; a step is a *clearing* substep followed
+   by a *shortening* substep. Shortening moves every interior waypoint a fraction
+   :data:`ALPHA` toward the point of the chord of its two neighbours at its time; clearing
+   pushes the two points of a pair apart, at the waypoints and at the midpoints of the pieces,
+   by :data:`BETA` times its deficit ``max(T* - |x_a - x_b|, 0)`` below the push target
+   ``T* = (1 + ETA) T``. Both moves are multiplied by a *mobility* in [0, 1], a continuous
+   function of the times that is 0 at the fixed times (start, goal, intermediate
+   configurations) and at zero-duration pieces.
+3. *Collision-free by construction.* On a linear piece the relative position of two points is a
+   convex combination of its values at the two ends, so if the ends of points a and b move by at
+   most ``delta_a`` and ``delta_b`` the pair's distance anywhere on the piece changes by at most
+   ``delta_a + delta_b``. Every move of point a at waypoint j is therefore scaled down (a
+   continuous clip) to its *cap*: the minimum, over the pairs (a, b) and the two pieces adjacent
+   to j, of ``c (D - F(D))`` where ``D`` is the exact closed-form minimum distance of the pair on
+   that piece (the certificate's, :func:`pmplan.certify.segment_clearance`), ``F`` a floor below
+   ``D`` and ``c = 1/2`` for two robots, ``1`` for a robot and an obstacle (which never moves).
+   Then every distance stays above its floor: shortening uses ``F = min(T (1 + MARGIN), D)``
+   (a pair at or above the target never goes below it), clearing uses ``F = PHI D`` below ``T``,
+   rising continuously to ``T (1 + MARGIN)`` at ``T*``.
+
+The targets: ``T = 2 radius`` between robots and ``radius + obstacle_radius`` between a robot and
+an obstacle; when a target is 0 (no radius asked), ``KAPPA`` times the raw plan's clearance, so
+that the refined path keeps a clearance of the order of the raw one. Nothing here is an
+absolute length: the map commutes with translations and rotations, and with scalings when the
+radii scale too (bit for bit for powers of two).
+
+The final path is certified exactly as every plan (:mod:`pmplan.certify`); the result also
+reports the exact minimum robot-robot and robot-obstacle distances and whether the radii are
+respected (:func:`radius_report`), decided exactly where the float value is close.
+
+This module is the numpy reference of the kernel :mod:`pmplan.kernels.refine` (bitwise equal):
+vectorised over the batch and the pieces, looping over pairs and coordinates in the kernel's
+order.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+
+from .certify import _exact_segment_dist2, certificate, clearance, describe
+from .errors import CertificationError, CollisionError, InputError
+from .planners.base import Stage
+
+__all__ = [
+    "DEFAULT_WAYPOINTS",
+    "DEFAULT_STEPS",
+    "check_parameters",
+    "check_radii",
+    "refine_paths",
+    "radius_report",
+    "schedule",
+]
+
+#: default sub-pieces per raw piece at the finest level (a power of two): 7 raw pieces per leg
+#: of the obstacle-line planner give 28 pieces per leg (measured: benchmarks/refine_bench.py)
+DEFAULT_WAYPOINTS = 4
+#: default number of steps (each a clearing and a shortening substep), split over the levels
+DEFAULT_STEPS = 48
+#: the largest ``waypoints`` accepted
+MAX_WAYPOINTS = 64
+#: the largest ``steps`` accepted
+MAX_STEPS = 100_000
+#: shortening gain: the fraction of the way to the chord point moved per step
+ALPHA = 0.5
+#: clearing gain: the fraction of the deficit pushed per step
+BETA = 0.5
+#: clearing floor: a pair below its target may lose at most 1 - PHI of its distance per step
+PHI = 0.5
+#: push target T* = (1 + ETA) T: the clearing overshoots the target a little
+ETA = 0.0625
+#: the protected level is T (1 + MARGIN), far above the rounding of the update
+MARGIN = 2.0**-30
+#: with no radius, the target clearance is KAPPA times the raw plan's clearance
+KAPPA = 0.5
+#: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
+MOBILITY = 4.0
+#: waypoints outside [2**-RANGE, 2**RANGE) are refined scaled by a power of two (exact)
+RANGE = 400
+
+# the messages of the parameter checks (one source; the CLI prints them as they are)
+_MSG_RADIUS = ("`{name}` must be a finite real number >= 0 (a length in the scene's units), "
+               "got {value!r}")
+_MSG_WAYPOINTS = ("`waypoints` must be a power of two from 1 to {max} (sub-pieces per piece of "
+                  "the raw path), got {value!r}")
+_MSG_STEPS = "`steps` must be an int from 1 to {max} (refinement steps), got {value!r}"
+_MSG_REFINE = "`refine` must be True or False, got {value!r}"
+_MSG_PLAN = "refine() takes a Plan or a PlanBatch returned by pmplan, got {value}"
+_MSG_REFINED = ("this plan is already refined (radius {radius}); refine the unrefined plan "
+                "(plan(..., refine=False)) with the radii you want")
+_MSG_RADII_UNREFINED = ("`radius` and `obstacle_radius` apply to refined motions: pass "
+                        "refine=True (or call pmplan.refine on the plan)")
+_MSG_TOO_CLOSE = ("{what}: {pair} are {dist:.6g} apart{where}, closer than {need} = "
+                  "{value:.6g}; move them apart or use smaller radii")
+
+
+def _is_real(x) -> bool:
+    return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(
+        x, (bool, np.bool_))
+
+
+def check_radius(value, name: str) -> float:
+    """``value`` as a float if it is a finite real >= 0 (not a bool), else an InputError."""
+    if not _is_real(value) or not math.isfinite(float(value)) or float(value) < 0:
+        raise InputError(_MSG_RADIUS.format(name=name, value=value))
+    return float(value)
+
+
+def check_parameters(radius, obstacle_radius, waypoints, steps):
+    """Validate the refinement parameters; return ``(radius, obstacle_radius, waypoints,
+    steps)`` with the defaults filled in. Raises :class:`~pmplan.errors.InputError` naming the
+    parameter and what it must be.
+
+    Examples
+    --------
+    >>> check_parameters(0, 0.5, None, None)
+    (0.0, 0.5, 4, 48)
+    >>> check_parameters(-1.0, 0, None, None)
+    Traceback (most recent call last):
+    ...
+    pmplan.errors.InputError: `radius` must be a finite real number >= 0 (a length in the scene's units), got -1.0
+    """
+    radius = check_radius(radius, "radius")
+    obstacle_radius = check_radius(obstacle_radius, "obstacle_radius")
+    if waypoints is None:
+        waypoints = DEFAULT_WAYPOINTS
+    elif (isinstance(waypoints, (bool, np.bool_)) or not isinstance(waypoints, (int, np.integer))
+          or not 1 <= waypoints <= MAX_WAYPOINTS or waypoints & (waypoints - 1)):
+        raise InputError(_MSG_WAYPOINTS.format(max=MAX_WAYPOINTS, value=waypoints))
+    if steps is None:
+        steps = DEFAULT_STEPS
+    elif (isinstance(steps, (bool, np.bool_)) or not isinstance(steps, (int, np.integer))
+          or not 1 <= steps <= MAX_STEPS):
+        raise InputError(_MSG_STEPS.format(max=MAX_STEPS, value=steps))
+    return radius, obstacle_radius, int(waypoints), int(steps)
+
+
+def check_refine_flag(refine, radius, obstacle_radius) -> bool:
+    """The ``refine=`` argument of the planning functions: a bool; radii without it are refused
+    (they would be silently ignored)."""
+    if not isinstance(refine, (bool, np.bool_)):
+        raise InputError(_MSG_REFINE.format(value=refine))
+    if not refine:
+        check_radius(radius, "radius")
+        check_radius(obstacle_radius, "obstacle_radius")
+        if radius != 0 or obstacle_radius != 0:
+            raise InputError(_MSG_RADII_UNREFINED)
+    return bool(refine)
+
+
+def schedule(waypoints: int, steps: int) -> list[tuple[int, int]]:
+    """The levels ``(sub-pieces s, steps at that level)``: s = 1, 2, 4, .., waypoints, the steps
+    split evenly (the later levels get the remainder).
+
+    >>> schedule(4, 48)
+    [(1, 16), (2, 16), (4, 16)]
+    >>> schedule(1, 5)
+    [(1, 5)]
+    """
+    levels = waypoints.bit_length()
+    return [(1 << i, steps * (i + 1) // levels - steps * i // levels) for i in range(levels)]
+
+
+def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pairs (a < b) with a moving point b (index >= m): ``a``, ``b`` and ``c`` (1/2 for two
+    robots, 1 for an obstacle and a robot), in the kernel's order."""
+    a, b = np.triu_indices(p, k=1)
+    keep = b >= m
+    a, b = a[keep], b[keep]
+    return a, b, np.where(a >= m, 0.5, 1.0)
+
+
+# --- the grid ------------------------------------------------------------------------------
+
+def subdivide_times(times: np.ndarray, s: int) -> np.ndarray:
+    """Breakpoints of every piece cut into ``s`` equal sub-pieces: ``t_k + (j/s)(t_{k+1} -
+    t_k)``, j = 0..s-1, then the last; shape (..., (K-1) s + 1). The raw breakpoints stay."""
+    t0, t1 = times[..., :-1], times[..., 1:]
+    fr = np.arange(s) / s
+    sub = t0[..., None] + fr * (t1 - t0)[..., None]
+    out = np.concatenate([sub.reshape(times.shape[:-1] + (-1,)), times[..., -1:]], axis=-1)
+    return out
+
+
+def subdivide(wp: np.ndarray) -> np.ndarray:
+    """Insert the midpoint ``0.5 P_i + 0.5 P_{i+1}`` of every piece: (B, K, P, d) -> (B, 2K-1,
+    P, d). The path is the same polyline (up to the rounding of the midpoints)."""
+    b, k = wp.shape[:2]
+    out = np.empty((b, 2 * k - 1) + wp.shape[2:])
+    out[:, ::2] = wp
+    out[:, 1::2] = 0.5 * wp[:, :-1] + 0.5 * wp[:, 1:]
+    return out
+
+
+def mobility(times: np.ndarray, r: int) -> np.ndarray:
+    """The mobility of every waypoint, (..., W): ``clip(MOBILITY (W-1) g, 0, 1)`` with ``g`` the
+    smallest of the times to the two neighbours and to the fixed times ``k/(r-1)``; 0 at the
+    ends. Continuous in the times."""
+    w = times.shape[-1]
+    out = np.zeros(times.shape)
+    t = times[..., 1:-1]
+    g = np.minimum(t - times[..., :-2], times[..., 2:] - t)
+    for k in range(r):
+        g = np.minimum(g, np.abs(t - k / (r - 1)))
+    out[..., 1:-1] = np.clip((MOBILITY * (w - 1)) * g, 0.0, 1.0)
+    return out
+
+
+def chord_fraction(times: np.ndarray) -> np.ndarray:
+    """``f_j = (t_j - t_{j-1}) / (t_{j+1} - t_{j-1})`` of the interior waypoints (..., W-2);
+    1/2 where the two neighbours share their time (the mobility is 0 there)."""
+    num = times[..., 1:-1] - times[..., :-2]
+    den = times[..., 2:] - times[..., :-2]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.5)
+
+
+# --- one substep -----------------------------------------------------------------------------
+
+def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Sum over the last axis in the kernel's order: ``(0 + x0 y0) + x1 y1 + ..``."""
+    s = 0.0 + x[..., 0] * y[..., 0]
+    for k in range(1, x.shape[-1]):
+        s = s + x[..., k] * y[..., k]
+    return s
+
+
+def piece_minima(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Closed-form minimum distance of every pair (a, b) on every piece: (B, W-1, pairs), in
+    the arithmetic of :func:`pmplan.certify.segment_clearance` (the kernels' order)."""
+    rel = x[:, :, a, :] - x[:, :, b, :]
+    r0, r1 = rel[:, :-1], rel[:, 1:]
+    v = r1 - r0
+    vv = _dot(v, v)
+    num = -_dot(r0, v)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q = num / vv
+    q = np.where(num >= vv, 1.0, q)
+    q = np.where(num <= 0, 0.0, q)
+    q = np.where(vv > 0, q, 0.0)
+    qx = r0 + q[..., None] * v
+    return np.sqrt(_dot(qx, qx))
+
+
+def _caps(x, a, b, c, free) -> np.ndarray:
+    """The cap of every point at every waypoint, (B, W, P): the minimum over its pairs and the
+    two adjacent pieces of ``free`` (B, W-1, pairs), already multiplied by ``c``."""
+    bsz, w, p = x.shape[:3]
+    cap = np.full((bsz, w, p), np.inf)
+    for q in range(a.shape[0]):
+        g = free[:, :, q]
+        for pt in (a[q], b[q]):
+            cap[:, :-1, pt] = np.minimum(cap[:, :-1, pt], g)
+            cap[:, 1:, pt] = np.minimum(cap[:, 1:, pt], g)
+    return cap
+
+
+def _apply(x, delta, cap, m) -> None:
+    """Move the robots by ``delta`` clipped to ``cap``: ``x += delta min(1, cap/|delta|)``."""
+    nrm = np.sqrt(_dot(delta, delta))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scale = np.where(nrm > cap, cap / nrm, 1.0)
+    x[:, :, m:] = x[:, :, m:] + delta[:, :, m:] * scale[:, :, m:, None]
+
+
+def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
+    d = piece_minima(x, a, b)
+    keep = tgt * (1.0 + MARGIN)
+    free = c * np.maximum(d - keep[:, None, :], 0.0)
+    cap = _caps(x, a, b, c, free)
+    delta = np.zeros(x.shape)
+    xm, xp = x[:, :-2], x[:, 2:]
+    chord = xm + frac[..., None, None] * (xp - xm)
+    delta[:, 1:-1] = (ALPHA * mob[:, 1:-1])[..., None, None] * (chord - x[:, 1:-1])
+    _apply(x, delta, cap, m)
+
+
+def _clear(x, m, a, b, c, tgt, mob) -> None:
+    d = piece_minima(x, a, b)
+    keep = tgt * (1.0 + MARGIN)  # (B, pairs)
+    star = tgt * (1.0 + ETA)
+    low = PHI * tgt
+    slope = (keep - low) / (star - tgt)
+    t_ = tgt[:, None, :]
+    floor = np.where(d <= t_, PHI * d,
+                     np.where(d >= star[:, None, :], keep[:, None, :],
+                              low[:, None, :] + (d - t_) * slope[:, None, :]))
+    free = c * np.maximum(d - floor, 0.0)
+    cap = _caps(x, a, b, c, free)
+    push = np.zeros(x.shape)
+    for q in range(a.shape[0]):
+        pa, pb, cq, sq = a[q], b[q], c[q], star[:, q][:, None]
+        rel = x[:, :, pa] - x[:, :, pb]  # (B, W, d)
+        dist = np.sqrt(_dot(rel, rel))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fac = np.where(dist > 0, cq * np.maximum(sq - dist, 0.0) / dist, 0.0)
+        relm = 0.5 * rel[:, :-1] + 0.5 * rel[:, 1:]
+        distm = np.sqrt(_dot(relm, relm))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            facm = np.where(distm > 0, (0.5 * cq) * np.maximum(sq - distm, 0.0) / distm, 0.0)
+        fw = fac[..., None] * rel
+        fm = facm[..., None] * relm
+        push[:, :, pb] = push[:, :, pb] - fw
+        push[:, 1:, pb] = push[:, 1:, pb] - fm
+        push[:, :-1, pb] = push[:, :-1, pb] - fm
+        if pa >= m:
+            push[:, :, pa] = push[:, :, pa] + fw
+            push[:, 1:, pa] = push[:, 1:, pa] + fm
+            push[:, :-1, pa] = push[:, :-1, pa] + fm
+    delta = (BETA * mob)[..., None, None] * push
+    _apply(x, delta, cap, m)
+
+
+def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
+                 waypoints_per_piece: int = DEFAULT_WAYPOINTS, steps: int = DEFAULT_STEPS
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Apply the refinement map R to a batch of certified paths (the numpy reference).
+
+    Parameters
+    ----------
+    times : ndarray, shape (K,) or (B, K)
+        The raw breakpoints (the intermediate configurations at ``k / (r - 1)``).
+    waypoints : ndarray, shape (B, K, P, d)
+        The raw waypoints, obstacles first (rows ``< m``), in the normal float range.
+    m, r : int
+        Obstacles; configurations the path passes through (2: start and goal).
+    target : ndarray, shape (B, 2)
+        The target distances ``T`` between two robots and between a robot and an obstacle
+        (positive).
+    waypoints_per_piece, steps : int
+        ``S`` (a power of two) and the number of steps (see the module docstring).
+
+    Returns
+    -------
+    times : ndarray, shape ((K-1) S + 1,) or (B, (K-1) S + 1)
+    waypoints : ndarray, shape (B, (K-1) S + 1, P, d)
+    """
+    times = np.asarray(times, dtype=float)
+    x = np.array(waypoints, dtype=float)
+    p = x.shape[2]
+    a, b, c = pairs(p, m)
+    tgt = np.where(a >= m, target[:, :1], target[:, 1:2])  # (B, pairs)
+    t = times
+    for level, (s, n_steps) in enumerate(schedule(waypoints_per_piece, steps)):
+        if level:
+            x = subdivide(x)
+        t = subdivide_times(times, s)
+        tb = np.broadcast_to(t, x.shape[:2])
+        mob = mobility(tb, r)
+        frac = chord_fraction(tb)
+        for _ in range(n_steps):
+            _clear(x, m, a, b, c, tgt, mob)
+            _shorten(x, m, a, b, c, tgt, frac, mob)
+    return t, x
+
+
+# --- the radii -------------------------------------------------------------------------------
+
+def targets(radius: float, obstacle_radius: float, raw_clearance: np.ndarray) -> np.ndarray:
+    """The target distances (B, 2): ``2 radius`` (robot-robot) and ``radius + obstacle_radius``
+    (robot-obstacle), each replaced by ``KAPPA`` times the raw clearance when it is 0."""
+    c = KAPPA * np.asarray(raw_clearance, dtype=float)
+    rr = 2.0 * radius
+    ro = radius + obstacle_radius
+    return np.stack([c if rr == 0 else np.full(c.shape, rr),
+                     c if ro == 0 else np.full(c.shape, ro)], axis=1)
+
+
+def distances(waypoints: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """The exact-where-it-matters minimum robot-robot and robot-obstacle distances along a batch
+    of paths (B, K, P, d): the certificate's closed-form piece minima
+    (:func:`pmplan.certify.clearance` on those pairs); ``inf`` for the robot-robot one when
+    n = 1."""
+    wp = np.asarray(waypoints, dtype=float)
+    b, _, p, _ = wp.shape
+    robot = clearance(wp[:, :, m:], 0)
+    obst = np.full(b, np.inf)
+    for k in range(m):
+        for i in range(m, p):
+            obst = np.minimum(obst, clearance(wp[:, :, [k, i]], 1))
+    return robot, obst
+
+
+def _at_least(wp: np.ndarray, pa: np.ndarray, pb: np.ndarray, need: Fraction) -> np.ndarray:
+    """Whether every pair (pa, pb) keeps an exact distance >= ``need`` along every path (B,):
+    the float minimum decides where it is clearly above or below, the exact one otherwise."""
+    b = wp.shape[0]
+    ok = np.ones(b, dtype=bool)
+    if pa.size == 0 or need == 0:
+        return ok
+    d = piece_minima(wp, pa, pb)  # (B, K-1, pairs)
+    f = float(need)
+    with np.errstate(invalid="ignore"):
+        sure = d > f * (1 + 1e-9) + 1e-300
+        fail = d < f * (1 - 1e-9)
+    ok &= ~fail.reshape(b, -1).any(axis=1)
+    need2 = need * need
+    for bi, ki, qi in zip(*np.nonzero(~sure & ~fail)):
+        if not ok[bi]:
+            continue
+        sq = _exact_segment_dist2(wp[bi, ki, pa[qi]], wp[bi, ki, pb[qi]],
+                                  wp[bi, ki + 1, pa[qi]], wp[bi, ki + 1, pb[qi]])
+        if sq < need2:
+            ok[bi] = False
+    return ok
+
+
+def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius: float):
+    """``(robot_distance, obstacle_distance, respects)`` of a batch of paths (B, K, P, d).
+
+    ``respects`` is decided exactly: the true minimum distance between two robots is >= ``2
+    radius`` and between a robot and an obstacle >= ``radius + obstacle_radius`` (rational
+    arithmetic on the waypoint floats where the float minimum is within 1e-9 of the bound).
+    """
+    wp = np.asarray(waypoints, dtype=float)
+    robot, obst = distances(wp, m)
+    if wp.shape[0] and np.abs(wp).max() >= 2.0**RANGE:
+        with np.errstate(all="ignore"):
+            return robot, obst, (robot >= 2 * radius) & (obst >= radius + obstacle_radius) \
+                & _scaled_respects(wp, m, radius, obstacle_radius)
+    p = wp.shape[2]
+    a, b, _ = pairs(p, m)
+    rr = a >= m
+    ok = _at_least(wp, a[rr], b[rr], 2 * Fraction(radius))
+    ok &= _at_least(wp, a[~rr], b[~rr], Fraction(radius) + Fraction(obstacle_radius))
+    return robot, obst, ok
+
+
+def _scaled_respects(wp, m, radius, obstacle_radius) -> np.ndarray:
+    """:func:`radius_report`'s exact decision for paths beyond the float range of squares:
+    scaled by a power of two per path (exact where the bits allow)."""
+    out = np.zeros(wp.shape[0], dtype=bool)
+    for i in range(wp.shape[0]):
+        _, e = np.frexp(np.abs(wp[i]).max())
+        out[i] = radius_report(np.ldexp(wp[i:i + 1], -e), m, float(np.ldexp(radius, -e)),
+                               float(np.ldexp(obstacle_radius, -e)))[2][0]
+    return out
+
+
+def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_radius: float,
+                batched: bool) -> None:
+    """Raise :class:`~pmplan.errors.CollisionError` (an InputError) if a configuration the path
+    must pass through (start, goal, intermediate) violates the radii: two robots closer than
+    ``2 radius`` or a robot closer than ``radius + obstacle_radius`` to an obstacle (exact)."""
+    if radius == 0 and obstacle_radius == 0:
+        return
+    r = len(configs)
+    names = ["start", *[f"configuration {k}" for k in range(2, r)], "goal"]
+    m = obstacles.shape[1]
+    for name, conf in zip(names, configs):
+        full = np.concatenate([obstacles, conf], axis=1)[:, None]  # a constant path
+        wp = np.concatenate([full, full], axis=1)
+        _, _, ok = radius_report(wp, m, radius, obstacle_radius)
+        if ok.all():
+            continue
+        i = int(np.flatnonzero(~ok)[0])
+        _raise_too_close(full[i, 0], m, radius, obstacle_radius, name, i if batched else None)
+
+
+def _raise_too_close(conf, m, radius, obstacle_radius, name, index) -> None:
+    p = conf.shape[0]
+    a, b, _ = pairs(p, m)
+    label = [f"o{k + 1}" for k in range(m)] + [f"x{k + 1}" for k in range(p - m)]
+    best = None
+    for pa, pb in zip(a, b):
+        need, value = (("2 * radius", 2 * radius) if pa >= m else
+                       ("radius + obstacle_radius", radius + obstacle_radius))
+        sq = _exact_segment_dist2(conf[pa], conf[pb], conf[pa], conf[pb])
+        if sq < Fraction(value) ** 2:
+            best = (label[pa], label[pb], math.sqrt(float(sq)), need, value)
+            break
+    pa, pb, dist, need, value = best
+    where = f" in query {index}" if index is not None else ""
+    raise CollisionError(
+        _MSG_TOO_CLOSE.format(what=f"the {name} configuration", pair=f"points {pa} and {pb}",
+                              dist=dist, where=where, need=need, value=value),
+        index=index, which=name, pair=(pa, pb))
+
+
+# --- the stage: refine a batch chunk by chunk, certified ---------------------------------------
+
+_MSG_FAILED = ("the refined path failed its certificate{where}: {what}; the query is too nearly "
+               "degenerate for the refinement in double precision: use the unrefined plan "
+               "(refine=False); nothing was returned")
+
+
+class RefineStage(Stage):
+    """The refinement of a batch of certified paths as a stage of the run loop
+    (:func:`pmplan.running.run_stage`): per chunk, the kernel (:mod:`pmplan.kernels.refine`)
+    or the numpy reference (:func:`refine_paths`), then the whole certificate
+    (:func:`pmplan.certify.certificate`, never skipped) and the radii (:func:`radius_report`).
+
+    Parameters
+    ----------
+    times : ndarray, shape (K,) or (B, K)
+    waypoints : ndarray, shape (B, K, P, d)
+        The certified raw paths (not modified).
+    clearance : ndarray, shape (B,)
+        Their clearance (the targets when a radius is 0, see :func:`targets`).
+    m, r : int
+    radius, obstacle_radius : float
+    waypoints_per_piece, steps : int
+    backend : str or None
+        ``"numpy"``: the reference; else the kernel.
+    """
+
+    chunk = 512
+
+    def __init__(self, times, waypoints, clearance, m: int, r: int, radius: float,
+                 obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None):
+        from .backend import NUMBA, resolve
+
+        self.raw_times = np.asarray(times, dtype=float)
+        self.raw = waypoints
+        self.size = waypoints.shape[0]
+        self.m, self.r = m, r
+        self.radius, self.obstacle_radius = radius, obstacle_radius
+        self.s, self.steps = waypoints_per_piece, steps
+        self.kernel = False  # resolve(backend) == NUMBA: the kernel comes next
+        self.target = targets(radius, obstacle_radius, clearance)
+        k = self.raw_times.shape[-1]
+        w = (k - 1) * self.s + 1
+        b, _, p, d = waypoints.shape
+        self.times = subdivide_times(self.raw_times, self.s)
+        self.waypoints = np.empty((b, w, p, d))
+        self.clearance = np.empty(b)
+        self.robot_distance = np.empty(b)
+        self.obstacle_distance = np.empty(b)
+        self.respects = np.empty(b, dtype=bool)
+        self.clause = np.zeros(b, np.uint8)
+        # the fixed waypoints: the raw ones at the times k / (r - 1)
+        self.fixed = [int(np.flatnonzero(self.raw_times[..., :] == j / (r - 1))[0])
+                      if self.raw_times.ndim == 1 else (0 if j == 0 else k - 1)
+                      for j in range(r)]
+
+    def _refine(self, times, wp, target):
+        if self.kernel:
+            from .kernels.refine import refine_batch
+
+            return refine_batch(times, wp, self.m, self.r, target, self.s, self.steps)
+        return refine_paths(times, wp, self.m, self.r, target, self.s, self.steps)
+
+    def run(self, lo: int, hi: int) -> np.ndarray:
+        raw = self.raw[lo:hi]
+        times = self.raw_times if self.raw_times.ndim == 1 else self.raw_times[lo:hi]
+        target = self.target[lo:hi]
+        out = self.waypoints[lo:hi]
+        with np.errstate(invalid="ignore"):
+            amax = np.abs(raw).reshape(hi - lo, -1).max(axis=1, initial=0.0)
+        extreme = ~((amax >= 2.0**-RANGE) & (amax < 2.0**RANGE))
+        normal = np.flatnonzero(~extreme)
+        if normal.size == hi - lo:
+            out[...] = self._refine(times, raw, target)[1]
+        elif normal.size:
+            out[normal] = self._refine(times if times.ndim == 1 else times[normal], raw[normal],
+                                       target[normal])[1]
+        for i in np.flatnonzero(extreme):  # scaled by a power of two into range, exactly
+            _, e = np.frexp(amax[i])
+            t_i = times if times.ndim == 1 else times[i:i + 1]
+            res = self._refine(t_i, np.ldexp(raw[i:i + 1], -e), np.ldexp(target[i:i + 1], -e))[1]
+            with np.errstate(over="ignore", under="ignore"):
+                out[i] = np.ldexp(res[0], e)
+            out[i, :, :self.m] = raw[i, 0, :self.m]
+            for j, kj in enumerate(self.fixed):
+                out[i, kj * self.s] = raw[i, kj]
+        m, r = self.m, self.r
+        tt = self.times if self.times.ndim == 1 else self.times[lo:hi]
+        configs = [raw[:, kj] for kj in self.fixed]
+        via = [(j / (r - 1), configs[j]) for j in range(1, r - 1)]
+        with np.errstate(all="ignore"):
+            clr, clause = certificate(out, configs[0], configs[-1], m, times=tt, via=via)
+            rd, od, ok = radius_report(out, m, self.radius, self.obstacle_radius)
+        self.clearance[lo:hi] = clr
+        self.clause[lo:hi] = clause
+        self.robot_distance[lo:hi] = rd
+        self.obstacle_distance[lo:hi] = od
+        self.respects[lo:hi] = ok
+        return clause == 0
+
+    def fail(self, bad: np.ndarray) -> None:
+        idx = np.flatnonzero(bad)
+        where = f" for queries {idx[:10].tolist()}{'...' if idx.size > 10 else ''}" \
+            if self.size > 1 else ""
+        raise CertificationError(
+            _MSG_FAILED.format(where=where, what=describe(int(self.clause[idx[0]]))),
+            indices=idx)
+
+    def extra(self) -> dict:
+        """The refinement record of the batch (:attr:`pmplan.results.PlanBatch._extra`)."""
+        b = self.size
+        return dict(radius=np.full(b, self.radius), obstacle_radius=np.full(b, self.obstacle_radius),
+                    refined=np.ones(b, dtype=bool), robot_distance=self.robot_distance,
+                    obstacle_distance=self.obstacle_distance, respects_radius=self.respects)
