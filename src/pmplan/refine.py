@@ -19,7 +19,8 @@ numbers, no discrete choice (only min, max and clip of continuous quantities):
    their times.
 2. *Steps.* At each level, ``steps`` are split evenly; a step is a *clearing* substep followed
    by a *shortening* substep. Shortening moves every interior waypoint a fraction
-   :data:`ALPHA` toward the point of the chord of its two neighbours at its time; clearing
+   :data:`ALPHA` toward the point of the chord of its two neighbours at its time (red-black:
+   the odd waypoints first, then the even ones toward the moved odd ones); clearing
    pushes the two points of a pair apart, at the waypoints and at the midpoints of the pieces,
    by :data:`BETA` times its deficit ``max(T* - |x_a - x_b|, 0)`` below the push target
    ``T* = (1 + ETA) T``. Both moves are multiplied by a *mobility* in [0, 1], a continuous
@@ -83,15 +84,24 @@ MAX_WAYPOINTS = 64
 #: the largest ``steps`` accepted
 MAX_STEPS = 100_000
 #: shortening gain: the fraction of the way to the chord point moved per step
-ALPHA = 0.5
+ALPHA = 1.0
 #: clearing gain: the fraction of the deficit pushed per step
 BETA = 0.5
 #: clearing floor: a pair below its target may lose at most 1 - PHI of its distance per step
 PHI = 0.5
-#: push target T* = (1 + ETA) T: the clearing overshoots the target a little
-ETA = 0.0625
+#: push target T* = (1 + ETA) T at the coarsest level, halved at every finer one
+#: (:func:`overshoot`): the clearing overshoots the target
+ETA = 0.5
 #: the protected level is T (1 + MARGIN), far above the rounding of the update
 MARGIN = 2.0**-30
+#: the soft closest point of a piece: ``clip(-r0.v / (|v|^2 + LAMBDA (|r0|^2 + |r1|^2)), 0,
+#: 1)``, continuous where the exact one (LAMBDA = 0) jumps (v -> 0)
+LAMBDA = 2.0**-12
+#: the steps of a level are GROWTH times those of the next finer level (coarse steps are cheap)
+GROWTH = 1.0
+#: the clearing-only steps at the end, a fraction of ``steps`` (they settle the pairs the
+#: shortening pressed below their target)
+FINAL = 0.25
 #: with no radius, the target clearance is KAPPA times the raw plan's clearance
 KAPPA = 0.5
 #: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
@@ -179,7 +189,24 @@ def schedule(waypoints: int, steps: int) -> list[tuple[int, int]]:
     [(1, 5)]
     """
     levels = waypoints.bit_length()
-    return [(1 << i, steps * (i + 1) // levels - steps * i // levels) for i in range(levels)]
+    w = [GROWTH ** (levels - 1 - i) for i in range(levels)]
+    cum = [0.0]
+    for x in w:
+        cum.append(cum[-1] + x)
+    at = [int(steps * c / cum[-1] + 0.5) for c in cum]
+    return [(1 << i, at[i + 1] - at[i]) for i in range(levels)]
+
+
+def overshoot(level: int) -> float:
+    """The overshoot of the push target at a level: ``T* = (1 + ETA 2**-level) T`` (large at
+    the coarse levels, where it frees the caps, small at the fine ones, where it costs length).
+    """
+    return ETA * 2.0**-level
+
+
+def final_steps(steps: int) -> int:
+    """The clearing-only steps after the last level: ``FINAL`` of ``steps``, at least 1."""
+    return max(1, int(FINAL * steps))
 
 
 def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -276,12 +303,13 @@ def _caps(x, a, b, c, free) -> np.ndarray:
     return cap
 
 
-def _apply(x, delta, cap, m) -> None:
-    """Move the robots by ``delta`` clipped to ``cap``: ``x += delta min(1, cap/|delta|)``."""
+def _apply(x, delta, cap, m, j=slice(None)) -> None:
+    """Move the robots at the waypoints ``j`` by ``delta`` clipped to ``cap`` (both of those
+    waypoints): ``x += delta min(1, cap/|delta|)``."""
     nrm = np.sqrt(_dot(delta, delta))
     with np.errstate(invalid="ignore", divide="ignore"):
         scale = np.where(nrm > cap, cap / nrm, 1.0)
-    x[:, :, m:] = x[:, :, m:] + delta[:, :, m:] * scale[:, :, m:, None]
+    x[:, j, m:] = x[:, j, m:] + delta[:, :, m:] * scale[:, :, m:, None]
 
 
 def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
@@ -289,17 +317,22 @@ def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
     keep = tgt * (1.0 + MARGIN)
     free = c * np.maximum(d - keep[:, None, :], 0.0)
     cap = _caps(x, a, b, c, free)
-    delta = np.zeros(x.shape)
-    xm, xp = x[:, :-2], x[:, 2:]
-    chord = xm + frac[..., None, None] * (xp - xm)
-    delta[:, 1:-1] = (ALPHA * mob[:, 1:-1])[..., None, None] * (chord - x[:, 1:-1])
-    _apply(x, delta, cap, m)
+    w = x.shape[1]
+    # red-black: the odd waypoints toward the chords of the even ones, then the even ones
+    # toward the chords of the moved odd ones; each move within its cap (of the positions at
+    # the start of the substep, where the distances were measured)
+    for first in (1, 2):
+        j = slice(first, w - 1, 2)
+        xm, xp = x[:, first - 1:w - 2:2], x[:, first + 1::2]
+        chord = xm + frac[:, first - 1::2, None, None] * (xp - xm)
+        delta = (ALPHA * mob[:, j])[..., None, None] * (chord - x[:, j])
+        _apply(x, delta, cap[:, j], m, j)
 
 
-def _clear(x, m, a, b, c, tgt, mob) -> None:
+def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
     d = piece_minima(x, a, b)
     keep = tgt * (1.0 + MARGIN)  # (B, pairs)
-    star = tgt * (1.0 + ETA)
+    star = tgt * (1.0 + eta)
     low = PHI * tgt
     slope = (keep - low) / (star - tgt)
     t_ = tgt[:, None, :]
@@ -315,19 +348,25 @@ def _clear(x, m, a, b, c, tgt, mob) -> None:
         dist = np.sqrt(_dot(rel, rel))
         with np.errstate(invalid="ignore", divide="ignore"):
             fac = np.where(dist > 0, cq * np.maximum(sq - dist, 0.0) / dist, 0.0)
-        relm = 0.5 * rel[:, :-1] + 0.5 * rel[:, 1:]
+        r0, r1 = rel[:, :-1], rel[:, 1:]
+        v = r1 - r0
+        # the soft closest point of the piece: continuous even where v -> 0
+        soft = np.clip(-_dot(r0, v) / (_dot(v, v) + LAMBDA * (_dot(r0, r0) + _dot(r1, r1))),
+                       0.0, 1.0)
+        relm = r0 + soft[..., None] * v
         distm = np.sqrt(_dot(relm, relm))
         with np.errstate(invalid="ignore", divide="ignore"):
-            facm = np.where(distm > 0, (0.5 * cq) * np.maximum(sq - distm, 0.0) / distm, 0.0)
+            facm = np.where(distm > 0, cq * np.maximum(sq - distm, 0.0) / distm, 0.0)
         fw = fac[..., None] * rel
-        fm = facm[..., None] * relm
+        f1 = (facm * soft)[..., None] * relm
+        f0 = (facm - facm * soft)[..., None] * relm
         push[:, :, pb] = push[:, :, pb] - fw
-        push[:, 1:, pb] = push[:, 1:, pb] - fm
-        push[:, :-1, pb] = push[:, :-1, pb] - fm
+        push[:, 1:, pb] = push[:, 1:, pb] - f1
+        push[:, :-1, pb] = push[:, :-1, pb] - f0
         if pa >= m:
             push[:, :, pa] = push[:, :, pa] + fw
-            push[:, 1:, pa] = push[:, 1:, pa] + fm
-            push[:, :-1, pa] = push[:, :-1, pa] + fm
+            push[:, 1:, pa] = push[:, 1:, pa] + f1
+            push[:, :-1, pa] = push[:, :-1, pa] + f0
     delta = (BETA * mob)[..., None, None] * push
     _apply(x, delta, cap, m)
 
@@ -369,9 +408,12 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         tb = np.broadcast_to(t, x.shape[:2])
         mob = mobility(tb, r)
         frac = chord_fraction(tb)
+        eta = overshoot(level)
         for _ in range(n_steps):
-            _clear(x, m, a, b, c, tgt, mob)
+            _clear(x, m, a, b, c, tgt, mob, eta)
             _shorten(x, m, a, b, c, tgt, frac, mob)
+    for _ in range(final_steps(steps)):
+        _clear(x, m, a, b, c, tgt, mob, eta)
     return t, x
 
 
@@ -537,7 +579,7 @@ class RefineStage(Stage):
         self.m, self.r = m, r
         self.radius, self.obstacle_radius = radius, obstacle_radius
         self.s, self.steps = waypoints_per_piece, steps
-        self.kernel = False  # resolve(backend) == NUMBA: the kernel comes next
+        self.kernel = resolve(backend) == NUMBA
         self.target = targets(radius, obstacle_radius, clearance)
         k = self.raw_times.shape[-1]
         w = (k - 1) * self.s + 1

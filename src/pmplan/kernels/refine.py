@@ -1,0 +1,246 @@
+"""The numba kernel of the refinement map R (:mod:`pmplan.refine`), batch-first.
+
+:func:`refine_batch` runs the whole schedule of :func:`pmplan.refine.refine_paths` -- the
+coarse-to-fine levels, per level the steps (a clearing then a shortening substep), then the
+clearing-only steps -- with one compiled call per level (:func:`_level`, ``nogil``: the threads
+of ``workers`` refine chunks in parallel). Its arithmetic is the reference's, operation for
+operation and in the same order (sums over coordinates from 0, pushes pair after pair), so the
+two give bitwise equal paths (tests/test_refine.py). The grid, the mobility and the chord
+fractions are computed once per level by the reference's own numpy functions.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+
+from .. import refine as _  # noqa: F401  (pmplan.refine names the function; the module:)
+from ..refine import (chord_fraction, final_steps, mobility, overshoot, pairs, schedule,
+                      subdivide, subdivide_times)
+from .common import _OPTS, njit
+
+__all__ = ["refine_batch"]
+
+# the reference's constants are passed as ``k`` = (ALPHA, BETA, PHI, -, MARGIN, LAMBDA) and the overshoot ``eta`` of the level, read
+# at every call (a module global would be compiled in, and cached on disk, as a constant)
+
+
+@njit(**_OPTS)
+def _minima(x, a, b, dmin):  # pragma: no cover - compiled
+    """The closed-form minimum distance of every pair on every piece into ``dmin`` (W-1,
+    pairs): :func:`pmplan.refine.piece_minima`'s arithmetic."""
+    w, _, dd = x.shape
+    for q in range(a.shape[0]):
+        pa, pb = a[q], b[q]
+        for j in range(w - 1):
+            vv = 0.0
+            r0v = 0.0
+            for k in range(dd):
+                r0 = x[j, pa, k] - x[j, pb, k]
+                v = (x[j + 1, pa, k] - x[j + 1, pb, k]) - r0
+                vv = vv + v * v
+                r0v = r0v + r0 * v
+            num = -r0v
+            qq = num / vv if vv != 0.0 else 0.0
+            if num >= vv:
+                qq = 1.0
+            if num <= 0:
+                qq = 0.0
+            if not vv > 0:
+                qq = 0.0
+            s = 0.0
+            for k in range(dd):
+                r0 = x[j, pa, k] - x[j, pb, k]
+                v = (x[j + 1, pa, k] - x[j + 1, pb, k]) - r0
+                qx = r0 + qq * v
+                s = s + qx * qx
+            dmin[j, q] = math.sqrt(s)
+
+
+@njit(**_OPTS)
+def _caps(a, b, free, cap):  # pragma: no cover - compiled
+    """Every point's cap at every waypoint (W, P): the minimum of ``free`` (W-1, pairs) over
+    its pairs and the two adjacent pieces."""
+    cap[:, :] = np.inf
+    w1 = free.shape[0]
+    for q in range(a.shape[0]):
+        for pt in (a[q], b[q]):
+            for j in range(w1):
+                g = free[j, q]
+                if g < cap[j, pt]:
+                    cap[j, pt] = g
+                if g < cap[j + 1, pt]:
+                    cap[j + 1, pt] = g
+
+
+@njit(**_OPTS)
+def _apply(x, delta, cap, m):  # pragma: no cover - compiled
+    """``x += delta min(1, cap/|delta|)`` for the robots (:func:`pmplan.refine._apply`)."""
+    w, p, dd = x.shape
+    for j in range(w):
+        for i in range(m, p):
+            s = 0.0
+            for k in range(dd):
+                s = s + delta[j, i, k] * delta[j, i, k]
+            nrm = math.sqrt(s)
+            scale = cap[j, i] / nrm if nrm > cap[j, i] else 1.0
+            for k in range(dd):
+                x[j, i, k] = x[j, i, k] + delta[j, i, k] * scale
+
+
+@njit(**_OPTS)
+def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, kp):  # pragma: no cover
+    w, p, dd = x.shape
+    _minima(x, a, b, dmin)
+    for q in range(a.shape[0]):
+        keep = tgt[q] * (1.0 + kp[4])
+        for j in range(w - 1):
+            free[j, q] = c[q] * max(dmin[j, q] - keep, 0.0)
+    _caps(a, b, free, cap)
+    for first in (1, 2):  # red-black, as the reference
+        for j in range(first, w - 1, 2):
+            f = frac[j - 1]
+            wgt = kp[0] * mob[j]
+            for i in range(m, p):
+                s = 0.0
+                for k in range(dd):
+                    xm = x[j - 1, i, k]
+                    chord = xm + f * (x[j + 1, i, k] - xm)
+                    dk = wgt * (chord - x[j, i, k])
+                    delta[j, i, k] = dk
+                    s = s + dk * dk
+                nrm = math.sqrt(s)
+                scale = cap[j, i] / nrm if nrm > cap[j, i] else 1.0
+                for k in range(dd):
+                    x[j, i, k] = x[j, i, k] + delta[j, i, k] * scale
+
+
+@njit(**_OPTS)
+def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, fac, kp, eta):  # pragma: no cover
+    w, p, dd = x.shape
+    _minima(x, a, b, dmin)
+    for q in range(a.shape[0]):
+        t = tgt[q]
+        keep = t * (1.0 + kp[4])
+        star = t * (1.0 + eta)
+        low = kp[2] * t
+        slope = (keep - low) / (star - t)
+        for j in range(w - 1):
+            dq = dmin[j, q]
+            if dq <= t:
+                floor = kp[2] * dq
+            elif dq >= star:
+                floor = keep
+            else:
+                floor = low + (dq - t) * slope
+            free[j, q] = c[q] * max(dq - floor, 0.0)
+    _caps(a, b, free, cap)
+    delta[:, :, :] = 0.0  # the push
+    for q in range(a.shape[0]):
+        pa, pb, cq = a[q], b[q], c[q]
+        sq = tgt[q] * (1.0 + eta)
+        for j in range(w):
+            s = 0.0
+            for k in range(dd):
+                rel[j, k] = x[j, pa, k] - x[j, pb, k]
+                s = s + rel[j, k] * rel[j, k]
+            dist = math.sqrt(s)
+            fac[j] = cq * max(sq - dist, 0.0) / dist if dist > 0 else 0.0
+        for j in range(w):  # at the waypoints
+            for k in range(dd):
+                fw = fac[j] * rel[j, k]
+                delta[j, pb, k] = delta[j, pb, k] - fw
+                if pa >= m:
+                    delta[j, pa, k] = delta[j, pa, k] + fw
+        for j in range(w - 1):  # at the soft closest point of every piece
+            r0v = 0.0
+            vv = 0.0
+            r00 = 0.0
+            r11 = 0.0
+            for k in range(dd):
+                v = rel[j + 1, k] - rel[j, k]
+                r0v = r0v + rel[j, k] * v
+                vv = vv + v * v
+                r00 = r00 + rel[j, k] * rel[j, k]
+                r11 = r11 + rel[j + 1, k] * rel[j + 1, k]
+            soft = min(max(-r0v / (vv + kp[5] * (r00 + r11)), 0.0), 1.0)
+            s = 0.0
+            for k in range(dd):
+                rm = rel[j, k] + soft * (rel[j + 1, k] - rel[j, k])
+                s = s + rm * rm
+            distm = math.sqrt(s)
+            facm = cq * max(sq - distm, 0.0) / distm if distm > 0 else 0.0
+            g1 = facm * soft
+            g0 = facm - facm * soft
+            for k in range(dd):
+                rm = rel[j, k] + soft * (rel[j + 1, k] - rel[j, k])
+                f1 = g1 * rm
+                f0 = g0 * rm
+                delta[j + 1, pb, k] = delta[j + 1, pb, k] - f1
+                delta[j, pb, k] = delta[j, pb, k] - f0
+                if pa >= m:
+                    delta[j + 1, pa, k] = delta[j + 1, pa, k] + f1
+                    delta[j, pa, k] = delta[j, pa, k] + f0
+    for j in range(w):
+        wgt = kp[1] * mob[j]
+        for i in range(p):
+            for k in range(dd):
+                delta[j, i, k] = wgt * delta[j, i, k]
+    _apply(x, delta, cap, m)
+
+
+@njit(**_OPTS)
+def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta):  # pragma: no cover - compiled
+    """``steps`` steps (clear, shorten) then ``clear_only`` clearing steps on every query of
+    the batch ``x`` (B, W, P, d), in place; ``frac`` (B, W-2), ``mob`` (B, W), ``tgt`` (B,
+    pairs)."""
+    bsz, w, p, dd = x.shape
+    npair = a.shape[0]
+    dmin = np.empty((w - 1, npair))
+    free = np.empty((w - 1, npair))
+    cap = np.empty((w, p))
+    delta = np.empty((w, p, dd))
+    rel = np.empty((w, dd))
+    fac = np.empty(w)
+    for i in range(bsz):
+        xi = x[i]
+        for _ in range(steps):
+            _clear(xi, m, a, b, c, tgt[i], mob[i], dmin, free, cap, delta, rel, fac, kp, eta)
+            _shorten(xi, m, a, b, c, tgt[i], frac[i], mob[i], dmin, free, cap, delta, kp)
+        for _ in range(clear_only):
+            _clear(xi, m, a, b, c, tgt[i], mob[i], dmin, free, cap, delta, rel, fac, kp, eta)
+
+
+def constants() -> np.ndarray:
+    """The reference's constants, as the kernel reads them."""
+    ref = sys.modules["pmplan.refine"]
+    return np.array([ref.ALPHA, ref.BETA, ref.PHI, ref.ETA, ref.MARGIN, ref.LAMBDA])
+
+
+def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
+                 waypoints_per_piece: int, steps: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`pmplan.refine.refine_paths` by the kernel: same arguments, same (bitwise) result."""
+    times = np.asarray(times, dtype=float)
+    x = np.array(waypoints, dtype=float)
+    p = x.shape[2]
+    a, b, c = pairs(p, m)
+    tgt = np.ascontiguousarray(np.where(a >= m, target[:, :1], target[:, 1:2]))
+    a = a.astype(np.int64)
+    b = b.astype(np.int64)
+    plan = schedule(waypoints_per_piece, steps)
+    t = times
+    for level, (s, n_steps) in enumerate(plan):
+        if level:
+            x = subdivide(x)
+        t = subdivide_times(times, s)
+        tb = np.broadcast_to(t, x.shape[:2])
+        mob = np.ascontiguousarray(mobility(tb, r))
+        frac = np.ascontiguousarray(np.broadcast_to(chord_fraction(tb), (x.shape[0],
+                                                                              x.shape[1] - 2)))
+        last = level == len(plan) - 1
+        if x.shape[0]:
+            _level(x, m, a, b, c, tgt, frac, mob, n_steps,
+                   final_steps(steps) if last else 0, constants(), overshoot(level))
+    return t, x
