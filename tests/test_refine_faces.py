@@ -128,8 +128,8 @@ REFINE_ERRORS = [
     (["plan", "Q", "--refine", "--obstacle-radius", "inf"], "`obstacle_radius` must be"),
     (["plan", "Q", "--refine", "--waypoints", "3"], "`waypoints` must be a power of two"),
     (["plan", "Q", "--refine", "--steps", "0"], "`steps` must be an int from 1"),
-    # robots 0.3 apart at the start cannot be discs of radius 0.2
-    (["plan", "Q", "--refine", "--radius", "0.2"], "closer than"),
+    # robot 1 starts 0.25 from o1: it cannot be a disc of radius 0.3
+    (["plan", "Q", "--refine", "--radius", "0.3"], "closer than"),
     (["batch", "Q", "--out", "p.zarr", "--refine"], "--refine is not available for Zarr"),
     (["verify", "--refine", "--radius", "0.1"], "unrecognized arguments: --radius"),
 ]
@@ -176,8 +176,10 @@ def test_batch_refine_writes_the_refined_batch(tmp_path, capsys, via):
     goal = np.stack([rng.uniform(0, 0.7, b), rng.uniform(0.0, 0.3, b)], -1)[:, None]
     goal = np.concatenate([goal + [0.3, 0.0], goal], axis=1)  # and they swap sides
     arrays = dict(obstacles=obstacles, start=start, goal=goal)
-    if via:
-        arrays["via"] = (start + goal)[:, None] / 2 + np.array([0.0, 0.05])
+    if via:  # robots 0.3 apart on the line y = 1.2, well above the obstacles
+        mid = (start + goal) / 2 + [[-0.15, 0.0], [0.15, 0.0]]
+        mid[:, :, 1] = 1.2
+        arrays["via"] = mid[:, None]
     np.savez(tmp_path / "q.npz", **arrays)
     status, out, err = run(capsys, "batch", tmp_path / "q.npz", "--out", tmp_path / "p.npz",
                            "--no-progress", "--refine", "--radius", "0.02",
@@ -208,7 +210,9 @@ def test_batch_unrefined_npz_has_the_fields(tmp_path, capsys):
                "--no-progress")[0] == 0
     with np.load(tmp_path / "p.npz") as res:
         assert not res["refined"].any() and res["radius"].tolist() == [0.0]
-        assert np.isinf(res["robot_distance"]).all() and res["respects_radius"].all()
+        assert res["obstacle_radius"].tolist() == [0.0]
+        # the minima apart are measured for refined batches only (a pass over all pairs)
+        assert not set(io.REFINE_FIELDS[3:]) & set(res.files)
 
 
 # --------------------------------------------------------------------------------------------

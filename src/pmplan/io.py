@@ -12,8 +12,11 @@ Query JSON (one query)::
 Batch npz (``pmplan batch``): arrays ``obstacles`` (B, m, d), ``start`` (B, n, d), ``goal``
 (B, n, d). Output npz: ``domain`` (B,), ``clearance`` (B,), ``times`` (K,) or (B, K),
 ``waypoints`` (B, K, m+n, d), ``strata`` (B, S) and ``stratum`` (B,) names, and the fields of
-refined motions (:data:`REFINE_FIELDS`, issue 14): ``refined``, ``radius``, ``obstacle_radius``,
-``respects_radius`` (B,) and the exact minima ``robot_distance``, ``obstacle_distance`` (B,).
+refined motions (:data:`REFINE_FIELDS`, issue 14): ``refined``, ``radius``, ``obstacle_radius``
+(B,) always; for a refined batch also ``respects_radius`` (B,) and the exact minima
+``robot_distance``, ``obstacle_distance`` (B,) (an unrefined batch has radius 0, and its
+minimum distance is ``clearance``: measuring the two minima apart would cost a pass over all
+pairs, so ``pmplan batch`` without ``--refine`` stays as fast as before).
 
 The JSON of one plan (:func:`plan_to_dict`) has the same fields; a distance that has no pair to
 measure (``robot_distance`` with one robot) is ``null`` there (``inf`` in the npz).
@@ -374,6 +377,7 @@ def write_plans(path: str | Path, batch) -> Path:
         strata=batch.strata,
         stratum=batch.stratum.astype(str),
         planner=np.array(batch.planner),
-        **{key: np.asarray(getattr(batch, key)) for key in REFINE_FIELDS},
+        **{key: np.asarray(getattr(batch, key))
+           for key in (REFINE_FIELDS if batch.refined.any() else REFINE_FIELDS[:3])},
     )
     return path

@@ -20,6 +20,8 @@ __all__ = ["TIME_CMAP", "robot_colors", "time_cmap", "plan_title", "draw_radii",
 
 #: the colormap of time along the paths (plasma without its palest tenth, visible on white)
 TIME_CMAP = "plasma"
+#: at most about this many arrows along one robot's path (every piece of a raw plan has one)
+MAX_ARROWS = 8
 _TIME_RANGE = (0.0, 0.88)
 
 
@@ -108,7 +110,8 @@ def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
     title : str, optional
         Default: :func:`plan_title` and the certified clearance.
     arrows : bool
-        Arrows at the middle of every leg, in the colour of its time.
+        Arrows at the middle of every leg, in the colour of its time (of every k-th leg when
+        the path has more than :data:`MAX_ARROWS` legs, as a refined path has).
     colorbar : bool, optional
         Add a "time" colourbar next to ``ax`` (default: only when ``ax`` is None).
 
@@ -137,8 +140,9 @@ def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
                                          capstyle="round", zorder=3))
         if arrows:
             wp = plan.path.waypoints[:, m + j]
-            for a, b, t0, t1 in zip(wp[:-1], wp[1:], times[:-1], times[1:]):
-                if np.linalg.norm(b - a) > 0:
+            every = max(1, (len(times) - 1) // MAX_ARROWS)  # a refined path has many pieces
+            for k, (a, b, t0, t1) in enumerate(zip(wp[:-1], wp[1:], times[:-1], times[1:])):
+                if k % every == every // 2 and np.linalg.norm(b - a) > 0:
                     mid = (a + b) / 2
                     ax.annotate("", xy=mid + (b - a) * 0.01, xytext=mid, zorder=4,
                                 arrowprops=dict(arrowstyle="-|>", color=cmap(norm((t0 + t1) / 2)),
