@@ -13,7 +13,8 @@ Writes, next to this file:
 * ``frame3d.png``   one frame of a query in R^3, drawn in the planner's frame;
 * ``refined.png``   the query of ``strip.png`` raw and refined (radius 0.2), side by side;
 * ``refined.gif``   the refined motion, robots drawn as discs of radius 0.2;
-* ``verify.txt``    the output of ``pmplan verify --d 2 --n 2 --m 2 --no-progress``.
+* ``verify.txt``    the output of ``pmplan verify --d 2 --n 2 --m 2 --no-progress``;
+* ``verify_refine.txt``  the same with ``--refine`` (the refined planner's moduli beside).
 """
 
 from __future__ import annotations
@@ -126,11 +127,12 @@ def refined_picture(plan, out: Path) -> None:
     plt.close(fig)
 
 
-def verify_output(out: Path) -> None:
+def verify_output(out: Path, *extra: str) -> None:
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf):
-        status = main(["verify", "--d", "2", "--n", "2", "--m", "2", "--no-progress"])
-    out.write_text(f"$ pmplan verify --d 2 --n 2 --m 2\n{buf.getvalue()}$ echo $?\n{status}\n")
+        status = main(["verify", "--d", "2", "--n", "2", "--m", "2", "--no-progress", *extra])
+    cmd = " ".join(["pmplan verify --d 2 --n 2 --m 2", *extra])
+    out.write_text(f"$ {cmd}\n{buf.getvalue()}$ echo $?\n{status}\n")
 
 
 def main_pictures() -> None:
@@ -142,8 +144,9 @@ def main_pictures() -> None:
     refined_picture(plan, HERE / "refined.png")
     gif(pmplan.refine(plan, radius=RADIUS), HERE / "refined.gif")
     verify_output(HERE / "verify.txt")
+    verify_output(HERE / "verify_refine.txt", "--refine")
     for name in ("domains.png", "strip.png", "motion.gif", "frame3d.png", "refined.png",
-                 "refined.gif", "verify.txt"):
+                 "refined.gif", "verify.txt", "verify_refine.txt"):
         print(f"wrote {HERE / name} ({(HERE / name).stat().st_size // 1024} KiB)")
 
 

@@ -370,7 +370,8 @@ class Report:
         """Return a human-readable summary (the default output of ``pmplan verify``)."""
         d, n, m = self.dims
         w = REGISTRY[self.planner].domain_prefix
-        fam = ", ".join(f"{k} {v['queries']}" for k, v in self.families.items())
+        fam = ", ".join(f"{k} {v['queries']}" for k, v in self.families.items()
+                        if not k.startswith(REFINED))
         lines = [
             f"pmplan verify: {self.planner} planner"
             + (" and its refinement (pmplan.refine)" if self.refine else "")
