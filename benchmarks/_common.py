@@ -575,6 +575,11 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
         sect = scale.read_text().splitlines()
         parts += sect
         doc += ["#" + s if s.startswith("## ") else s for s in sect]
+    refined = HERE / "refine_results.md"  # written by benchmarks/refine_bench.py
+    if refined.exists():
+        sect = refined.read_text().splitlines()
+        parts += sect
+        doc += ["#" + s if s.startswith(("## ", "### ")) else s for s in sect]
     (HERE / "RESULTS.md").write_text("\n".join(parts))
     docs = ROOT / "docs"
     docs.mkdir(exist_ok=True)

@@ -645,7 +645,7 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
         The obstacles' radius.
     waypoints : int, optional
         Sub-pieces per piece of the raw path at the finest level, a power of two (default
-        :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 4: 28 pieces per leg of the obstacle-line
+        :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 2: 14 pieces per leg of the obstacle-line
         planner). The refined path has ``(K - 1) waypoints + 1`` breakpoints.
     steps : int, optional
         Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 48), split over the
@@ -712,7 +712,7 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
     r = p.configurations(np.asarray(times)) if np.ndim(times) == 1 else 2
     stage = RefineStage(times, wp, clearance, m, r, radius, obstacle_radius, s, steps, backend)
     check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in stage.fixed], radius, obstacle_radius,
-                batched=not single)
+                batched=not single, kernel=stage.kernel)
     run_stage(stage, progress=progress, workers=workers)
     extra = stage.extra()
     if single:

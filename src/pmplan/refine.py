@@ -57,10 +57,12 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+from functools import lru_cache
 
 import numpy as np
 
-from .certify import _exact_segment_dist2, certificate, clearance, describe
+from .certify import (_REL, CLEARANCE, _exact_segment_clearance, _exact_segment_dist2,
+                      certificate, check_paths, describe)
 from .errors import CertificationError, CollisionError, InputError
 from .planners.base import Stage
 
@@ -75,8 +77,8 @@ __all__ = [
 ]
 
 #: default sub-pieces per raw piece at the finest level (a power of two): 7 raw pieces per leg
-#: of the obstacle-line planner give 28 pieces per leg (measured: benchmarks/refine_bench.py)
-DEFAULT_WAYPOINTS = 4
+#: of the obstacle-line planner give 14 pieces per leg (measured: benchmarks/refine_bench.py)
+DEFAULT_WAYPOINTS = 2
 #: default number of steps (each a clearing and a shortening substep), split over the levels
 DEFAULT_STEPS = 48
 #: the largest ``waypoints`` accepted
@@ -98,14 +100,17 @@ MARGIN = 2.0**-30
 #: 1)``, continuous where the exact one (LAMBDA = 0) jumps (v -> 0)
 LAMBDA = 2.0**-12
 #: the steps of a level are GROWTH times those of the next finer level (coarse steps are cheap)
-GROWTH = 1.0
+GROWTH = 2.0
 #: the clearing-only steps at the end, a fraction of ``steps`` (they settle the pairs the
 #: shortening pressed below their target)
-FINAL = 0.25
+FINAL = 0.125
 #: with no radius, the target clearance is KAPPA times the raw plan's clearance
 KAPPA = 0.5
 #: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
 MOBILITY = 4.0
+#: the kernel measures the refined paths for d below this (numpy sums fewer than 8 terms
+#: sequentially, as the kernel does; beyond, numpy's pairwise sums round differently)
+MAX_SEQUENTIAL_D = 8
 #: waypoints outside [2**-RANGE, 2**RANGE) are refined scaled by a power of two (exact)
 RANGE = 400
 
@@ -209,13 +214,18 @@ def final_steps(steps: int) -> int:
     return max(1, int(FINAL * steps))
 
 
+@lru_cache(maxsize=256)
 def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The pairs (a < b) with a moving point b (index >= m): ``a``, ``b`` and ``c`` (1/2 for two
-    robots, 1 for an obstacle and a robot), in the kernel's order."""
+    """The pairs (a < b) with a moving point b (index >= m): ``a``, ``b`` (int64) and ``c``
+    (1/2 for two robots, 1 for an obstacle and a robot), in the kernel's order (read-only,
+    cached)."""
     a, b = np.triu_indices(p, k=1)
     keep = b >= m
-    a, b = a[keep], b[keep]
-    return a, b, np.where(a >= m, 0.5, 1.0)
+    a, b = a[keep].astype(np.int64), b[keep].astype(np.int64)
+    c = np.where(a >= m, 0.5, 1.0)
+    for arr in (a, b, c):
+        arr.flags.writeable = False
+    return a, b, c
 
 
 # --- the grid ------------------------------------------------------------------------------
@@ -357,6 +367,8 @@ def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
         distm = np.sqrt(_dot(relm, relm))
         with np.errstate(invalid="ignore", divide="ignore"):
             facm = np.where(distm > 0, cq * np.maximum(sq - distm, 0.0) / distm, 0.0)
+        # no push on a piece whose every point is at least sq apart (d: its exact minimum)
+        facm = np.where(d[:, :, q] < sq, facm, 0.0)
         fw = fac[..., None] * rel
         f1 = (facm * soft)[..., None] * relm
         f0 = (facm - facm * soft)[..., None] * relm
@@ -429,79 +441,89 @@ def targets(radius: float, obstacle_radius: float, raw_clearance: np.ndarray) ->
                      c if ro == 0 else np.full(c.shape, ro)], axis=1)
 
 
-def distances(waypoints: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
-    """The exact-where-it-matters minimum robot-robot and robot-obstacle distances along a batch
-    of paths (B, K, P, d): the certificate's closed-form piece minima
-    (:func:`pmplan.certify.clearance` on those pairs); ``inf`` for the robot-robot one when
-    n = 1."""
-    wp = np.asarray(waypoints, dtype=float)
-    b, _, p, _ = wp.shape
-    robot = clearance(wp[:, :, m:], 0)
-    obst = np.full(b, np.inf)
-    for k in range(m):
-        for i in range(m, p):
-            obst = np.minimum(obst, clearance(wp[:, :, [k, i]], 1))
-    return robot, obst
-
-
-def _at_least(wp: np.ndarray, pa: np.ndarray, pb: np.ndarray, need: Fraction) -> np.ndarray:
-    """Whether every pair (pa, pb) keeps an exact distance >= ``need`` along every path (B,):
-    the float minimum decides where it is clearly above or below, the exact one otherwise."""
-    b = wp.shape[0]
-    ok = np.ones(b, dtype=bool)
-    if pa.size == 0 or need == 0:
-        return ok
-    d = piece_minima(wp, pa, pb)  # (B, K-1, pairs)
-    f = float(need)
-    with np.errstate(invalid="ignore"):
-        sure = d > f * (1 + 1e-9) + 1e-300
-        fail = d < f * (1 - 1e-9)
-    ok &= ~fail.reshape(b, -1).any(axis=1)
-    need2 = need * need
-    for bi, ki, qi in zip(*np.nonzero(~sure & ~fail)):
-        if not ok[bi]:
-            continue
-        sq = _exact_segment_dist2(wp[bi, ki, pa[qi]], wp[bi, ki, pb[qi]],
-                                  wp[bi, ki + 1, pa[qi]], wp[bi, ki + 1, pb[qi]])
-        if sq < need2:
-            ok[bi] = False
-    return ok
+def _minima_exact(wp: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The piece minima (B, K-1, pairs) of :func:`piece_minima`, re-decided exactly where the
+    certificate re-decides them (:func:`pmplan.certify.clearance`: a float minimum not clearly
+    above the rounding of its evaluation is recomputed in rational arithmetic)."""
+    d = piece_minima(wp, a, b)
+    if a.size == 0 or d.size == 0:
+        return d
+    pa, pb = wp[:, :, a, :], wp[:, :, b, :]
+    r = np.abs(pa - pb).max(-1)
+    scale = np.maximum(r[:, :-1], r[:, 1:])
+    absval = np.maximum(np.abs(pa).max(-1), np.abs(pb).max(-1))
+    absval = np.maximum(absval[:, :-1], absval[:, 1:])
+    with np.errstate(invalid="ignore", over="ignore"):
+        suspect = ~(d > _REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(d)
+    for bi, ki, qi in zip(*np.nonzero(suspect)):
+        d[bi, ki, qi] = _exact_segment_clearance(wp[bi, ki, a[qi]], wp[bi, ki, b[qi]],
+                                                 wp[bi, ki + 1, a[qi]], wp[bi, ki + 1, b[qi]])
+    return d
 
 
 def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius: float):
     """``(robot_distance, obstacle_distance, respects)`` of a batch of paths (B, K, P, d).
 
-    ``respects`` is decided exactly: the true minimum distance between two robots is >= ``2
-    radius`` and between a robot and an obstacle >= ``radius + obstacle_radius`` (rational
-    arithmetic on the waypoint floats where the float minimum is within 1e-9 of the bound).
+    The distances are the minima over the pieces of the certificate's closed-form piece minima
+    (exact where the certificate is, :func:`_minima_exact`); ``inf`` for the robot-robot one
+    when n = 1. ``respects`` is decided exactly: the true minimum distance between two robots
+    is >= ``2 radius`` and between a robot and an obstacle >= ``radius + obstacle_radius``
+    (rational arithmetic on the waypoint floats where the float minimum is within 1e-9 of the
+    bound).
     """
     wp = np.asarray(waypoints, dtype=float)
-    robot, obst = distances(wp, m)
-    if wp.shape[0] and np.abs(wp).max() >= 2.0**RANGE:
-        with np.errstate(all="ignore"):
-            return robot, obst, (robot >= 2 * radius) & (obst >= radius + obstacle_radius) \
-                & _scaled_respects(wp, m, radius, obstacle_radius)
-    p = wp.shape[2]
+    bsz, _, p, _ = wp.shape
+    if bsz == 0:
+        return np.empty(0), np.empty(0), np.ones(0, dtype=bool)
+    if np.abs(wp).max() >= 2.0**RANGE:
+        return _scaled_report(wp, m, radius, obstacle_radius)
     a, b, _ = pairs(p, m)
     rr = a >= m
-    ok = _at_least(wp, a[rr], b[rr], 2 * Fraction(radius))
-    ok &= _at_least(wp, a[~rr], b[~rr], Fraction(radius) + Fraction(obstacle_radius))
+    d = _minima_exact(wp, a, b).reshape(bsz, -1, a.size)
+    robot = d[:, :, rr].reshape(bsz, -1).min(axis=1, initial=np.inf)
+    obst = d[:, :, ~rr].reshape(bsz, -1).min(axis=1, initial=np.inf)
+    ok = _at_least(wp, d[:, :, rr], a[rr], b[rr], 2 * Fraction(radius))
+    ok &= _at_least(wp, d[:, :, ~rr], a[~rr], b[~rr],
+                    Fraction(radius) + Fraction(obstacle_radius))
     return robot, obst, ok
 
 
-def _scaled_respects(wp, m, radius, obstacle_radius) -> np.ndarray:
-    """:func:`radius_report`'s exact decision for paths beyond the float range of squares:
-    scaled by a power of two per path (exact where the bits allow)."""
-    out = np.zeros(wp.shape[0], dtype=bool)
+def _at_least(wp, d, pa, pb, need: Fraction) -> np.ndarray:
+    """Whether every pair (pa, pb), of piece minima ``d`` (B, K-1, pairs), keeps an exact
+    distance >= ``need`` along every path (B,): the float minimum decides where it is clearly
+    above or below, the exact one otherwise."""
+    bsz = wp.shape[0]
+    ok = np.ones(bsz, dtype=bool)
+    if pa.size == 0 or need == 0:
+        return ok
+    f = float(need)
+    with np.errstate(invalid="ignore"):
+        sure = d > f * (1 + 1e-9) + 1e-300
+        fail = d < f * (1 - 1e-9)
+    ok &= ~fail.reshape(bsz, -1).any(axis=1)
+    need2 = need * need
+    for bi, ki, qi in zip(*np.nonzero(~sure & ~fail)):
+        if ok[bi] and _exact_segment_dist2(wp[bi, ki, pa[qi]], wp[bi, ki, pb[qi]],
+                                           wp[bi, ki + 1, pa[qi]], wp[bi, ki + 1, pb[qi]]) < need2:
+            ok[bi] = False
+    return ok
+
+
+def _scaled_report(wp, m, radius, obstacle_radius):
+    """:func:`radius_report` for paths beyond the float range of squares: each scaled by a
+    power of two (exact where the bits allow) and its distances scaled back."""
+    out = [np.empty(wp.shape[0]), np.empty(wp.shape[0]), np.zeros(wp.shape[0], dtype=bool)]
     for i in range(wp.shape[0]):
         _, e = np.frexp(np.abs(wp[i]).max())
-        out[i] = radius_report(np.ldexp(wp[i:i + 1], -e), m, float(np.ldexp(radius, -e)),
-                               float(np.ldexp(obstacle_radius, -e)))[2][0]
-    return out
+        rd, od, ok = radius_report(np.ldexp(wp[i:i + 1], -e), m, float(np.ldexp(radius, -e)),
+                                   float(np.ldexp(obstacle_radius, -e)))
+        with np.errstate(over="ignore"):
+            out[0][i], out[1][i], out[2][i] = np.ldexp(rd[0], e), np.ldexp(od[0], e), ok[0]
+    return tuple(out)
 
 
 def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_radius: float,
-                batched: bool) -> None:
+                batched: bool, kernel: bool = False) -> None:
     """Raise :class:`~pmplan.errors.CollisionError` (an InputError) if a configuration the path
     must pass through (start, goal, intermediate) violates the radii: two robots closer than
     ``2 radius`` or a robot closer than ``radius + obstacle_radius`` to an obstacle (exact)."""
@@ -510,14 +532,22 @@ def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_ra
     r = len(configs)
     names = ["start", *[f"configuration {k}" for k in range(2, r)], "goal"]
     m = obstacles.shape[1]
-    for name, conf in zip(names, configs):
-        full = np.concatenate([obstacles, conf], axis=1)[:, None]  # a constant path
-        wp = np.concatenate([full, full], axis=1)
+    full = np.concatenate([np.concatenate([obstacles, c], axis=1) for c in configs])
+    wp = np.stack([full, full], axis=1)  # constant paths, (r B, 2, P, d)
+    ok = None
+    if kernel and wp.shape[-1] < MAX_SEQUENTIAL_D:  # the kernel's measure; exact when close
+        from .kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
+
+        _, flags = measure_batch(wp, m, (2.0 * radius, radius + obstacle_radius))
+        if not (flags & (CLOSE | SUSPECT)).any():
+            ok = (flags & SHORT) == 0
+    if ok is None:
         _, _, ok = radius_report(wp, m, radius, obstacle_radius)
-        if ok.all():
-            continue
-        i = int(np.flatnonzero(~ok)[0])
-        _raise_too_close(full[i, 0], m, radius, obstacle_radius, name, i if batched else None)
+    if ok.all():
+        return
+    k, i = divmod(int(np.flatnonzero(~ok)[0]), obstacles.shape[0])
+    _raise_too_close(full[k * obstacles.shape[0] + i], m, radius, obstacle_radius, names[k],
+                     i if batched else None)
 
 
 def _raise_too_close(conf, m, radius, obstacle_radius, name, index) -> None:
@@ -535,7 +565,8 @@ def _raise_too_close(conf, m, radius, obstacle_radius, name, index) -> None:
     pa, pb, dist, need, value = best
     where = f" in query {index}" if index is not None else ""
     raise CollisionError(
-        _MSG_TOO_CLOSE.format(what=f"the {name} configuration", pair=f"points {pa} and {pb}",
+        _MSG_TOO_CLOSE.format(what=f"the {name} configuration" if name in ("start", "goal")
+                              else name, pair=f"points {pa} and {pb}",
                               dist=dist, where=where, need=need, value=value),
         index=index, which=name, pair=(pa, pb))
 
@@ -624,21 +655,48 @@ class RefineStage(Stage):
             with np.errstate(over="ignore", under="ignore"):
                 out[i] = np.ldexp(res[0], e)
             out[i, :, :self.m] = raw[i, 0, :self.m]
-            for j, kj in enumerate(self.fixed):
+            for kj in self.fixed:
                 out[i, kj * self.s] = raw[i, kj]
+        self._certify(lo, hi, raw, out, extreme)
+        return self.clause[lo:hi] == 0
+
+    def _certify(self, lo, hi, raw, out, exact) -> None:
+        """The whole certificate of the refined rows (clauses 1-9 by
+        :func:`pmplan.certify.check_paths`; the clearance, clause 10, and the radii by the
+        kernel's measurement in the certificate's arithmetic, re-decided by
+        :func:`pmplan.certify.certificate` and :func:`radius_report` where it flags a row --
+        or by them alone)."""
         m, r = self.m, self.r
         tt = self.times if self.times.ndim == 1 else self.times[lo:hi]
         configs = [raw[:, kj] for kj in self.fixed]
         via = [(j / (r - 1), configs[j]) for j in range(1, r - 1)]
         with np.errstate(all="ignore"):
-            clr, clause = certificate(out, configs[0], configs[-1], m, times=tt, via=via)
-            rd, od, ok = radius_report(out, m, self.radius, self.obstacle_radius)
-        self.clearance[lo:hi] = clr
+            clause = check_paths(tt, out, configs[0], configs[-1], m, via)
+        clr = self.clearance[lo:hi]
+        rd, od, ok = (self.robot_distance[lo:hi], self.obstacle_distance[lo:hi],
+                      self.respects[lo:hi])
+        if self.kernel and out.shape[-1] < MAX_SEQUENTIAL_D:
+            from .kernels.refine import CLOSE, SUSPECT, SHORT, measure_batch
+
+            need = (2.0 * self.radius, self.radius + self.obstacle_radius)
+            vals, flags = measure_batch(out, m, need)
+            clr[:], rd[:], od[:] = vals[:, 0], vals[:, 1], vals[:, 2]
+            ok[:] = (flags & SHORT) == 0
+            exact = exact | ((flags & (SUSPECT | CLOSE)) != 0)
+            redo = np.flatnonzero(exact)
+        else:
+            redo = np.arange(hi - lo)
+        if redo.size:
+            sub = out[redo]
+            tsub = tt if tt.ndim == 1 else tt[redo]
+            with np.errstate(all="ignore"):
+                c, _ = certificate(sub, configs[0][redo], configs[-1][redo], m, times=tsub,
+                                   via=[(t, cf[redo]) for t, cf in via])
+                rd[redo], od[redo], ok[redo] = radius_report(sub, m, self.radius,
+                                                             self.obstacle_radius)
+            clr[redo] = c
+        clause[(clause == 0) & ~(clr > 0)] = CLEARANCE
         self.clause[lo:hi] = clause
-        self.robot_distance[lo:hi] = rd
-        self.obstacle_distance[lo:hi] = od
-        self.respects[lo:hi] = ok
-        return clause == 0
 
     def fail(self, bad: np.ndarray) -> None:
         idx = np.flatnonzero(bad)

@@ -161,8 +161,8 @@ class PlanBatch:
             else:
                 from .refine import radius_report
 
-                rd, od, ok = radius_report(self.waypoints, self.dims[2], self.radius,
-                                           self.obstacle_radius)
+                # (a refined batch has its record from pmplan.refine: this one is unrefined)
+                rd, od, ok = radius_report(self.waypoints, self.dims[2], 0.0, 0.0)
                 self._extra.update(robot_distance=rd, obstacle_distance=od, respects_radius=ok)
         return self._extra[key]
 

@@ -19,44 +19,58 @@ import numpy as np
 from .. import refine as _  # noqa: F401  (pmplan.refine names the function; the module:)
 from ..refine import (chord_fraction, final_steps, mobility, overshoot, pairs, schedule,
                       subdivide, subdivide_times)
-from .common import _OPTS, njit
+from .common import _OBSTACLE_TINY2, _OPTS, _REL, njit
 
-__all__ = ["refine_batch"]
+__all__ = ["refine_batch", "measure_batch"]
 
 # the reference's constants are passed as ``k`` = (ALPHA, BETA, PHI, -, MARGIN, LAMBDA) and the overshoot ``eta`` of the level, read
 # at every call (a module global would be compiled in, and cached on disk, as a constant)
 
 
 @njit(**_OPTS)
-def _minima(x, a, b, dmin):  # pragma: no cover - compiled
-    """The closed-form minimum distance of every pair on every piece into ``dmin`` (W-1,
-    pairs): :func:`pmplan.refine.piece_minima`'s arithmetic."""
+def _pair_rel(x, pa, pb, rel):  # pragma: no cover - compiled
+    """The relative position ``x_pa - x_pb`` at every waypoint into ``rel`` (W, d)."""
     w, _, dd = x.shape
+    for j in range(w):
+        for k in range(dd):
+            rel[j, k] = x[j, pa, k] - x[j, pb, k]
+
+
+@njit(**_OPTS)
+def _piece_min(rel, j):  # pragma: no cover - compiled
+    """The closed-form minimum distance on piece j of the relative positions ``rel`` (W, d):
+    :func:`pmplan.refine.piece_minima`'s arithmetic."""
+    dd = rel.shape[1]
+    vv = 0.0
+    r0v = 0.0
+    for k in range(dd):
+        v = rel[j + 1, k] - rel[j, k]
+        vv = vv + v * v
+        r0v = r0v + rel[j, k] * v
+    num = -r0v
+    qq = num / vv if vv != 0.0 else 0.0
+    if num >= vv:
+        qq = 1.0
+    if num <= 0:
+        qq = 0.0
+    if not vv > 0:
+        qq = 0.0
+    s = 0.0
+    for k in range(dd):
+        qx = rel[j, k] + qq * (rel[j + 1, k] - rel[j, k])
+        s = s + qx * qx
+    return math.sqrt(s)
+
+
+@njit(**_OPTS)
+def _minima(x, a, b, dmin, rel):  # pragma: no cover - compiled
+    """The closed-form minimum distance of every pair on every piece into ``dmin`` (W-1,
+    pairs)."""
+    w = x.shape[0]
     for q in range(a.shape[0]):
-        pa, pb = a[q], b[q]
+        _pair_rel(x, a[q], b[q], rel)
         for j in range(w - 1):
-            vv = 0.0
-            r0v = 0.0
-            for k in range(dd):
-                r0 = x[j, pa, k] - x[j, pb, k]
-                v = (x[j + 1, pa, k] - x[j + 1, pb, k]) - r0
-                vv = vv + v * v
-                r0v = r0v + r0 * v
-            num = -r0v
-            qq = num / vv if vv != 0.0 else 0.0
-            if num >= vv:
-                qq = 1.0
-            if num <= 0:
-                qq = 0.0
-            if not vv > 0:
-                qq = 0.0
-            s = 0.0
-            for k in range(dd):
-                r0 = x[j, pa, k] - x[j, pb, k]
-                v = (x[j + 1, pa, k] - x[j + 1, pb, k]) - r0
-                qx = r0 + qq * v
-                s = s + qx * qx
-            dmin[j, q] = math.sqrt(s)
+            dmin[j, q] = _piece_min(rel, j)
 
 
 @njit(**_OPTS)
@@ -91,9 +105,9 @@ def _apply(x, delta, cap, m):  # pragma: no cover - compiled
 
 
 @njit(**_OPTS)
-def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, kp):  # pragma: no cover
+def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel, kp):  # pragma: no cover
     w, p, dd = x.shape
-    _minima(x, a, b, dmin)
+    _minima(x, a, b, dmin, rel)
     for q in range(a.shape[0]):
         keep = tgt[q] * (1.0 + kp[4])
         for j in range(w - 1):
@@ -120,41 +134,47 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, kp):  # prag
 @njit(**_OPTS)
 def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, fac, kp, eta):  # pragma: no cover
     w, p, dd = x.shape
-    _minima(x, a, b, dmin)
+    delta[:, :, :] = 0.0  # the push
     for q in range(a.shape[0]):
         t = tgt[q]
         keep = t * (1.0 + kp[4])
         star = t * (1.0 + eta)
         low = kp[2] * t
         slope = (keep - low) / (star - t)
+        pa, pb, cq = a[q], b[q], c[q]
+        _pair_rel(x, pa, pb, rel)
+        near = False  # (a pair at least sq apart on every piece gets no push: skipped)
         for j in range(w - 1):
-            dq = dmin[j, q]
+            dq = _piece_min(rel, j)
+            dmin[j, 0] = dq
+            near = near or dq < star
             if dq <= t:
                 floor = kp[2] * dq
             elif dq >= star:
                 floor = keep
             else:
                 floor = low + (dq - t) * slope
-            free[j, q] = c[q] * max(dq - floor, 0.0)
-    _caps(a, b, free, cap)
-    delta[:, :, :] = 0.0  # the push
-    for q in range(a.shape[0]):
-        pa, pb, cq = a[q], b[q], c[q]
-        sq = tgt[q] * (1.0 + eta)
+            free[j, q] = cq * max(dq - floor, 0.0)
+        if not near:
+            continue
+        sq = star
         for j in range(w):
             s = 0.0
             for k in range(dd):
-                rel[j, k] = x[j, pa, k] - x[j, pb, k]
                 s = s + rel[j, k] * rel[j, k]
             dist = math.sqrt(s)
             fac[j] = cq * max(sq - dist, 0.0) / dist if dist > 0 else 0.0
         for j in range(w):  # at the waypoints
+            if fac[j] == 0.0:
+                continue
             for k in range(dd):
                 fw = fac[j] * rel[j, k]
                 delta[j, pb, k] = delta[j, pb, k] - fw
                 if pa >= m:
                     delta[j, pa, k] = delta[j, pa, k] + fw
         for j in range(w - 1):  # at the soft closest point of every piece
+            if not dmin[j, 0] < sq:
+                continue  # no point of the piece is closer than sq: no push (exactly)
             r0v = 0.0
             vv = 0.0
             r00 = 0.0
@@ -183,6 +203,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, fac, kp, eta): 
                 if pa >= m:
                     delta[j + 1, pa, k] = delta[j + 1, pa, k] + f1
                     delta[j, pa, k] = delta[j, pa, k] + f0
+    _caps(a, b, free, cap)
     for j in range(w):
         wgt = kp[1] * mob[j]
         for i in range(p):
@@ -206,17 +227,114 @@ def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta):  # pragma
     fac = np.empty(w)
     for i in range(bsz):
         xi = x[i]
+        g = i if mob.shape[0] > 1 else 0  # shared times: one row of mobility and fractions
         for _ in range(steps):
-            _clear(xi, m, a, b, c, tgt[i], mob[i], dmin, free, cap, delta, rel, fac, kp, eta)
-            _shorten(xi, m, a, b, c, tgt[i], frac[i], mob[i], dmin, free, cap, delta, kp)
+            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, cap, delta, rel, fac, kp, eta)
+            _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel, kp)
         for _ in range(clear_only):
-            _clear(xi, m, a, b, c, tgt[i], mob[i], dmin, free, cap, delta, rel, fac, kp, eta)
+            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, cap, delta, rel, fac, kp, eta)
+
+
+#: flags of :func:`measure_batch`: the certificate's exact re-decision is needed (a piece
+#: minimum not clearly above its rounding, an obstacle pair that may underflow, a non-finite
+#: value), the radii are within 1e-9 of a minimum (decided exactly), the radii are not kept
+SUSPECT = 1
+CLOSE = 2
+SHORT = 4
+
+
+@njit(**_OPTS)
+def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
+    """Per path of ``x`` (B, W, P, d): ``out[i] = (clearance, robot distance, obstacle
+    distance)`` in :func:`pmplan.certify.clearance`'s arithmetic (d < 8: its sums are
+    sequential) and the flags above; ``need`` = (2 radius, radius + obstacle_radius)."""
+    bsz, w, p, dd = x.shape
+    rel = np.empty((w, dd))
+    for i in range(bsz):
+        xi = x[i]
+        fl = 0
+        clr = np.inf
+        rob = np.inf
+        obs = np.inf
+        for q in range(a.shape[0]):
+            pa, pb = a[q], b[q]
+            nd = need[0] if pa >= m else need[1]
+            _pair_rel(xi, pa, pb, rel)
+            for j in range(w - 1):
+                dq = _piece_min(rel, j)
+                scale = 0.0
+                absval = 0.0
+                for jj in range(j, j + 2):
+                    for k in range(dd):
+                        scale = max(scale, abs(rel[jj, k]))
+                        absval = max(absval, abs(xi[jj, pa, k]), abs(xi[jj, pb, k]))
+                if not (dq > _REL * max(scale, absval * 1e-6)) or not math.isfinite(dq) \
+                        or not math.isfinite(absval):
+                    fl |= SUSPECT
+                clr = min(clr, dq)
+                if pa >= m:
+                    rob = min(rob, dq)
+                else:
+                    obs = min(obs, dq)
+                if nd > 0:
+                    if dq < nd * (1 - 1e-9):
+                        fl |= SHORT
+                    elif not dq > nd * (1 + 1e-9) + 1e-300:
+                        fl |= CLOSE
+        for k1 in range(m):
+            for k2 in range(k1 + 1, m):
+                s = 0.0
+                for k in range(dd):
+                    dk = xi[0, k1, k] - xi[0, k2, k]
+                    s = s + dk * dk
+                if not s >= _OBSTACLE_TINY2 or not math.isfinite(s):
+                    fl |= SUSPECT
+                clr = min(clr, math.sqrt(s))
+        out[i, 0] = clr
+        out[i, 1] = rob
+        out[i, 2] = obs
+        flags[i] = fl
+
+
+def measure_batch(waypoints: np.ndarray, m: int, need: tuple[float, float]):
+    """The clearance, robot and obstacle distances (B, 3) of refined paths and their flags
+    (B,) uint8 (:data:`SUSPECT`, :data:`CLOSE`, :data:`SHORT`); see :func:`_measure`."""
+    b = waypoints.shape[0]
+    a, bb, _ = pairs(waypoints.shape[2], m)
+    out = np.empty((b, 3))
+    flags = np.zeros(b, np.uint8)
+    if b:
+        _measure(waypoints, m, a, bb, np.array(need, dtype=float), out, flags)
+    return out, flags
 
 
 def constants() -> np.ndarray:
     """The reference's constants, as the kernel reads them."""
     ref = sys.modules["pmplan.refine"]
     return np.array([ref.ALPHA, ref.BETA, ref.PHI, ref.ETA, ref.MARGIN, ref.LAMBDA])
+
+
+def _grids(times: np.ndarray, r: int, waypoints_per_piece: int, steps: int, b: int):
+    """Per level ``(s, steps, times, mobility, chord fractions)``: shared breakpoints (K,)
+    give one row (cached), per-query ones (b, K) one row per query."""
+    key = None
+    if times.ndim == 1:
+        key = (times.tobytes(), r, waypoints_per_piece, steps)
+        hit = _GRIDS.get(key)
+        if hit is not None:
+            return hit
+    out = []
+    for s, n_steps in schedule(waypoints_per_piece, steps):
+        t = subdivide_times(times, s)
+        tb = t[None] if t.ndim == 1 else t
+        out.append((s, n_steps, t, np.ascontiguousarray(mobility(tb, r)),
+                    np.ascontiguousarray(chord_fraction(tb))))
+    if key is not None and len(_GRIDS) < 256:
+        _GRIDS[key] = out
+    return out
+
+
+_GRIDS: dict = {}
 
 
 def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
@@ -227,20 +345,13 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     p = x.shape[2]
     a, b, c = pairs(p, m)
     tgt = np.ascontiguousarray(np.where(a >= m, target[:, :1], target[:, 1:2]))
-    a = a.astype(np.int64)
-    b = b.astype(np.int64)
-    plan = schedule(waypoints_per_piece, steps)
+    levels = _grids(times, r, waypoints_per_piece, steps, x.shape[0])
+    kp = constants()
     t = times
-    for level, (s, n_steps) in enumerate(plan):
+    for level, (s, n_steps, t, mob, frac) in enumerate(levels):
         if level:
             x = subdivide(x)
-        t = subdivide_times(times, s)
-        tb = np.broadcast_to(t, x.shape[:2])
-        mob = np.ascontiguousarray(mobility(tb, r))
-        frac = np.ascontiguousarray(np.broadcast_to(chord_fraction(tb), (x.shape[0],
-                                                                              x.shape[1] - 2)))
-        last = level == len(plan) - 1
         if x.shape[0]:
             _level(x, m, a, b, c, tgt, frac, mob, n_steps,
-                   final_steps(steps) if last else 0, constants(), overshoot(level))
+                   final_steps(steps) if level == len(levels) - 1 else 0, kp, overshoot(level))
     return t, x

@@ -1,0 +1,370 @@
+"""Refined motions (pmplan.refine, issue 14): certified, same domains and strata, endpoints and
+intermediate configurations exact, radii reported truthfully, continuous inside a stratum,
+equivariant, kernel == numpy reference, parameters validated."""
+
+from __future__ import annotations
+
+import sys
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import pmplan
+from pmplan.certify import _exact_segment_dist2, certificate
+from pmplan.errors import CollisionError, InputError
+from pmplan.kernels.refine import refine_batch
+from pmplan.planners.base import REGISTRY
+from pmplan.refine import (DEFAULT_STEPS, DEFAULT_WAYPOINTS, check_parameters, pairs,
+                           radius_report, refine_paths, schedule)
+from strategies import queries
+
+R = sys.modules["pmplan.refine"]  # the module (pmplan.refine is the function)
+OMPL_OBSTACLES = np.array([[0.35, 0.5], [0.65, 0.5]])
+
+DIMS = [(2, 1, 2), (2, 3, 2), (3, 2, 2), (2, 2, 3), (4, 1, 3), (2, 1, 3)]
+
+
+def _full(obstacles, conf):
+    return np.concatenate([obstacles, conf], axis=0)
+
+
+def _exact_min2(wp: np.ndarray, pa, pb) -> Fraction | None:
+    """The exact squared minimum over the pieces of a path (K, P, d) of the pairs (pa, pb)."""
+    best = None
+    for j in range(wp.shape[0] - 1):
+        for a, b in zip(pa, pb):
+            v = _exact_segment_dist2(wp[j, a], wp[j, b], wp[j + 1, a], wp[j + 1, b])
+            best = v if best is None or v < best else best
+    return best
+
+
+def _check_refined(raw: pmplan.Plan, ref: pmplan.Plan, configs, radius=0.0, obstacle_radius=0.0):
+    """Everything a refined plan promises, checked independently."""
+    d, n, m = raw.dims
+    obstacles = raw.obstacles
+    assert ref.refined and not raw.refined
+    assert ref.domain == raw.domain and ref.stratum == raw.stratum
+    assert ref.planner == raw.planner and ref.dims == raw.dims
+    assert ref.radius == radius and ref.obstacle_radius == obstacle_radius
+    wp, times = ref.path.waypoints, ref.path.times
+    # the whole certificate, on the returned path
+    r = len(configs)
+    full = [_full(obstacles, c)[None] for c in configs]
+    via = [(k / (r - 1), full[k]) for k in range(1, r - 1)]
+    clr, clause = certificate(wp[None], full[0], full[-1], m, times=times, via=via)
+    assert clause[0] == 0 and clr[0] > 0
+    assert clr[0] == ref.clearance
+    assert np.array_equal(wp[0], full[0][0]) and np.array_equal(wp[-1], full[-1][0])
+    for tau, c in via:
+        assert np.array_equal(ref.path(tau), c[0])
+    assert (wp[:, :m] == obstacles).all()
+    # the exact minima and respects_radius, against the exact arithmetic
+    a, b, _ = pairs(m + n, m)
+    rr = a >= m
+    ro2 = _exact_min2(wp, a[~rr], b[~rr])
+    assert ref.obstacle_distance == pytest.approx(float(ro2) ** 0.5, rel=1e-12)
+    if n > 1:
+        rr2 = _exact_min2(wp, a[rr], b[rr])
+        assert ref.robot_distance == pytest.approx(float(rr2) ** 0.5, rel=1e-12)
+        ok_rr = rr2 >= (2 * Fraction(radius)) ** 2
+    else:
+        assert ref.robot_distance == np.inf
+        ok_rr = True
+    ok_ro = ro2 >= (Fraction(radius) + Fraction(obstacle_radius)) ** 2
+    assert ref.respects_radius == (ok_rr and ok_ro)
+    assert min(ref.robot_distance, ref.obstacle_distance) >= ref.clearance or m >= 2
+
+
+# --- property tests: every planner, random and exactly degenerate queries ------------------
+
+@pytest.mark.parametrize("dims", DIMS)
+@pytest.mark.parametrize("degenerate", [False, True])
+@settings(max_examples=12, deadline=None)
+@given(data=st.data())
+def test_refined_plan_certified_same_domain(dims, degenerate, data):
+    d, n, m = dims
+    o, s, g = data.draw(queries(d, m, n, degenerate=degenerate))
+    raw = pmplan.plan(o, s, g)
+    ref = pmplan.refine(raw)
+    _check_refined(raw, ref, [s, g])
+    assert ref.path.length() <= raw.path.length() * (1 + 1e-12)
+    assert ref.clearance > 0
+
+
+@pytest.mark.parametrize("degenerate", [False, True])
+@settings(max_examples=10, deadline=None)
+@given(data=st.data())
+def test_refined_sequence_keeps_vias(degenerate, data):
+    o, s, g = data.draw(queries(2, 2, 2, degenerate=degenerate))
+    v = g[::-1].copy()  # the robots swapped: distinct from each other and from the obstacles
+    raw = pmplan.plan_sequence(o, [s, v, g])
+    ref = pmplan.refine(raw)
+    _check_refined(raw, ref, [s, v, g])
+    again = pmplan.plan_sequence(o, [s, v, g], refine=True)
+    assert np.array_equal(again.path.waypoints, ref.path.waypoints)
+
+
+@settings(max_examples=15, deadline=None)
+@given(data=st.data(), radius=st.sampled_from([0.0, 0.25, 0.5, 1.0]),
+       obstacle_radius=st.sampled_from([0.0, 0.25, 1.0]))
+def test_respects_radius_truthful_integer_queries(data, radius, obstacle_radius):
+    """Exactly degenerate integer queries with radii: the report is the exact arithmetic's, and a
+    start or goal violating the radii is refused with the pair named."""
+    o, s, g = data.draw(queries(2, 2, 2, degenerate=True, grid="int"))
+    raw = pmplan.plan(o, s, g)
+    try:
+        ref = pmplan.refine(raw, radius=radius, obstacle_radius=obstacle_radius)
+    except CollisionError as e:
+        conf = s if e.which == "start" else g
+        full = _full(o, conf)
+        names = [f"o{k + 1}" for k in range(2)] + ["x1", "x2"]
+        i, j = names.index(e.pair[0]), names.index(e.pair[1])
+        need = 2 * Fraction(radius) if i >= 2 else Fraction(radius) + Fraction(obstacle_radius)
+        assert _exact_segment_dist2(full[i], full[j], full[i], full[j]) < need**2
+        assert "move them apart or use smaller radii" in str(e)
+        return
+    _check_refined(raw, ref, [s, g], radius, obstacle_radius)
+
+
+def test_radius_zero_still_shortens_and_clears():
+    o = OMPL_OBSTACLES
+    raw = pmplan.plan(o, [[0.1, 0.5], [0.2, 0.2]], [[0.9, 0.5], [0.8, 0.8]], lift=0.1)
+    ref = pmplan.refine(raw)
+    assert ref.path.length() < 0.7 * raw.path.length()
+    assert ref.clearance > 0.4 * raw.clearance  # KAPPA of the raw clearance, kept
+    assert ref.respects_radius  # radii 0
+
+
+def test_radius_reached_on_the_ompl_scene():
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        s = rng.uniform(0.05, 0.95, (2, 2))
+        g = rng.uniform(0.05, 0.95, (2, 2))
+        try:
+            ref = pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1, refine=True, radius=0.025,
+                              obstacle_radius=0.025)
+        except CollisionError:
+            continue
+        _check_refined(pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1), ref, [s, g], 0.025, 0.025)
+        assert ref.respects_radius and ref.robot_distance >= 0.05
+        assert ref.obstacle_distance >= 0.05
+
+
+def test_unreachable_radius_reported_false_still_certified():
+    """A raw path that passes an obstacle at 2/3 while the target is 0.9: four steps cannot
+    clear it; the plan says so and is still certified."""
+    o = np.array([[0.0, 0.0], [2.0, 0.0]])
+    s, g = np.array([[0.0, 1.0]]), np.array([[0.0, -1.0]])
+    raw = pmplan.plan(o, s, g, lift=0.01)
+    assert raw.obstacle_distance == pytest.approx(2 / 3)
+    ref = pmplan.refine(raw, radius=0.45, obstacle_radius=0.45, steps=4)
+    _check_refined(raw, ref, [s, g], 0.45, 0.45)
+    assert not ref.respects_radius and 2 / 3 < ref.obstacle_distance < 0.9
+
+
+# --- continuity inside a stratum ---------------------------------------------------------
+
+@pytest.mark.parametrize("dims", [(2, 2, 2), (3, 2, 2), (2, 1, 3)])
+def test_continuity_within_stratum(dims):
+    d, n, m = dims
+    rng = np.random.default_rng(11)
+    p = REGISTRY[pmplan.choose_planner(d, n, m).name]
+    done = 0
+    for _ in range(40):
+        q = (rng.normal(size=(m, d)), rng.normal(size=(n, d)), rng.normal(size=(n, d)))
+        moved = p.perturb_within_stratum(rng, q, 1e-7)
+        if moved is None:
+            continue
+        a, b = pmplan.plan(*q), pmplan.plan(*moved)
+        if a.domain != b.domain:
+            continue
+        ra, rb = pmplan.refine(a), pmplan.refine(b)
+        assert ra.domain == rb.domain
+        ts = np.linspace(0, 1, 257)
+        sup = np.abs(ra.path(ts) - rb.path(ts)).max()
+        assert sup < 1e-4, sup  # a discontinuity would move the path by O(1)
+        done += 1
+    assert done >= 10
+
+
+def test_continuity_probe_ompl_scene():
+    """The probe of benchmarks/refine_bench.py: 1e-6 moves of the starts move the refined path
+    by O(1e-6)."""
+    rng = np.random.default_rng(2)
+    sups = []
+    for _ in range(12):
+        s = rng.uniform(0.1, 0.9, (2, 2))
+        g = rng.uniform(0.1, 0.9, (2, 2))
+        try:
+            a = pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1, refine=True, radius=0.025,
+                            obstacle_radius=0.025)
+            b = pmplan.plan(OMPL_OBSTACLES, s + 1e-6 * rng.normal(size=s.shape), g, lift=0.1,
+                            refine=True, radius=0.025, obstacle_radius=0.025)
+        except CollisionError:
+            continue
+        if a.domain == b.domain:
+            ts = np.linspace(0, 1, 201)
+            sups.append(np.abs(a.path(ts) - b.path(ts)).max())
+    assert sups and max(sups) < 1e-4
+
+
+# --- equivariance -----------------------------------------------------------------------
+
+@settings(max_examples=20, deadline=None)
+@given(data=st.data(), k=st.integers(-40, 40))
+def test_power_of_two_scaling_bitwise(data, k):
+    o, s, g = data.draw(queries(2, 2, 2))
+    f = 2.0**k
+    a = pmplan.plan(o, s, g, lift="scene", refine=True, radius=0.01, obstacle_radius=0.0)
+    b = pmplan.plan(o * f, s * f, g * f, lift="scene", refine=True, radius=0.01 * f,
+                    obstacle_radius=0.0)
+    assert np.array_equal(a.path.waypoints * f, b.path.waypoints)
+    assert a.respects_radius == b.respects_radius and a.clearance * f == b.clearance
+
+
+def test_translation_rotation_scaling_to_tolerance():
+    rng = np.random.default_rng(7)
+    for _ in range(10):
+        o, s, g = rng.normal(size=(2, 2)), rng.normal(size=(2, 2)), rng.normal(size=(2, 2))
+        a = pmplan.plan(o, s, g, lift="scene", refine=True)
+        th = rng.uniform(0, 2 * np.pi)
+        rot = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
+        shift, scale = rng.normal(size=2), 3.7
+        tf = lambda x: scale * x @ rot.T + shift  # noqa: E731
+        b = pmplan.plan(tf(o), tf(s), tf(g), lift="scene", refine=True)
+        if a.domain != b.domain:
+            continue  # the rotation moved the query across a stratum (the frame uses e_d)
+        assert np.allclose(tf(a.path.waypoints), b.path.waypoints, atol=1e-7 * scale)
+
+
+# --- kernel == reference ------------------------------------------------------------------
+
+@pytest.mark.parametrize("dims", [(2, 4, 2), (3, 2, 3), (2, 1, 3), (8, 2, 2), (5, 3, 2)])
+@pytest.mark.parametrize("wp,steps", [(1, 3), (2, 10), (4, 7)])
+def test_kernel_equals_reference_bitwise(dims, wp, steps):
+    d, n, m = dims
+    rng = np.random.default_rng(sum(dims) + wp)
+    b = pmplan.plan_batch(rng.normal(size=(5, m, d)), rng.normal(size=(5, n, d)),
+                          rng.normal(size=(5, n, d)))
+    target = np.stack([b.clearance * 0.7, b.clearance * 1.5], axis=1)
+    t1, x1 = refine_paths(b.times, b.waypoints, m, 2, target, wp, steps)
+    t2, x2 = refine_batch(b.times, b.waypoints, m, 2, target, wp, steps)
+    assert np.array_equal(t1, t2) and np.array_equal(x1, x2)
+
+
+@settings(max_examples=10, deadline=None)
+@given(data=st.data())
+def test_kernel_equals_reference_degenerate_sequences(data):
+    o, s, g = data.draw(queries(2, 2, 2, degenerate=True))
+    raw = pmplan.plan_sequence_batch(o[None], [s[None], g[None], s[None]])
+    a = pmplan.refine(raw, radius=0.0)
+    b = pmplan.refine(raw, radius=0.0, backend="numpy")
+    assert np.array_equal(a.waypoints, b.waypoints) and np.array_equal(a.clearance, b.clearance)
+    assert np.array_equal(a.respects_radius, b.respects_radius)
+
+
+# --- batches ------------------------------------------------------------------------------
+
+def test_batch_matches_single_and_slices():
+    rng = np.random.default_rng(3)
+    o, s, g = rng.normal(size=(6, 2, 2)), rng.normal(size=(6, 3, 2)), rng.normal(size=(6, 3, 2))
+    batch = pmplan.plan_batch(o, s, g, refine=True, radius=0.001, workers=2)
+    assert batch.refined.all() and (batch.radius == 0.001).all()
+    for i in range(6):
+        one = pmplan.plan(o[i], s[i], g[i], refine=True, radius=0.001)
+        assert np.array_equal(batch[i].path.waypoints, one.path.waypoints)
+        assert batch[i].respects_radius == one.respects_radius
+        assert batch[i].robot_distance == one.robot_distance
+    sub = batch[1:4]
+    assert isinstance(sub, pmplan.PlanBatch) and len(sub) == 3
+    assert np.array_equal(sub.robot_distance, batch.robot_distance[1:4])
+    assert sub.refined.all() and sub[0].refined
+    mask = batch[batch.domain == batch.domain[0]]
+    assert mask.refined.all()
+    # unrefined batches report the same quantities, with radii 0
+    raw = pmplan.plan_batch(o, s, g)
+    assert not raw.refined.any() and (raw.radius == 0).all() and raw.respects_radius.all()
+    assert np.all(raw.clearance <= np.minimum(raw.robot_distance, raw.obstacle_distance))
+
+
+def test_empty_batch():
+    e = pmplan.plan_batch(np.zeros((0, 2, 2)), np.zeros((0, 2, 2)), np.zeros((0, 2, 2)),
+                          refine=True, radius=0.1)
+    assert len(e) == 0 and e.waypoints.shape[0] == 0 and e.respects_radius.shape == (0,)
+    assert len(pmplan.refine(pmplan.plan_batch(np.zeros((0, 2, 3)), np.zeros((0, 1, 3)),
+                                               np.zeros((0, 1, 3))))) == 0
+
+
+def test_planar_three_batch_per_query_times():
+    rng = np.random.default_rng(4)
+    o, s, g = rng.normal(size=(8, 3, 2)), rng.normal(size=(8, 1, 2)), rng.normal(size=(8, 1, 2))
+    raw = pmplan.plan_batch(o, s, g)
+    ref = pmplan.refine(raw)
+    assert raw.planner == ref.planner == "planar_three" and ref.times.ndim == 2
+    for i in range(8):
+        _check_refined(raw[i], ref[i], [s[i], g[i]])
+
+
+def test_extreme_magnitudes_refined_scaled():
+    o = np.array([[0.0, 0.0], [2.0, 0.0]]) * 2.0**600
+    s, g = np.array([[0.0, 1.0]]) * 2.0**600, np.array([[1.0, -1.0]]) * 2.0**600
+    ref = pmplan.plan(o, s, g, lift="scene", refine=True)
+    small = pmplan.plan(o * 2.0**-600, s * 2.0**-600, g * 2.0**-600, lift="scene", refine=True)
+    assert np.array_equal(ref.path.waypoints, small.path.waypoints * 2.0**600)
+    assert ref.clearance > 0
+
+
+# --- parameters ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(radius=-1.0), "radius"), (dict(radius=True), "radius"),
+    (dict(radius=float("nan")), "radius"), (dict(radius=float("inf")), "radius"),
+    (dict(radius="1"), "radius"), (dict(obstacle_radius=-0.5), "obstacle_radius"),
+    (dict(steps=0), "steps"), (dict(steps=2.0), "steps"), (dict(steps=True), "steps"),
+    (dict(waypoints=3), "waypoints"), (dict(waypoints=0), "waypoints"),
+    (dict(waypoints=128), "waypoints"), (dict(workers=0), "workers"),
+    (dict(progress="yes"), "progress"), (dict(backend="gpu"), "backend"),
+])
+def test_bad_parameters(kwargs, match):
+    raw = pmplan.plan([[0, 0], [2, 0]], [[0, 1]], [[1, -1]])
+    with pytest.raises(InputError, match=match):
+        pmplan.refine(raw, **kwargs)
+
+
+def test_bad_flags_and_arguments():
+    q = ([[0, 0], [2, 0]], [[0, 1]], [[1, -1]])
+    with pytest.raises(InputError, match="refine=True"):
+        pmplan.plan(*q, radius=0.1)  # radii without refine: refused, not ignored
+    with pytest.raises(InputError, match="refine"):
+        pmplan.plan(*q, refine=1)
+    with pytest.raises(InputError, match="already refined"):
+        pmplan.refine(pmplan.plan(*q, refine=True))
+    with pytest.raises(InputError, match="Plan or a PlanBatch"):
+        pmplan.refine(np.zeros((3, 3, 2)))
+    with pytest.raises(CollisionError, match="x1 and x2 .* 2 \\* radius"):
+        pmplan.plan([[0, 0], [2, 0]], [[0, 1], [0, 1.5]], [[1, -1], [3, 3]], refine=True,
+                    radius=0.3)
+    with pytest.raises(CollisionError, match="configuration 2: points o1 and x1"):
+        pmplan.plan_sequence([[0, 0], [2, 0]], [[[0, 1]], [[0.1, 0.1]], [[1, -1]]],
+                             refine=True, radius=0.1, obstacle_radius=0.1)
+
+
+def test_defaults_documented_and_schedule():
+    assert check_parameters(0, 0, None, None) == (0.0, 0.0, DEFAULT_WAYPOINTS, DEFAULT_STEPS)
+    assert sum(k for _, k in schedule(8, 50)) == 50
+    assert [s for s, _ in schedule(8, 50)] == [1, 2, 4, 8]
+    assert f"= {DEFAULT_WAYPOINTS}" in pmplan.refine.__doc__
+    assert f"= {DEFAULT_STEPS}" in pmplan.refine.__doc__
+
+
+def test_radius_report_exact_at_ties():
+    """A robot passing an obstacle at exactly distance 1: respected at 1, not at 1 + ulp."""
+    wp = np.array([[[0.0, 0.0], [-1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0]]])[None]
+    rd, od, ok = radius_report(wp, 1, 0.5, 0.5)
+    assert od[0] == 1.0 and ok[0]
+    _, _, ok = radius_report(wp, 1, 0.5, np.nextafter(0.5, 1))
+    assert not ok[0]
+    assert R.KAPPA > 0 and 0 < R.PHI < 1
