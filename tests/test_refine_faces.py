@@ -102,16 +102,15 @@ def test_plan_output_has_the_refinement_fields_unrefined_too(tmp_path, capsys):
 
 def test_plan_refine_tuning_options_reach_refine(tmp_path, capsys):
     q = write_json(tmp_path, QUERY)
-    status, out, _ = run(capsys, "plan", q, "--refine", "--waypoints", "2", "--steps", "5",
+    status, out, _ = run(capsys, "plan", q, "--refine", "--waypoints", "8", "--steps", "5",
                          "--obstacle-radius", "0.01")
     assert status == 0
     res = json.loads(out)
     raw = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"])
-    ref = pmplan.refine(raw, waypoints=2, steps=5, obstacle_radius=0.01)
+    ref = pmplan.refine(raw, waypoints=8, steps=5, obstacle_radius=0.01)
     np.testing.assert_array_equal(np.array(res["waypoints"]), ref.path.waypoints)
     assert res["obstacle_radius"] == 0.01
-    # 7 raw pieces cut in 2: 14 pieces (the default cuts them finer)
-    assert len(res["times"]) == 15 != len(pmplan.refine(raw).path.times)
+    assert len(res["times"]) == 7 * 8 + 1  # 7 raw pieces, each cut in 8
 
 
 REFINE_ERRORS = [
