@@ -28,9 +28,9 @@ clearance > 0, not >= r). The row *pmplan refined* (issue 14) plans the same que
 ``refine=True, radius=r/2, obstacle_radius=r/2``: robots and obstacles are discs of radius r/2,
 so its certified robot-robot and robot-obstacle distances are >= r, OMPL's requirement.
 
-Writes ``benchmarks/ompl_results.json`` and replaces the section "Comparison with OMPL" of
-``benchmarks/RESULTS.md`` and ``docs/benchmarks.md`` (every other section is kept). Not a test
-module (``benchmarks/conftest.py``).
+Writes ``benchmarks/ompl_results.json`` and replaces the OMPL section of ``benchmarks/RESULTS.md``,
+``docs/benchmarks.md`` and ``README.md`` (every other section is kept). Not a test module
+(``benchmarks/conftest.py``).
 """
 
 from __future__ import annotations
@@ -451,22 +451,37 @@ def _verdict(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
-def write_ompl_sections(out: dict) -> None:
-    """Save ``ompl_results.json``; replace the OMPL section of RESULTS.md and docs/benchmarks.md.
+#: where the comparison is written: (file, its heading of the section)
+SECTIONS = (
+    (ROOT / "benchmarks" / "RESULTS.md", "## Comparison with OMPL"),
+    (ROOT / "docs" / "benchmarks.md", "### Comparison with OMPL"),
+    (ROOT / "README.md", "### Against OMPL"),
+)
 
-    Only the section "Comparison with OMPL" is rewritten (appended when missing): every other
-    section of the two files (the suite's tables, the explore load test, the scale run) is kept.
+
+def _level(line: str) -> int:
+    """The level of a markdown heading line (0 for any other line)."""
+    return len(line) - len(line.lstrip("#")) if line.startswith("#") else 0
+
+
+def write_ompl_sections(out: dict) -> None:
+    """Save ``ompl_results.json``; replace the OMPL section of RESULTS.md, docs/benchmarks.md
+    and the README.
+
+    Only the section under the heading of :data:`SECTIONS` is rewritten, up to the next heading
+    of the same or a higher level (appended when missing): every other section of the files
+    (the suite's tables, the refinement's, the explore load test, the scale run) is kept.
     """
     OMPL_JSON.write_text(json.dumps(out, indent=1, default=float))
-    sect = ompl_section(out)
-    for path, level in ((ROOT / "benchmarks" / "RESULTS.md", "## "),
-                        (ROOT / "docs" / "benchmarks.md", "### ")):
-        lines = [level + s[3:] if s.startswith("## ") else s for s in sect]
+    sect = ompl_section(out)[1:]  # without its heading
+    for path, head in SECTIONS:
+        level = _level(head)
+        lines = [head] + ["#" * (level - 2) + s if _level(s) else s for s in sect]
         old = path.read_text().split("\n") if path.exists() else []
-        head = level + "Comparison with OMPL"
         if head in old:
             a = old.index(head)
-            b = next((i for i in range(a + 1, len(old)) if old[i].startswith(level)), len(old))
+            b = next((i for i in range(a + 1, len(old)) if 0 < _level(old[i]) <= level),
+                     len(old))
             new = old[:a] + lines + old[b:]
         else:
             new = old + [""] + lines
@@ -530,7 +545,8 @@ def main(argv: list[str] | None = None) -> int:
     out["verdict"] = _verdict(rows)
     print(out["verdict"])
     write_ompl_sections(out)
-    print(f"total {out['total_s']:.0f} s; wrote benchmarks/RESULTS.md and docs/benchmarks.md")
+    print(f"total {out['total_s']:.0f} s; wrote " + ", ".join(str(p.relative_to(ROOT))
+                                                             for p, _ in SECTIONS))
     return 0
 
 

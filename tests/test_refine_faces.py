@@ -276,10 +276,25 @@ def test_verify_without_refine_is_unchanged():
 # the demo: every domain's query raw and refined, side by side
 
 
-def test_demo_draws_raw_and_refined_side_by_side(tmp_path, capsys):
+def test_demo_draws_raw_and_refined_side_by_side(tmp_path, capsys, monkeypatch):
+    import pmplan.plotting
+
+    drawn = []
+
+    def grid(plans, *args, **kwargs):
+        drawn.extend(plans)
+        return plan_grid(plans, *args, **kwargs)
+
+    monkeypatch.setattr(pmplan.plotting, "plan_grid", grid)
     out_png = tmp_path / "demo.png"
     status, out, _ = run(capsys, "demo", "--n", "2", "--out", out_png)
     assert status == 0
+    # every domain's query, raw then refined: the same domain, stratum and endpoints
+    assert len(drawn) == 2 * (len(pmplan.info(2, 2, 2).labels) + 4)
+    for raw, ref in zip(drawn[::2], drawn[1::2]):
+        assert not raw.refined and ref.refined
+        assert (ref.planner, ref.domain, ref.stratum) == (raw.planner, raw.domain, raw.stratum)
+        np.testing.assert_array_equal(ref.path.waypoints[[0, -1]], raw.path.waypoints[[0, -1]])
     rows = [line.split() for line in out.splitlines()
             if line.startswith(("obstacle_line", "planar_three"))]
     labels = pmplan.info(2, 2, 2).labels

@@ -17,7 +17,8 @@ __all__ = ["main", "build_parser"]
 
 EPILOG = """\
 commands and examples:
-  pmplan demo                              plan one query per domain, print a table, draw a PNG
+  pmplan demo                              plan one query per domain, raw and refined, print
+                                           a table, draw a PNG
   pmplan plan query.json                   plan one query (JSON or npz in, JSON out)
   pmplan plan query.json --samples 50      ... printing 50 equally spaced samples
   pmplan plan query.json --lift scene      ... with the scene-scaled unit instead of lift 1
@@ -98,6 +99,8 @@ def _integer(text: str) -> int:
 
 def _add_refine_options(p, *, tuning: bool = True) -> None:
     """``--refine``, ``--radius``, ``--obstacle-radius`` (and ``--waypoints``, ``--steps``)."""
+    from .refine import DEFAULT_STEPS, DEFAULT_WAYPOINTS, MAX_STEPS, MAX_WAYPOINTS
+
     p.add_argument("--refine", action="store_true",
                    help="refine the planned path (pmplan.refine): a fixed number of continuous, "
                    "collision-free shortening and clearing steps; the same domain of continuity, "
@@ -112,10 +115,10 @@ def _add_refine_options(p, *, tuning: bool = True) -> None:
     if tuning:
         p.add_argument("--waypoints", type=_integer, default=None, metavar="S",
                        help="with --refine: sub-pieces per piece of the raw path, a power of two "
-                       "(default: pmplan.refine's)")
+                       f"from 1 to {MAX_WAYPOINTS} (default {DEFAULT_WAYPOINTS})")
         p.add_argument("--steps", type=_integer, default=None, metavar="K",
-                       help="with --refine: number of refinement steps (default: "
-                       "pmplan.refine's)")
+                       help=f"with --refine: number of refinement steps, 1 to {MAX_STEPS:,} "
+                       f"(default {DEFAULT_STEPS})")
 
 
 def _refine_options(args) -> dict | None:
@@ -219,7 +222,8 @@ def build_parser() -> argparse.ArgumentParser:
                            "(needs pmplan[dask] and a Zarr --out)")
     _add_refine_options(p)
 
-    p = sub.add_parser("demo", help="the main job: one query per domain, table and picture",
+    p = sub.add_parser("demo", help="the main job: one query per domain, raw and refined, "
+                       "table and picture",
                        description="Example: pmplan demo --out demo.png")
     p.add_argument("--n", type=_int_in(1, 8), default=3,
                    help="number of robots among the two obstacles, 1 to 8 (default 3)")

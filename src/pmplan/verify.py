@@ -451,39 +451,34 @@ class Report:
 # planning that survives certificate failures
 
 
-def _plan_each(q, planner: str, lift=1.0):
-    """Plan a batch, dropping queries whose certificate fails; return (batch, kept, refused)."""
-    obs, st, go = (np.asarray(a, dtype=float) for a in q)
-    keep = np.arange(obs.shape[0])
+def _surviving(run, count: int):
+    """Call ``run(keep)`` on the indices ``keep = 0..count-1``, dropping the queries a
+    CertificationError names until it succeeds; return (result or None, kept, refused)."""
+    keep = np.arange(count)
     refused: list[tuple[int, str]] = []
     while keep.size:
         try:
-            return (api.plan_batch(obs[keep], st[keep], go[keep], planner=planner, lift=lift),
-                    keep, refused)
+            return run(keep), keep, refused
         except CertificationError as exc:
             bad = np.asarray(exc.indices, dtype=np.int64)
-            if bad.size == 0:  # pragma: no cover - plan_batch always names the queries
+            if bad.size == 0:  # pragma: no cover - plan_batch and refine name the queries
                 raise
             refused.extend((int(keep[i]), type(exc).__name__) for i in bad)
             keep = np.delete(keep, bad)
     return None, keep, refused
+
+
+def _plan_each(q, planner: str, lift=1.0):
+    """Plan a batch, dropping queries whose certificate fails; return (batch, kept, refused)."""
+    obs, st, go = (np.asarray(a, dtype=float) for a in q)
+    return _surviving(lambda k: api.plan_batch(obs[k], st[k], go[k], planner=planner,
+                                               lift=lift), obs.shape[0])
 
 
 def _refine_each(batch):
     """Refine a batch (radius 0), dropping plans whose refined certificate fails; return
     (refined batch or None, kept indices, refused [(index, error name)])."""
-    keep = np.arange(len(batch))
-    refused: list[tuple[int, str]] = []
-    while keep.size:
-        try:
-            return api.refine(batch[keep]), keep, refused
-        except CertificationError as exc:
-            bad = np.asarray(exc.indices, dtype=np.int64)
-            if bad.size == 0:  # pragma: no cover - refine always names the queries
-                raise
-            refused.extend((int(keep[i]), type(exc).__name__) for i in bad)
-            keep = np.delete(keep, bad)
-    return None, keep, refused
+    return _surviving(lambda k: api.refine(batch[k]), len(batch))
 
 
 def _rows(batch, idx) -> PiecewiseLinearPath:
