@@ -40,12 +40,21 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from ompl_compare import (LIFT, OBSTACLES, PROBE_DELTA, R, _clearance, _lower_bound,  # noqa: E402
-                          _sup_distance, blocked_query, generic_query)
+from ompl_compare import (
+    LIFT,
+    OBSTACLES,
+    PROBE_DELTA,
+    R,
+    _clearance,
+    _lower_bound,
+    _sup_distance,
+    blocked_query,
+    generic_query,
+)
 
-import pmplan  # noqa: E402
-from pmplan.certify import certificate  # noqa: E402
-from pmplan.refine import DEFAULT_STEPS, DEFAULT_WAYPOINTS  # noqa: E402
+import pmplan
+from pmplan.certify import certificate
+from pmplan.refine import DEFAULT_STEPS, DEFAULT_WAYPOINTS
 
 HERE = Path(__file__).resolve().parent
 TITLE = "## Refined motions (`pmplan.refine`)"
@@ -279,7 +288,7 @@ def main(argv: list[str] | None = None) -> int:
     qual = quality(count)
     print("trade-off ...", flush=True)
     trade = tradeoff(4 if args.quick else 12)
-    res = {"date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+    res = {"date": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
            "quick": args.quick, "speed": sp, "quality": qual, "tradeoff": trade,
            "total_s": time.perf_counter() - t0}
     (HERE / "refine_results.json").write_text(json.dumps(res, indent=1, default=float))

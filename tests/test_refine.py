@@ -11,15 +11,22 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from strategies import queries
 
 import pmplan
 from pmplan.certify import _exact_segment_dist2, certificate
 from pmplan.errors import CollisionError, InputError
 from pmplan.kernels.refine import refine_batch
 from pmplan.planners.base import REGISTRY
-from pmplan.refine import (DEFAULT_STEPS, DEFAULT_WAYPOINTS, check_parameters, pairs,
-                           radius_report, refine_paths, schedule)
-from strategies import queries
+from pmplan.refine import (
+    DEFAULT_STEPS,
+    DEFAULT_WAYPOINTS,
+    check_parameters,
+    pairs,
+    radius_report,
+    refine_paths,
+    schedule,
+)
 
 R = sys.modules["pmplan.refine"]  # the module (pmplan.refine is the function)
 OMPL_OBSTACLES = np.array([[0.35, 0.5], [0.65, 0.5]])
@@ -43,7 +50,7 @@ def _exact_min2(wp: np.ndarray, pa, pb) -> Fraction | None:
 
 def _check_refined(raw: pmplan.Plan, ref: pmplan.Plan, configs, radius=0.0, obstacle_radius=0.0):
     """Everything a refined plan promises, checked independently."""
-    d, n, m = raw.dims
+    _d, n, m = raw.dims
     obstacles = raw.obstacles
     assert ref.refined and not raw.refined
     assert ref.domain == raw.domain and ref.stratum == raw.stratum
@@ -129,6 +136,26 @@ def test_respects_radius_truthful_integer_queries(data, radius, obstacle_radius)
     _check_refined(raw, ref, [s, g], radius, obstacle_radius)
 
 
+@pytest.mark.parametrize("dims", [(2, 3, 2), (3, 2, 3), (2, 1, 3)])
+@settings(max_examples=12, deadline=None)
+@given(data=st.data(), frac=st.sampled_from([0.1, 0.45, 0.5]))
+def test_respects_radius_truthful_random_queries(dims, data, frac):
+    """Random queries with radii a fraction of the starts' and goals' smallest distance (so
+    they are valid; 0.5 of it is exactly reachable at the endpoints): the report is exact."""
+    d, n, m = dims
+    o, s, g = data.draw(queries(d, m, n))
+    gap = min(float(np.linalg.norm(c[:, None] - c[None], axis=-1)[np.triu_indices(m + n, 1)]
+                    .min()) for c in (_full(o, s), _full(o, g)))
+    radius = obstacle_radius = frac * gap
+    raw = pmplan.plan(o, s, g)
+    try:
+        ref = pmplan.refine(raw, radius=radius, obstacle_radius=obstacle_radius)
+    except CollisionError:
+        assert frac == 0.5  # 2 * radius == gap may round above the float distance
+        return
+    _check_refined(raw, ref, [s, g], radius, obstacle_radius)
+
+
 def test_radius_zero_still_shortens_and_clears():
     o = OMPL_OBSTACLES
     raw = pmplan.plan(o, [[0.1, 0.5], [0.2, 0.2]], [[0.9, 0.5], [0.8, 0.8]], lift=0.1)
@@ -138,15 +165,23 @@ def test_radius_zero_still_shortens_and_clears():
     assert ref.respects_radius  # radii 0
 
 
+def _ompl_refined(s, g):
+    """The refined plan of the OMPL scene (radius = obstacle_radius = 0.025), or None when
+    the start or goal violates the radii."""
+    try:
+        return pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1, refine=True, radius=0.025,
+                           obstacle_radius=0.025)
+    except CollisionError:
+        return None
+
+
 def test_radius_reached_on_the_ompl_scene():
     rng = np.random.default_rng(5)
     for _ in range(5):
         s = rng.uniform(0.05, 0.95, (2, 2))
         g = rng.uniform(0.05, 0.95, (2, 2))
-        try:
-            ref = pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1, refine=True, radius=0.025,
-                              obstacle_radius=0.025)
-        except CollisionError:
+        ref = _ompl_refined(s, g)
+        if ref is None:
             continue
         _check_refined(pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1), ref, [s, g], 0.025, 0.025)
         assert ref.respects_radius and ref.robot_distance >= 0.05
@@ -154,15 +189,15 @@ def test_radius_reached_on_the_ompl_scene():
 
 
 def test_unreachable_radius_reported_false_still_certified():
-    """A raw path that passes an obstacle at 2/3 while the target is 0.9: four steps cannot
-    clear it; the plan says so and is still certified."""
-    o = np.array([[0.0, 0.0], [2.0, 0.0]])
-    s, g = np.array([[0.0, 1.0]]), np.array([[0.0, -1.0]])
+    """Obstacles of radius 0.3 one apart make a wall the raw path passes through (between them,
+    0.5 from each): no continuous deformation that keeps the endpoints reaches 0.6 there. The
+    plan says so and is still certified."""
+    o = np.array([[0.0, 0.0], [1.0, 0.0]])
+    s, g = np.array([[0.5, 1.0]]), np.array([[0.5, -1.0]])
     raw = pmplan.plan(o, s, g, lift=0.01)
-    assert raw.obstacle_distance == pytest.approx(2 / 3)
-    ref = pmplan.refine(raw, radius=0.45, obstacle_radius=0.45, steps=4)
-    _check_refined(raw, ref, [s, g], 0.45, 0.45)
-    assert not ref.respects_radius and 2 / 3 < ref.obstacle_distance < 0.9
+    ref = pmplan.refine(raw, radius=0.3, obstacle_radius=0.3)
+    _check_refined(raw, ref, [s, g], 0.3, 0.3)
+    assert not ref.respects_radius and 0 < ref.obstacle_distance < 0.6
 
 
 # --- continuity inside a stratum ---------------------------------------------------------
@@ -198,14 +233,9 @@ def test_continuity_probe_ompl_scene():
     for _ in range(12):
         s = rng.uniform(0.1, 0.9, (2, 2))
         g = rng.uniform(0.1, 0.9, (2, 2))
-        try:
-            a = pmplan.plan(OMPL_OBSTACLES, s, g, lift=0.1, refine=True, radius=0.025,
-                            obstacle_radius=0.025)
-            b = pmplan.plan(OMPL_OBSTACLES, s + 1e-6 * rng.normal(size=s.shape), g, lift=0.1,
-                            refine=True, radius=0.025, obstacle_radius=0.025)
-        except CollisionError:
-            continue
-        if a.domain == b.domain:
+        a = _ompl_refined(s, g)
+        b = _ompl_refined(s + 1e-6 * rng.normal(size=s.shape), g)
+        if a is not None and b is not None and a.domain == b.domain:
             ts = np.linspace(0, 1, 201)
             sups.append(np.abs(a.path(ts) - b.path(ts)).max())
     assert sups and max(sups) < 1e-4
@@ -233,7 +263,10 @@ def test_translation_rotation_scaling_to_tolerance():
         th = rng.uniform(0, 2 * np.pi)
         rot = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
         shift, scale = rng.normal(size=2), 3.7
-        tf = lambda x: scale * x @ rot.T + shift  # noqa: E731
+
+        def tf(x, rot=rot, shift=shift, scale=scale):
+            return scale * x @ rot.T + shift
+
         b = pmplan.plan(tf(o), tf(s), tf(g), lift="scene", refine=True)
         if a.domain != b.domain:
             continue  # the rotation moved the query across a stratum (the frame uses e_d)
@@ -320,13 +353,13 @@ def test_extreme_magnitudes_refined_scaled():
 # --- parameters ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("kwargs,match", [
-    (dict(radius=-1.0), "radius"), (dict(radius=True), "radius"),
-    (dict(radius=float("nan")), "radius"), (dict(radius=float("inf")), "radius"),
-    (dict(radius="1"), "radius"), (dict(obstacle_radius=-0.5), "obstacle_radius"),
-    (dict(steps=0), "steps"), (dict(steps=2.0), "steps"), (dict(steps=True), "steps"),
-    (dict(waypoints=3), "waypoints"), (dict(waypoints=0), "waypoints"),
-    (dict(waypoints=128), "waypoints"), (dict(workers=0), "workers"),
-    (dict(progress="yes"), "progress"), (dict(backend="gpu"), "backend"),
+    ({"radius": -1.0}, "radius"), ({"radius": True}, "radius"),
+    ({"radius": float("nan")}, "radius"), ({"radius": float("inf")}, "radius"),
+    ({"radius": "1"}, "radius"), ({"obstacle_radius": -0.5}, "obstacle_radius"),
+    ({"steps": 0}, "steps"), ({"steps": 2.0}, "steps"), ({"steps": True}, "steps"),
+    ({"waypoints": 3}, "waypoints"), ({"waypoints": 0}, "waypoints"),
+    ({"waypoints": 128}, "waypoints"), ({"workers": 0}, "workers"),
+    ({"progress": "yes"}, "progress"), ({"backend": "gpu"}, "backend"),
 ])
 def test_bad_parameters(kwargs, match):
     raw = pmplan.plan([[0, 0], [2, 0]], [[0, 1]], [[1, -1]])
@@ -340,6 +373,9 @@ def test_bad_flags_and_arguments():
         pmplan.plan(*q, radius=0.1)  # radii without refine: refused, not ignored
     with pytest.raises(InputError, match="refine"):
         pmplan.plan(*q, refine=1)
+    raw = pmplan.plan_batch(*(np.asarray(x, dtype=float)[None] for x in q))
+    with pytest.raises(InputError, match="out="):
+        pmplan.plan_batch(*(np.asarray(x, dtype=float)[None] for x in q), refine=True, out=raw)
     with pytest.raises(InputError, match="already refined"):
         pmplan.refine(pmplan.plan(*q, refine=True))
     with pytest.raises(InputError, match="Plan or a PlanBatch"):
@@ -363,7 +399,7 @@ def test_defaults_documented_and_schedule():
 def test_radius_report_exact_at_ties():
     """A robot passing an obstacle at exactly distance 1: respected at 1, not at 1 + ulp."""
     wp = np.array([[[0.0, 0.0], [-1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0]]])[None]
-    rd, od, ok = radius_report(wp, 1, 0.5, 0.5)
+    _rd, od, ok = radius_report(wp, 1, 0.5, 0.5)
     assert od[0] == 1.0 and ok[0]
     _, _, ok = radius_report(wp, 1, 0.5, np.nextafter(0.5, 1))
     assert not ok[0]

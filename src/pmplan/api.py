@@ -25,7 +25,8 @@ from .errors import InputError, PmplanError, ShapeError, UnsupportedError
 from .path import PiecewiseLinearPath, _unchecked_path
 from .planners.base import (REGISTRY, SCENE_CODE, Planner, default_planner, lift_code,
                             out_of_scope)
-from .refine import _MSG_PLAN, _MSG_REFINED, RefineStage, check_parameters, check_radii
+from .refine import (_MSG_PLAN, _MSG_REFINE_DASK, _MSG_REFINE_OUT, _MSG_REFINED, RefineStage,
+                     check_parameters, check_radii)
 from .refine import check_refine_flag
 from .results import Plan, PlanBatch, PlannerInfo
 from .running import CHUNK, _check_workers, _output_arrays, _Progress, _run, _single  # noqa: F401
@@ -152,9 +153,9 @@ def plan_batch(
     >>> batch.domain.shape, batch.waypoints.shape, batch.times.shape
     ((5,), (5, 8, 5, 2), (8,))
     """
-    if _asks_refine(refine, radius, obstacle_radius):
+    if _asks_refine(refine, radius, obstacle_radius, out, obstacles, start, goal):
         raw = plan_batch(obstacles, start, goal, planner=planner, lift=lift, progress=progress,
-                         backend=backend, workers=workers, out=out)
+                         backend=backend, workers=workers)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             progress=progress, workers=workers, backend=backend)
     if _is_dask(obstacles, start, goal):  # lazy plans of dask arrays (the optional extra)
@@ -438,9 +439,10 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     e == N in odd d). ``lift``, ``backend``, ``progress``, ``workers``, ``out``: see
     :func:`plan_batch`.
     """
-    if _asks_refine(refine, radius, obstacle_radius):
+    if _asks_refine(refine, radius, obstacle_radius, out, obstacles,
+                    *(configs if isinstance(configs, (list, tuple)) else ())):
         raw = plan_sequence_batch(obstacles, configs, lift=lift, backend=backend,
-                                  progress=progress, workers=workers, out=out)
+                                  progress=progress, workers=workers)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             progress=progress, workers=workers, backend=backend)
     if isinstance(configs, (list, tuple)) and _is_dask(obstacles, *configs):
@@ -728,13 +730,18 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
 refine_plans = refine
 
 
-def _asks_refine(refine, radius, obstacle_radius) -> bool:
+def _asks_refine(refine, radius, obstacle_radius, out=None, *arrays) -> bool:
     """Whether a planning function was asked ``refine=True`` (the flag and the radii checked:
-    :func:`pmplan.refine.check_refine_flag`; radii without the flag are refused)."""
+    :func:`pmplan.refine.check_refine_flag`; radii without the flag are refused, and so are
+    ``out=`` and dask arrays with it: a refined batch has other shapes, and is planned now)."""
     if refine is False and type(radius) is float and type(obstacle_radius) is float \
             and radius == 0.0 and obstacle_radius == 0.0:
         return False
     if check_refine_flag(refine, radius, obstacle_radius):
         check_parameters(radius, obstacle_radius, None, None)
+        if out is not None:
+            raise InputError(_MSG_REFINE_OUT)
+        if _is_dask(*arrays):
+            raise InputError(_MSG_REFINE_DASK)
         return True
     return False

@@ -122,6 +122,11 @@ class Plan:
         return self.path.waypoints
 
 
+def _recorded(key: str, doc: str) -> property:
+    """A read-only attribute of :class:`PlanBatch` from its refinement record."""
+    return property(lambda self: self._record(key), doc=doc)
+
+
 @dataclass(frozen=True)
 class PlanBatch:
     """The answers to a batch of B queries (vectorised :class:`Plan`).
@@ -166,35 +171,16 @@ class PlanBatch:
                 self._extra.update(robot_distance=rd, obstacle_distance=od, respects_radius=ok)
         return self._extra[key]
 
-    @property
-    def radius(self) -> np.ndarray:
-        """The robots' radius asked of every plan (B,) (0 where unrefined)."""
-        return self._record("radius")
-
-    @property
-    def obstacle_radius(self) -> np.ndarray:
-        """The obstacles' radius asked of every plan (B,) (0 where unrefined)."""
-        return self._record("obstacle_radius")
-
-    @property
-    def refined(self) -> np.ndarray:
-        """Whether every plan is a refined motion (B,) bool."""
-        return self._record("refined")
-
-    @property
-    def robot_distance(self) -> np.ndarray:
-        """Minimum robot-robot distance along every path (B,) (``inf`` when n = 1)."""
-        return self._record("robot_distance")
-
-    @property
-    def obstacle_distance(self) -> np.ndarray:
-        """Minimum robot-obstacle distance along every path (B,)."""
-        return self._record("obstacle_distance")
-
-    @property
-    def respects_radius(self) -> np.ndarray:
-        """Whether every path keeps the radii (B,) bool, decided exactly."""
-        return self._record("respects_radius")
+    radius = _recorded("radius", "The robots' radius asked of every plan (B,) (0 where unrefined).")
+    obstacle_radius = _recorded("obstacle_radius",
+                                "The obstacles' radius asked of every plan (B,) (0 where unrefined).")
+    refined = _recorded("refined", "Whether every plan is a refined motion (B,) bool.")
+    robot_distance = _recorded("robot_distance", "Minimum robot-robot distance along every "
+                               "path (B,) (``inf`` when n = 1).")
+    obstacle_distance = _recorded("obstacle_distance",
+                                  "Minimum robot-obstacle distance along every path (B,).")
+    respects_radius = _recorded("respects_radius",
+                                "Whether every path keeps the radii (B,) bool, decided exactly.")
 
     def __len__(self) -> int:
         return self.domain.shape[0]

@@ -200,8 +200,25 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
             ok[:] = False
         return lo, hi, ok
 
-    starts = range(0, b, CHUNK)
-    bar = _Progress(progress, len(starts))
+    def check(lo: int, hi: int, ok: np.ndarray) -> None:
+        if not ok.all():
+            if validate:  # an invalid query, or a certificate that fails
+                check_query(obstacles, configs[0], configs[-1], batched=True)
+            bad = np.zeros(b, dtype=bool)
+            bad[lo:hi] = ~ok
+            _raise_certificate(bad, batched, _failed_clauses(out, bad, obstacles, configs),
+                               obstacles, configs, lift, equivariant)
+
+    _each_chunk(chunk, range(0, b, CHUNK), progress, workers, check)
+    return out
+
+
+def _each_chunk(chunk, starts: range, progress: bool, workers: int, check,
+                desc: str = "planning") -> None:
+    """Call ``chunk(lo) -> (lo, hi, ok)`` for every start (``workers`` threads: the numba
+    kernels release the GIL; every chunk writes its own rows), with the progress display, and
+    ``check(lo, hi, ok)`` on each result in order (it raises the error of a failed chunk)."""
+    bar = _Progress(progress, len(starts), desc)
     pool = None
     if workers > 1 and len(starts) > 1:
         from concurrent.futures import ThreadPoolExecutor
@@ -212,18 +229,11 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
         done = map(chunk, starts) if pool is None else pool.map(chunk, starts)
         for lo, hi, ok in done:
             bar.update()
-            if not ok.all():
-                if validate:  # an invalid query, or a certificate that fails
-                    check_query(obstacles, configs[0], configs[-1], batched=True)
-                bad = np.zeros(b, dtype=bool)
-                bad[lo:hi] = ~ok
-                _raise_certificate(bad, batched, _failed_clauses(out, bad, obstacles, configs),
-                                   obstacles, configs, lift, equivariant)
+            check(lo, hi, ok)
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
         bar.__exit__(None, None, None)
-    return out
 
 
 def run_stage(stage: Stage, progress: bool = False, workers: int = 1) -> None:
@@ -232,31 +242,18 @@ def run_stage(stage: Stage, progress: bool = False, workers: int = 1) -> None:
     (the numba kernels release the GIL), ``progress`` shows the bar; the first chunk whose
     certificate fails raises the stage's error (:meth:`~pmplan.planners.base.Stage.fail`)."""
     b = stage.size
-    starts = range(0, b, stage.chunk)
-    bar = _Progress(progress, len(starts))
-    pool = None
-    if workers > 1 and len(starts) > 1:
-        from concurrent.futures import ThreadPoolExecutor
-
-        pool = ThreadPoolExecutor(min(workers, len(starts)))
 
     def chunk(lo: int):
         hi = min(b, lo + stage.chunk)
         return lo, hi, stage.run(lo, hi)
 
-    try:
-        bar.__enter__()
-        done = map(chunk, starts) if pool is None else pool.map(chunk, starts)
-        for lo, hi, ok in done:
-            bar.update()
-            if not ok.all():
-                bad = np.zeros(b, dtype=bool)
-                bad[lo:hi] = ~ok
-                stage.fail(bad)
-    finally:
-        if pool is not None:
-            pool.shutdown(cancel_futures=True)
-        bar.__exit__(None, None, None)
+    def check(lo: int, hi: int, ok: np.ndarray) -> None:
+        if not ok.all():
+            bad = np.zeros(b, dtype=bool)
+            bad[lo:hi] = ~ok
+            stage.fail(bad)
+
+    _each_chunk(chunk, range(0, b, stage.chunk), progress, workers, check, stage.label)
 
 
 def _failed_clauses(out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarray:
@@ -299,8 +296,8 @@ class _Progress:
     chunk needs (the scalar kernel, for a query that is not generic) is announced once more.
     """
 
-    def __init__(self, show: bool, total: int) -> None:
-        self.show, self.total, self.done = show, total, 0
+    def __init__(self, show: bool, total: int, desc: str = "planning") -> None:
+        self.show, self.total, self.done, self.desc = show, total, 0, desc
         self.bar = None
         self.notice = None
         self.handle = None
@@ -327,7 +324,7 @@ class _Progress:
         if self.bar is None:
             from tqdm import tqdm
 
-            self.bar = tqdm(total=self.total, initial=self.done, desc="planning", unit="chunk",
+            self.bar = tqdm(total=self.total, initial=self.done, desc=self.desc, unit="chunk",
                             file=sys.stderr)
             if self.handle is not None:
                 self.handle.rearm()

@@ -16,15 +16,23 @@ import sys
 
 import numpy as np
 
-from .. import refine as _  # noqa: F401  (pmplan.refine names the function; the module:)
-from ..refine import (chord_fraction, final_steps, mobility, overshoot, pairs, schedule,
-                      subdivide, subdivide_times)
+from ..refine import (
+    chord_fraction,
+    final_steps,
+    mobility,
+    overshoot,
+    pairs,
+    schedule,
+    subdivide,
+    subdivide_times,
+)
 from .common import _OBSTACLE_TINY2, _OPTS, _REL, njit
 
-__all__ = ["refine_batch", "measure_batch"]
+__all__ = ["measure_batch", "refine_batch"]
 
-# the reference's constants are passed as ``k`` = (ALPHA, BETA, PHI, -, MARGIN, LAMBDA) and the overshoot ``eta`` of the level, read
-# at every call (a module global would be compiled in, and cached on disk, as a constant)
+# the reference's constants are passed as ``kp`` = (ALPHA, BETA, PHI, ETA, MARGIN, LAMBDA) and
+# the overshoot ``eta`` of the level, read at every call (a module global would be compiled in,
+# and cached on disk, as a constant: a change of pmplan.refine would not reach the kernel)
 
 
 @njit(**_OPTS)
@@ -83,10 +91,8 @@ def _caps(a, b, free, cap):  # pragma: no cover - compiled
         for pt in (a[q], b[q]):
             for j in range(w1):
                 g = free[j, q]
-                if g < cap[j, pt]:
-                    cap[j, pt] = g
-                if g < cap[j + 1, pt]:
-                    cap[j + 1, pt] = g
+                cap[j, pt] = min(cap[j, pt], g)
+                cap[j + 1, pt] = min(cap[j + 1, pt], g)
 
 
 @njit(**_OPTS)
@@ -248,7 +254,7 @@ def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
     """Per path of ``x`` (B, W, P, d): ``out[i] = (clearance, robot distance, obstacle
     distance)`` in :func:`pmplan.certify.clearance`'s arithmetic (d < 8: its sums are
     sequential) and the flags above; ``need`` = (2 radius, radius + obstacle_radius)."""
-    bsz, w, p, dd = x.shape
+    bsz, w, _p, dd = x.shape
     rel = np.empty((w, dd))
     for i in range(bsz):
         xi = x[i]

@@ -299,6 +299,8 @@ class Stage:
 
     #: rows per chunk
     chunk: ClassVar[int] = 1024
+    #: what the progress bar says
+    label: ClassVar[str] = "processing"
     #: the batch length B
     size: int = 0
 
