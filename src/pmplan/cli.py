@@ -97,7 +97,7 @@ def _integer(text: str) -> int:
         raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
 
 
-def _add_refine_options(p, *, tuning: bool = True) -> None:
+def _add_refine_options(p) -> None:
     """``--refine``, ``--radius``, ``--obstacle-radius`` (and ``--waypoints``, ``--steps``)."""
     from .refine import DEFAULT_STEPS, DEFAULT_WAYPOINTS, MAX_STEPS, MAX_WAYPOINTS
 
@@ -112,13 +112,12 @@ def _add_refine_options(p, *, tuning: bool = True) -> None:
     p.add_argument("--obstacle-radius", type=_number, default=None, metavar="R",
                    help="with --refine: the obstacles are discs (balls) of radius R >= 0, robots "
                    "kept radius + R from them where the refinement can (default 0)")
-    if tuning:
-        p.add_argument("--waypoints", type=_integer, default=None, metavar="S",
-                       help="with --refine: sub-pieces per piece of the raw path, a power of two "
-                       f"from 1 to {MAX_WAYPOINTS} (default {DEFAULT_WAYPOINTS})")
-        p.add_argument("--steps", type=_integer, default=None, metavar="K",
-                       help=f"with --refine: number of refinement steps, 1 to {MAX_STEPS:,} "
-                       f"(default {DEFAULT_STEPS})")
+    p.add_argument("--waypoints", type=_integer, default=None, metavar="S",
+                   help="with --refine: sub-pieces per piece of the raw path, a power of two "
+                   f"from 1 to {MAX_WAYPOINTS} (default {DEFAULT_WAYPOINTS})")
+    p.add_argument("--steps", type=_integer, default=None, metavar="K",
+                   help=f"with --refine: number of refinement steps, 1 to {MAX_STEPS:,} "
+                   f"(default {DEFAULT_STEPS})")
 
 
 def _refine_options(args) -> dict | None:
@@ -454,7 +453,7 @@ def cmd_demo(args) -> int:
           + (", and 1 robot among 3 obstacles (paper Section 4, 4 domains)" if extra else ""))
     print("each query raw and refined (pmplan.refine"
           + "".join(f", {k} {v:g}" for k, v in radii.items())
-          + "): the same domain, a shorter certified path")
+          + "): the same domain and stratum, certified again")
     print(f"{'planner':<14} {'domain':<7} {'stratum':<18} {'length':>9} {'clearance':>10} "
           f"{'refined':>9} {'clearance':>10}")
     for p, r in zip(plans + extra, refined):
