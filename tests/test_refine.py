@@ -82,7 +82,10 @@ def _check_refined(raw: pmplan.Plan, ref: pmplan.Plan, configs, radius=0.0, obst
         ok_rr = True
     ok_ro = ro2 >= (Fraction(radius) + Fraction(obstacle_radius)) ** 2
     assert ref.respects_radius == (ok_rr and ok_ro)
-    assert min(ref.robot_distance, ref.obstacle_distance) >= ref.clearance or m >= 2
+    oo = min(np.linalg.norm(obstacles[i] - obstacles[j]) for i in range(m)
+             for j in range(i + 1, m))
+    assert ref.clearance == pytest.approx(min(ref.robot_distance, ref.obstacle_distance, oo),
+                                          rel=1e-12)
 
 
 # --- property tests: every planner, random and exactly degenerate queries ------------------
@@ -321,6 +324,19 @@ def test_batch_matches_single_and_slices():
     raw = pmplan.plan_batch(o, s, g)
     assert not raw.refined.any() and (raw.radius == 0).all() and raw.respects_radius.all()
     assert np.all(raw.clearance <= np.minimum(raw.robot_distance, raw.obstacle_distance))
+
+
+@pytest.mark.parametrize("dims", [(8, 2, 2), (9, 1, 3)])
+def test_high_dimension_numpy_planner(dims):
+    """d >= 8: the planner's numpy path, the kernel's refinement, the numpy measurement."""
+    d, n, m = dims
+    rng = np.random.default_rng(d)
+    o, s, g = rng.normal(size=(m, d)), rng.normal(size=(n, d)), rng.normal(size=(n, d))
+    raw = pmplan.plan(o, s, g)
+    ref = pmplan.refine(raw, radius=0.01)
+    _check_refined(raw, ref, [s, g], 0.01)
+    assert np.array_equal(ref.path.waypoints,
+                          pmplan.refine(raw, radius=0.01, backend="numpy").path.waypoints)
 
 
 def test_empty_batch():

@@ -138,7 +138,7 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel, kp):  #
 
 
 @njit(**_OPTS)
-def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, fac, kp, eta):  # pragma: no cover
+def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, kp, eta):  # pragma: no cover
     w, p, dd = x.shape
     delta[:, :, :] = 0.0  # the push
     for q in range(a.shape[0]):
@@ -164,20 +164,6 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, fac, kp, eta): 
         if not near:
             continue
         sq = star
-        for j in range(w):
-            s = 0.0
-            for k in range(dd):
-                s = s + rel[j, k] * rel[j, k]
-            dist = math.sqrt(s)
-            fac[j] = cq * max(sq - dist, 0.0) / dist if dist > 0 else 0.0
-        for j in range(w):  # at the waypoints
-            if fac[j] == 0.0:
-                continue
-            for k in range(dd):
-                fw = fac[j] * rel[j, k]
-                delta[j, pb, k] = delta[j, pb, k] - fw
-                if pa >= m:
-                    delta[j, pa, k] = delta[j, pa, k] + fw
         for j in range(w - 1):  # at the soft closest point of every piece
             if not dmin[j, 0] < sq:
                 continue  # no point of the piece is closer than sq: no push (exactly)
@@ -191,7 +177,8 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, fac, kp, eta): 
                 vv = vv + v * v
                 r00 = r00 + rel[j, k] * rel[j, k]
                 r11 = r11 + rel[j + 1, k] * rel[j + 1, k]
-            soft = min(max(-r0v / (vv + kp[5] * (r00 + r11)), 0.0), 1.0)
+            mu = kp[5] * (r00 + r11)
+            soft = min(max((-r0v + 0.5 * mu) / (vv + mu), 0.0), 1.0)
             s = 0.0
             for k in range(dd):
                 rm = rel[j, k] + soft * (rel[j + 1, k] - rel[j, k])
@@ -230,15 +217,14 @@ def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta):  # pragma
     cap = np.empty((w, p))
     delta = np.empty((w, p, dd))
     rel = np.empty((w, dd))
-    fac = np.empty(w)
     for i in range(bsz):
         xi = x[i]
         g = i if mob.shape[0] > 1 else 0  # shared times: one row of mobility and fractions
         for _ in range(steps):
-            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, cap, delta, rel, fac, kp, eta)
+            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, cap, delta, rel, kp, eta)
             _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel, kp)
         for _ in range(clear_only):
-            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, cap, delta, rel, fac, kp, eta)
+            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, cap, delta, rel, kp, eta)
 
 
 #: flags of :func:`measure_batch`: the certificate's exact re-decision is needed (a piece
