@@ -650,7 +650,7 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
         :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 2: 14 pieces per leg of the obstacle-line
         planner). The refined path has ``(K - 1) waypoints + 1`` breakpoints.
     steps : int, optional
-        Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 48), split over the
+        Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 56), split over the
         coarse-to-fine levels 1, 2, 4, .., ``waypoints``. The defaults were chosen from the
         length / time measurements of ``benchmarks/refine_bench.py``.
     workers : int

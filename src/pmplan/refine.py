@@ -88,7 +88,7 @@ __all__ = [
 #: of the obstacle-line planner give 14 pieces per leg (measured: benchmarks/refine_bench.py)
 DEFAULT_WAYPOINTS = 2
 #: default number of steps (each a clearing and a shortening substep), split over the levels
-DEFAULT_STEPS = 48
+DEFAULT_STEPS = 56
 #: the largest ``waypoints`` accepted
 MAX_WAYPOINTS = 64
 #: the largest ``steps`` accepted
@@ -171,7 +171,7 @@ def check_parameters(radius, obstacle_radius, waypoints, steps):
     Examples
     --------
     >>> check_parameters(0, 0.5, None, None)
-    (0.0, 0.5, 2, 48)
+    (0.0, 0.5, 2, 56)
     >>> check_parameters(-1.0, 0, None, None)
     Traceback (most recent call last):
     ...
