@@ -173,7 +173,7 @@ def tradeoff(count: int) -> list[dict]:
     raws = [(pmplan.plan(OBSTACLES, s, g, lift=LIFT), _lower_bound(s, g)) for s, g in qs]
     out = []
     for wp in (1, 2, 4):
-        for steps in (16, 32, 48, 96):
+        for steps in (16, 32, 48, 56, 96):
             ratios, times = [], []
             for raw, lb in raws:
                 c0 = time.process_time()

@@ -21,9 +21,10 @@ numbers, no discrete choice (only min, max and clip of continuous quantities):
    by a *shortening* substep. Shortening moves every interior waypoint a fraction
    :data:`ALPHA` toward the point of the chord of its two neighbours at its time (red-black:
    the odd waypoints first, then the even ones toward the moved odd ones); clearing
-   pushes the two points of a pair apart at the *soft closest point* of every piece (the push
-   shared by the two ends of the piece in proportion), by :data:`BETA` times the deficit
-   ``max(T* - |x_a - x_b|, 0)`` there below the push target
+   pushes the two points of a pair apart at the waypoints (weight :data:`OMEGA`) and at the
+   *soft closest point* of every piece (the push shared by the two ends of the piece in
+   proportion), by :data:`BETA` times the deficit ``max(T* - |x_a - x_b|, 0)`` below the push
+   target
    ``T* = (1 + ETA) T``. Both moves are multiplied by a *mobility* in [0, 1], a continuous
    function of the times that is 0 at the fixed times (start, goal, intermediate
    configurations) and at zero-duration pieces.
@@ -105,15 +106,19 @@ PHI = 0.25
 ETA = 0.5
 #: the protected level is T (1 + MARGIN), far above the rounding of the update
 MARGIN = 2.0**-30
-#: the soft closest point of a piece: ``s = clip((-r0.v + mu/2) / (|v|^2 + mu), 0, 1)``, ``mu =
-#: LAMBDA (|r0|^2 + |r1|^2)``, the minimiser of ``|r0 + s v|^2 + mu (s - 1/2)^2``: continuous where
-#: the exact one (LAMBDA = 0) jumps (v -> 0), and symmetric in the two ends. Where a pair nearly
-#: touches at a waypoint (clearance c), the exact closest point is that waypoint and the push
-#: direction ``r / |r|`` turns by ``delta / c`` under a move ``delta``; the soft point lies a
-#: fraction of order LAMBDA of the piece inside it, so the push direction is set by the piece
-#: (a push at the waypoints themselves, as before, is not used: measured, it made the largest
-#: probe of n = 8 about 10x larger)
+#: the soft closest point of a piece: ``clip(-r0.v / (|v|^2 + LAMBDA (|r0|^2 + |r1|^2)), 0,
+#: 1)``, continuous where the exact one (LAMBDA = 0) jumps (v -> 0); its slope is of order
+#: 1 / LAMBDA, so a larger LAMBDA keeps the continuity modulus small (measured: 2**-4 halves
+#: the largest 1e-6 probe of n = 8 against 2**-12, at the same lengths)
 LAMBDA = 2.0**-4
+#: the weight of the push at the waypoints (along the pair's relative position there) against
+#: the push at the soft closest point of each piece (weight 1). Where a pair nearly touches at a
+#: waypoint (clearance c) its direction turns by delta / c under a move delta of the query, so
+#: it carries most of the continuity modulus; without it a pair pushed only at soft points,
+#: nearly along the piece, can be squeezed to a clearance of 1e-17 (measured on the n = 8 rows
+#: of benchmarks/refine_bench.py). 1/2: fewer 1e-6 probes above 1e-4 (9 against 22 of 640 for
+#: 1), no squeezed path
+OMEGA = 0.5
 #: the steps of a level are GROWTH times those of the next finer level (coarse steps are cheap)
 GROWTH = 2.0
 #: the overshoot of a level is DECAY times smaller than that of the next coarser one
@@ -376,17 +381,24 @@ def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
     for q in range(a.shape[0]):
         pa, pb, cq, sq = a[q], b[q], c[q], star[:, q][:, None]
         rel = x[:, :, pa] - x[:, :, pb]  # (B, W, d)
+        dist = np.sqrt(_dot(rel, rel))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fac = np.where(dist > 0, (OMEGA * cq) * np.maximum(sq - dist, 0.0) / dist, 0.0)
         r0, r1 = rel[:, :-1], rel[:, 1:]
         v = r1 - r0
         # the soft closest point of the piece: continuous even where v -> 0
-        mu = LAMBDA * (_dot(r0, r0) + _dot(r1, r1))
-        soft = np.clip((-_dot(r0, v) + 0.5 * mu) / (_dot(v, v) + mu), 0.0, 1.0)
+        soft = np.clip(-_dot(r0, v) / (_dot(v, v) + LAMBDA * (_dot(r0, r0) + _dot(r1, r1))),
+                       0.0, 1.0)
         relm = r0 + soft[..., None] * v
         distm = np.sqrt(_dot(relm, relm))
         with np.errstate(invalid="ignore", divide="ignore"):
             facm = np.where(distm > 0, cq * np.maximum(sq - distm, 0.0) / distm, 0.0)
         # no push on a piece whose every point is at least sq apart (d: its exact minimum)
         facm = np.where(d[:, :, q] < sq, facm, 0.0)
+        fw = fac[..., None] * rel
+        push[:, :, pb] = push[:, :, pb] - fw
+        if pa >= m:
+            push[:, :, pa] = push[:, :, pa] + fw
         f1 = (facm * soft)[..., None] * relm
         f0 = (facm - facm * soft)[..., None] * relm
         push[:, 1:, pb] = push[:, 1:, pb] - f1

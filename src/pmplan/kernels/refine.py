@@ -30,9 +30,10 @@ from .common import _OBSTACLE_TINY2, _OPTS, _REL, njit
 
 __all__ = ["measure_batch", "refine_batch"]
 
-# the reference's constants are passed as ``kp`` = (ALPHA, BETA, PHI, ETA, MARGIN, LAMBDA) and
-# the overshoot ``eta`` of the level, read at every call (a module global would be compiled in,
-# and cached on disk, as a constant: a change of pmplan.refine would not reach the kernel)
+# the reference's constants are passed as ``kp`` = (ALPHA, BETA, PHI, ETA, MARGIN, LAMBDA,
+# OMEGA) and the overshoot ``eta`` of the level, read at every call (a module global would be
+# compiled in, and cached on disk, as a constant: a change of pmplan.refine would not reach the
+# kernel)
 
 
 @njit(**_OPTS)
@@ -164,6 +165,19 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, kp, eta):  # pr
         if not near:
             continue
         sq = star
+        for j in range(w):  # at the waypoints
+            s = 0.0
+            for k in range(dd):
+                s = s + rel[j, k] * rel[j, k]
+            dist = math.sqrt(s)
+            fw0 = (kp[6] * cq) * max(sq - dist, 0.0) / dist if dist > 0 else 0.0
+            if fw0 == 0.0:
+                continue
+            for k in range(dd):
+                fw = fw0 * rel[j, k]
+                delta[j, pb, k] = delta[j, pb, k] - fw
+                if pa >= m:
+                    delta[j, pa, k] = delta[j, pa, k] + fw
         for j in range(w - 1):  # at the soft closest point of every piece
             if not dmin[j, 0] < sq:
                 continue  # no point of the piece is closer than sq: no push (exactly)
@@ -177,8 +191,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, kp, eta):  # pr
                 vv = vv + v * v
                 r00 = r00 + rel[j, k] * rel[j, k]
                 r11 = r11 + rel[j + 1, k] * rel[j + 1, k]
-            mu = kp[5] * (r00 + r11)
-            soft = min(max((-r0v + 0.5 * mu) / (vv + mu), 0.0), 1.0)
+            soft = min(max(-r0v / (vv + kp[5] * (r00 + r11)), 0.0), 1.0)
             s = 0.0
             for k in range(dd):
                 rm = rel[j, k] + soft * (rel[j + 1, k] - rel[j, k])
@@ -303,7 +316,7 @@ def measure_batch(waypoints: np.ndarray, m: int, need: tuple[float, float]):
 def constants() -> np.ndarray:
     """The reference's constants, as the kernel reads them."""
     ref = sys.modules["pmplan.refine"]
-    return np.array([ref.ALPHA, ref.BETA, ref.PHI, ref.ETA, ref.MARGIN, ref.LAMBDA])
+    return np.array([ref.ALPHA, ref.BETA, ref.PHI, ref.ETA, ref.MARGIN, ref.LAMBDA, ref.OMEGA])
 
 
 def _grids(times: np.ndarray, r: int, waypoints_per_piece: int, steps: int, b: int):
