@@ -28,6 +28,7 @@ __all__ = [
     "degenerate_queries",
     "generic_queries",
     "machine_info",
+    "ompl_section",
     "planar_three_available",
     "planar_three_mixed",
     "timeit",
@@ -458,6 +459,12 @@ How to read it:
 * *clearance >= r*: how many returned paths keep every distance >= r all along.
   **pmplan treats robots as points**: its certificate guarantees clearance > 0, not >= r, so
   its paths may come closer than r; OMPL's paths respect r at the checked states only.
+  **pmplan refined** (`pmplan.plan(..., refine=True, radius={half}, obstacle_radius={half})`,
+  issue 14, `docs/refinement.md`) refines the same certified path by a fixed number of
+  continuous, collision-free steps, with robots and obstacles discs of radius r/2 = {half}: every
+  robot-robot and robot-obstacle distance it certifies is >= r, exactly what OMPL's checker
+  asks (and it says so only when it holds: `Plan.respects_radius`). Its time includes the plan,
+  the refinement and both certificates. Neither pmplan row knows the walls of the square.
 """
 
 
@@ -494,6 +501,26 @@ of the output waypoints, measured in the same run: on one core, and with `worker
 thread per core, {cores} here); the speed-up is the one-core time over the every-core time.
 With `--baseline REF`, the throughput of REF measured in the same run (a separate process on
 the same queries, just before this one's)."""
+
+
+def ompl_section(ompl: dict) -> list[str]:
+    """The lines of the section "## Comparison with OMPL" (``benchmarks/ompl_compare.py``)."""
+    explain = OMPL_EXPLAIN.format(r=ompl["r"], lift=ompl["lift"], budget=ompl["budget"],
+                                  half=ompl.get("radius", ompl["r"] / 2))
+    return [
+        "## Comparison with OMPL",
+        "",
+        explain,
+        _ompl_md(ompl),
+        "",
+        ompl.get("verdict", ""),
+        "",
+        (
+            f"OMPL comparison run: {ompl['date']}, total {ompl['total_s']:.0f} s"
+            f"{' (quick)' if ompl.get('quick') else ''}."
+        ),
+        "",
+    ]
 
 
 def write_reports(results: dict | None = None, ompl: dict | None = None) -> None:
@@ -644,21 +671,7 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
             "",
         ]
     if ompl is not None:
-        explain = OMPL_EXPLAIN.format(r=ompl["r"], lift=ompl["lift"], budget=ompl["budget"])
-        sect = [
-            "## Comparison with OMPL",
-            "",
-            explain,
-            _ompl_md(ompl),
-            "",
-            ompl.get("verdict", ""),
-            "",
-            (
-                f"OMPL comparison run: {ompl['date']}, total {ompl['total_s']:.0f} s"
-                f"{' (quick)' if ompl.get('quick') else ''}."
-            ),
-            "",
-        ]
+        sect = ompl_section(ompl)
         parts += sect
         doc += ["#" + s if s.startswith("## ") else s for s in sect]
     # the sections written by benchmarks/scale_bench.py, cert_bench.py, planar_bench.py and

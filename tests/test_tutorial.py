@@ -41,14 +41,16 @@ def test_tutorial_pictures_exist():
         assert (TUTORIAL.parent / ref).is_file(), f"{ref}: run docs/tutorial/make_pictures.py"
 
 
-def test_recorded_verify_output_is_real():
-    """The `pmplan verify` output shown in the tutorial is what the command prints today."""
+@pytest.mark.parametrize("flags", [(), ("--refine",)], ids=["raw", "refine"])
+def test_recorded_verify_output_is_real(flags):
+    """The `pmplan verify` outputs shown in the tutorial are what the command prints today."""
     from pmplan.verify import verify
 
-    block = next(b for b in _blocks("text") if b.startswith("$ pmplan verify --d 2 --n 2 --m 2\n"))
+    cmd = " ".join(["$ pmplan verify --d 2 --n 2 --m 2", *flags]) + "\n"
+    block = next(b for b in _blocks("text") if b.startswith(cmd))
     shown = block.split("\n", 1)[1].split("$ echo $?")[0].rstrip("\n")
-    report = verify(d=2, n=2, m=2, progress=False)
+    report = verify(d=2, n=2, m=2, progress=False, refine=bool(flags))
     assert shown == report.to_text(), (
         "docs/tutorial.md shows stale `pmplan verify` output: run "
-        "`python docs/tutorial/make_pictures.py` and paste docs/tutorial/verify.txt"
+        "`python docs/tutorial/make_pictures.py` and paste docs/tutorial/verify*.txt"
     )

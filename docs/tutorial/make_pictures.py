@@ -11,7 +11,10 @@ Writes, next to this file:
 * ``strip.png``     frames of the animation of one query, one per phase of the construction;
 * ``motion.gif``    the animation itself (small);
 * ``frame3d.png``   one frame of a query in R^3, drawn in the planner's frame;
-* ``verify.txt``    the output of ``pmplan verify --d 2 --n 2 --m 2 --no-progress``.
+* ``refined.png``   the query of ``strip.png`` raw and refined (radius 0.2), side by side;
+* ``refined.gif``   the refined motion, robots drawn as discs of radius 0.2;
+* ``verify.txt``    the output of ``pmplan verify --d 2 --n 2 --m 2 --no-progress``;
+* ``verify_refine.txt``  the same with ``--refine`` (the refined planner's moduli beside).
 """
 
 from __future__ import annotations
@@ -33,6 +36,8 @@ from pmplan.cli import main  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 OBSTACLES = np.array([[0.0, 0.0], [6.0, 0.0]])
+#: the robots' radius of the refined pictures
+RADIUS = 0.2
 
 
 def _overlay(ax, plans, styles, labels, title):
@@ -109,11 +114,25 @@ def frame3d_picture(out: Path) -> None:
     plt.close(fig)
 
 
-def verify_output(out: Path) -> None:
+def refined_picture(plan, out: Path) -> None:
+    """The same query raw and refined (radius 0.2): the same domain, a shorter motion."""
+    from pmplan.plotting import plan_grid
+
+    ref = pmplan.refine(plan, radius=RADIUS)
+    fig = plan_grid([plan, ref], ncols=2, panel=4.2,
+                    titles=[f"raw: $W_{{{plan.domain}}}$, length {plan.path.length():.3g}",
+                            f"refined, radius {RADIUS:g}: $W_{{{ref.domain}}}$, length "
+                            f"{ref.path.length():.3g}"])
+    fig.savefig(out, dpi=70)
+    plt.close(fig)
+
+
+def verify_output(out: Path, *extra: str) -> None:
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf):
-        status = main(["verify", "--d", "2", "--n", "2", "--m", "2", "--no-progress"])
-    out.write_text(f"$ pmplan verify --d 2 --n 2 --m 2\n{buf.getvalue()}$ echo $?\n{status}\n")
+        status = main(["verify", "--d", "2", "--n", "2", "--m", "2", "--no-progress", *extra])
+    cmd = " ".join(["pmplan verify --d 2 --n 2 --m 2", *extra])
+    out.write_text(f"$ {cmd}\n{buf.getvalue()}$ echo $?\n{status}\n")
 
 
 def main_pictures() -> None:
@@ -122,8 +141,12 @@ def main_pictures() -> None:
     strip_picture(plan, HERE / "strip.png")
     gif(plan, HERE / "motion.gif")
     frame3d_picture(HERE / "frame3d.png")
+    refined_picture(plan, HERE / "refined.png")
+    gif(pmplan.refine(plan, radius=RADIUS), HERE / "refined.gif")
     verify_output(HERE / "verify.txt")
-    for name in ("domains.png", "strip.png", "motion.gif", "frame3d.png", "verify.txt"):
+    verify_output(HERE / "verify_refine.txt", "--refine")
+    for name in ("domains.png", "strip.png", "motion.gif", "frame3d.png", "refined.png",
+                 "refined.gif", "verify.txt", "verify_refine.txt"):
         print(f"wrote {HERE / name} ({(HERE / name).stat().st_size // 1024} KiB)")
 
 

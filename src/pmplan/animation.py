@@ -21,6 +21,9 @@ of the construction the robots are in at time t:
   r - 1 legs; the leg number is shown too.
 * planar three-obstacle planner (paper Section 4): the path is a polyline traversed at constant
   speed; the phase is "polyline leg k of K" (Figures ``T111``, ``porenmedio``, ``t2223``, ``grid``).
+* a refined plan (:func:`pmplan.refine`, issue 14) no longer follows the construction's phases:
+  the phase is "refined path, piece k of K", and robots (and obstacles) with a radius are drawn
+  as discs of that radius.
 
 Coordinates: for d = 2 the picture is the plane itself. For d > 2 it is drawn in the planner's own
 frame (:class:`pmplan.frame.Frame`): horizontal axis the column ``s = (y - o1) . e`` along the line
@@ -65,6 +68,9 @@ MAX_FRAMES = 1000
 #: highest frame rate (GIF delays are counted in hundredths of a second)
 MAX_FPS = 100
 
+#: the phase name of every piece of a refined plan
+REFINED_PHASE = "refined path"
+
 _FIGSIZE = (4.8, 4.4)
 _BAR = (0.02, 0.98, 0.015)  # timeline: from x0 to x1 (axes fraction) at height y
 _DPI = 80
@@ -97,6 +103,8 @@ class Phase:
         """Return the text shown on a frame, e.g. ``"leg 2/3 - phase 3/7: lift"``."""
         if self.name == "polyline leg":
             text = f"polyline leg {self.index} of {self.count}"
+        elif self.name == REFINED_PHASE:
+            text = f"{REFINED_PHASE}, piece {self.index} of {self.count}"
         else:
             text = f"phase {self.index}/{self.count}: {self.name}"
         if self.legs > 1:
@@ -141,6 +149,9 @@ def phase_at(plan, t: float) -> Phase:
     times = np.asarray(plan.path.times, dtype=float)
     pieces = times.shape[0] - 1
     k = _piece_index(times, t)
+    if plan.refined:  # the refinement moved every waypoint: no phase of the construction
+        return Phase(REFINED_PHASE, k + 1, pieces, 1, 1,
+                     f"piece {k + 1} of the refined path (pmplan.refine, docs/refinement.md)")
     p = REGISTRY.get(plan.planner)
     phases = p.phases if p is not None else ()
     nph = len(phases)
@@ -244,6 +255,12 @@ class _FrameArtists:
                 self.trail_lines.append(line)
         self.robots = ax.scatter(self.xy[0, m:, 0], self.xy[0, m:, 1], s=60, color=colors,
                                  edgecolors="black", linewidths=0.8, zorder=6)
+        # robots (moving) and obstacles (fixed) of a radius: discs of it, in data units (for
+        # d > 2 the frame's axes are orthonormal, so a ball's shadow is a disc of its radius)
+        from .plotting import draw_radii
+
+        discs = draw_radii(plan, ax, self.xy[0], color="0.35", alpha=0.25, zorder=5.8)
+        self.discs = discs[0] if plan.radius > 0 else None
         # the phase of the construction (text) and the time t (a progress bar along a timeline
         # whose ticks are the breakpoints of the path, e.g. 0, 1/6, 1/3, 4/9, 5/9, 2/3, 5/6, 1)
         self.text = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", ha="left",
@@ -253,6 +270,8 @@ class _FrameArtists:
                                 transform=ax.transAxes, solid_capstyle="butt", zorder=7)[0]
         #: the artists that move from frame to frame (the phase text changes only between phases)
         self.dynamic = [*self.trail_lines, self.robots, self.progress]
+        if self.discs is not None:
+            self.dynamic.insert(0, self.discs)
         lo = self.xy.reshape(-1, 2).min(axis=0)
         hi = self.xy.reshape(-1, 2).max(axis=0)
         pad = 0.12 * max(float((hi - lo).max()), 1e-9)
@@ -272,8 +291,9 @@ class _FrameArtists:
         ax.set_aspect("equal", adjustable="box")
         ax.grid(alpha=0.3)
         ax.tick_params(labelsize=7)
-        ax.set_title(f"$W_{{{plan.domain}}}$: ${plan.stratum}$  ({plan.planner}, d={d}, n={n}, "
-                     f"m={m})", fontsize=8)
+        what = f"{plan.planner} refined, radius {plan.radius:g}" if plan.refined else plan.planner
+        ax.set_title(f"$W_{{{plan.domain}}}$: ${plan.stratum}$  ({what}, d={d}, n={n}, m={m})",
+                     fontsize=8)
 
     def _sizes(self, rest, base: float):
         if rest is None:
@@ -292,6 +312,8 @@ class _FrameArtists:
             tr = np.vstack([self.xy[:k, m + j], xy[m + j][None]])
             line.set_data(tr[:, 0], tr[:, 1])
         self.robots.set_offsets(xy[m:])
+        if self.discs is not None:
+            self.discs.set_offsets(xy[m:])
         if rest is not None:
             self.robots.set_sizes(self._sizes(rest[m:], 60.0))
         self.text.set_text(self.label(t))
@@ -434,8 +456,8 @@ def render_frames(plan, *, frames: int = 120, trails: bool = True, dpi: int = _D
 
 
 def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
-                  planner: str | None = None) -> Path:
-    """Plan a query and write its animation to ``out`` (``.gif`` or ``.mp4``).
+                  planner: str | None = None, refine: dict | None = None) -> Path:
+    """Plan a query (and refine it) and write its animation to ``out`` (``.gif`` or ``.mp4``).
 
     Parameters
     ----------
@@ -451,6 +473,9 @@ def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
         Frames per second, 1 to :data:`MAX_FPS`.
     planner : str, optional
         Planner name; overrides ``q["planner"]``.
+    refine : dict, optional
+        Animate the refined motion: the keyword arguments of :func:`pmplan.refine` (``{}`` for
+        its defaults, or e.g. ``{"radius": 0.2}``; robots with a radius are drawn as discs).
 
     Returns
     -------
@@ -487,6 +512,10 @@ def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
     else:
         from PIL import Image
     plan = plan_query(q, planner)
+    if refine is not None:
+        from .api import refine as refine_plan
+
+        plan = refine_plan(plan, **refine)
     if suffix == ".gif":
         images = [Image.fromarray(rgba[..., :3]).quantize(
                       colors=64, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE)

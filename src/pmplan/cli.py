@@ -17,16 +17,21 @@ __all__ = ["main", "build_parser"]
 
 EPILOG = """\
 commands and examples:
-  pmplan demo                              plan one query per domain, print a table, draw a PNG
+  pmplan demo                              plan one query per domain, raw and refined, print
+                                           a table, draw a PNG
   pmplan plan query.json                   plan one query (JSON or npz in, JSON out)
   pmplan plan query.json --samples 50      ... printing 50 equally spaced samples
   pmplan plan query.json --lift scene      ... with the scene-scaled unit instead of lift 1
+  pmplan plan query.json --refine --radius 0.05   ... refined: shorter, robots discs of radius
+                                           0.05, same domain of continuity, certified
   pmplan batch queries.npz --out plans.npz plan many queries (npz arrays obstacles/start/goal)
   pmplan batch in.zarr --out plans.zarr --dask-workers 2   ... streamed, Zarr to Zarr, on dask
   pmplan info --d 2 --n 3 --m 2 [--r 3]    planner, number of domains, TC, optimality
   pmplan figures --out docs/figures        the paper's Section 4 figures from the planner
   pmplan animate query.json --out m.gif    animate a planned motion (.gif, or .mp4 with ffmpeg)
+  pmplan animate query.json --refine --radius 0.2   ... a refined motion, robots as discs
   pmplan verify --d 2 --n 3 --m 2          check certificates and continuity per domain
+  pmplan verify --d 2 --n 3 --m 2 --refine ... and the refined planner's, beside them
   pmplan explore                           the domains of continuity, live, in a browser
 
 query.json: {"obstacles": [[0,0],[4,0]], "start": [[1,1]], "goal": [[3,-1]]}
@@ -37,6 +42,9 @@ Errors: one line on standard error, exit status 2.
 
 LIFT_HELP = ("unit of the lift: a positive number (default 1, the paper's unit) or 'scene' "
              "(a unit scaled with the obstacles)")
+
+#: the options of a refined motion (``pmplan.refine``) other than ``--refine``, by dest
+REFINE_OPTIONS = ("radius", "obstacle_radius", "waypoints", "steps")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -71,6 +79,68 @@ def _lift(text: str):
     except ValueError:
         raise argparse.ArgumentTypeError(
             f"expected a positive number or the word 'scene', got {text!r}") from None
+
+
+def _number(text: str) -> float:
+    """An argparse ``type``: a number (the API checks its range: one source of the rule)."""
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+
+
+def _integer(text: str) -> int:
+    """An argparse ``type``: an integer (the API checks its range: one source of the rule)."""
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+
+
+def _add_refine_options(p) -> None:
+    """``--refine``, ``--radius``, ``--obstacle-radius`` (and ``--waypoints``, ``--steps``)."""
+    from .refine import DEFAULT_STEPS, DEFAULT_WAYPOINTS, MAX_STEPS, MAX_WAYPOINTS
+
+    p.add_argument("--refine", action="store_true",
+                   help="refine the planned path (pmplan.refine): a fixed number of continuous, "
+                   "collision-free shortening and clearing steps; the same domain of continuity, "
+                   "certified again (docs/refinement.md)")
+    p.add_argument("--radius", type=_number, default=None, metavar="R",
+                   help="with --refine: the robots are discs (balls) of radius R >= 0, kept "
+                   "2R apart where the refinement can (the output says whether it holds; "
+                   "default 0)")
+    p.add_argument("--obstacle-radius", type=_number, default=None, metavar="R",
+                   help="with --refine: the obstacles are discs (balls) of radius R >= 0, robots "
+                   "kept radius + R from them where the refinement can (default 0)")
+    p.add_argument("--waypoints", type=_integer, default=None, metavar="S",
+                   help="with --refine: sub-pieces per piece of the raw path, a power of two "
+                   f"from 1 to {MAX_WAYPOINTS} (default {DEFAULT_WAYPOINTS})")
+    p.add_argument("--steps", type=_integer, default=None, metavar="K",
+                   help=f"with --refine: number of refinement steps, 1 to {MAX_STEPS:,} "
+                   f"(default {DEFAULT_STEPS})")
+
+
+def _refine_options(args) -> dict | None:
+    """The keyword arguments of :func:`pmplan.refine` from the command line; None without
+    ``--refine``. A refinement option without ``--refine`` is an InputError (never ignored)."""
+    from .errors import InputError
+
+    given = {k: getattr(args, k) for k in REFINE_OPTIONS if getattr(args, k, None) is not None}
+    if not args.refine:
+        if given:
+            flag = "--" + next(iter(given)).replace("_", "-")
+            raise InputError(f"{flag} applies to a refined motion: add --refine")
+        return None
+    return given
+
+
+def _refined(result, options: dict | None, **extra):
+    """``result`` (a Plan or PlanBatch) refined with ``options``, or as it is when None."""
+    if options is None:
+        return result
+    from .api import refine
+
+    return refine(result, **options, **extra)
 
 
 def _version() -> str:
@@ -117,6 +187,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--lift", type=_lift, default=None, metavar="LIFT", help=LIFT_HELP)
     p.add_argument("--indent", type=_int_in(0, 16), default=None, metavar="N",
                    help="indent the JSON output by N spaces (default: one line)")
+    _add_refine_options(p)
 
     p = sub.add_parser("batch", help="plan a batch of queries (npz, JSON list or Zarr store) "
                        "into an npz or a Zarr store",
@@ -148,14 +219,21 @@ def build_parser() -> argparse.ArgumentParser:
     dask_opts.add_argument("--dask-workers", type=_int_in(1, 1024), default=None, metavar="N",
                            help="plan the chunks on a local dask cluster of N worker processes "
                            "(needs pmplan[dask] and a Zarr --out)")
+    _add_refine_options(p)
 
-    p = sub.add_parser("demo", help="the main job: one query per domain, table and picture",
+    p = sub.add_parser("demo", help="the main job: one query per domain, raw and refined, "
+                       "table and picture",
                        description="Example: pmplan demo --out demo.png")
     p.add_argument("--n", type=_int_in(1, 8), default=3,
                    help="number of robots among the two obstacles, 1 to 8 (default 3)")
     p.add_argument("--out", default="pmplan-demo.png", metavar="FILE",
                    help="picture to write: .png (default pmplan-demo.png), .pdf or .svg")
     p.add_argument("--lift", type=_lift, default=1.0, metavar="LIFT", help=LIFT_HELP)
+    p.add_argument("--radius", type=_number, default=None, metavar="R",
+                   help="radius of the robots of the refined motions drawn beside the raw ones "
+                   "(default 0)")
+    p.add_argument("--obstacle-radius", type=_number, default=None, metavar="R",
+                   help="radius of the obstacles of the refined motions (default 0)")
 
     p = sub.add_parser("info", help="which planner applies to (d, n, m, r) and its optimality",
                        description="Example: pmplan info --d 3 --n 2 --m 4 --r 3")
@@ -187,6 +265,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"frames per second, 1 to {MAX_FPS} (default 30)")
     p.add_argument("--planner", default=None, choices=names, help=planner_help)
     p.add_argument("--lift", type=_lift, default=None, metavar="LIFT", help=LIFT_HELP)
+    _add_refine_options(p)
 
     p = sub.add_parser("verify", help="check certificates and continuity, domain by domain",
                        description="Example: pmplan verify --d 2 --n 3 --m 2 --queries 500")
@@ -205,6 +284,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="seed of the random queries, a non-negative integer (default 0)")
     p.add_argument("--json", action="store_true", help="print the report as JSON")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--refine", action="store_true",
+                   help="also check the refined planner (pmplan.refine, radius 0): its "
+                   "certificates, labels and continuity moduli per domain, beside the raw ones")
 
     p = sub.add_parser("explore", help="the domains of continuity, live, in a browser",
                        description="Serve an interactive page on this machine (needs the "
@@ -262,7 +344,8 @@ def cmd_plan(args) -> int:
     from .io import plan_to_dict
 
     q = _with_options(_read_query_arg(args.query), args, _source(args.query))
-    result = plan_query(q)
+    options = _refine_options(args)
+    result = _refined(plan_query(q), options)
     print(json.dumps(plan_to_dict(result, samples=args.samples), indent=args.indent))
     return 0
 
@@ -271,7 +354,13 @@ def cmd_batch(args) -> int:
     from . import api
     from .io import read_queries, write_plans
 
+    options = _refine_options(args)
     if _streams(args):  # Zarr in or out, or a dask option: chunk by chunk (pmplan.scale)
+        if options is not None:
+            from .errors import UnsupportedError
+
+            raise UnsupportedError("--refine is not available for Zarr stores or dask: refine "
+                                   "an npz batch (pmplan batch in.npz --out plans.npz --refine)")
         return _cmd_batch_store(args)
     q = _with_options(read_queries(args.queries), args, args.queries)
     lift = q.get("lift", 1.0)
@@ -283,10 +372,14 @@ def cmd_batch(args) -> int:
     else:
         batch = api.plan_batch(q["obstacles"], q["start"], q["goal"], planner=q.get("planner"),
                                **common)
+    batch = _refined(batch, options, workers=args.workers, progress=not args.no_progress)
     written = write_plans(args.out, batch)
     if len(batch):
         counts = {int(k): int(v) for k, v in zip(*np.unique(batch.domain, return_counts=True))}
         what = f"; domains {counts}; min clearance {batch.clearance.min():.3g}"
+        if options is not None:
+            what += (f"; refined, radii respected by {int(batch.respects_radius.sum())} of "
+                     f"{len(batch)}")
     else:
         what = ""
     print(f"planned {len(batch)} queries with {batch.planner}{what}; wrote {written}")
@@ -342,32 +435,40 @@ def cmd_demo(args) -> int:
 
     from ._compiling import announce_compile
 
-    rows = []
+    radii = {k: getattr(args, k) for k in ("radius", "obstacle_radius")
+             if getattr(args, k) is not None}
     with announce_compile(lambda notice: print(f"pmplan demo: {notice}", file=sys.stderr,
                                                flush=True)):
         # one batch (the demo needs no single-query kernel: nothing more to compile)
         queries = [np.stack(a) for a in zip(*obstacle_line_examples(args.n))]
-        plans = list(api.plan_batch(*queries, lift=args.lift))
+        batch = api.plan_batch(*queries, lift=args.lift)
+        plans = list(batch)
+        refined = list(api.refine(batch, **radii))
         extra = _planar_three_demo(args.lift)
+        refined += [api.refine(p, **radii) for p in extra]
     from .planners import REGISTRY
 
-    for p in plans + extra:
-        rows.append((p.planner, f"{REGISTRY[p.planner].domain_prefix}{p.domain}", p.stratum,
-                     p.path.length(), p.clearance))
     print(f"pmplan demo: {args.n} robots among 2 obstacles in the plane "
           f"({len(plans)} domains, optimal: TC = {api.parametrised_tc(2, args.n, 2)})"
           + (", and 1 robot among 3 obstacles (paper Section 4, 4 domains)" if extra else ""))
-    print(f"{'planner':<14} {'domain':<7} {'stratum':<18} {'length':>9} {'clearance':>10}")
-    for planner, dom, stratum, length, clr in rows:
-        print(f"{planner:<14} {dom:<7} {stratum:<18} {length:9.3f} {clr:10.4f}")
+    print("each query raw and refined (pmplan.refine"
+          + "".join(f", {k} {v:g}" for k, v in radii.items())
+          + "): the same domain and stratum, certified again")
+    print(f"{'planner':<14} {'domain':<7} {'stratum':<18} {'length':>9} {'clearance':>10} "
+          f"{'refined':>9} {'clearance':>10}")
+    for p, r in zip(plans + extra, refined):
+        dom = f"{REGISTRY[p.planner].domain_prefix}{p.domain}"
+        print(f"{p.planner:<14} {dom:<7} {p.stratum:<18} {p.path.length():9.3f} "
+              f"{p.clearance:10.4f} {r.path.length():9.3f} {r.clearance:10.4f}")
     from .plotting import plan_grid
     import matplotlib
 
     matplotlib.use("Agg")
     what = f"{args.n} robot{'s' if args.n > 1 else ''} among 2 obstacles (obstacle_line)" + (
         ", 1 robot among 3 obstacles (planar_three, paper Section 4)" if extra else "")
-    fig = plan_grid(plans + extra, ncols=4, suptitle="pmplan demo: one certified motion per "
-                    f"domain of continuity $W_l$\n{what}")
+    pairs = [q for pair in zip(plans + extra, refined) for q in pair]
+    fig = plan_grid(pairs, ncols=4, suptitle="pmplan demo: one certified motion per domain of "
+                    f"continuity $W_l$, raw (left) and refined (right)\n{what}")
     fig.savefig(out, dpi=110)
     print(f"wrote {out.resolve()}")
     return 0
@@ -441,7 +542,8 @@ def cmd_animate(args) -> int:
     from .animation import animate_query
 
     q = _with_options(_read_query_arg(args.query), args, _source(args.query))
-    out = animate_query(q, args.out, frames=args.frames, fps=args.fps)
+    out = animate_query(q, args.out, frames=args.frames, fps=args.fps,
+                        refine=_refine_options(args))
     print(f"wrote {out.resolve()}")
     return 0
 
@@ -450,7 +552,8 @@ def cmd_verify(args) -> int:
     from .verify import verify
 
     report = verify(planner=args.planner, d=args.d, n=args.n, m=args.m, lift=args.lift,
-                    queries=args.queries, seed=args.seed, progress=not args.no_progress)
+                    queries=args.queries, seed=args.seed, progress=not args.no_progress,
+                    refine=args.refine)
     print(report.to_json() if args.json else report.to_text())
     return 0 if report.ok else 1
 

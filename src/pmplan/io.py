@@ -11,7 +11,15 @@ Query JSON (one query)::
 
 Batch npz (``pmplan batch``): arrays ``obstacles`` (B, m, d), ``start`` (B, n, d), ``goal``
 (B, n, d). Output npz: ``domain`` (B,), ``clearance`` (B,), ``times`` (K,) or (B, K),
-``waypoints`` (B, K, m+n, d), ``strata`` (B, S) and ``stratum`` (B,) names.
+``waypoints`` (B, K, m+n, d), ``strata`` (B, S) and ``stratum`` (B,) names, and the fields of
+refined motions (:data:`REFINE_FIELDS`, issue 14): ``refined``, ``radius``, ``obstacle_radius``
+(B,) always; for a refined batch also ``respects_radius`` (B,) and the exact minima
+``robot_distance``, ``obstacle_distance`` (B,) (an unrefined batch has radius 0, and its
+minimum distance is ``clearance``: measuring the two minima apart would cost a pass over all
+pairs, so ``pmplan batch`` without ``--refine`` stays as fast as before).
+
+The JSON of one plan (:func:`plan_to_dict`) has the same fields; a distance that has no pair to
+measure (``robot_distance`` with one robot) is ``null`` there (``inf`` in the npz).
 """
 
 from __future__ import annotations
@@ -29,6 +37,7 @@ __all__ = [
     "MAX_POINTS",
     "MAX_SAMPLES",
     "MAX_OUTPUT_NUMBERS",
+    "REFINE_FIELDS",
     "read_query",
     "parse_query",
     "plan_to_dict",
@@ -43,6 +52,10 @@ MAX_SAMPLES = 100_000
 #: largest number of coordinates K * (m + n) * d in the samples of one path
 MAX_OUTPUT_NUMBERS = 10_000_000
 _KEYS = {"obstacles", "start", "goal", "via", "lift", "planner"}
+#: the fields a Plan / PlanBatch reports about refinement and radii (:func:`pmplan.refine`),
+#: written by :func:`plan_to_dict` and :func:`write_plans`
+REFINE_FIELDS = ("refined", "radius", "obstacle_radius", "robot_distance", "obstacle_distance",
+                 "respects_radius")
 
 
 #: the fix named when a query file holds something that is not a real number
@@ -180,6 +193,12 @@ def plan_to_dict(plan, samples: int | None = None) -> dict:
         "stratum": plan.stratum,
         "clearance": plan.clearance,
     }
+    for key in REFINE_FIELDS:
+        value = getattr(plan, key)
+        if isinstance(value, (bool, np.bool_)):
+            out[key] = bool(value)
+        else:  # a length: JSON has no infinity (no pair to measure: null)
+            out[key] = float(value) if np.isfinite(value) else None
     if samples is not None:
         if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) \
                 or not 2 <= samples <= MAX_SAMPLES:
@@ -358,5 +377,7 @@ def write_plans(path: str | Path, batch) -> Path:
         strata=batch.strata,
         stratum=batch.stratum.astype(str),
         planner=np.array(batch.planner),
+        **{key: np.asarray(getattr(batch, key))
+           for key in (REFINE_FIELDS if batch.refined.any() else REFINE_FIELDS[:3])},
     )
     return path

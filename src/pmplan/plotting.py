@@ -15,11 +15,13 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["TIME_CMAP", "robot_colors", "time_cmap", "plan_title", "draw_plan", "legend_handles",
-           "plan_grid"]
+__all__ = ["TIME_CMAP", "robot_colors", "time_cmap", "plan_title", "draw_radii", "draw_plan",
+           "legend_handles", "plan_grid"]
 
 #: the colormap of time along the paths (plasma without its palest tenth, visible on white)
 TIME_CMAP = "plasma"
+#: at most about this many arrows along one robot's path (every piece of a raw plan has one)
+MAX_ARROWS = 8
 _TIME_RANGE = (0.0, 0.88)
 
 
@@ -44,15 +46,47 @@ def plan_title(plan) -> str:
     """Return the panel title of a plan in matplotlib mathtext, e.g. ``$W_{4}$: $T_{2,2}$``.
 
     The stratum names of both planners are TeX (``T_{2,2}``, ``T^{2,3}_{4,4}``), so they are set
-    as mathematics rather than printed raw.
+    as mathematics rather than printed raw. A refined plan (:func:`pmplan.refine`) says so
+    before the same domain label and stratum as its raw plan.
 
     Examples
     --------
     >>> import pmplan
-    >>> plan_title(pmplan.plan([[0, 0], [2, 0]], [[1, 1]], [[1, -1]]))
+    >>> p = pmplan.plan([[0, 0], [2, 0]], [[1, 1]], [[1, -1]])
+    >>> plan_title(p)
     'obstacle_line  $W_{6}$: $T_{3,3}$'
+    >>> plan_title(pmplan.refine(p))
+    'obstacle_line refined  $W_{6}$: $T_{3,3}$'
     """
-    return f"{plan.planner}  $W_{{{plan.domain}}}$: ${plan.stratum}$"
+    refined = " refined" if plan.refined else ""
+    return f"{plan.planner}{refined}  $W_{{{plan.domain}}}$: ${plan.stratum}$"
+
+
+def draw_radii(plan, ax, points, *, obstacles: bool = True, color="0.5", alpha: float = 0.18,
+               zorder: float = 2):
+    """Draw the robots of ``plan`` as discs of ``plan.radius`` at ``points`` (P, 2) (robots
+    after the m obstacles), and (if ``obstacles``) the obstacles as discs of
+    ``plan.obstacle_radius``, in data units; nothing for a zero radius.
+
+    Returns
+    -------
+    list of matplotlib.collections.EllipseCollection
+        The discs of the robots, then those of the obstacles (one collection each, if drawn).
+    """
+    from matplotlib.collections import EllipseCollection
+
+    m = plan.dims[2]
+    added = []
+    for sel, r in ((slice(m, None), plan.radius),
+                   (slice(0, m), plan.obstacle_radius if obstacles else 0.0)):
+        if r > 0:
+            xy = np.asarray(points, dtype=float)[sel]
+            c = EllipseCollection(2 * r, 2 * r, 0.0, units="xy", offsets=xy,
+                                  offset_transform=ax.transData, facecolors=color, alpha=alpha,
+                                  edgecolors="none", zorder=zorder)
+            ax.add_collection(c)
+            added.append(c)
+    return added
 
 
 def _time_segments(plan, j: int, samples: int):
@@ -76,7 +110,8 @@ def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
     title : str, optional
         Default: :func:`plan_title` and the certified clearance.
     arrows : bool
-        Arrows at the middle of every leg, in the colour of its time.
+        Arrows at the middle of every leg, in the colour of its time (of every k-th leg when
+        the path has more than :data:`MAX_ARROWS` legs, as a refined path has).
     colorbar : bool, optional
         Add a "time" colourbar next to ``ax`` (default: only when ``ax`` is None).
 
@@ -105,14 +140,17 @@ def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
                                          capstyle="round", zorder=3))
         if arrows:
             wp = plan.path.waypoints[:, m + j]
-            for a, b, t0, t1 in zip(wp[:-1], wp[1:], times[:-1], times[1:]):
-                if np.linalg.norm(b - a) > 0:
+            every = max(1, (len(times) - 1) // MAX_ARROWS)  # a refined path has many pieces
+            for k, (a, b, t0, t1) in enumerate(zip(wp[:-1], wp[1:], times[:-1], times[1:])):
+                if k % every == every // 2 and np.linalg.norm(b - a) > 0:
                     mid = (a + b) / 2
                     ax.annotate("", xy=mid + (b - a) * 0.01, xytext=mid, zorder=4,
                                 arrowprops=dict(arrowstyle="-|>", color=cmap(norm((t0 + t1) / 2)),
                                                 lw=1.2, mutation_scale=11))
         ax.plot(*plan.start[j], "o", color=cmap(0.0), ms=8, mfc="white", mew=2, zorder=6)
         ax.plot(*plan.goal[j], "*", color=cmap(1.0), mec="black", mew=0.6, ms=13, zorder=6)
+    draw_radii(plan, ax, plan.path.waypoints[0])  # robots and obstacles of a radius
+    draw_radii(plan, ax, plan.path.waypoints[-1], obstacles=False)
     labels = [(f"$o_{{{k + 1}}}$", o) for k, o in enumerate(obs)]
     labels += [(f"$x_{{{j + 1}}}$", plan.start[j]) for j in range(n)]
     labels += [(f"$x_{{{j + 1}}}'$", plan.goal[j]) for j in range(n)]

@@ -52,6 +52,14 @@ gathers the evidence for one (d, n, m):
    rarely come near N, so the report states it as a note (:data:`POLE_NOTE`, ``Report.notes``)
    for odd d rather than measuring it.
 
+6. **The refined planner** (``refine=True``, ``pmplan verify --refine``; issue 14). Refinement
+   composes the planner with a continuous map of paths that keeps the endpoints and the
+   obstacles and creates no collision (:func:`pmplan.refine`, ``docs/refinement.md``), so the
+   refined planner has the same domains. Every planned batch is refined (radius 0) and certified
+   again, with the same failure rule; a refined plan whose label or stratum differs from its raw
+   plan is a problem. The refined continuity modulus of each domain is measured on the same
+   pairs (Q, Q') as the raw one and reported beside it (``DomainReport.refined_modulus``).
+
 Norms: ``|Q - Q'|`` is the largest Euclidean displacement of one of the m + 2n points (obstacles,
 start and goal robots), and ``sup_t |Gamma(t) - Gamma'(t)|`` the largest Euclidean distance between
 corresponding points at equal times; it is computed exactly for piecewise-linear paths (the
@@ -82,6 +90,7 @@ __all__ = [
     "MAX_QUERIES",
     "MAX_NUMBERS",
     "POLE_NOTE",
+    "REFINED",
     "DomainReport",
     "Report",
     "path_distance",
@@ -103,6 +112,8 @@ MAX_QUERIES = 100_000
 MAX_NUMBERS = 200_000_000
 #: what ``verify`` says for odd d, the obstacle-line planner's note (``Planner.notes``)
 POLE_NOTE = OBSTACLE_LINE_POLE_NOTE
+#: the prefix of the families of refined plans in ``Report.families`` (``verify(refine=True)``)
+REFINED = "refined "
 
 
 # ------------------------------------------------------------------------------------------------
@@ -247,6 +258,14 @@ class DomainReport:
         Median of those ratios.
     jumps : int
         Number of such pairs.
+    refined_queries : int
+        Refined (and certified) plans in this domain (``verify(refine=True)``; else 0).
+    refined_min_clearance : float or None
+        Smallest certified clearance of those refined plans.
+    refined_modulus : float or None
+        Continuity modulus of the refined planner on the same perturbation pairs as ``modulus``.
+    refined_perturbations : int
+        Number of those pairs whose refined plans were both certified.
     """
 
     label: int
@@ -258,6 +277,10 @@ class DomainReport:
     jump: float | None = None
     jump_median: float | None = None
     jumps: int = 0
+    refined_queries: int = 0
+    refined_min_clearance: float | None = None
+    refined_modulus: float | None = None
+    refined_perturbations: int = 0
 
 
 @dataclass
@@ -293,6 +316,9 @@ class Report:
         Facts to read the numbers by: for odd d, :data:`POLE_NOTE`.
     lift : float or str
         The lift the queries were planned with.
+    refine : bool
+        Whether the refined planner was checked too (``families`` then also holds ``refined
+        <family>`` entries, and the domains their ``refined_*`` fields).
     """
 
     ok: bool
@@ -308,6 +334,7 @@ class Report:
     problems: list
     notes: list = field(default_factory=list)
     lift: float | str = 1.0
+    refine: bool = False
 
     def to_dict(self) -> dict:
         """Return the report as plain JSON-ready data."""
@@ -343,14 +370,19 @@ class Report:
         """Return a human-readable summary (the default output of ``pmplan verify``)."""
         d, n, m = self.dims
         w = REGISTRY[self.planner].domain_prefix
-        fam = ", ".join(f"{k} {v['queries']}" for k, v in self.families.items())
+        fam = ", ".join(f"{k} {v['queries']}" for k, v in self.families.items()
+                        if not k.startswith(REFINED))
         lines = [
-            f"pmplan verify: {self.planner} planner, (d, n, m) = ({d}, {n}, {m}), "
+            f"pmplan verify: {self.planner} planner"
+            + (" and its refinement (pmplan.refine)" if self.refine else "")
+            + f", (d, n, m) = ({d}, {n}, {m}), "
             + ("" if self.lift == 1.0 else f"lift {self.lift}, ") + f"seed {self.seed}",
             f"queries: {fam}; perturbation size delta = {self.delta:g}",
             "",
             f"{'domain':<7} {'queries':>7} {'strata':>6}  {'min clearance':>13}  "
-            f"{'continuity':>10}  {'jump (max)':>10}  {'jump (median)':>13}  examples of strata",
+            f"{'continuity':>10}  "
+            + (f"{'refined':>10}  {'refined clearance':>17}  " if self.refine else "")
+            + f"{'jump (max)':>10}  {'jump (median)':>13}  examples of strata",
         ]
 
         def num(x):
@@ -360,8 +392,10 @@ class Report:
             shown = ", ".join(dr.strata[:3]) + (", ..." if len(dr.strata) > 3 else "")
             lines.append(
                 f"{w + str(dr.label):<7} {dr.queries:>7} {len(dr.strata):>6}  "
-                f"{num(dr.min_clearance):>13}  {num(dr.modulus):>10}  {num(dr.jump):>10}  "
-                f"{num(dr.jump_median):>13}  {shown}"
+                f"{num(dr.min_clearance):>13}  {num(dr.modulus):>10}  "
+                + (f"{num(dr.refined_modulus):>10}  {num(dr.refined_min_clearance):>17}  "
+                   if self.refine else "")
+                + f"{num(dr.jump):>10}  {num(dr.jump_median):>13}  {shown}"
             )
         lines.append("")
         missing = sorted(set(self.labels) - set(self.realised))
@@ -369,14 +403,20 @@ class Report:
             f"labels realised: {len(self.labels) - len(missing)}/{len(self.labels)}"
             + (f" (missing {missing})" if missing else " (all)")
         )
-        planned = sum(v["planned"] for v in self.families.values())
-        excused = sum(v["excused"] for v in self.families.values())
-        failed = sum(v["failed"] for v in self.families.values())
-        lines.append(
-            f"certificates: {planned} passed, {failed} failed"
-            + (f"; {excused} nearly degenerate queries (rho < 2^-26) refused with "
-               "CertificationError, as SPEC 5 allows" if excused else "")
-        )
+        for what, fams in (("certificates", {k: v for k, v in self.families.items()
+                                             if not k.startswith(REFINED)}),
+                           ("refined certificates", {k: v for k, v in self.families.items()
+                                                     if k.startswith(REFINED)})):
+            if not fams:
+                continue
+            planned = sum(v["planned"] for v in fams.values())
+            excused = sum(v["excused"] for v in fams.values())
+            failed = sum(v["failed"] for v in fams.values())
+            lines.append(
+                f"{what}: {planned} passed, {failed} failed"
+                + (f"; {excused} nearly degenerate queries (rho < 2^-26) refused with "
+                   "CertificationError, as SPEC 5 allows" if excused else "")
+            )
         sep = self.separation
         if sep is not None:
             top = max(d.modulus for d in self.domains if d.modulus is not None)
@@ -384,6 +424,13 @@ class Report:
             lines.append(
                 f"continuity: largest modulus inside a domain {top:.3g}; "
                 f"smallest cross-domain jump {low:.3g} ({sep:.3g} times larger)"
+            )
+        refined = [d.refined_modulus for d in self.domains if d.refined_modulus is not None]
+        if refined:
+            lines.append(
+                f"refined continuity: largest modulus inside a domain {max(refined):.3g} "
+                f"(raw {max(d.modulus for d in self.domains if d.modulus is not None):.3g}); "
+                "the refined planner keeps the raw labels and strata"
             )
         for f in self.failures[:10]:
             lines.append(
@@ -404,22 +451,40 @@ class Report:
 # planning that survives certificate failures
 
 
-def _plan_each(q, planner: str, lift=1.0):
-    """Plan a batch, dropping queries whose certificate fails; return (batch, kept, refused)."""
-    obs, st, go = (np.asarray(a, dtype=float) for a in q)
-    keep = np.arange(obs.shape[0])
+def _surviving(run, count: int):
+    """Call ``run(keep)`` on the indices ``keep = 0..count-1``, dropping the queries a
+    CertificationError names until it succeeds; return (result or None, kept, refused)."""
+    keep = np.arange(count)
     refused: list[tuple[int, str]] = []
     while keep.size:
         try:
-            return (api.plan_batch(obs[keep], st[keep], go[keep], planner=planner, lift=lift),
-                    keep, refused)
+            return run(keep), keep, refused
         except CertificationError as exc:
             bad = np.asarray(exc.indices, dtype=np.int64)
-            if bad.size == 0:  # pragma: no cover - plan_batch always names the queries
+            if bad.size == 0:  # pragma: no cover - plan_batch and refine name the queries
                 raise
             refused.extend((int(keep[i]), type(exc).__name__) for i in bad)
             keep = np.delete(keep, bad)
     return None, keep, refused
+
+
+def _plan_each(q, planner: str, lift=1.0):
+    """Plan a batch, dropping queries whose certificate fails; return (batch, kept, refused)."""
+    obs, st, go = (np.asarray(a, dtype=float) for a in q)
+    return _surviving(lambda k: api.plan_batch(obs[k], st[k], go[k], planner=planner,
+                                               lift=lift), obs.shape[0])
+
+
+def _refine_each(batch):
+    """Refine a batch (radius 0), dropping plans whose refined certificate fails; return
+    (refined batch or None, kept indices, refused [(index, error name)])."""
+    return _surviving(lambda k: api.refine(batch[k]), len(batch))
+
+
+def _rows(batch, idx) -> PiecewiseLinearPath:
+    """The paths of plans ``idx`` of a batch."""
+    return PiecewiseLinearPath(batch.times if batch.times.ndim == 1 else batch.times[idx],
+                               batch.waypoints[idx])
 
 
 def _stratum_name(p, d: int, n: int, m: int, q, i: int) -> str:
@@ -438,7 +503,7 @@ def _take(q, idx):
 
 def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
            lift: float | str = 1.0, queries: int = 400, seed: int = 0,
-           progress: bool = True) -> Report:
+           progress: bool = True, refine: bool = False) -> Report:
     """Check a planner on (d, n, m): certificates, labels, continuity modulus and jumps.
 
     Parameters
@@ -458,6 +523,10 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
         Seed of the random generator, >= 0 (the report is reproducible).
     progress : bool
         Show a progress bar (tqdm, on stderr).
+    refine : bool
+        Also check the refined planner (:func:`pmplan.refine`, radius 0): certificates of the
+        refined plans (same failure rule), labels and strata kept, and the refined continuity
+        modulus of each domain on the same perturbation pairs (module docstring, item 6).
 
     Returns
     -------
@@ -476,6 +545,9 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     >>> r = verify(d=2, n=1, m=2, queries=40, progress=False)
     >>> r.ok, r.realised == r.labels, r.separation > 100
     (True, True, True)
+    >>> r = verify(d=2, n=1, m=2, queries=40, progress=False, refine=True)
+    >>> r.ok, all(d.refined_modulus is not None for d in r.domains)
+    (True, True)
     """
     from tqdm import tqdm
 
@@ -485,6 +557,8 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
                 or (hi is not None and value > hi):
             bound = f"from {lo} to {hi:,}" if hi is not None else f"at least {lo}"
             raise InputError(f"`{what}` must be an integer {bound}, got {value!r}")
+    if not isinstance(refine, (bool, np.bool_)):
+        raise InputError(f"`refine` must be True or False, got {refine!r}")
     p = api.choose_planner(d, n, m, planner)
     name = p.name
     labels = [int(v) for v in api.info(d, n, m, planner=name).labels]
@@ -503,7 +577,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     n_near = queries - n_exact - n_random
     heights = p.uses_heights
 
-    bar = tqdm(total=6, desc=f"verify {name} ({d},{n},{m})", unit="step", file=sys.stderr,
+    bar = tqdm(total=7 if refine else 6, desc=f"verify {name} ({d},{n},{m})", unit="step", file=sys.stderr,
                disable=not progress, leave=False)
     families = {
         "exact": p.exact_queries(rng, d, n, m, n_exact),
@@ -547,8 +621,45 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
             low = float(batch.clearance[sel].min())
             dr.min_clearance = low if dr.min_clearance is None else min(dr.min_clearance, low)
 
+    def refined_failures(family: str, q, refused, kept_plan) -> list:
+        """Counted failures among the refused refinements of ``q[kept_plan]``."""
+        rho = degeneracy_ratio(*q, heights=heights)
+        out = []
+        for j, msg in refused:
+            i = int(kept_plan[j])
+            if not rho[i] < RHO_MIN:
+                out.append({"family": family, "index": i, "rho": float(rho[i]),
+                            "stratum": _stratum_name(p, d, n, m, q, i), "error": msg})
+        return out
+
+    if refine:  # the refined planner on every planned family: certificates, labels kept
+        changed = 0
+        for fname, (batch, kept) in planned.items():
+            rb, rk, refused = _refine_each(batch)
+            fails = refined_failures(REFINED + fname, families[fname], refused, kept)
+            failures.extend(fails)
+            fam_stats[REFINED + fname] = {
+                "queries": len(batch), "planned": int(rk.size),
+                "excused": len(refused) - len(fails), "failed": len(fails)}
+            if rb is None:
+                continue
+            changed += int(((rb.domain != batch.domain[rk])
+                            | (rb.stratum != batch.stratum[rk])).sum())
+            for label in np.unique(rb.domain).tolist():
+                sel = rb.domain == label
+                dr = dom.setdefault(label, DomainReport(label=label))
+                dr.refined_queries += int(sel.sum())
+                low = float(rb.clearance[sel].min())
+                dr.refined_min_clearance = (low if dr.refined_min_clearance is None
+                                            else min(dr.refined_min_clearance, low))
+        if changed:
+            problems.append(f"{changed} refined plans changed the label or stratum of their "
+                            "raw plan")
+        bar.update(1)
+
     # continuity inside each domain: stratum-preserving perturbations of exact and random queries
     ratios: dict[int, list] = {}
+    refined_ratios: dict[int, list] = {}
     base_o, base_s, base_g, pert = [], [], [], []
     for fname, share in (("exact", 2), ("random", 3)):
         if fname not in planned:
@@ -591,18 +702,29 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
                     f"{changed.size} stratum-preserving perturbations changed the label "
                     f"(e.g. {int(la[changed[0]])} -> {int(lb[changed[0]])})"
                 )
-            pa = PiecewiseLinearPath(b0.times if b0.times.ndim == 1 else b0.times[i0],
-                                     b0.waypoints[i0])
-            pb = PiecewiseLinearPath(b1.times if b1.times.ndim == 1 else b1.times[i1],
-                                     b1.waypoints[i1])
-            ratio = path_distance(pa, pb) / dist[both]
+            ratio = path_distance(_rows(b0, i0), _rows(b1, i1)) / dist[both]
             for label, r, same in zip(la.tolist(), ratio.tolist(), (la == lb).tolist()):
                 if same:
                     ratios.setdefault(label, []).append(r)
+            if refine:  # the refined planner on the same pairs (refusals counted above)
+                same = np.flatnonzero(la == lb)
+                r0, k0r, _ = _refine_each(b0[i0[same]])
+                r1, k1r, _ = _refine_each(b1[i1[same]])
+                if r0 is not None and r1 is not None:
+                    kk = np.intersect1d(k0r, k1r)
+                    j0, j1 = np.searchsorted(k0r, kk), np.searchsorted(k1r, kk)
+                    ratio = (path_distance(_rows(r0, j0), _rows(r1, j1))
+                             / dist[both][same][kk])
+                    for label, r in zip(la[same][kk].tolist(), ratio.tolist()):
+                        refined_ratios.setdefault(label, []).append(r)
     for label, rs in ratios.items():
         dr = dom.setdefault(label, DomainReport(label=label))
         dr.modulus = float(max(rs))
         dr.perturbations = len(rs)
+    for label, rs in refined_ratios.items():
+        dr = dom.setdefault(label, DomainReport(label=label))
+        dr.refined_modulus = float(max(rs))
+        dr.refined_perturbations = len(rs)
     bar.update(1)
 
     # jumps across domains: exact queries against generic neighbours at distance ~delta
@@ -662,4 +784,5 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
         problems=problems,
         notes=p.notes(d, n, m),
         lift=lift,
+        refine=bool(refine),
     )
