@@ -679,7 +679,7 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
     for name in ("scale_results.md", "cert_results.md", "planar_results.md", "refine_results.md"):
         section = HERE / name
         if section.exists():
-            sect = section.read_text().splitlines()
+            sect = section.read_text().rstrip().splitlines() + [""]
             parts += sect
             doc += ["#" + s if s.startswith(("## ", "### ")) else s for s in sect]
     owned = {line.rstrip() for line in parts if line.startswith("## ")}
