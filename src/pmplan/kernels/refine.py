@@ -132,6 +132,8 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel, kp):  #
                     dk = wgt * (chord - x[j, i, k])
                     delta[j, i, k] = dk
                     s = s + dk * dk
+                # the capped move of _apply, written out: a shared inlined helper cost 10-20 %
+                # of a refined (2,4,2) batch (CPU time, 5 alternating pairs, 2,000 queries)
                 nrm = math.sqrt(s)
                 scale = cap[j, i] / nrm if nrm > cap[j, i] else 1.0
                 for k in range(dd):
