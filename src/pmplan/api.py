@@ -231,12 +231,10 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     >>> p.path(0.0)[2], p.path(1.0)[2]
     (array([0., 1.]), array([ 1., -1.]))
     """
-    if refine is not False or radius or obstacle_radius or type(radius) is not float \
-            or type(obstacle_radius) is not float:
-        if _asks_refine(refine, radius, obstacle_radius):
-            raw = plan(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
-            return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
-                                backend=backend)
+    if _asks_refine(refine, radius, obstacle_radius):
+        raw = plan(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
+        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
+                            backend=backend)
     if _backend.uses_kernels(backend):
         fast = _plan_fast(obstacles, start, goal, planner, lift)
         if fast is not None:
@@ -487,12 +485,10 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
     >>> p.path(0.5)[2]
     array([ 1., -1.])
     """
-    if refine is not False or radius or obstacle_radius or type(radius) is not float \
-            or type(obstacle_radius) is not float:
-        if _asks_refine(refine, radius, obstacle_radius):
-            raw = plan_sequence(obstacles, configs, lift=lift, backend=backend)
-            return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
-                                backend=backend)
+    if _asks_refine(refine, radius, obstacle_radius):
+        raw = plan_sequence(obstacles, configs, lift=lift, backend=backend)
+        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
+                            backend=backend)
     if _backend.uses_kernels(backend):
         fast = _plan_sequence_fast(obstacles, configs, lift)
         if fast is not None:
@@ -710,7 +706,7 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
     if refined:
         raise InputError(_MSG_REFINED.format(radius=f"{float(np.max(batch.radius)):g}"))
     p = REGISTRY[batch.planner]
-    d, n, m = batch.dims
+    m = batch.dims[2]
     r = p.configurations(np.asarray(times)) if np.ndim(times) == 1 else 2
     stage = RefineStage(times, wp, clearance, m, r, radius, obstacle_radius, s, steps, backend)
     check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in stage.fixed], radius, obstacle_radius,

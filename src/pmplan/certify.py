@@ -413,10 +413,9 @@ def clearance(waypoints: np.ndarray, m: int, *, sweep: bool = True) -> np.ndarra
     b, k, p, d = wp.shape
     if sweep and p >= _SWEEP_MIN and 2 <= m < p and k >= 2 and d < 8 and b:
         out = np.array([_swept(row, m) for row in wp])
-        if not np.isnan(out).any():  # (NaN: a row the sweep does not take)
-            return out
-        rest = np.isnan(out)
-        out[rest] = clearance(wp[rest], m, sweep=False)
+        rest = np.isnan(out)  # (NaN: a row the sweep does not take)
+        if rest.any():
+            out[rest] = clearance(wp[rest], m, sweep=False)
         return out
     pi, pj = _pairs(p, m)
     out = np.full(b, np.inf)

@@ -68,8 +68,8 @@ from .certify import (
     CLEARANCE,
     _exact_segment_clearance,
     _exact_segment_dist2,
-    certificate,
     check_paths,
+    clearance,
     describe,
 )
 from .errors import CertificationError, CollisionError, InputError
@@ -608,8 +608,9 @@ _MSG_FAILED = ("the refined path failed its certificate{where}: {what}; the quer
 class RefineStage(Stage):
     """The refinement of a batch of certified paths as a stage of the run loop
     (:func:`pmplan.running.run_stage`): per chunk, the kernel (:mod:`pmplan.kernels.refine`)
-    or the numpy reference (:func:`refine_paths`), then the whole certificate
-    (:func:`pmplan.certify.certificate`, never skipped) and the radii (:func:`radius_report`).
+    or the numpy reference (:func:`refine_paths`), then the whole certificate (clauses 1-9 by
+    :func:`pmplan.certify.check_paths`, the clearance by :func:`pmplan.certify.clearance` or the
+    kernel's measurement in its arithmetic; never skipped) and the radii (:func:`radius_report`).
 
     Parameters
     ----------
@@ -692,7 +693,7 @@ class RefineStage(Stage):
         """The whole certificate of the refined rows (clauses 1-9 by
         :func:`pmplan.certify.check_paths`; the clearance, clause 10, and the radii by the
         kernel's measurement in the certificate's arithmetic, re-decided by
-        :func:`pmplan.certify.certificate` and :func:`radius_report` where it flags a row --
+        :func:`pmplan.certify.clearance` and :func:`radius_report` where it flags a row --
         or by them alone)."""
         m, r = self.m, self.r
         tt = self.times if self.times.ndim == 1 else self.times[lo:hi]
@@ -716,13 +717,10 @@ class RefineStage(Stage):
             redo = np.arange(hi - lo)
         if redo.size:
             sub = out[redo]
-            tsub = tt if tt.ndim == 1 else tt[redo]
-            with np.errstate(all="ignore"):
-                c, _ = certificate(sub, configs[0][redo], configs[-1][redo], m, times=tsub,
-                                   via=[(t, cf[redo]) for t, cf in via])
+            with np.errstate(all="ignore"):  # (clauses 1-9 are in ``clause`` already)
+                clr[redo] = clearance(sub, m)
                 rd[redo], od[redo], ok[redo] = radius_report(sub, m, self.radius,
                                                              self.obstacle_radius)
-            clr[redo] = c
         clause[(clause == 0) & ~(clr > 0)] = CLEARANCE
         self.clause[lo:hi] = clause
 
