@@ -68,6 +68,7 @@ from .certify import (
     CLEARANCE,
     _exact_segment_clearance,
     _exact_segment_dist2,
+    _pairs,
     check_paths,
     clearance,
     describe,
@@ -245,9 +246,7 @@ def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The pairs (a < b) with a moving point b (index >= m): ``a``, ``b`` (int64) and ``c``
     (1/2 for two robots, 1 for an obstacle and a robot), in the kernel's order (read-only,
     cached)."""
-    a, b = np.triu_indices(p, k=1)
-    keep = b >= m
-    a, b = a[keep].astype(np.int64), b[keep].astype(np.int64)
+    a, b = (v.astype(np.int64) for v in _pairs(p, m))  # the certificate's pairs, its order
     c = np.where(a >= m, 0.5, 1.0)
     for arr in (a, b, c):
         arr.flags.writeable = False
