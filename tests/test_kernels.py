@@ -38,6 +38,7 @@ import pmplan
 from pmplan import api, configuration, running
 from pmplan.configuration import coincident_pairs
 from pmplan.errors import CertificationError, InputError, PmplanError
+from pmplan.kernels import common as kernels_common
 from pmplan.kernels import obstacle_line as kernels_line
 from pmplan.kernels import validation as kernels_validation
 from pmplan.planners.obstacle_line import OBSTACLE_LINE, path_times
@@ -496,6 +497,26 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
     if special == 0:  # ...and decide all of those in full blocks of a random batch
         assert decided[:full].all()
 
+
+
+@settings(max_examples=40)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([8, 16, 32, 64]), st.integers(1, 200),
+       st.integers(0, 3))
+def test_write_lanes_is_the_transpose(seed, lanes, size, block):
+    """``kernels.common._write_lanes`` (8 x 8 blocks transposed in registers, the rest element
+    by element) writes ``S.T`` into rows ``b0 .. b0 + L`` of the output, bit for bit (NaN
+    payloads, signed zeros, subnormals included), and touches no other row or element."""
+    rng = np.random.default_rng(seed)
+    S = rng.standard_normal((size, lanes))
+    special = np.array([np.nan, -0.0, np.inf, -np.inf, 5e-324, -1.7976931348623157e308])
+    S.flat[rng.integers(0, S.size, 5)] = rng.choice(special, 5)
+    S.view(np.uint64).flat[0] ^= np.uint64(1)  # (an odd bit pattern: a NaN payload or ulp)
+    b0 = block * lanes
+    out = np.full((b0 + 2 * lanes, size), 7.0)
+    kernels_common._write_lanes(S, out, b0, lanes, size)
+    want = np.full_like(out, 7.0)
+    want[b0:b0 + lanes] = S.T
+    assert np.array_equal(out.view(np.uint64), want.view(np.uint64))
 
 def test_large_batch_equals_reference():
     """A batch large enough for several SIMD blocks, generic and exactly degenerate queries

@@ -6,8 +6,9 @@ One source for each: the flag bits a kernel returns for every query (:data:`FALL
 each: :func:`pmplan.planners.base.redecide`), the constants of the float filter and of the
 certificate (read from :mod:`pmplan.predicates` and :mod:`pmplan.certify`, whose values numba
 compiles in as constants), the compile options (:data:`_OPTS`), TwoSum / TwoProduct
-(:func:`_two_sum`, :func:`_two_prod`) and the closed-form squared distance of a piece in the
-plane (:func:`_segment_dist2_plane`). Without numba, :data:`AVAILABLE` is False, ``njit`` leaves
+(:func:`_two_sum`, :func:`_two_prod`), the closed-form squared distance of a piece in the
+plane (:func:`_segment_dist2_plane`) and the write of a block of lanes into the caller's rows
+(:func:`_write_lanes`). Without numba, :data:`AVAILABLE` is False, ``njit`` leaves
 the functions as Python, and the numpy references plan everything (:mod:`pmplan.backend`).
 """
 
@@ -19,7 +20,10 @@ from ..certify import _MAXF, _OBSTACLE_TINY2, _REL, _SURE  # noqa: F401 (the ker
 from ..predicates import _TINY, _U  # noqa: F401
 
 try:
+    from llvmlite import ir as _ir
     from numba import njit
+    from numba import types as _nbt
+    from numba.core.extending import intrinsic
 
     AVAILABLE = True
 except ImportError:  # pragma: no cover - numba is a dependency; keep the numpy path usable
@@ -27,6 +31,9 @@ except ImportError:  # pragma: no cover - numba is a dependency; keep the numpy 
 
     def njit(*args, **kwargs):
         return lambda f: f
+
+    def intrinsic(f):
+        return f
 
 __all__ = ["AVAILABLE", "BROKEN", "FALLBACK", "INVALID", "NONFINITE", "SUSPECT"]
 
@@ -92,3 +99,79 @@ def _segment_dist2_plane(rx, ry, r1x, r1y):  # pragma: no cover - compiled
     qx = rx + q * vx
     qy = ry + q * vy
     return (0.0 + qx * qx) + qy * qy
+
+
+def _shuffle(builder, a, b, mask):  # pragma: no cover - compiled (runs when numba compiles)
+    """LLVM ``shufflevector`` of the vectors a, b (elements of b numbered from len(a) on)."""
+    return builder.shuffle_vector(a, b, _ir.Constant(_ir.VectorType(_ir.IntType(32), 8), mask))
+
+
+@intrinsic
+def _transpose8(typingctx, S, x0, l0, out, b0):  # pragma: no cover - compiled
+    """``out[b0 + j, x0 + i] = S[x0 + i, l0 + j]`` for i, j < 8: an 8 x 8 block of float64
+    transposed in registers (8 vector loads, three rounds of 8 shuffles, 8 vector stores).
+
+    ``S`` and ``out`` are C-contiguous 2-D float64 arrays; the caller guarantees the block is
+    inside both (numba checks no bounds). A pure move: the values are copied bit for bit. LLVM
+    lowers the 8-wide vectors to what the machine has (one AVX-512 register, two AVX ones...).
+    """
+    f64 = _nbt.Array(_nbt.float64, 2, "C")
+    if S != f64 or out != f64 or not all(isinstance(a, _nbt.Integer) for a in (x0, l0, b0)):
+        return None
+    sig = _nbt.void(S, _nbt.intp, _nbt.intp, out, _nbt.intp)
+
+    def codegen(context, builder, signature, args):
+        s = context.make_array(signature.args[0])(context, builder, args[0])
+        w = context.make_array(signature.args[3])(context, builder, args[3])
+        x, lane, b = args[1], args[2], args[4]
+        i64 = _ir.IntType(64)
+        vec = _ir.VectorType(_ir.DoubleType(), 8).as_pointer()
+        s0 = builder.ptrtoint(s.data, i64)
+        w0 = builder.ptrtoint(w.data, i64)
+        sstride = builder.extract_value(s.strides, 0)
+        wstride = builder.extract_value(w.strides, 0)
+
+        def at(base, i, stride, j):  # &A[i, j] as a pointer to 8 doubles
+            off = builder.add(builder.mul(i, stride), builder.mul(j, _ir.Constant(i64, 8)))
+            return builder.inttoptr(builder.add(base, off), vec)
+
+        rows = [builder.load(at(s0, builder.add(x, _ir.Constant(i64, i)), sstride, lane), align=8)
+                for i in range(8)]
+        # round 1: t[2h], t[2h + 1] = lanes 0, 2, 4, 6 / 1, 3, 5, 7 of rows 2h, 2h + 1
+        t = []
+        for h in range(0, 8, 2):
+            t.append(_shuffle(builder, rows[h], rows[h + 1], [0, 8, 2, 10, 4, 12, 6, 14]))
+            t.append(_shuffle(builder, rows[h], rows[h + 1], [1, 9, 3, 11, 5, 13, 7, 15]))
+        # round 2: u[4g + 2h], u[4g + 2h + 1] = rows 4g .. 4g + 3 at lanes (0, 4) / (2, 6)
+        # (h = 0) and (1, 5) / (3, 7) (h = 1)
+        u = []
+        for g in range(0, 8, 4):
+            for h in range(2):
+                u.append(_shuffle(builder, t[g + h], t[g + 2 + h], [0, 1, 8, 9, 4, 5, 12, 13]))
+                u.append(_shuffle(builder, t[g + h], t[g + 2 + h], [2, 3, 10, 11, 6, 7, 14, 15]))
+        # round 3: rows 0-3 and 4-7 of one lane
+        col = {}
+        for q, (lo, hi) in enumerate(((0, 4), (2, 6), (1, 5), (3, 7))):
+            col[lo] = _shuffle(builder, u[q], u[4 + q], [0, 1, 2, 3, 8, 9, 10, 11])
+            col[hi] = _shuffle(builder, u[q], u[4 + q], [4, 5, 6, 7, 12, 13, 14, 15])
+        for j in range(8):
+            builder.store(col[j], at(w0, builder.add(b, _ir.Constant(i64, j)), wstride, x),
+                          align=8)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@njit(**_OPTS)
+def _write_lanes(S, out, b0, L, size):  # pragma: no cover - compiled
+    """``out[b0 + l, x] = S[x, l]`` for every lane ``l < L`` (a multiple of 8) and ``x < size``:
+    a block of lanes-innermost rows written query after query, 8 x 8 blocks transposed in
+    registers (:func:`_transpose8`; element by element, the strided reads cost twice as much:
+    measured in the obstacle-line kernel, see its ``_plan_lanes``)."""
+    q = size - size % 8
+    for l0 in range(0, L, 8):
+        for x0 in range(0, q, 8):
+            _transpose8(S, x0, l0, out, b0 + l0)
+        for lane in range(l0, l0 + 8):
+            for x in range(q, size):
+                out[b0 + lane, x] = S[x, lane]
