@@ -23,8 +23,9 @@ try:
     from llvmlite import ir as _ir
     from numba import njit
     from numba import types as _nbt
-    from numba.core.extending import intrinsic
+    from numba.core.extending import intrinsic, overload
 
+    _NoneType = _nbt.NoneType
     AVAILABLE = True
 except ImportError:  # pragma: no cover - numba is a dependency; keep the numpy path usable
     AVAILABLE = False
@@ -34,6 +35,11 @@ except ImportError:  # pragma: no cover - numba is a dependency; keep the numpy 
 
     def intrinsic(f):
         return f
+
+    def overload(f):
+        return lambda impl: impl
+
+    _NoneType = type(None)
 
 __all__ = ["AVAILABLE", "BROKEN", "FALLBACK", "INVALID", "NONFINITE", "SUSPECT"]
 

@@ -86,6 +86,7 @@ import numpy as np
 # the numba import, the flag bits, the thresholds and the shared primitives: one source
 from .common import (
     _BIG,
+    _NoneType,
     _INLINE,
     _MAXF,
     _OBSTACLE_TINY2,
@@ -107,6 +108,7 @@ from .common import (
     _two_sum,
     _write_lanes,
     njit,
+    overload,
 )
 
 __all__ = [
@@ -1083,26 +1085,55 @@ def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
 
 @njit(**_INLINE)
 def _rel4(S, w, a, b, a3, b3, l):  # pragma: no cover - compiled
-    """The relative position of a pair at waypoint block ``w``, lane l (see :func:`_pair_space`)."""
+    """The relative position of a pair at waypoint block ``w``, lane l (see :func:`_pair_space`):
+    coordinates 0-2 at rows ``a``, ``b`` (+ 0, 1, 2), and with ``a3`` not None (d = 4) the
+    fourth at rows ``a3``, ``b3`` (:func:`_fourth`: the d = 3 specialisation has 3-tuples)."""
     return (S[w + a, l] - S[w + b, l], S[w + a + 1, l] - S[w + b + 1, l],
-            S[w + a + 2, l] - S[w + b + 2, l], S[w + a3, l] - S[w + b3, l])
+            S[w + a + 2, l] - S[w + b + 2, l]) + _fourth(S, w, a3, b3, l)
+
+
+def _fourth(S, w, a3, b3, l):  # pragma: no cover - only its compiled overload runs
+    """The fourth coordinate of :func:`_rel4` as a tuple: ``()`` when ``a3`` is None (d = 3),
+    else ``(S[w + a3, l] - S[w + b3, l],)``; chosen by the type of ``a3`` when numba compiles."""
+    raise NotImplementedError("compiled only")
+
+
+@overload(_fourth)
+def _fourth_typed(S, w, a3, b3, l):  # pragma: no cover - compiled
+    if isinstance(a3, _NoneType):
+        return lambda S, w, a3, b3, l: ()
+    return lambda S, w, a3, b3, l: (S[w + a3, l] - S[w + b3, l],)
+
+
+@njit(**_INLINE)
+def _norm2(r):  # pragma: no cover - compiled
+    """The squared norm of the tuple ``r``, summed in order (``r[0]**2`` first, no ``0.0 +``:
+    a sum of squares is never -0, so the value is that of certify's sum)."""
+    s = r[0] * r[0]
+    for c in range(1, len(r)):
+        s += r[c] * r[c]
+    return s
 
 
 @njit(**_INLINE)
 def _dist2_space(r1, r2):  # pragma: no cover - compiled
-    """:func:`_dist2_lanes` for 4 coordinates (relative positions ``r1`` -> ``r2``): the sums
-    sequential; without the ``0.0 +`` (no value changes, see :func:`_dist2_lanes`)."""
-    vx = r2[0] - r1[0]
-    vy = r2[1] - r1[1]
-    vz = r2[2] - r1[2]
-    vu = r2[3] - r1[3]
-    vv = ((vx * vx + vy * vy) + vz * vz) + vu * vu
-    q = _segment_param(-(((r1[0] * vx + r1[1] * vy) + r1[2] * vz) + r1[3] * vu), vv)
-    qx = r1[0] + q * vx
-    qy = r1[1] + q * vy
-    qz = r1[2] + q * vz
-    qu = r1[3] + q * vu
-    return ((qx * qx + qy * qy) + qz * qz) + qu * qu
+    """:func:`_dist2_lanes` for 3 or 4 coordinates (the tuples ``r1`` -> ``r2``): the sums
+    sequential; without the ``0.0 +`` (no value changes, see :func:`_dist2_lanes`). The loops
+    over the coordinates have a length numba knows (the tuples'), so LLVM unrolls them."""
+    v = r2[0] - r1[0]
+    vv = v * v
+    num = r1[0] * v
+    for c in range(1, len(r1)):
+        v = r2[c] - r1[c]
+        vv += v * v
+        num += r1[c] * v
+    q = _segment_param(-num, vv)
+    qc = r1[0] + q * (r2[0] - r1[0])
+    s = qc * qc
+    for c in range(1, len(r1)):
+        qc = r1[c] + q * (r2[c] - r1[c])
+        s += qc * qc
+    return s
 
 
 @njit(**_INLINE)
@@ -1119,15 +1150,15 @@ def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - co
     """:func:`_pair_plane` in space, d = 3 or 4: one pair over one segment, every lane.
 
     Coordinates 0-2 of the pair's points are at rows ``a``, ``b`` (+ 0, 1, 2) of a waypoint,
-    the fourth at rows ``a3``, ``b3`` (d = 4: ``a + 3``, ``b + 3``; d = 3: ``a3 == b3``, whose
-    difference is 0: the sums then add 0.0 last, which changes no value -- a sum of squares
-    is never -0, and the sign of a zero ``num`` does not change the parameter, see
-    :func:`_dist2_lanes`). The sums over the coordinates are sequential, in certify's order.
-    Written out piece by piece (no inner loop), so that the loop over the lanes vectorises.
+    the fourth (d = 4) at rows ``a3``, ``b3`` (``a + 3``, ``b + 3``); d = 3 passes
+    ``a3 = b3 = None`` and gets its own specialisation with three coordinates (a zero fourth
+    coordinate, as before, cost (3,4,2) about 4 % of the kernel). The sums over the coordinates
+    are sequential, in certify's order. Written out piece by piece (no inner loop over the
+    pieces), so that the loop over the lanes vectorises.
     """
     for l in range(S.shape[1]):
         r0 = _rel4(S, w0, a, b, a3, b3, l)
-        best = ((r0[0] * r0[0] + r0[1] * r0[1]) + r0[2] * r0[2]) + r0[3] * r0[3]
+        best = _norm2(r0)
         z = T[src, l]
         best = best if best < z else z  # noqa: FURB136 (a select: NaN never chosen)
         r1 = _rel4(S, w0 + row, a, b, a3, b3, l)
@@ -1250,9 +1281,11 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
         for k in range(r - 1 if d <= 4 else 0):
             for i in range(p - 1):
                 for j in range(max(i + 1, m), p):
-                    a3 = i * d + 3 if d == 4 else 0
-                    b3 = j * d + 3 if d == 4 else 0
-                    _pair_space(S, 7 * k * row, i * d, j * d, a3, b3, row, T, mn, mn2)
+                    if d == 3:
+                        _pair_space(S, 7 * k * row, i * d, j * d, None, None, row, T, mn, mn2)
+                    else:
+                        _pair_space(S, 7 * k * row, i * d, j * d, i * d + 3, j * d + 3, row,
+                                    T, mn, mn2)
                     mn, mn2 = mn2, mn
         R = np.empty((2 * d, L))  # d > 4: the relative position and motion of a pair
         for t in range(kk - 1 if d > 4 else 0):
