@@ -505,7 +505,8 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
 def test_write_lanes_is_the_transpose(seed, lanes, size, block):
     """``kernels.common._write_lanes`` (8 x 8 blocks transposed in registers, the rest element
     by element) writes ``S.T`` into rows ``b0 .. b0 + L`` of the output, bit for bit (NaN
-    payloads, signed zeros, subnormals included), and touches no other row or element."""
+    payloads, signed zeros, subnormals included), and touches no other row or element;
+    ``_read_lanes`` reads them back the other way."""
     rng = np.random.default_rng(seed)
     S = rng.standard_normal((size, lanes))
     special = np.array([np.nan, -0.0, np.inf, -np.inf, 5e-324, -1.7976931348623157e308])
@@ -517,6 +518,13 @@ def test_write_lanes_is_the_transpose(seed, lanes, size, block):
     want = np.full_like(out, 7.0)
     want[b0:b0 + lanes] = S.T
     assert np.array_equal(out.view(np.uint64), want.view(np.uint64))
+    # and back: _read_lanes reads those rows into rows y0 .. y0 + size of lanes-innermost rows
+    y0 = block + 1
+    back = np.full((y0 + size + 3, lanes), 7.0)
+    kernels_common._read_lanes(out, b0, lanes, size, back, y0)
+    want = np.full_like(back, 7.0)
+    want[y0:y0 + size] = S
+    assert np.array_equal(back.view(np.uint64), want.view(np.uint64))
 
 def test_large_batch_equals_reference():
     """A batch large enough for several SIMD blocks, generic and exactly degenerate queries

@@ -8,7 +8,7 @@ certificate (read from :mod:`pmplan.predicates` and :mod:`pmplan.certify`, whose
 compiles in as constants), the compile options (:data:`_OPTS`), TwoSum / TwoProduct
 (:func:`_two_sum`, :func:`_two_prod`), the closed-form squared distance of a piece in the
 plane (:func:`_segment_dist2_plane`) and the write of a block of lanes into the caller's rows
-(:func:`_write_lanes`). Without numba, :data:`AVAILABLE` is False, ``njit`` leaves
+(:func:`_write_lanes`, :func:`_read_lanes`). Without numba, :data:`AVAILABLE` is False, ``njit`` leaves
 the functions as Python, and the numpy references plan everything (:mod:`pmplan.backend`).
 """
 
@@ -113,8 +113,8 @@ def _shuffle(builder, a, b, mask):  # pragma: no cover - compiled (runs when num
 
 
 @intrinsic
-def _transpose8(typingctx, S, x0, l0, out, b0):  # pragma: no cover - compiled
-    """``out[b0 + j, x0 + i] = S[x0 + i, l0 + j]`` for i, j < 8: an 8 x 8 block of float64
+def _transpose8(typingctx, S, si, sj, out, oi, oj):  # pragma: no cover - compiled
+    """``out[oi + j, oj + i] = S[si + i, sj + j]`` for i, j < 8: an 8 x 8 block of float64
     transposed in registers (8 vector loads, three rounds of 8 shuffles, 8 vector stores).
 
     ``S`` and ``out`` are C-contiguous 2-D float64 arrays; the caller guarantees the block is
@@ -122,14 +122,14 @@ def _transpose8(typingctx, S, x0, l0, out, b0):  # pragma: no cover - compiled
     lowers the 8-wide vectors to what the machine has (one AVX-512 register, two AVX ones...).
     """
     f64 = _nbt.Array(_nbt.float64, 2, "C")
-    if S != f64 or out != f64 or not all(isinstance(a, _nbt.Integer) for a in (x0, l0, b0)):
+    if S != f64 or out != f64 or not all(isinstance(a, _nbt.Integer) for a in (si, sj, oi, oj)):
         return None
-    sig = _nbt.void(S, _nbt.intp, _nbt.intp, out, _nbt.intp)
+    sig = _nbt.void(S, _nbt.intp, _nbt.intp, out, _nbt.intp, _nbt.intp)
 
     def codegen(context, builder, signature, args):
         s = context.make_array(signature.args[0])(context, builder, args[0])
         w = context.make_array(signature.args[3])(context, builder, args[3])
-        x, lane, b = args[1], args[2], args[4]
+        si, sj, oi, oj = args[1], args[2], args[4], args[5]
         i64 = _ir.IntType(64)
         vec = _ir.VectorType(_ir.DoubleType(), 8).as_pointer()
         s0 = builder.ptrtoint(s.data, i64)
@@ -141,7 +141,7 @@ def _transpose8(typingctx, S, x0, l0, out, b0):  # pragma: no cover - compiled
             off = builder.add(builder.mul(i, stride), builder.mul(j, _ir.Constant(i64, 8)))
             return builder.inttoptr(builder.add(base, off), vec)
 
-        rows = [builder.load(at(s0, builder.add(x, _ir.Constant(i64, i)), sstride, lane), align=8)
+        rows = [builder.load(at(s0, builder.add(si, _ir.Constant(i64, i)), sstride, sj), align=8)
                 for i in range(8)]
         # round 1: t[2h], t[2h + 1] = lanes 0, 2, 4, 6 / 1, 3, 5, 7 of rows 2h, 2h + 1
         t = []
@@ -161,7 +161,7 @@ def _transpose8(typingctx, S, x0, l0, out, b0):  # pragma: no cover - compiled
             col[lo] = _shuffle(builder, u[q], u[4 + q], [0, 1, 2, 3, 8, 9, 10, 11])
             col[hi] = _shuffle(builder, u[q], u[4 + q], [4, 5, 6, 7, 12, 13, 14, 15])
         for j in range(8):
-            builder.store(col[j], at(w0, builder.add(b, _ir.Constant(i64, j)), wstride, x),
+            builder.store(col[j], at(w0, builder.add(oi, _ir.Constant(i64, j)), wstride, oj),
                           align=8)
         return context.get_dummy_value()
 
@@ -177,7 +177,22 @@ def _write_lanes(S, out, b0, L, size):  # pragma: no cover - compiled
     q = size - size % 8
     for l0 in range(0, L, 8):
         for x0 in range(0, q, 8):
-            _transpose8(S, x0, l0, out, b0 + l0)
+            _transpose8(S, x0, l0, out, b0 + l0, x0)
         for lane in range(l0, l0 + 8):
             for x in range(q, size):
                 out[b0 + lane, x] = S[x, lane]
+
+
+@njit(**_OPTS)
+def _read_lanes(A, b0, L, n, Y, y0):  # pragma: no cover - compiled
+    """``Y[y0 + x, l] = A[b0 + l, x]`` for every lane ``l < L`` (a multiple of 8) and
+    ``x < n``: rows of queries (``A`` 2-D, C-contiguous) read into lanes-innermost rows,
+    :func:`_write_lanes` the other way (8 x 8 blocks transposed in registers, the last
+    ``n mod 8`` columns element by element)."""
+    q = n - n % 8
+    for l0 in range(0, L, 8):
+        for x0 in range(0, q, 8):
+            _transpose8(A, b0 + l0, x0, Y, y0 + x0, l0)
+        for lane in range(l0, l0 + 8):
+            for x in range(q, n):
+                Y[y0 + x, lane] = A[b0 + lane, x]

@@ -105,6 +105,7 @@ from .common import (
     _segment_dist2_plane,
     _segment_param,
     _two_prod,
+    _read_lanes,
     _two_sum,
     _write_lanes,
     njit,
@@ -1392,18 +1393,17 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     dom = 2 - (r - 1) * m + r * p
     for blk in range(nfull):
         b0 = blk * L
-        # --- the configurations, lanes innermost ---------------------------------------------
-        for l in range(L):
-            b = b0 + l
-            for k in range(r):
-                for x in range(md):
-                    Y[k * row + x, l] = of[b, x]
-            for x in range(nd):
-                Y[md + x, l] = ff[b, x]
-                Y[(r - 1) * row + md + x, l] = lf[b, x]
-            for k in range(1, r - 1):
-                for x in range(nd):
-                    Y[k * row + md + x, l] = mf[k - 1, b, x]
+        # --- the configurations, lanes innermost (8 x 8 blocks transposed in registers: read
+        # element by element, this was 15 % of the kernel's time for (3,4,2)) ---------------
+        _read_lanes(of, b0, L, md, Y, 0)
+        _read_lanes(ff, b0, L, nd, Y, md)
+        _read_lanes(lf, b0, L, nd, Y, (r - 1) * row + md)
+        for k in range(1, r - 1):
+            _read_lanes(mf[k - 1], b0, L, nd, Y, k * row + md)
+        for k in range(1, r):
+            for x in range(md):
+                for l in range(L):
+                    Y[k * row + x, l] = Y[x, l]
         for l in range(L):
             T[BAD, l] = 0.0
         # --- the frame: w = o2 - o1, e, |w|, nu(e) ------------------------------------------
