@@ -1333,6 +1333,20 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
             mn, mn2 = mn2, mn
     return mn
 
+
+# Where the time of _plan_lanes goes (issue 17 item 3), measured by removing one part at a time
+# in throwaway variants (kernel code only, CPU time in one process, 32,768 generic queries, best
+# of 20 alternating rounds; a share is the time the variant saves, +-3 % noise):
+#   at 2e4589d, the waypoints written to the output element by element: 43 % of (2,4,2),
+#     43 % of (3,4,2), 47 % of (4,4,2); the certificate 26 / 33 / 30 %, its pair minima
+#     21 / 22 / 23 %. The strided reads of the lanes' rows made the write cost twice a copy.
+#   then (the write in 8 x 8 blocks transposed in registers, common._write_lanes; d = 3
+#     pairs with three coordinates; before the blocked read, _read_lanes): the write
+#     36 / 35 / 35 % -- about one copy of the output: memory-bound --, the certificate
+#     30 / 34 / 35 % (pair minima 23 / 25 / 25 %: arithmetic, one division per piece and
+#     lane), reading the queries 11 / 15 / 10 %, building the waypoint rows 5 / 2 / 7 %, the
+#     rest (frame, column classes, projection, lift) about 15 %. Per output float (3,4,2)
+#     costs what (2,4,2) does.
 @njit(**_OPTS)
 def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance, flags, todo,
                L):  # pragma: no cover - compiled
@@ -1393,8 +1407,9 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     dom = 2 - (r - 1) * m + r * p
     for blk in range(nfull):
         b0 = blk * L
-        # --- the configurations, lanes innermost (8 x 8 blocks transposed in registers: read
-        # element by element, this was 15 % of the kernel's time for (3,4,2)) ---------------
+        # --- the configurations, lanes innermost (8 x 8 blocks transposed in registers; read
+        # element by element, this was 10-15 % of the kernel's time: blocked, (4,4,2) is 4 %
+        # faster, (2,4,2) 2 %; (3,4,2), whose rows are 6 and 12 long, unchanged) ------------
         _read_lanes(of, b0, L, md, Y, 0)
         _read_lanes(ff, b0, L, nd, Y, md)
         _read_lanes(lf, b0, L, nd, Y, (r - 1) * row + md)
@@ -1588,8 +1603,8 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         # --- certificate: finite, clearance (:func:`_certify_lanes`) -------------------------
         mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2)
         # --- write the waypoints (query after query) and the decided queries' records -------
-        # (8 x 8 blocks transposed in registers: element by element, this write was 43 % of
-        # the kernel's time for (3,4,2), 46 % for (2,4,2); blocked, the kernel is 10-18 % faster)
+        # (8 x 8 blocks transposed in registers: element by element, this write was 43-47 % of
+        # the kernel's time for (2,4,2), (3,4,2), (4,4,2); blocked, the kernel is 10-13 % faster)
         _write_lanes(S, wf, b0, L, size)
         for l in range(L):
             b = b0 + l
