@@ -413,10 +413,10 @@ def _mixed_batch(rng, b, d, m, n, r, special):
     """A batch of b queries through r configurations: mostly generic normal queries, with
     ``special`` queries at random positions replaced by one that the lanes must hand to the
     scalar kernel (exact lattice ties, coincident points, NaN, the odd-d pole, a tiny robot
-    gap, a huge scale)."""
+    gap, a huge scale, finite obstacles whose difference w overflows: e is NaN)."""
     o = rng.normal(size=(b, m, d))
     cs = [rng.normal(size=(b, n, d)) for _ in range(r)]
-    kinds = ["lattice", "coincident", "nan", "pole", "tiny", "huge", "zero_w"]
+    kinds = ["lattice", "coincident", "nan", "pole", "tiny", "huge", "zero_w", "overflow_w"]
     for i in rng.choice(b, size=min(special, b), replace=False):
         kind = kinds[rng.integers(len(kinds))]
         if kind == "lattice":
@@ -436,6 +436,9 @@ def _mixed_batch(rng, b, d, m, n, r, special):
             o[i] *= 1e200
             for c in cs:
                 c[i] *= 1e200
+        elif kind == "overflow_w":
+            o[i, 0, 0] = -1.5e308
+            o[i, 1, 0] = 1.5e308
         elif kind == "zero_w":
             o[i, 1] = o[i, 0]
     return o, cs

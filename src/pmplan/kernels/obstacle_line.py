@@ -1192,27 +1192,13 @@ def _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover - co
 
 
 @njit(**_OPTS)
-def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
-                   THR2):  # pragma: no cover - compiled
-    """The certificate of :func:`_plan_lanes` for one block of L queries (SPEC section 5).
-
-    ``S`` holds the waypoints of the block (row x: coordinate x of every lane), ``T`` the
-    lanes' scratch rows (``mx``, ``mx2``: the alternating running maximum; ``BAD``, ``ACC``,
-    ``ACC2``, ``Q``, ``THR2``: the rows of :func:`_plan_lanes`). Adds to row ``BAD`` (a lane
-    that is not finite, or whose minimum is not clearly above certify's threshold, goes to the
-    scalar kernel) and returns the row of T holding every lane's squared clearance.
-    """
+def _max_finite(S, T, x0, x1, mx, mx2, BAD):  # pragma: no cover - compiled
+    """Rows ``x0 .. x1`` of ``S`` into the running maximum of |value| of every lane (row ``mx``
+    of T, alternating with ``mx2``: returns the new pair) and the finiteness test (adds to row
+    ``BAD``: ``v - v`` is NaN unless v is finite). Four rows per pass."""
     L = S.shape[1]
-    # --- certificate: finite, clearance --------------------------------------------------
-    # (the obstacle rows, the endpoints and the configurations C_k are copies of the input
-    # here -- F(C_k, 1) = C_k + 0 e as values for finite e -- so the scalar kernel's BROKEN
-    # checks hold for every lane with finite waypoints, and the pieces 7k -> 7k + 1,
-    # 7k + 6 -> 7k + 7 do not move). Four waypoint rows per pass: the largest |coordinate|
-    # (certify's scale) and the finiteness test (v - v is NaN unless v is finite).
-    for l in range(L):
-        T[mx, l] = 0.0
-    quads = size - size % 4
-    for x in range(0, quads, 4):
+    quads = x1 - (x1 - x0) % 4
+    for x in range(x0, quads, 4):
         for l in range(L):
             v0 = S[x, l]
             v1 = S[x + 1, l]
@@ -1229,7 +1215,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
             z = T[mx, l]
             T[mx2, l] = a0 if a0 > z else z  # noqa: FURB136
         mx, mx2 = mx2, mx
-    for x in range(quads, size):
+    for x in range(quads, x1):
         for l in range(L):
             v = S[x, l]
             av = abs(v)
@@ -1237,6 +1223,41 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
             z = T[mx, l]
             T[mx2, l] = av if av > z else z  # noqa: FURB136 (a select: NaN never chosen)
         mx, mx2 = mx2, mx
+    return mx, mx2
+
+
+@njit(**_OPTS)
+def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
+                   THR2):  # pragma: no cover - compiled
+    """The certificate of :func:`_plan_lanes` for one block of L queries (SPEC section 5).
+
+    ``S`` holds the waypoints of the block (row x: coordinate x of every lane), ``T`` the
+    lanes' scratch rows (``mx``, ``mx2``: the alternating running maximum; ``BAD``, ``ACC``,
+    ``ACC2``, ``Q``, ``THR2``: the rows of :func:`_plan_lanes`). Adds to row ``BAD`` (a lane
+    that is not finite, or whose minimum is not clearly above certify's threshold, goes to the
+    scalar kernel) and returns the row of T holding every lane's squared clearance.
+    """
+    L = S.shape[1]
+    # --- certificate: finite, clearance --------------------------------------------------
+    # (the obstacle rows, the endpoints and the configurations C_k are copies of the input
+    # here -- F(C_k, 1) = C_k + 0 e as values for finite e -- so the scalar kernel's BROKEN
+    # checks hold for every lane with finite waypoints, and the pieces 7k -> 7k + 1,
+    # 7k + 6 -> 7k + 7 do not move). The largest |coordinate| (certify's scale) and the
+    # finiteness test over the rows that hold every value of the waypoints: the
+    # configurations (waypoints 7k and the last) and the robots of waypoints 7k + 2 .. 7k + 5.
+    # The others are copies, up to the sign of a zero, of these: the obstacles (+ 0.0 at
+    # 7k + 3, 7k + 4) and F(C_k, 1) = C_k + 0 e at 7k + 1, 7k + 6 -- unless e has a NaN (e is
+    # never infinite), and then the projected robots at 7k + 2 are NaN too. (Every row:
+    # 7-9 % of the (3,4,2) and (4,4,2) kernels; these rows are 84 of (3,4,2)'s 144.)
+    for l in range(L):
+        T[mx, l] = 0.0
+    md = m * d
+    for k in range(r - 1):
+        t0 = 7 * k * row
+        mx, mx2 = _max_finite(S, T, t0, t0 + row, mx, mx2, BAD)
+        for s in range(2, 6):
+            mx, mx2 = _max_finite(S, T, t0 + s * row + md, t0 + (s + 1) * row, mx, mx2, BAD)
+    mx, mx2 = _max_finite(S, T, (kk - 1) * row, kk * row, mx, mx2, BAD)
     mn = np.int64(13)  # not the literal 13: numba would compile _pair_plane for it too
     mn2 = np.int64(14)
     for l in range(L):
