@@ -86,7 +86,6 @@ import numpy as np
 # the numba import, the flag bits, the thresholds and the shared primitives: one source
 from .common import (
     _BIG,
-    _NoneType,
     _INLINE,
     _MAXF,
     _OBSTACLE_TINY2,
@@ -102,10 +101,11 @@ from .common import (
     INVALID,
     NONFINITE,
     SUSPECT,
+    _NoneType,
+    _read_lanes,
     _segment_dist2_plane,
     _segment_param,
     _two_prod,
-    _read_lanes,
     _two_sum,
     _write_lanes,
     njit,
@@ -1368,6 +1368,10 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
 #     lane), reading the queries 11 / 15 / 10 %, building the waypoint rows 5 / 2 / 7 %, the
 #     rest (frame, column classes, projection, lift) about 15 %. Per output float (3,4,2)
 #     costs what (2,4,2) does.
+#   since: the queries read in blocks too (_read_lanes), the next block's output rows
+#     prefetched (_write_lanes), the scale and finiteness from 84 of (3,4,2)'s 144 rows
+#     (_max_finite: every row was 7-9 %). Kernel against 2e4589d, CPU time, one process:
+#     (2,4,2) 0.90, (3,4,2) 0.77-0.80, (4,4,2) 0.77-0.83 (benchmarks/kernel_ab.py).
 @njit(**_OPTS)
 def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance, flags, todo,
                L):  # pragma: no cover - compiled
