@@ -1370,8 +1370,9 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
 #     costs what (2,4,2) does.
 #   since: the queries read in blocks too (_read_lanes), the next block's output rows
 #     prefetched (_write_lanes), the scale and finiteness from 84 of (3,4,2)'s 144 rows
-#     (_max_finite: every row was 7-9 %). Kernel against 2e4589d, CPU time, one process:
-#     (2,4,2) 0.90, (3,4,2) 0.77-0.80, (4,4,2) 0.77-0.83 (benchmarks/kernel_ab.py).
+#     (_max_finite: every row was 7-9 %). Kernel against 2e4589d, CPU time, one process,
+#     best of 30 (benchmarks/kernel_ab.py): (2,4,2) 0.84, (3,4,2) 0.81, (4,4,2) 0.84; against
+#     8632269: 0.85, 0.66, 0.68.
 @njit(**_OPTS)
 def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance, flags, todo,
                L):  # pragma: no cover - compiled
