@@ -1139,13 +1139,12 @@ def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - co
 
 
 @njit(**_OPTS)
-def _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover - compiled
-    """Row ``mn`` of T = :func:`_sweep_min` of every lane of ``S`` whose waypoints are finite
+def _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover - compiled
+    """Row ``mn`` of T = :func:`_sweep_min` of every lane whose waypoints (already written,
+    ``wf[b0 + l]``: read there, contiguous, not gathered from the lanes' rows) are finite
     (row ``BAD`` zero) with the largest |coordinate| (row ``mx``) in range (row ``THR2``
     finite); the other lanes go to the scalar kernel anyway (inf: not above THR2)."""
-    L = S.shape[1]
-    size = S.shape[0]
-    w = np.empty(size)
+    L = T.shape[1]
     lo = np.empty(p)
     hi = np.empty(p)
     order = np.empty(4 * p + 1, np.int64)
@@ -1153,19 +1152,19 @@ def _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover - co
     for l in range(L):
         T[mn, l] = np.inf
         if T[BAD, l] == 0 and T[THR2, l] < np.inf:
-            for x in range(size):
-                w[x] = S[x, l]
-            T[mn, l] = _sweep_min(w, kk, p, m, d, T[mx, l], lo, hi, order, aux, -np.inf)[0]
+            T[mn, l] = _sweep_min(wf[b0 + l], kk, p, m, d, T[mx, l], lo, hi, order, aux,
+                                  -np.inf)[0]
 
 
 @njit(**_OPTS)
-def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
-                   THR2):  # pragma: no cover - compiled
+def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2, wf,
+                   b0):  # pragma: no cover - compiled
     """The certificate of :func:`_plan_lanes` for one block of L queries (SPEC section 5).
 
     ``S`` holds the waypoints of the block (row x: coordinate x of every lane), ``T`` the
     lanes' scratch rows (``mx``, ``mx2``: the alternating running maximum; ``BAD``, ``ACC``,
-    ``ACC2``, ``Q``, ``THR2``: the rows of :func:`_plan_lanes`). Adds to row ``BAD`` (a lane
+    ``ACC2``, ``Q``, ``THR2``: the rows of :func:`_plan_lanes`); ``wf[b0 + l]`` are the
+    waypoints of lane l as already written to the output. Adds to row ``BAD`` (a lane
     that is not finite, or whose minimum is not clearly above certify's threshold, goes to the
     scalar kernel) and returns the row of T holding every lane's squared clearance.
     """
@@ -1212,7 +1211,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
         T[mn, l] = np.inf
     if _sweeps(p, d):
         # many points: the exact pruned sweep, lane by lane (each lane has its own order)
-        _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d)
+        _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d)
     elif d == 2:
         # every segment C_k -> C_k+1 (its stationary start and five moving pieces) per pair
         for k in range(r - 1):
@@ -1551,14 +1550,19 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         for x in range(row):
             for l in range(L):
                 S[(kk - 1) * row + x, l] = Y[(r - 1) * row + x, l]
+        # --- write the waypoints, eight lanes at a time: every cache line of S read is used
+        # whole (lane by lane it is read again for each lane: 10-12 % of (2,4,2), (2,16,2),
+        # (2,64,2) in kernel_ab.py; L is a multiple of 8, :func:`lanes`) ---------------------
+        for l0 in range(0, L, 8):
+            for x in range(size):
+                for l in range(l0, l0 + 8):
+                    wf[b0 + l, x] = S[x, l]
         # --- certificate: finite, clearance (:func:`_certify_lanes`) -------------------------
-        mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2)
-        # --- write the waypoints (query after query) and the decided queries' records -------
+        mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2,
+                            wf, b0)
+        # --- the decided queries' records ----------------------------------------------------
         for l in range(L):
             b = b0 + l
-            w = wf[b]
-            for x in range(size):
-                w[x] = S[x, l]
             if T[BAD, l] == 0:
                 domain[b] = dom
                 for k in range(r):
