@@ -42,7 +42,10 @@ How the kernel is laid out for speed (every shortcut is exact, see the tests):
   minimum is small does the loop that decides as :func:`pmplan.certify.clearance` run. In the
   SIMD path in the plane, one loop takes a pair over a whole segment C_k -> C_k+1 (its
   stationary start and five moving pieces, :func:`_pair_plane`), forming the pair's relative
-  position once per waypoint, with the running minimum in a register.
+  position once per waypoint, with the running minimum in a register; from 16 points on
+  (:data:`PRUNE_LANES`) every pair is first tested on float32 centres of its projections, for
+  all lanes at once, and only the few that may reach the minimum are evaluated
+  (:func:`_prune_plane`, exact).
 
 Every floating-point operation is done in the reference's order -- sums over the d coordinates
 are sequential, which is numpy's order below 8 terms, hence ``d <= MAX_D = 7`` (larger d is
@@ -137,14 +140,25 @@ _EXTREME = 2.0**430
 LANES_MIN = 16
 
 #: from this many points (m + n) on, in the plane and in space, the clearance is the exact
-#: pruned sweep of :func:`_sweep_min` (query by query; in :func:`_plan_lanes` lane by lane);
+#: pruned sweep of :func:`_sweep_min` (query by query; in :func:`_plan_lanes` lane by lane,
+#: in the plane only from PRUNE_LANES[1] on);
 #: below it every pair is evaluated, vectorised (over the pairs, or over the lanes). Measured
 #: with ``benchmarks/cert_bench.py`` (one core, ratio to a copy of the output, brute / sweep):
 #: (2,22,2) 6.9-12.2 / 9.9-14.0, (2,40,2) 11.5-14.2 / 10.8-12.3, (3,30,2) 11.6-15.0 / 9.3-10.7
 SWEEP_MIN = (40, 24)
 #: in the plane, the SIMD path (:func:`_certify_lanes`) prunes the pairs exactly without
 #: sorting (:func:`_prune_plane`) for PRUNE_LANES[0] <= m + n < PRUNE_LANES[1] (below it every
-#: pair is evaluated, from PRUNE_LANES[1] on the sweep runs lane by lane)
+#: pair is evaluated, from PRUNE_LANES[1] on the sweep runs lane by lane).
+#: Where the time went before (issue 17; the kernel alone, CPU time, one process, with one
+#: part removed at a time, B = 32,768 / 8,192, at 2e4589d): (2,16,2) 1.26 us per query -- the
+#: brute-force pairs of the certificate 0.61 (48 %), writing the waypoints out lane by lane
+#: 0.33 (26 %), the class test's pairs 0.04, the rest (configurations, frame, waypoints,
+#: finiteness) 0.28; plan_batch adds about 6 % of per-chunk Python (magnitude check,
+#: re-decision). (2,64,2) 7.3 us -- the sweep lane by lane with its gather of the lane 3.8
+#: (51 %), the class test 0.73, the write-out 0.67. With the pruning (and the write-out eight
+#: lanes at a time): (2,16,2) 0.83-0.98 us (certificate 0.31), (2,64,2) 3.5-3.9 us
+#: (certificate 1.1-1.2). Tiling the lanes of the test for the first-level cache was slower
+#: (+4 to +30 %), a guess of 1.05 instead of 1.25 times the gap no faster (1-2 %).
 PRUNE_LANES = (16, 128)
 #: the margins of the sweep's pruning, relative to the largest |coordinate| (see _sweep_min):
 #: the distance of the closed form's float point to an exact point of the piece, a float
@@ -1092,7 +1106,7 @@ def _lane_thresholds(D, EW, T32, nseg, l):  # pragma: no cover - compiled
     (1 + _PRUNE_REL)`` as in :func:`_sweep_min` (u0 for groups A, C; u1 for group B)."""
     z = D[_BEST, l]
     g = D[_GUESS, l]
-    sq = math.sqrt(z if z < g else g)
+    sq = math.sqrt(z if z < g else g)  # noqa: FURB136 (a select, as elsewhere)
     sq = sq if D[_OUT, l] == 0 else -np.inf
     t0 = (sq * D[_WN0, l] + D[_MG0, l]) * (1.0 + _PRUNE_REL)
     t1 = (sq * D[_WN1, l] + D[_MG1, l]) * (1.0 + _PRUNE_REL)
