@@ -171,15 +171,15 @@ def test_prune_prunes():
     count = [0]
     fn = kernels_line._prune_pass.py_func
     names = fn.__globals__
-    saved = {k: names[k] for k in ("_pair_plane", "_lane_thresholds")}
+    saved = {k: names[k] for k in ("_pair_lane", "_lane_thresholds")}
 
     def counted(*args):
         count[0] += 1
-        return saved["_pair_plane"](*args)
+        return saved["_pair_lane"].py_func(*args)
 
     plane = kernels_line._prune_plane.py_func
     try:
-        names.update({"_pair_plane": counted, "_lane_thresholds": saved["_lane_thresholds"].py_func,
+        names.update({"_pair_lane": counted, "_lane_thresholds": saved["_lane_thresholds"].py_func,
                       "_prune_pass": fn})
         lanes = ws.shape[0]
         wf = np.ascontiguousarray(ws).reshape(lanes, -1)

@@ -1069,16 +1069,46 @@ def _dist2_lanes(rx, ry, r1x, r1y):  # pragma: no cover - compiled
     return qx * qx + qy * qy
 
 
+@njit(**_INLINE)
+def _pair_lane(S, w0, a, b, row, l, z):  # pragma: no cover - compiled
+    """One pair over one segment of the path in the plane, lane l: min(``z``, the squared
+    distance at waypoint w0 -- the piece w0 -> w0 + 1 does not move -- and the squared
+    minimum distance of the five moving pieces w0 + 1 -> ... -> w0 + 6). The pair's points
+    start at rows ``a`` and ``b`` of a waypoint (coordinates 0, 1); the segment is the
+    waypoints ``w0 .. w0 + 6 row`` (row = one waypoint). The relative position at each
+    waypoint is formed once. The loop of :func:`_pair_plane` over the lanes, written out:
+    :func:`_prune_pass` evaluates a pair lane by lane. (:func:`_pair_plane` calling this, or a
+    lane range in :func:`_pair_plane`, ran (2,4,2) 1.5-1.7 times slower -- kernel_ab, with or
+    without numba's ``inline="always"``: the loop was no longer one vectorised loop -- so the
+    arithmetic is written twice, in the same order.)"""
+    x0 = S[w0 + a, l] - S[w0 + b, l]
+    y0 = S[w0 + a + 1, l] - S[w0 + b + 1, l]
+    best = x0 * x0 + y0 * y0
+    best = best if best < z else z  # noqa: FURB136 (a select: NaN never chosen)
+    w = w0 + row
+    x1 = S[w + a, l] - S[w + b, l]
+    y1 = S[w + a + 1, l] - S[w + b + 1, l]
+    for _ in range(5):
+        w += row
+        x2 = S[w + a, l] - S[w + b, l]
+        y2 = S[w + a + 1, l] - S[w + b + 1, l]
+        dist2 = _dist2_lanes(x1, y1, x2, y2)
+        best = dist2 if dist2 < best else best  # noqa: FURB136
+        x1 = x2
+        y1 = y2
+    return best
+
+
 @njit(**_OPTS)
-def _pair_plane(S, w0, a, b, row, T, src, dst, l0, l1):  # pragma: no cover - compiled
-    """One pair over one segment of the path in the plane, lanes ``l0 .. l1 - 1``.
+def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
+    """One pair over one segment of the path in the plane, every lane.
 
     The pair's points start at rows ``a`` and ``b`` of a waypoint (coordinates 0, 1); the
     segment is the waypoints ``w0 .. w0 + 6 row`` (row = one waypoint). Row ``dst`` of T =
     min(row ``src``, the squared distance at waypoint w0 -- the piece w0 -> w0 + 1 does not
     move -- and the squared minimum distance of the five moving pieces w0 + 1 -> ... -> w0 + 6).
     The relative position at each waypoint is formed once."""
-    for l in range(l0, l1):
+    for l in range(S.shape[1]):
         x0 = S[w0 + a, l] - S[w0 + b, l]
         y0 = S[w0 + a + 1, l] - S[w0 + b + 1, l]
         best = x0 * x0 + y0 * y0
@@ -1118,7 +1148,7 @@ def _lane_thresholds(D, EW, T32, nseg, l):  # pragma: no cover - compiled
 @njit(**_OPTS)
 def _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk):  # pragma: no cover - compiled
     """One pass of :func:`_prune_plane` over every pair with a moving point: a pair is
-    evaluated (:func:`_pair_plane` over the segment, and at the last configuration) in a lane
+    evaluated (:func:`_pair_lane` over the segment, and at the last configuration) in a lane
     where the float32 distance of its centres along ``u0`` (groups A, C) or ``u1`` (group B) is
     not above the lane's threshold for that group (``T32``); row BEST of ``D`` takes the minima,
     and the thresholds follow it down. The test runs over every lane at once (one vectorised
@@ -1128,7 +1158,6 @@ def _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk):  # pragma: no cover
     a loop over a few lanes scalar anyway)."""
     L = S.shape[1]
     r0 = (kk - 1) * row
-    bst = np.int64(_BEST)  # (run-time rows, as in _certify_lanes: one compilation of _pair_plane)
     for k in range(r - 1):
         w0 = 7 * k * row
         ga = 3 * k * p  # the rows of C32 of groups A, B, C of segment k
@@ -1151,7 +1180,7 @@ def _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk):  # pragma: no cover
                 for l in range(L):  # the lanes that need the pair, one by one
                     if not NEED[l]:
                         continue
-                    _pair_plane(S, w0, 2 * i, 2 * j, row, D, bst, bst, l, l + 1)
+                    D[_BEST, l] = _pair_lane(S, w0, 2 * i, 2 * j, row, l, D[_BEST, l])
                     if k == r - 2:  # the last configuration (as the brute-force pass)
                         x0 = S[r0 + 2 * i, l] - S[r0 + 2 * j, l]
                         y0 = S[r0 + 2 * i + 1, l] - S[r0 + 2 * j + 1, l]
@@ -1190,7 +1219,7 @@ def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
     waypoints, and a pair with ``lo_b - hi_a > thr = (s |u| + margin) (1 + _PRUNE_REL)`` has
     every float squared distance of the group's pieces above ``s^2`` (:func:`_sweep_min` proves
     it; the directions and margins are :func:`_directions`'s). A lane evaluates a pair over the
-    whole segment (:func:`_pair_plane`) unless that holds in all three groups.
+    whole segment (:func:`_pair_lane`) unless that holds in all three groups.
 
     The test reads float32 centres ``c32 = f32((lo + hi) / 2)``: with ``C`` the group's largest
     ``|(lo + hi) / 2|`` and ``W`` its largest ``hi - lo`` (float64, per lane), the float32
@@ -1420,11 +1449,10 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
         _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d)
     elif d == 2:
         # every segment C_k -> C_k+1 (its stationary start and five moving pieces) per pair
-        zero = np.int64(0)  # (a run-time 0, as mn: one compilation of _pair_plane)
         for k in range(r - 1):
             for i in range(p - 1):
                 for j in range(max(i + 1, m), p):
-                    _pair_plane(S, 7 * k * row, 2 * i, 2 * j, row, T, mn, mn2, zero, L)
+                    _pair_plane(S, 7 * k * row, 2 * i, 2 * j, row, T, mn, mn2)
                     mn, mn2 = mn2, mn
         r0 = (kk - 1) * row
         for i in range(p - 1):
@@ -1560,6 +1588,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     Q = 9
     THR2 = 10
     GAP = 16  # the smallest gap of the column-class test over the configurations
+    prune = d == 2 and PRUNE_LANES[0] <= p < PRUNE_LANES[1]  # (_prune_plane's guess)
     nt = 0
     nfull = nb // L
     dom = 2 - (r - 1) * m + r * p
@@ -1616,8 +1645,9 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         # --- column classes: only the generic case, every point its own column --------------
         mx = 11
         mx2 = 12
-        for l in range(L):
-            T[GAP, l] = np.inf
+        if prune:
+            for l in range(L):
+                T[GAP, l] = np.inf
         for k in range(r):
             yk = k * row
             for l in range(L):
@@ -1655,8 +1685,10 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     mn, mn2 = mn2, mn
             for l in range(L):
                 T[BAD, l] += 0.0 if T[mn, l] > T[THR, l] else 1.0
-                z = T[GAP, l]
-                T[GAP, l] = T[mn, l] if T[mn, l] < z else z  # noqa: FURB136
+            if prune:  # (its own loop: a select written back into its row costs (2,1,2) 5 %)
+                for l in range(L):
+                    z = T[GAP, l]
+                    T[GAP, l] = T[mn, l] if T[mn, l] < z else z  # noqa: FURB136
             # desingularization (desin) moves nothing here (cp = cp_o + n), projection
             # (linear-transformation-obs)
             for j in range(n):
