@@ -87,6 +87,47 @@ def test_plan_is_pmplan_plans_output(base, tmp_path, capsys):
         assert body == cli
 
 
+REFINE_Q = {"obstacles": [[0, 0], [4, 0]], "start": [[1, 1], [2, 3]], "goal": [[3, -1], [0, 2]]}
+
+
+@pytest.mark.parametrize("radius", [0.0, 0.2])
+def test_refined_plan_is_pmplan_plan_refine_output(base, tmp_path, capsys, radius):
+    path = tmp_path / "q.json"
+    path.write_text(json.dumps(REFINE_Q))
+    assert main(["plan", str(path), "--refine", "--radius", str(radius), "--obstacle-radius",
+                 str(radius)]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    status, body = request(
+        base, f"/api/plan?refine=true&radius={radius}&obstacle_radius={radius}", REFINE_Q)
+    assert status == 200, body
+    raw = body.pop("raw")
+    assert body == cli and body["refined"] is True and body["radius"] == radius
+    unrefined = pmplan.plan_query(parse_query(REFINE_Q))
+    assert raw == _roundtrip({"times": unrefined.path.times.tolist(),
+                              "waypoints": unrefined.path.waypoints.tolist()})
+    assert (body["domain"], body["stratum"]) == (unrefined.domain, unrefined.stratum)
+    assert body["respects_radius"] is True
+    status, plain = request(base, "/api/plan?refine=false", REFINE_Q)
+    assert status == 200 and "raw" not in plain and plain["refined"] is False
+
+
+REFINE_BAD = [
+    ("refine=yes", "`refine` must be True or False, got 'yes'"),
+    ("refine=true&radius=abc", "`radius` must be a finite real number >= 0"),
+    ("refine=true&radius=-1", "`radius` must be a finite real number >= 0"),
+    ("refine=true&obstacle_radius=nan", "`obstacle_radius` must be a finite real number >= 0"),
+    ("radius=0.1", "apply to refined motions"),
+    ("refine=true&radius=1.2", "closer than 2 * radius"),
+]
+
+
+@pytest.mark.parametrize("params,words", REFINE_BAD, ids=[p for p, _ in REFINE_BAD])
+def test_bad_refine_parameters_get_a_422_with_the_librarys_message(base, params, words):
+    status, body = request(base, "/api/plan?" + params, REFINE_Q)
+    assert status == 422, body
+    assert words in body["error"] and "Traceback" not in body["error"]
+
+
 def test_examples_cover_every_stratum_and_every_demo_domain(base):
     status, exs = request(base, "/api/examples")
     assert status == 200

@@ -18,6 +18,8 @@ import json
 import numpy as np
 import pytest
 
+import pmplan
+
 from explore_server import chromium, need_browser, running_server
 
 
@@ -248,3 +250,51 @@ def test_section_4_planner_jumps_from_W4_to_W3_on_an_obstacle_column(page):
     assert driver.execute_script("return pmplanExplore.state.obstacles[2]") == [2.5, 0]
     moved = _shown(driver)
     assert moved["label"] == "2" and moved["stratum"] == "T12,2"
+
+
+def _polyline_length(driver, element_id) -> float:
+    pts = driver.find_element("id", element_id).get_attribute("points").split()
+    xy = np.array([tuple(map(float, p.split(","))) for p in pts])
+    return float(np.hypot(*np.diff(xy, axis=0).T).sum())
+
+
+def test_refined_motion_toggle_keeps_the_domain_and_draws_the_radii(page):
+    driver, shots = page
+    q = {"obstacles": [[0, 0], [4, 0]], "start": [[1, 1], [2, 3]], "goal": [[3, -1], [0, 2]]}
+    _reset(driver, q)
+    raw = _shown(driver)
+    assert not driver.find_elements("css selector", ".raw-path")
+    assert driver.find_element("id", "radii").text == "-"
+    radius = driver.find_element("id", "radius")
+    radius.clear()
+    radius.send_keys("0.2")
+    driver.find_element("id", "refine-toggle").click()
+    _wait_ready(driver)
+    refined = _shown(driver)
+    # the same domain and stratum; the raw motion dashed underneath, the refined one shorter
+    assert (refined["label"], refined["stratum"]) == (raw["label"], raw["stratum"])
+    assert len(driver.find_elements("css selector", ".raw-path")) == 2
+    for i in (1, 2):
+        assert _polyline_length(driver, f"path-{i}") < _polyline_length(driver, f"raw-{i}")
+    want = pmplan.refine(pmplan.plan(q["obstacles"], q["start"], q["goal"]), radius=0.2,
+                         obstacle_radius=0.2)
+    world = json.loads(driver.find_element("id", "path-1").get_attribute("data-world"))
+    assert np.array_equal(np.array(world), want.path.waypoints[:, 2])  # what pmplan.refine gives
+    radii = driver.find_element("id", "radii")
+    assert radii.get_attribute("data-kept") == "true" and radii.text.startswith("kept")
+    # robots and obstacles drawn as discs of the radius (screen pixels = units * scale)
+    scale = driver.execute_script("return pmplanExplore.state.view.scale")
+    bodies = driver.find_elements("css selector", ".body")
+    assert len(bodies) == 4
+    assert all(abs(float(b.get_attribute("r")) - 0.2 * scale) < 1e-6 for b in bodies)
+    driver.save_screenshot(str(shots / "8-refined.png"))
+    # a radius the start violates: the library's message, one line, and no motion
+    radius.clear()
+    radius.send_keys("1.2")
+    radius.send_keys("\t")  # change event
+    _wait_ready(driver, "error")
+    assert "closer than radius + obstacle_radius = 2.4" in _shown(driver)["error"]
+    driver.find_element("id", "refine-toggle").click()
+    _wait_ready(driver)
+    assert not driver.find_elements("css selector", ".raw-path, .body")
+    assert _shown(driver)["label"] == raw["label"]

@@ -234,6 +234,31 @@ def test_chunks(monkeypatch):
     assert_same_batch(pmplan.plan_batch(o, s, g, backend="numpy"), whole)
 
 
+def test_chunk_size_gives_every_worker_work_and_changes_nothing(monkeypatch):
+    """Large queries come in smaller chunks, and with workers > 1 a batch is cut into at least
+    CHUNKS_PER_WORKER chunks per worker where the chunks stay above MIN_CHUNK: so (2, 64, 2) with
+    B = 300 is planned in 5 chunks of 64 by 2 threads, bit for bit as in one chunk by one."""
+    for b, row, w in [(10**6, 768, 1), (10**6, 768, 2), (300, 8 * 66 * 2 * 8, 2), (5, 100, 8),
+                      (1000, 10**9, 1), (0, 768, 2)]:
+        c = running.chunk_size(b, row, w)
+        assert 1 <= c <= running.CHUNK and (c >= running.MIN_CHUNK or c == running.CHUNK)
+        assert c * row <= max(running.CHUNK_BYTES, running.MIN_CHUNK * row)
+        if w > 1 and b >= 2 * running.CHUNKS_PER_WORKER * w * running.MIN_CHUNK:
+            assert -(-b // c) >= running.CHUNKS_PER_WORKER * w
+    rng = np.random.default_rng(12)
+    o, s, g = rng.normal(size=(300, 2, 2)), rng.normal(size=(300, 64, 2)), \
+        rng.normal(size=(300, 64, 2))
+    one = pmplan.plan_batch(o, s, g)
+    starts = []
+    each = running._each_chunk
+    monkeypatch.setattr(running, "_each_chunk",
+                        lambda chunk, st_, *a, **k: (starts.append(list(st_)), each(chunk, st_, *a, **k)))
+    assert_same_batch(pmplan.plan_batch(o, s, g, workers=2), one)
+    assert starts[-1] == list(range(0, 300, 64))
+    monkeypatch.setattr(running, "CHUNK", 3)  # a smaller CHUNK still wins
+    assert running.chunk_size(300, 768, 2) == 3
+
+
 @settings(max_examples=40)
 @given(st.sampled_from([(2, 2, 1), (2, 2, 4), (3, 3, 2), (4, 5, 1), (2, 3, 1)]).flatmap(
     lambda dmn: queries(*dmn, degenerate=True) | queries(*dmn)))

@@ -129,7 +129,9 @@ REFINE_ERRORS = [
     (["plan", "Q", "--refine", "--steps", "0"], "`steps` must be an int from 1"),
     # robot 1 starts 0.25 from o1: it cannot be a disc of radius 0.3
     (["plan", "Q", "--refine", "--radius", "0.3"], "closer than"),
-    (["batch", "Q", "--out", "p.zarr", "--refine"], "--refine is not available for Zarr"),
+    # the same check chunk by chunk when streaming into a Zarr store
+    (["batch", "Q", "--out", "p.zarr", "--refine", "--radius", "0.3", "--no-progress"],
+     "closer than"),
     (["verify", "--refine", "--radius", "0.1"], "unrecognized arguments: --radius"),
 ]
 

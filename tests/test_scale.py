@@ -377,6 +377,88 @@ def test_invalid_query_mid_run_leaves_an_incomplete_store(tmp_path, capsys):
 
 
 # ----------------------------------------------------------------------------------------------
+# refined motions (pmplan.refine) chunk by chunk
+
+REFINED = ("robot_distance", "obstacle_distance", "respects_radius", "radius", "obstacle_radius",
+           "refined")
+
+
+def assert_same_refined(batch, ref):
+    """:func:`assert_same` and the refinement record, bit for bit."""
+    assert_same(batch, ref)
+    assert ref.refined.all()
+    for k in REFINED:
+        a, b = np.asarray(getattr(batch, k)), getattr(ref, k)
+        assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes(), k
+
+
+@pytest.mark.parametrize("chunks", [7, 250])
+def test_dask_refined_equals_numpy(chunks):
+    o, s, g = degenerate_queries(400)  # integer points: every distance >= 1
+    kw = dict(refine=True, radius=0.25, obstacle_radius=0.125)
+    ref = pmplan.plan_batch(o, s, g, **kw)
+    assert len(np.unique(ref.domain)) >= 4 and ref.respects_radius.sum() > 300
+    batch = pmplan.plan_batch(*lazy(o, s, g, chunks=chunks), **kw)
+    assert isinstance(batch.waypoints, da.Array) and isinstance(batch.respects_radius, da.Array)
+    assert batch.waypoints.shape == ref.waypoints.shape and batch.times.shape == ref.times.shape
+    assert_same_refined(scale.compute(batch, scheduler="threads"), ref)
+
+
+def test_dask_refined_planar_three_and_sequences():
+    o, s, g = random_queries(300, m=3, n=1, seed=3)
+    ref = pmplan.plan_batch(o, s, g, refine=True)  # per-query times, refined
+    batch = pmplan.plan_batch(*lazy(o, s, g, chunks=64), refine=True)
+    assert batch.planner == "planar_three" and batch.times.shape == ref.times.shape
+    assert_same_refined(scale.compute(batch, scheduler="sync"), ref)
+    rng = np.random.default_rng(4)
+    o = rng.normal(size=(200, 2, 3))
+    configs = [rng.normal(size=(200, 2, 3)) for _ in range(3)]
+    ref = pmplan.plan_sequence_batch(o, configs, refine=True, radius=1e-4)
+    batch = pmplan.plan_sequence_batch(lazy(o, chunks=50)[0], lazy(*configs, chunks=50),
+                                       refine=True, radius=1e-4)
+    assert_same_refined(scale.compute(batch, scheduler="threads"), ref)
+
+
+def test_refine_of_a_lazy_batch_says_how():
+    batch = pmplan.plan_batch(*lazy(*random_queries(20), chunks=10))
+    with pytest.raises(pmplan.InputError, match="plan it with refine=True"):
+        pmplan.refine(batch)
+    with pytest.raises(pmplan.InputError, match="`radius` must be a finite real number"):
+        pmplan.plan_batch(*lazy(*random_queries(20), chunks=10), refine=True, radius=-1.0)
+
+
+def test_refined_zarr_store_resume_and_errors(tmp_path, capsys):
+    o, s, g = degenerate_queries(450)
+    src = write_store(tmp_path / "in.zarr", o, s, g, chunks=(200, 200, 200))
+    dst = tmp_path / "out.zarr"
+    status, out, err = run(capsys, "batch", src, "--out", dst, "--refine", "--radius", 0.25,
+                           "--steps", 24, "--no-progress")
+    assert status == 0, err
+    ref = pmplan.refine(pmplan.plan_batch(o, s, g), radius=0.25, steps=24)
+    assert f"refined, radii respected by {int(ref.respects_radius.sum())} of 450" in out
+    assert_same_refined(read_store(dst), ref)
+    grp = zarr.open_group(str(dst), mode="r")
+    assert dict(grp.attrs)["refine"] == {"radius": 0.25, "obstacle_radius": 0.0,
+                                         "waypoints": 2, "steps": 24}
+    assert set(scale.REFINED_OUTPUTS) <= set(grp.array_keys())
+    assert grp["respects_radius"].dtype == bool and grp["waypoints"].shape == (450, 15, 5, 2)
+    # a resume must ask for the same refinement (or none, for a raw store)
+    before = {p: p.stat().st_mtime_ns for p in dst.rglob("*")}
+    for extra in (["--refine", "--radius", 0.5], [], ["--refine", "--radius", 0.25]):
+        status, _, err = run(capsys, "batch", src, "--out", dst, "--resume", *extra)
+        one_line_error(status, err, "cannot resume")
+    assert {p: p.stat().st_mtime_ns for p in dst.rglob("*")} == before
+    # a radius a start violates: the library's message with the rows, the store incomplete
+    status, _, err = run(capsys, "batch", src, "--out", tmp_path / "x.zarr", "--refine",
+                         "--radius", 0.75, "--no-progress")
+    one_line_error(status, err, "closer than 2 * radius = 1.5")
+    assert "[chunk 0: queries 0..199 of the batch]" in err and "is incomplete" in err
+    with pytest.raises(pmplan.InputError, match="unknown refinement option"):
+        scale.plan_store(src, tmp_path / "y.zarr", refine={"radius": 0.1, "width": 2})
+    assert not (tmp_path / "y.zarr").exists()
+
+
+# ----------------------------------------------------------------------------------------------
 # on a dask.distributed LocalCluster (2 worker processes)
 
 
@@ -404,6 +486,18 @@ def test_cluster_streaming_via_the_cli(cluster, tmp_path, capsys):
                  DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT="2s"))
     one_line_error(res.returncode, res.stderr, "cannot reach the dask scheduler")
     assert not (tmp_path / "x.zarr").exists()
+
+
+def test_cluster_refined_dask_arrays_and_store(cluster, tmp_path):
+    c, _ = cluster
+    o, s, g = degenerate_queries(600)
+    ref = pmplan.plan_batch(o, s, g, refine=True, radius=0.25)
+    batch = pmplan.plan_batch(*lazy(o, s, g, chunks=150), refine=True, radius=0.25)
+    assert_same_refined(scale.compute(batch), ref)  # the client is the default scheduler
+    rep = scale.plan_store({"obstacles": o, "start": s, "goal": g}, tmp_path / "p.zarr",
+                           chunk=150, scheduler=c.scheduler_address, refine={"radius": 0.25})
+    assert rep.planned == 4 and rep.respects_radius == int(ref.respects_radius.sum())
+    assert_same_refined(read_store(tmp_path / "p.zarr"), ref)
 
 
 def test_dask_workers_option_starts_a_local_cluster(tmp_path):

@@ -153,16 +153,18 @@ def plan_batch(
     >>> batch.domain.shape, batch.waypoints.shape, batch.times.shape
     ((5,), (5, 8, 5, 2), (8,))
     """
-    if _asks_refine(refine, radius, obstacle_radius, out, obstacles, start, goal):
-        raw = plan_batch(obstacles, start, goal, planner=planner, lift=lift, progress=progress,
-                         backend=backend, workers=workers)
-        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
-                            progress=progress, workers=workers, backend=backend)
+    refining = _asks_refine(refine, radius, obstacle_radius, out)
     if _is_dask(obstacles, start, goal):  # lazy plans of dask arrays (the optional extra)
         from . import scale
 
         return scale.plan_batch(obstacles, start, goal, planner=planner, lift=lift,
-                                progress=progress, backend=backend, workers=workers, out=out)
+                                progress=progress, backend=backend, workers=workers, out=out,
+                                refine=_radii(refining, radius, obstacle_radius))
+    if refining:
+        raw = plan_batch(obstacles, start, goal, planner=planner, lift=lift, progress=progress,
+                         backend=backend, workers=workers)
+        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
+                            progress=progress, workers=workers, backend=backend)
     lift = _check_lift(lift)
     workers = _check_workers(workers)
     # types and shapes here; the validity of every query (finite, no two equal points) is
@@ -437,17 +439,18 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     e == N in odd d). ``lift``, ``backend``, ``progress``, ``workers``, ``out``: see
     :func:`plan_batch`.
     """
-    if _asks_refine(refine, radius, obstacle_radius, out, obstacles,
-                    *(configs if isinstance(configs, (list, tuple)) else ())):
-        raw = plan_sequence_batch(obstacles, configs, lift=lift, backend=backend,
-                                  progress=progress, workers=workers)
-        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
-                            progress=progress, workers=workers, backend=backend)
+    refining = _asks_refine(refine, radius, obstacle_radius, out)
     if isinstance(configs, (list, tuple)) and _is_dask(obstacles, *configs):
         from . import scale
 
         return scale.plan_sequence_batch(obstacles, configs, lift=lift, progress=progress,
-                                         backend=backend, workers=workers, out=out)
+                                         backend=backend, workers=workers, out=out,
+                                         refine=_radii(refining, radius, obstacle_radius))
+    if refining:
+        raw = plan_sequence_batch(obstacles, configs, lift=lift, backend=backend,
+                                  progress=progress, workers=workers)
+        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
+                            progress=progress, workers=workers, backend=backend)
     lift = _check_lift(lift)
     workers = _check_workers(workers)
     obstacles, configs = _check_sequence(obstacles, configs, batched=True)
@@ -700,6 +703,8 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
     elif isinstance(plan_or_batch, PlanBatch):
         batch = plan_or_batch
         times, wp, clearance = batch.times, batch.waypoints, batch.clearance
+        if _is_dask(wp):
+            raise InputError(_MSG_REFINE_DASK)
         refined = bool(batch.refined.any())
     else:
         raise InputError(_MSG_PLAN.format(value=type(plan_or_batch).__name__))
@@ -726,10 +731,10 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
 refine_plans = refine
 
 
-def _asks_refine(refine, radius, obstacle_radius, out=None, *arrays) -> bool:
+def _asks_refine(refine, radius, obstacle_radius, out=None) -> bool:
     """Whether a planning function was asked ``refine=True`` (the flag and the radii checked:
-    :func:`pmplan.refine.check_refine_flag`; radii without the flag are refused, and so are
-    ``out=`` and dask arrays with it: a refined batch has other shapes, and is planned now)."""
+    :func:`pmplan.refine.check_refine_flag`; radii without the flag are refused, and so is
+    ``out=`` with it: a refined batch has other shapes)."""
     if refine is False and type(radius) is float and type(obstacle_radius) is float \
             and radius == 0.0 and obstacle_radius == 0.0:
         return False
@@ -737,7 +742,10 @@ def _asks_refine(refine, radius, obstacle_radius, out=None, *arrays) -> bool:
         check_parameters(radius, obstacle_radius, None, None)
         if out is not None:
             raise InputError(_MSG_REFINE_OUT)
-        if _is_dask(*arrays):
-            raise InputError(_MSG_REFINE_DASK)
         return True
     return False
+
+
+def _radii(refining: bool, radius, obstacle_radius) -> dict | None:
+    """The refinement options handed to :mod:`pmplan.scale` (None: raw plans)."""
+    return {"radius": radius, "obstacle_radius": obstacle_radius} if refining else None

@@ -356,12 +356,7 @@ def cmd_batch(args) -> int:
 
     options = _refine_options(args)
     if _streams(args):  # Zarr in or out, or a dask option: chunk by chunk (pmplan.scale)
-        if options is not None:
-            from .errors import UnsupportedError
-
-            raise UnsupportedError("--refine is not available for Zarr stores or dask: refine "
-                                   "an npz batch (pmplan batch in.npz --out plans.npz --refine)")
-        return _cmd_batch_store(args)
+        return _cmd_batch_store(args, options)
     q = _with_options(read_queries(args.queries), args, args.queries)
     lift = q.get("lift", 1.0)
     common = dict(lift=lift, progress=not args.no_progress, workers=args.workers)
@@ -394,8 +389,9 @@ def _streams(args) -> bool:
             or args.dask_workers is not None)
 
 
-def _cmd_batch_store(args) -> int:
-    """``pmplan batch`` into a Zarr store, chunk by chunk (:func:`pmplan.scale.plan_store`)."""
+def _cmd_batch_store(args, options: dict | None) -> int:
+    """``pmplan batch`` into a Zarr store, chunk by chunk (:func:`pmplan.scale.plan_store`),
+    every chunk refined with ``options`` (``--refine``) when given."""
     from .errors import InputError
     from .io import read_queries
     from .scale import is_store, plan_store
@@ -413,13 +409,16 @@ def _cmd_batch_store(args) -> int:
         rep = plan_store(source, args.out, planner=planner, lift=lift, chunk=args.chunk,
                          resume=args.resume, scheduler=args.scheduler,
                          dask_workers=args.dask_workers, workers=args.workers,
-                         progress=not args.no_progress, compress=not args.no_compress)
+                         progress=not args.no_progress, compress=not args.no_compress,
+                         refine=options)
     except KeyboardInterrupt:  # Ctrl-C: the chunks marked done are kept
         print(f"pmplan batch: interrupted; {args.out} is incomplete: rerun with --resume to plan "
               "only the chunks not yet written", file=sys.stderr)
         return 130
     counts = dict(sorted(rep.domains.items()))
     what = (f"; domains {counts}; min clearance {rep.min_clearance:.3g}" if rep.queries else "")
+    if rep.queries and rep.respects_radius is not None:
+        what += f"; refined, radii respected by {rep.respects_radius} of {rep.queries}"
     skipped = f" ({rep.skipped} chunks were already written)" if rep.skipped else ""
     print(f"planned {rep.queries} queries in {rep.planned} of {rep.chunks} chunks with "
           f"{rep.planner}{skipped}{what}; wrote {rep.path}")

@@ -149,8 +149,9 @@ _MSG_REFINED = ("this plan is already refined (radius {radius}); refine the unre
                 "(plan(..., refine=False)) with the radii you want")
 _MSG_REFINE_OUT = ("`out=` cannot be combined with refine=True (a refined batch has more "
                    "breakpoints): plan into `out`, then call pmplan.refine on it")
-_MSG_REFINE_DASK = ("refine=True plans eagerly: pass numpy arrays, or refine the computed "
-                    "batch with pmplan.refine")
+_MSG_REFINE_DASK = ("refine() takes a computed batch, and this PlanBatch holds dask arrays: "
+                    "plan it with refine=True (plan_batch on dask arrays then refines every "
+                    "block lazily), or compute it first (pmplan.scale.compute)")
 _MSG_RADII_UNREFINED = ("`radius` and `obstacle_radius` apply to refined motions: pass "
                         "refine=True (or call pmplan.refine on the plan)")
 _MSG_TOO_CLOSE = ("{what}: {pair} are {dist:.6g} apart{where}, closer than {need} = "

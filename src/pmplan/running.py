@@ -2,7 +2,7 @@
 certificate's error; the progress display; the checks of ``workers`` and ``out=``.
 
 :func:`_run` is the one loop of every entry point of :mod:`pmplan.api` (a single query is a
-batch of one): per chunk of :data:`CHUNK` queries it asks the planner
+batch of one): per chunk (:func:`chunk_size`, at most :data:`CHUNK` queries) it asks the planner
 (:meth:`pmplan.planners.base.Planner.plan_certified`: kernel -> flagged rows -> exact
 re-decision -> certificate), or -- for queries at extreme magnitudes -- plans them scaled by a
 power of two and certifies what it scales back (:mod:`pmplan.magnitude`). Threads
@@ -26,8 +26,32 @@ from .path import PiecewiseLinearPath
 from .planners.base import SCENE_CODE, Planner, Stage, scene_unit
 from .results import Plan, PlanBatch
 
-#: queries planned per chunk inside plan_batch: bounds the temporaries (memory) of a batch
+#: the most queries planned per chunk inside plan_batch: bounds the temporaries (memory) of a
+#: batch (see :func:`chunk_size`)
 CHUNK = 8192
+#: the most output bytes (waypoints) per chunk: queries with many robots come in smaller chunks
+CHUNK_BYTES = 32 * 2**20
+#: the fewest queries per chunk that :func:`chunk_size` chooses (below, the per-chunk Python
+#: work would dominate); a smaller :data:`CHUNK` still wins
+MIN_CHUNK = 64
+#: with several workers, a batch is cut into at least this many chunks per worker (when its
+#: chunks stay above MIN_CHUNK), so that the threads share the work evenly
+CHUNKS_PER_WORKER = 4
+
+
+def chunk_size(b: int, row_bytes: int, workers: int) -> int:
+    """Queries per chunk of a batch of ``b`` queries whose output waypoints take ``row_bytes``
+    each: :data:`CHUNK`, fewer for large queries (:data:`CHUNK_BYTES` per chunk), and with
+    ``workers > 1`` at most ``b / (CHUNKS_PER_WORKER workers)`` so that every thread gets work
+    (never below :data:`MIN_CHUNK` unless CHUNK is). The plans do not depend on it.
+
+    >>> chunk_size(100_000, 768, 1), chunk_size(1_000, 33_024, 1), chunk_size(1_000, 33_024, 2)
+    (8192, 1016, 125)
+    """
+    c = max(MIN_CHUNK, CHUNK_BYTES // max(row_bytes, 1))
+    if workers > 1:
+        c = min(c, max(MIN_CHUNK, -(-b // (CHUNKS_PER_WORKER * workers))))
+    return max(1, min(CHUNK, c))
 
 
 def _raise_certificate(bad: np.ndarray, batched: bool, codes: np.ndarray | None = None,
@@ -166,9 +190,10 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
     equivariant = planner.equivariant
     # the breakpoints: shared ones are checked once here, per-query ones chunk by chunk
     shared_times = 0 if per_query_times else int(check_times(out["times"]))
+    size = chunk_size(b, out["waypoints"][0].nbytes if b else 1, workers)
 
     def chunk(lo: int) -> tuple[int, int, np.ndarray]:
-        hi = min(b, lo + CHUNK)
+        hi = min(b, lo + size)
         obs = obstacles[lo:hi]
         cfg = [c[lo:hi] for c in configs]
         wp = out["waypoints"][lo:hi]
@@ -209,7 +234,7 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
             _raise_certificate(bad, batched, _failed_clauses(out, bad, obstacles, configs),
                                obstacles, configs, lift, equivariant)
 
-    _each_chunk(chunk, range(0, b, CHUNK), progress, workers, check)
+    _each_chunk(chunk, range(0, b, size), progress, workers, check)
     return out
 
 

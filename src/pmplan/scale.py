@@ -23,6 +23,13 @@ attributes: ``format``, ``planner``, ``lift`` (a number or ``"scene"``), ``pmpla
 ``dims`` [d, n, m], ``r`` (configurations per query), ``B``, ``chunk`` and ``complete``
 (True only once every chunk is done). :func:`open_plans` refuses an incomplete store.
 
+Refined motions (:func:`pmplan.refine`, ``refine=`` here, ``pmplan batch --refine``) go the same
+way: every chunk is planned and then refined, as :func:`pmplan.plan_batch` with
+``refine=True`` does on the whole batch, so the refined plans are bit for bit the in-memory
+ones. A refined store also has ``robot_distance``, ``obstacle_distance`` (B,) float64 and
+``respects_radius`` (B,) bool (:data:`REFINED_OUTPUTS`), and the attribute ``refine`` (the
+radii, waypoints and steps; ``null`` for raw plans).
+
 This module is a face (ARCHITECTURE.md): the core never imports it, and it needs the optional
 extra ``pip install "pmplan[dask]"`` (dask[array], distributed, zarr).
 """
@@ -41,6 +48,7 @@ from .errors import CertificationError, CollisionError, InputError, PmplanError
 __all__ = [
     "FORMAT",
     "INSTALL",
+    "REFINED_OUTPUTS",
     "compute",
     "is_store",
     "open_plans",
@@ -58,6 +66,8 @@ INSTALL = 'pip install "pmplan[dask]"'
 DEFAULT_CHUNK = 65536
 #: the arrays of an output store, in the order they are written (``done`` last)
 OUTPUTS = ("domain", "strata", "clearance", "times", "waypoints")
+#: the arrays a store of refined motions has besides :data:`OUTPUTS` (written before ``done``)
+REFINED_OUTPUTS = ("robot_distance", "obstacle_distance", "respects_radius")
 _RECHUNK = "x.rechunk({1: -1, 2: -1})"
 
 
@@ -123,14 +133,58 @@ def _dask_inputs(arrays: list, names: list[str]):
     return da, out
 
 
-def _record(template: dict, per_query_times: bool) -> np.dtype:
+def _record(template: dict, per_query_times: bool, refined: bool) -> np.dtype:
     """The structured dtype of one planned query: every output of a block packed into one
     array, so that one ``map_blocks`` call plans a block once."""
     fields = [("domain", np.int64), ("strata", np.int64, template["strata"].shape[1:]),
               ("clearance", np.float64), ("waypoints", np.float64, template["waypoints"].shape[1:])]
     if per_query_times:
         fields.append(("times", np.float64, template["times"].shape[1:]))
+    if refined:
+        fields += [("robot_distance", np.float64), ("obstacle_distance", np.float64),
+                   ("respects_radius", np.bool_)]
     return np.dtype(fields)
+
+
+def _refine_options(refine) -> dict | None:
+    """The keywords of :func:`pmplan.refine` (``radius``, ``obstacle_radius``, ``waypoints``,
+    ``steps``), validated and completed with the defaults; None for raw plans."""
+    if refine is None:
+        return None
+    from .refine import check_parameters
+
+    unknown = set(refine) - {"radius", "obstacle_radius", "waypoints", "steps"}
+    if unknown:
+        raise InputError(f"unknown refinement option(s) {sorted(unknown)}; expected radius, "
+                         "obstacle_radius, waypoints and steps")
+    radius, obstacle_radius, s, steps = check_parameters(
+        refine.get("radius", 0.0), refine.get("obstacle_radius", 0.0), refine.get("waypoints"),
+        refine.get("steps"))
+    return {"radius": radius, "obstacle_radius": obstacle_radius, "waypoints": s, "steps": steps}
+
+
+def _template(p, r: int, m: int, n: int, d: int, refine: dict | None) -> dict:
+    """Empty outputs (B = 0) of planner ``p``: their shapes past the batch axis, and the shared
+    breakpoints; a refined motion has ``(K - 1) waypoints + 1`` breakpoints."""
+    template = p.allocate(0, r, m, n, d)
+    if refine is not None:
+        from .refine import subdivide_times
+
+        s = refine["waypoints"]
+        k = template["times"].shape[-1]
+        times = np.asarray(template["times"], dtype=float)
+        template["times"] = subdivide_times(times, s) if times.ndim == 1 else \
+            np.empty((0, (k - 1) * s + 1))
+        template["waypoints"] = np.empty((0, (k - 1) * s + 1, *template["waypoints"].shape[2:]))
+    return template
+
+
+def _extra(b: int, refine: dict, measured: dict) -> dict:
+    """The refinement record (:attr:`pmplan.PlanBatch._extra`) of ``b`` refined plans whose
+    measured fields (robot and obstacle distance, radii respected) are ``measured``."""
+    return {"radius": np.full(b, refine["radius"]),
+            "obstacle_radius": np.full(b, refine["obstacle_radius"]),
+            "refined": np.ones(b, dtype=bool), **measured}
 
 
 def _context(exc: PmplanError, lo: int, hi: int, where: str):
@@ -157,24 +211,30 @@ def _context(exc: PmplanError, lo: int, hi: int, where: str):
         return exc
 
 
-def _plan_chunk_arrays(obstacles, configs, planner, lift, backend, workers):
-    """``plan_batch`` (r = 2) or ``plan_sequence_batch`` on one chunk of numpy arrays."""
+def _plan_chunk_arrays(obstacles, configs, planner, lift, backend, workers, refine=None):
+    """``plan_batch`` (r = 2) or ``plan_sequence_batch`` on one chunk of numpy arrays, then
+    :func:`pmplan.refine` with the options ``refine`` (None: raw plans)."""
     from . import api
 
     if len(configs) == 2:
-        return api.plan_batch(obstacles, configs[0], configs[1], planner=planner, lift=lift,
-                              backend=backend, workers=workers)
-    return api.plan_sequence_batch(obstacles, configs, lift=lift, backend=backend,
-                                   workers=workers)
+        batch = api.plan_batch(obstacles, configs[0], configs[1], planner=planner, lift=lift,
+                               backend=backend, workers=workers)
+    else:
+        batch = api.plan_sequence_batch(obstacles, configs, lift=lift, backend=backend,
+                                        workers=workers)
+    if refine is None:
+        return batch
+    return api.refine(batch, **refine, workers=workers, backend=backend)
 
 
-def _plan_block(obstacles, *configs, planner, lift, backend, workers, record, block_info=None):
+def _plan_block(obstacles, *configs, planner, lift, backend, workers, record, refine=None,
+                block_info=None):
     """One block of the lazy batch: its plans packed into ``record`` rows."""
     lo = block_info[None]["array-location"][0][0] if block_info else 0
     hi = lo + obstacles.shape[0]
     try:
         batch = _plan_chunk_arrays(np.asarray(obstacles), [np.asarray(c) for c in configs],
-                                   planner, lift, backend, workers)
+                                   planner, lift, backend, workers, refine)
     except PmplanError as exc:
         raise _context(exc, lo, hi, "dask block") from None
     out = np.empty(obstacles.shape[0], dtype=record)
@@ -187,9 +247,10 @@ def _field(block: np.ndarray, name: str) -> np.ndarray:
     return np.ascontiguousarray(block[name])
 
 
-def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential):
+def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential, refine=None):
     from . import api
 
+    refine = _refine_options(refine)
     da, arrays = _dask_inputs([obstacles, *configs], names)
     obstacles, configs = arrays[0], arrays[1:]
     api._check_lift(lift)  # checked now, not at compute time
@@ -203,12 +264,12 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
                              f"({c.shape[0]}, {n}, {d})")
     p = api.choose_planner(d, n, m, api.default_planner(d, n, m, sequential=True)
                            if sequential else planner)
-    template = p.allocate(0, len(configs), m, n, d)
+    template = _template(p, len(configs), m, n, d, refine)
     per_query_times = template["times"].ndim == 2
-    record = _record(template, per_query_times)
+    record = _record(template, per_query_times, refine is not None)
     packed = da.map_blocks(
         _plan_block, obstacles, *configs, planner=None if sequential else p.name,
-        lift=lift, backend=backend, workers=workers, record=record,
+        lift=lift, backend=backend, workers=workers, record=record, refine=refine,
         dtype=record, meta=np.empty((0,), record), drop_axis=[1, 2],
         chunks=(obstacles.chunks[0],), name="pmplan-plan",
     )
@@ -223,12 +284,18 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
         )
     if not per_query_times:
         out["times"] = template["times"]
-    return api.PlanBatch(planner=p.name, dims=(d, n, m), **out)
+    extra = {}
+    if refine is not None:
+        b = obstacles.shape[0]
+        measured = {k: out.pop(k) for k in REFINED_OUTPUTS}
+        extra = {k: da.from_array(v, chunks=obstacles.chunks[0]) if k not in measured else v
+                 for k, v in _extra(b, refine, measured).items()}
+    return api.PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
 
 
 def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
                backend: str | None = None, workers: int = 1, progress: bool = False,
-               out=None):
+               out=None, refine: dict | None = None):
     """:func:`pmplan.plan_batch` on dask arrays: a PlanBatch of lazy dask arrays.
 
     ``obstacles`` (B, m, d), ``start`` and ``goal`` (B, n, d): dask arrays (a numpy array
@@ -246,6 +313,11 @@ def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: floa
     :func:`plan_store`. ``progress`` and ``out`` apply to numpy batches only. ``stratum`` names,
     indexing and iteration need the computed batch (:func:`compute`).
 
+    ``refine``: the keywords of :func:`pmplan.refine` (``radius``, ``obstacle_radius``,
+    ``waypoints``, ``steps``) to refine every block after planning it (what
+    ``pmplan.plan_batch(..., refine=True)`` hands over); the lazy batch then also has the
+    refinement record (``radius``, ``robot_distance``, ``respects_radius``, ...).
+
     Use the threaded scheduler on one machine (the numba kernels release the GIL) and
     processes or a ``dask.distributed`` cluster when Python-level work dominates (the numpy
     reference backend, many exactly degenerate queries) or to use several machines.
@@ -255,12 +327,12 @@ def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: floa
                          "(write it with dask.array.to_zarr, or use pmplan.scale.plan_store)")
     del progress  # dask's own diagnostics (e.g. dask.diagnostics.ProgressBar) report progress
     return _lazy(obstacles, [start, goal], ["obstacles", "start", "goal"], planner, lift,
-                 backend, workers, sequential=False)
+                 backend, workers, sequential=False, refine=refine)
 
 
 def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
                         backend: str | None = None, workers: int = 1, progress: bool = False,
-                        out=None):
+                        out=None, refine: dict | None = None):
     """:func:`pmplan.plan_sequence_batch` on dask arrays (see :func:`plan_batch`)."""
     if out is not None:
         raise InputError("`out=` is for numpy batches; with dask arrays the result is lazy")
@@ -269,7 +341,7 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     if len(configs) < 2:
         raise InputError(f"expected at least r = 2 configurations, got {len(configs)}")
     return _lazy(obstacles, configs, ["obstacles"] + [f"configs[{k}]" for k in range(len(configs))],
-                 None, lift, backend, workers, sequential=True)
+                 None, lift, backend, workers, sequential=True, refine=refine)
 
 
 def compute(batch, **kwargs):
@@ -280,9 +352,13 @@ def compute(batch, **kwargs):
     from . import api
 
     names = ["domain", "strata", "clearance", "waypoints", "times"]
-    values = dask.compute(*(getattr(batch, k) for k in names), **kwargs)
+    extra = sorted(batch._extra)
+    values = dask.compute(*(getattr(batch, k) for k in names),
+                          *(batch._extra[k] for k in extra), **kwargs)
+    values = [np.asarray(v) for v in values]
     return api.PlanBatch(planner=batch.planner, dims=tuple(batch.dims),
-                         **{k: np.asarray(v) for k, v in zip(names, values)})
+                         _extra=dict(zip(extra, values[len(names):])),
+                         **dict(zip(names, values)))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -307,6 +383,7 @@ class StoreReport:
     domains: dict         # label -> count, over the chunks planned in this run
     min_clearance: float  # over the chunks planned in this run (inf if none)
     planner: str
+    respects_radius: int | None = None  # refined: plans of this run keeping the radii
 
 
 @dataclass(frozen=True)
@@ -322,6 +399,7 @@ class _Spec:
     lift: object
     backend: str | None
     workers: int
+    refine: dict | None = None  # the keywords of pmplan.refine, or None: raw plans
 
 
 def _open_input(path: Path):
@@ -391,7 +469,8 @@ def _read_rows(arrays: dict, lo: int, hi: int):
 
 def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
     """Plan chunk ``i`` and write it; ``done[i]`` is written last. Returns (i, rows planned,
-    domain counts, min clearance). Runs in-process or as a dask.distributed task."""
+    domain counts, min clearance, plans keeping the radii or None when not refined). Runs
+    in-process or as a dask.distributed task."""
     zarr = _need("zarr")
     lo, hi = i * spec.chunk, min(spec.b, (i + 1) * spec.chunk)
     if rows is None:
@@ -400,12 +479,12 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
     planner = spec.planner if len(configs) == 2 else None
     try:
         batch = _plan_chunk_arrays(obstacles, configs, planner, spec.lift, spec.backend,
-                                   spec.workers)
+                                   spec.workers, spec.refine)
     except PmplanError as exc:
         raise _context(exc, lo, hi, f"chunk {i}") from None
     if group is None:
         group = zarr.open_group(spec.out, mode="r+")
-    for name in OUTPUTS:
+    for name in OUTPUTS + (REFINED_OUTPUTS if spec.refine is not None else ()):
         a = getattr(batch, name)
         if name == "times" and a.ndim == 1:
             continue  # shared breakpoints, written once when the store was created
@@ -413,7 +492,8 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
     group["done"][i] = True
     labels, counts = np.unique(batch.domain, return_counts=True)
     clr = float(batch.clearance.min()) if hi > lo else float("inf")
-    return i, hi - lo, dict(zip(labels.tolist(), counts.tolist())), clr
+    kept = int(batch.respects_radius.sum()) if spec.refine is not None else None
+    return i, hi - lo, dict(zip(labels.tolist(), counts.tolist())), clr, kept
 
 
 def _create_output(path: Path, attrs: dict, template: dict, b: int, chunk: int, nchunks: int,
@@ -422,7 +502,12 @@ def _create_output(path: Path, attrs: dict, template: dict, b: int, chunk: int, 
     group = zarr.open_group(str(path), mode="w-")
     c = max(1, min(chunk, b))
     comp = "auto" if compress else None
-    for name in ("domain", "strata", "clearance", "waypoints"):
+    names = ["domain", "strata", "clearance", "waypoints"]
+    if attrs.get("refine") is not None:
+        template = {**template, "robot_distance": np.empty(0), "obstacle_distance": np.empty(0),
+                    "respects_radius": np.empty(0, dtype=bool)}
+        names += list(REFINED_OUTPUTS)
+    for name in names:
         t = template[name]
         group.create_array(name, shape=(b, *t.shape[1:]), chunks=(c, *t.shape[1:]),
                            dtype=t.dtype, fill_value=0, compressors=comp)
@@ -439,18 +524,19 @@ def _create_output(path: Path, attrs: dict, template: dict, b: int, chunk: int, 
     return group
 
 
-def _attrs(planner, lift, dims, r, b, chunk) -> dict:
+def _attrs(planner, lift, dims, r, b, chunk, refine=None) -> dict:
     from . import __version__
 
     return {"format": FORMAT, "planner": planner, "lift": lift, "pmplan_version": __version__,
-            "dims": list(dims), "r": r, "B": b, "chunk": chunk}
+            "dims": list(dims), "r": r, "B": b, "chunk": chunk, "refine": refine}
 
 
 def plan_store(source, out, *, planner: str | None = None, lift: float | str | None = None,
                chunk: int | None = None, resume: bool = False, scheduler: str | None = None,
                dask_workers: int | None = None, workers: int = 1, backend: str | None = None,
                progress: bool = False, compress: bool = True,
-               on_chunk: Callable[[int, int, int], None] | None = None) -> StoreReport:
+               on_chunk: Callable[[int, int, int], None] | None = None,
+               refine: dict | None = None) -> StoreReport:
     """Plan a batch from a Zarr store (or in-memory arrays) into a Zarr store, chunk by chunk.
 
     Parameters
@@ -479,6 +565,11 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         about a seventh of the write speed; False writes them raw.
     on_chunk : callable, optional
         Called as ``on_chunk(i, done, total)`` after chunk ``i`` is written and marked done.
+    refine : dict, optional
+        Refine every chunk after planning it (:func:`pmplan.refine`; ``pmplan batch
+        --refine``): its keywords ``radius``, ``obstacle_radius``, ``waypoints``, ``steps``
+        (the defaults for those not given). The store then holds the refined motions and
+        :data:`REFINED_OUTPUTS`; ``resume`` needs the same options.
 
     Returns
     -------
@@ -516,6 +607,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     if chunk is not None and (isinstance(chunk, bool) or int(chunk) < 1):
         raise InputError(f"`chunk` must be a positive number of queries, got {chunk!r}")
     b, m, n, d, k, chunk = _check_inputs(arrays, src_name, chunk)
+    refine = _refine_options(refine)
     lift = 1.0 if lift is None else lift
     api._check_lift(lift)
     workers = api._check_workers(workers)
@@ -527,7 +619,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
                            if r > 2 else planner)
     nchunks = -(-b // chunk)
     lift_attr = lift if isinstance(lift, str) else float(lift)
-    attrs = _attrs(p.name, lift_attr, (d, n, m), r, b, chunk)
+    attrs = _attrs(p.name, lift_attr, (d, n, m), r, b, chunk, refine)
     if out.suffix != ".zarr":
         raise InputError(f"the output {out} must be a Zarr store: give it the suffix .zarr")
     if out.exists():
@@ -552,14 +644,15 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         else _connect(scheduler, dask_workers)
     try:
         if group is None:
-            template = p.allocate(0, r, m, n, d)
+            template = _template(p, r, m, n, d, refine)
             group = _create_output(out, attrs, template, b, chunk, nchunks, compress)
         done = np.asarray(group["done"][:])
         todo = np.flatnonzero(~done).tolist()
         spec = _Spec(source=None if src_path is None else str(src_path), out=str(out),
                      names=tuple(arrays), b=b, chunk=chunk, planner=p.name, lift=lift,
-                     backend=backend, workers=workers)
-        state = {"done": nchunks - len(todo), "queries": 0, "clearance": float("inf")}
+                     backend=backend, workers=workers, refine=refine)
+        state = {"done": nchunks - len(todo), "queries": 0, "clearance": float("inf"),
+                 "kept": 0 if refine is not None else None}
         domains: dict = {}
         bar = None
         if progress and todo:
@@ -569,7 +662,9 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
                        unit="chunk", file=sys.stderr)
 
         def record(result):
-            i, q, counts, clr = result
+            i, q, counts, clr, kept = result
+            if kept is not None:
+                state["kept"] += kept
             state["done"] += 1
             state["queries"] += q
             state["clearance"] = min(state["clearance"], clr)
@@ -607,7 +702,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     if bool(np.asarray(group["done"][:]).all()):
         group.attrs["complete"] = True
     return StoreReport(out, len(todo), nchunks - len(todo), nchunks, state["queries"], domains,
-                       state["clearance"], p.name)
+                       state["clearance"], p.name, state["kept"])
 
 
 def _connect(scheduler: str | None, dask_workers: int | None):
@@ -673,4 +768,11 @@ def open_plans(path):
     if arrays["times"].ndim == 1:
         arrays["times"] = np.asarray(group["times"][:])
     d, n, m = attrs["dims"]
-    return api.PlanBatch(planner=attrs["planner"], dims=(d, n, m), **arrays)
+    extra = {}
+    refine = attrs.get("refine")
+    if refine is not None:
+        measured = {k: da.from_zarr(group[k]) for k in REFINED_OUTPUTS}
+        chunks = measured["robot_distance"].chunks[0]
+        extra = {k: v if k in measured else da.from_array(v, chunks=chunks)
+                 for k, v in _extra(attrs["B"], refine, measured).items()}
+    return api.PlanBatch(planner=attrs["planner"], dims=(d, n, m), _extra=extra, **arrays)

@@ -42,7 +42,10 @@ How the kernel is laid out for speed (every shortcut is exact, see the tests):
   minimum is small does the loop that decides as :func:`pmplan.certify.clearance` run. In the
   SIMD path in the plane, one loop takes a pair over a whole segment C_k -> C_k+1 (its
   stationary start and five moving pieces, :func:`_pair_plane`), forming the pair's relative
-  position once per waypoint, with the running minimum in a register.
+  position once per waypoint, with the running minimum in a register; from 16 points on
+  (:data:`PRUNE_LANES`) every pair is first tested on float32 centres of its projections, for
+  all lanes at once, and only the few that may reach the minimum are evaluated
+  (:func:`_prune_plane`, exact).
 
 Every floating-point operation is done in the reference's order -- sums over the d coordinates
 are sequential, which is numpy's order below 8 terms, hence ``d <= MAX_D = 7`` (larger d is
@@ -141,11 +144,26 @@ _EXTREME = 2.0**430
 LANES_MIN = 16
 
 #: from this many points (m + n) on, in the plane and in space, the clearance is the exact
-#: pruned sweep of :func:`_sweep_min` (query by query; in :func:`_plan_lanes` lane by lane);
+#: pruned sweep of :func:`_sweep_min` (query by query; in :func:`_plan_lanes` lane by lane,
+#: in the plane only from PRUNE_LANES[1] on);
 #: below it every pair is evaluated, vectorised (over the pairs, or over the lanes). Measured
 #: with ``benchmarks/cert_bench.py`` (one core, ratio to a copy of the output, brute / sweep):
 #: (2,22,2) 6.9-12.2 / 9.9-14.0, (2,40,2) 11.5-14.2 / 10.8-12.3, (3,30,2) 11.6-15.0 / 9.3-10.7
 SWEEP_MIN = (40, 24)
+#: in the plane, the SIMD path (:func:`_certify_lanes`) prunes the pairs exactly without
+#: sorting (:func:`_prune_plane`) for PRUNE_LANES[0] <= m + n < PRUNE_LANES[1] (below it every
+#: pair is evaluated, from PRUNE_LANES[1] on the sweep runs lane by lane).
+#: Where the time went before (issue 17; the kernel alone, CPU time, one process, with one
+#: part removed at a time, B = 32,768 / 8,192, at 2e4589d): (2,16,2) 1.26 us per query -- the
+#: brute-force pairs of the certificate 0.61 (48 %), writing the waypoints out lane by lane
+#: 0.33 (26 %), the class test's pairs 0.04, the rest (configurations, frame, waypoints,
+#: finiteness) 0.28; plan_batch adds about 6 % of per-chunk Python (magnitude check,
+#: re-decision). (2,64,2) 7.3 us -- the sweep lane by lane with its gather of the lane 3.8
+#: (51 %), the class test 0.73, the write-out 0.67. With the pruning (and the write-out eight
+#: lanes at a time): (2,16,2) 0.83-0.98 us (certificate 0.31), (2,64,2) 3.5-3.9 us
+#: (certificate 1.1-1.2). Tiling the lanes of the test for the first-level cache was slower
+#: (+4 to +30 %), a guess of 1.05 instead of 1.25 times the gap no faster (1-2 %).
+PRUNE_LANES = (16, 128)
 #: the margins of the sweep's pruning, relative to the largest |coordinate| (see _sweep_min):
 #: the distance of the closed form's float point to an exact point of the piece, a float
 #: projection's error per coordinate, and a relative slack for every other rounding
@@ -1055,6 +1073,36 @@ def _dist2_lanes(rx, ry, r1x, r1y):  # pragma: no cover - compiled
     return qx * qx + qy * qy
 
 
+@njit(**_INLINE)
+def _pair_lane(S, w0, a, b, row, l, z):  # pragma: no cover - compiled
+    """One pair over one segment of the path in the plane, lane l: min(``z``, the squared
+    distance at waypoint w0 -- the piece w0 -> w0 + 1 does not move -- and the squared
+    minimum distance of the five moving pieces w0 + 1 -> ... -> w0 + 6). The pair's points
+    start at rows ``a`` and ``b`` of a waypoint (coordinates 0, 1); the segment is the
+    waypoints ``w0 .. w0 + 6 row`` (row = one waypoint). The relative position at each
+    waypoint is formed once. The loop of :func:`_pair_plane` over the lanes, written out:
+    :func:`_prune_pass` evaluates a pair lane by lane. (:func:`_pair_plane` calling this, or a
+    lane range in :func:`_pair_plane`, ran (2,4,2) 1.5-1.7 times slower -- kernel_ab, with or
+    without numba's ``inline="always"``: the loop was no longer one vectorised loop -- so the
+    arithmetic is written twice, in the same order.)"""
+    x0 = S[w0 + a, l] - S[w0 + b, l]
+    y0 = S[w0 + a + 1, l] - S[w0 + b + 1, l]
+    best = x0 * x0 + y0 * y0
+    best = best if best < z else z  # noqa: FURB136 (a select: NaN never chosen)
+    w = w0 + row
+    x1 = S[w + a, l] - S[w + b, l]
+    y1 = S[w + a + 1, l] - S[w + b + 1, l]
+    for _ in range(5):
+        w += row
+        x2 = S[w + a, l] - S[w + b, l]
+        y2 = S[w + a + 1, l] - S[w + b + 1, l]
+        dist2 = _dist2_lanes(x1, y1, x2, y2)
+        best = dist2 if dist2 < best else best  # noqa: FURB136
+        x1 = x2
+        y1 = y2
+    return best
+
+
 @njit(**_OPTS)
 def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
     """One pair over one segment of the path in the plane, every lane.
@@ -1082,6 +1130,188 @@ def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
             x1 = x2
             y1 = y2
         T[dst, l] = best
+
+
+@njit(**_INLINE)
+def _lane_thresholds(D, EW, T32, nseg, l):  # pragma: no cover - compiled
+    """Lane l's float32 thresholds of :func:`_prune_pass` (rows of ``T32``, one per segment and
+    group) from its ``s = sqrt(min(best, guess))`` (rows BEST, GUESS of ``D``; ``-inf``: the
+    lane is left out): ``(thr + EW) (1 + 2**-21)`` rounded to float32, ``thr = (s |u| + margin)
+    (1 + _PRUNE_REL)`` as in :func:`_sweep_min` (u0 for groups A, C; u1 for group B)."""
+    z = D[_BEST, l]
+    g = D[_GUESS, l]
+    sq = math.sqrt(z if z < g else g)  # noqa: FURB136 (a select, as elsewhere)
+    sq = sq if D[_OUT, l] == 0 else -np.inf
+    t0 = (sq * D[_WN0, l] + D[_MG0, l]) * (1.0 + _PRUNE_REL)
+    t1 = (sq * D[_WN1, l] + D[_MG1, l]) * (1.0 + _PRUNE_REL)
+    for x in range(3 * nseg):
+        t = t1 if x % 3 == 1 else t0
+        T32[x, l] = np.float32((t + EW[x, l]) * _UP32)
+
+
+@njit(**_OPTS)
+def _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk):  # pragma: no cover - compiled
+    """One pass of :func:`_prune_plane` over every pair with a moving point: a pair is
+    evaluated (:func:`_pair_lane` over the segment, and at the last configuration) in a lane
+    where the float32 distance of its centres along ``u0`` (groups A, C) or ``u1`` (group B) is
+    not above the lane's threshold for that group (``T32``); row BEST of ``D`` takes the minima,
+    and the thresholds follow it down. The test runs over every lane at once (one vectorised
+    loop on float32 rows: the test reads the bytes of a few rows per pair, so that their size
+    bounds its speed), its verdict in ``NEED``, counted; the few lanes that need a pair evaluate
+    it one by one (a block of lanes would evaluate it where it is not needed, and numba leaves
+    a loop over a few lanes scalar anyway)."""
+    L = S.shape[1]
+    r0 = (kk - 1) * row
+    for k in range(r - 1):
+        w0 = 7 * k * row
+        ga = 3 * k * p  # the rows of C32 of groups A, B, C of segment k
+        gb = ga + p
+        gc = gb + p
+        ta = 3 * k  # their rows of T32
+        for i in range(p - 1):
+            for j in range(max(i + 1, m), p):
+                cnt = 0
+                for l in range(L):
+                    xa = abs(C32[ga + j, l] - C32[ga + i, l])
+                    xb = abs(C32[gb + j, l] - C32[gb + i, l])
+                    xc = abs(C32[gc + j, l] - C32[gc + i, l])
+                    # (NaN is never above: then the pair is evaluated)
+                    nd = not ((xa > T32[ta, l]) & (xb > T32[ta + 1, l]) & (xc > T32[ta + 2, l]))
+                    NEED[l] = nd
+                    cnt += nd
+                if cnt == 0:
+                    continue
+                for l in range(L):  # the lanes that need the pair, one by one
+                    if not NEED[l]:
+                        continue
+                    D[_BEST, l] = _pair_lane(S, w0, 2 * i, 2 * j, row, l, D[_BEST, l])
+                    if k == r - 2:  # the last configuration (as the brute-force pass)
+                        x0 = S[r0 + 2 * i, l] - S[r0 + 2 * j, l]
+                        y0 = S[r0 + 2 * i + 1, l] - S[r0 + 2 * j + 1, l]
+                        a = x0 * x0 + y0 * y0
+                        z = D[_BEST, l]
+                        D[_BEST, l] = a if a < z else z  # noqa: FURB136
+                    _lane_thresholds(D, EW, T32, r - 1, l)
+
+
+# the rows of D in _prune_plane / _prune_pass: the directions u0, u1 and their norms and
+# margins (as _directions writes them for d = 2), the running minimum, the guess, the lanes
+# left out of a second pass
+_WN0 = 4
+_WN1 = 5
+_MG0 = 6
+_MG1 = 7
+_BEST = 8
+_GUESS = 9
+_OUT = 10
+#: (1 + 2**-21): the float32 thresholds of _prune_pass are rounded up past every rounding
+_UP32 = 1.0 + 2.0**-21
+
+
+@njit(**_OPTS)
+def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
+                 NORM):  # pragma: no cover - compiled
+    """Row ``mn`` of T = every lane's minimum over the pairs with a moving point of the plane
+    (d = 2), exactly that of the brute-force pass of :func:`_certify_lanes` (bitwise), the
+    pairs pruned as :func:`_sweep_min` prunes them, without sorting.
+
+    In each segment C_k -> C_k+1 the pieces form :func:`_sweep_min`'s three groups -- A: the
+    waypoints 7k .. 7k + 3 (C_k, desingularization, projection, lift: the points move across
+    the obstacle line's direction u0), B: 7k + 3 -> 7k + 4 (the slide; u1, the lift's
+    direction), C: 7k + 4 .. 7k + 7 (as A, at C_k+1's columns; with the last configuration).
+    Every point's projection on the group's direction spans ``[lo, hi]`` over the group's
+    waypoints, and a pair with ``lo_b - hi_a > thr = (s |u| + margin) (1 + _PRUNE_REL)`` has
+    every float squared distance of the group's pieces above ``s^2`` (:func:`_sweep_min` proves
+    it; the directions and margins are :func:`_directions`'s). A lane evaluates a pair over the
+    whole segment (:func:`_pair_lane`) unless that holds in all three groups.
+
+    The test reads float32 centres ``c32 = f32((lo + hi) / 2)``: with ``C`` the group's largest
+    ``|(lo + hi) / 2|`` and ``W`` its largest ``hi - lo`` (float64, per lane), the float32
+    ``|c32_b - c32_a|`` is within ``E = 2**-20 C + 2**-120`` of the exact difference of the
+    centres (two float32 roundings, one float32 subtraction, relative 2**-24 each, plus the
+    subnormal spacing; float64's own roundings are far below), so ``|c32_b - c32_a| > f32((thr
+    + E + W) (1 + 2**-21))`` (rounded up past the float64 sum's and float32's rounding) gives
+    ``lo_b - hi_a > thr`` exactly, a stronger premise than :func:`_sweep_min`'s float test. A
+    group whose ``C`` is not below 2**120 (a centre could overflow float32) has ``E = inf``:
+    its test never skips.
+
+    ``s`` starts as a guess: 1.25 times the smallest gap of the column-class test (row ``GAP``,
+    divided by ``|w|``, row ``NORM``), near the true minimum on random queries, where the
+    closest columns meet on the line; then ``min(best, guess)``. A pair skipped is above ``min
+    (best, guess)`` at that time; so where the final ``best <= guess`` it is the minimum, and
+    every other lane (a poor guess) takes a second pass from its ``best`` (inf if none: every
+    pair). Lanes that go to the scalar kernel anyway (row ``BAD``, or ``THR2`` infinite) are
+    left out of the second pass."""
+    L = S.shape[1]
+    D = np.empty((11, L))
+    aux = np.empty(8)
+    for l in range(L):
+        _directions(wf[b0 + l], p, m, 2, T[mx, l], aux)
+        for x in range(8):
+            D[x, l] = aux[x]
+    nseg = r - 1
+    C32 = np.empty((3 * nseg * p, L), np.float32)
+    EW = np.empty((3 * nseg, L))
+    T32 = np.empty((3 * nseg, L), np.float32)
+    NEED = np.empty(L, np.bool_)
+    LO = np.empty((2, L))
+    for k in range(nseg):
+        for g in range(3):
+            ts = 7 * k + (0 if g == 0 else (3 if g == 1 else 4))
+            te = ts + (1 if g == 1 else 3)
+            dr = 2 if g == 1 else 0
+            y = (3 * k + g) * p
+            ew = 3 * k + g
+            for l in range(L):
+                D[_BEST, l] = 0.0  # (scratch here) the group's C
+                EW[ew, l] = 0.0  # its W
+            for i in range(p):
+                # the span [lo, hi] of point i on the group's direction (as _sweep_min)
+                for l in range(L):
+                    LO[0, l] = np.inf
+                    LO[1, l] = -np.inf
+                for t in range(ts, te + 1):
+                    x = t * row + 2 * i
+                    for l in range(L):
+                        v = 0.0
+                        v += S[x, l] * D[dr, l]
+                        v += S[x + 1, l] * D[dr + 1, l]
+                        a0 = LO[0, l]
+                        a1 = LO[1, l]
+                        LO[0, l] = v if v < a0 else a0  # noqa: FURB136
+                        LO[1, l] = v if v > a1 else a1  # noqa: FURB136
+                for l in range(L):
+                    c = 0.5 * (LO[0, l] + LO[1, l])
+                    wd = LO[1, l] - LO[0, l]
+                    C32[y + i, l] = np.float32(c)
+                    z = D[_BEST, l]
+                    ac = abs(c)
+                    D[_BEST, l] = ac if not ac <= z else z  # (NaN is kept: E is NaN, no skip)
+                    z = EW[ew, l]
+                    EW[ew, l] = wd if not wd <= z else z
+            for l in range(L):
+                cc = D[_BEST, l]
+                e = 2.0**-20 * cc + 2.0**-120 if cc < 2.0**120 else np.inf
+                EW[ew, l] = e + EW[ew, l]
+    for l in range(L):
+        sq = 1.25 * T[GAP, l] / T[NORM, l]
+        D[_GUESS, l] = sq * sq
+        D[_BEST, l] = np.inf
+        D[_OUT, l] = 0.0
+        _lane_thresholds(D, EW, T32, nseg, l)
+    _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk)
+    again = False
+    for l in range(L):  # a lane whose guess was too small: a second pass from its best
+        poor = (T[BAD, l] == 0) & (T[THR2, l] < np.inf) & (not D[_BEST, l] <= D[_GUESS, l])
+        again |= poor
+        D[_GUESS, l] = np.inf
+        D[_OUT, l] = 0.0 if poor else 1.0
+        _lane_thresholds(D, EW, T32, nseg, l)
+    if again:
+        _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk)
+    for l in range(L):
+        T[mn, l] = D[_BEST, l]
+    return mn
 
 
 @njit(**_INLINE)
@@ -1172,13 +1402,12 @@ def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - co
 
 
 @njit(**_OPTS)
-def _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover - compiled
-    """Row ``mn`` of T = :func:`_sweep_min` of every lane of ``S`` whose waypoints are finite
+def _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover - compiled
+    """Row ``mn`` of T = :func:`_sweep_min` of every lane whose waypoints (already written,
+    ``wf[b0 + l]``: read there, contiguous, not gathered from the lanes' rows) are finite
     (row ``BAD`` zero) with the largest |coordinate| (row ``mx``) in range (row ``THR2``
     finite); the other lanes go to the scalar kernel anyway (inf: not above THR2)."""
-    L = S.shape[1]
-    size = S.shape[0]
-    w = np.empty(size)
+    L = T.shape[1]
     lo = np.empty(p)
     hi = np.empty(p)
     order = np.empty(4 * p + 1, np.int64)
@@ -1186,9 +1415,8 @@ def _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover - co
     for l in range(L):
         T[mn, l] = np.inf
         if T[BAD, l] == 0 and T[THR2, l] < np.inf:
-            for x in range(size):
-                w[x] = S[x, l]
-            T[mn, l] = _sweep_min(w, kk, p, m, d, T[mx, l], lo, hi, order, aux, -np.inf)[0]
+            T[mn, l] = _sweep_min(wf[b0 + l], kk, p, m, d, T[mx, l], lo, hi, order, aux,
+                                  -np.inf)[0]
 
 
 @njit(**_OPTS)
@@ -1227,13 +1455,15 @@ def _max_finite(S, T, x0, x1, mx, mx2, BAD):  # pragma: no cover - compiled
 
 
 @njit(**_OPTS)
-def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
-                   THR2):  # pragma: no cover - compiled
+def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2, wf,
+                   b0, GAP, NORM):  # pragma: no cover - compiled
     """The certificate of :func:`_plan_lanes` for one block of L queries (SPEC section 5).
 
     ``S`` holds the waypoints of the block (row x: coordinate x of every lane), ``T`` the
     lanes' scratch rows (``mx``, ``mx2``: the alternating running maximum; ``BAD``, ``ACC``,
-    ``ACC2``, ``Q``, ``THR2``: the rows of :func:`_plan_lanes`). Adds to row ``BAD`` (a lane
+    ``ACC2``, ``Q``, ``THR2``: the rows of :func:`_plan_lanes`); ``wf[b0 + l]`` are the
+    waypoints of lane l as already written to the output; rows ``GAP``, ``NORM``: the smallest
+    gap of the column-class test and ``|w|`` (:func:`_prune_plane`'s guess). Adds to row ``BAD`` (a lane
     that is not finite, or whose minimum is not clearly above certify's threshold, goes to the
     scalar kernel) and returns the row of T holding every lane's squared clearance.
     """
@@ -1264,9 +1494,13 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q,
         z = _SURE * T[mx, l]
         T[THR2, l] = z * z if (T[mx, l] > 1e-130) & (T[mx, l] < 1e130) else np.inf
         T[mn, l] = np.inf
-    if _sweeps(p, d):
+    if d == 2 and PRUNE_LANES[0] <= p < PRUNE_LANES[1]:
+        # the plane, many points: every pair tested, the few that may reach the minimum
+        # evaluated (exactly pruned, blocks of eight lanes)
+        mn = _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP, NORM)
+    elif _sweeps(p, d):
         # many points: the exact pruned sweep, lane by lane (each lane has its own order)
-        _sweep_lanes(S, T, mx, mn, THR2, BAD, kk, p, m, d)
+        _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d)
     elif d == 2:
         # every segment C_k -> C_k+1 (its stationary start and five moving pieces) per pair
         for k in range(r - 1):
@@ -1419,7 +1653,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     NU = np.empty((d, L))
     H = np.empty((d, L))
     V = np.empty((p, L))
-    T = np.empty((16, L))
+    T = np.empty((17, L))
     BAD = 3
     NORM = 4
     ACC = 5
@@ -1428,6 +1662,8 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     SC = 8
     Q = 9
     THR2 = 10
+    GAP = 16  # the smallest gap of the column-class test over the configurations
+    prune = d == 2 and PRUNE_LANES[0] <= p < PRUNE_LANES[1]  # (_prune_plane's guess)
     nt = 0
     nfull = nb // L
     dom = 2 - (r - 1) * m + r * p
@@ -1484,6 +1720,9 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         # --- column classes: only the generic case, every point its own column --------------
         mx = 11
         mx2 = 12
+        if prune:
+            for l in range(L):
+                T[GAP, l] = np.inf
         for k in range(r):
             yk = k * row
             for l in range(L):
@@ -1521,6 +1760,10 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     mn, mn2 = mn2, mn
             for l in range(L):
                 T[BAD, l] += 0.0 if T[mn, l] > T[THR, l] else 1.0
+            if prune:  # (its own loop: a select written back into its row costs (2,1,2) 5 %)
+                for l in range(L):
+                    z = T[GAP, l]
+                    T[GAP, l] = T[mn, l] if T[mn, l] < z else z  # noqa: FURB136
             # desingularization (desin) moves nothing here (cp = cp_o + n), projection
             # (linear-transformation-obs)
             for j in range(n):
@@ -1626,12 +1869,17 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         for x in range(row):
             for l in range(L):
                 S[(kk - 1) * row + x, l] = Y[(r - 1) * row + x, l]
-        # --- certificate: finite, clearance (:func:`_certify_lanes`) -------------------------
-        mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2)
-        # --- write the waypoints (query after query) and the decided queries' records -------
-        # (8 x 8 blocks transposed in registers: element by element, this write was 43-47 % of
-        # the kernel's time for (2,4,2), (3,4,2), (4,4,2); blocked, the kernel is 10-13 % faster)
+        # --- write the waypoints (query after query), before the certificate: the lane sweeps
+        # read them there. 8 x 8 blocks transposed in registers (common._write_lanes): element
+        # by element, this write was 43-47 % of the kernel's time for (2,4,2), (3,4,2),
+        # (4,4,2); blocked, the kernel is 10-13 % faster. (Eight lanes at a time element by
+        # element, from 256 values per query, had made (2,16,2) 8-15 % and (2,64,2) 13 %
+        # faster than lane by lane, (2,1,2) 26-34 % and (2,4,2) 8 % slower.)
         _write_lanes(S, wf, b0, L, size)
+        # --- certificate: finite, clearance (:func:`_certify_lanes`) -------------------------
+        mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2,
+                            wf, b0, GAP, NORM)
+        # --- the decided queries' records ----------------------------------------------------
         for l in range(L):
             b = b0 + l
             if T[BAD, l] == 0:

@@ -10,9 +10,12 @@ Endpoints
     The paper's examples: one exact query in every stratum of Section 4
     (:func:`pmplan.figures.figure_queries`) and one in every domain of the demo
     (:func:`pmplan.examples.obstacle_line_examples`, ``planar_three_examples``).
-``POST /api/plan`` (optional ``?samples=K``)
+``POST /api/plan`` (optional ``?samples=K``, ``?refine=true&radius=r&obstacle_radius=s``)
     The body is the JSON that ``pmplan plan`` reads (:func:`pmplan.io.parse_query`), the answer
-    what it prints (:func:`pmplan.io.plan_to_dict`).
+    what it prints (:func:`pmplan.io.plan_to_dict`). With ``refine=true`` the answer is the
+    refined motion (:func:`pmplan.refine`, what ``pmplan plan --refine --radius r
+    --obstacle-radius s`` prints), same domain and stratum, plus ``raw``: the unrefined
+    motion's ``times`` and ``waypoints``.
 ``POST /api/domain-map``
     ``{"query": Q, "which": "goal" | "start", "robot": 1, "origin": [x0, y0], "step": h,
     "size": [nx, ny]}``: the domain label robot ``robot``'s goal (or start) would get at each
@@ -45,6 +48,7 @@ from ..configuration import as_real
 from ..errors import CertificationError, InputError, PmplanError
 from ..io import _json_int, parse_query, plan_to_dict
 from ..magnitude import LIMIT, needs_scaling
+from ..refine import check_radius, check_refine_flag
 from . import require_extra
 
 __all__ = ["MAX_BODY", "MAX_GRID", "MAX_POINTS", "create_app", "examples", "domain_map",
@@ -112,11 +116,36 @@ def _check_size(query: dict) -> None:
                          f"{MAX_POINTS} (use pmplan plan or the library for larger queries)")
 
 
-def plan_json(obj, samples=None) -> dict:
-    """Plan the decoded ``pmplan plan`` query ``obj``; the dict ``pmplan plan`` prints."""
+def refine_options(params) -> dict | None:
+    """The refinement asked by the URL parameters ``refine``, ``radius`` and
+    ``obstacle_radius`` of ``/api/plan`` (strings): ``None`` for an unrefined plan, else the
+    keywords of :func:`pmplan.refine`. Bad values get the library's own message
+    (:func:`pmplan.refine.check_refine_flag`, :func:`pmplan.refine.check_radius`)."""
+    flag = params.get("refine", "false")
+    flag = {"true": True, "false": False}.get(flag, flag)
+    radii = {}
+    for key in ("radius", "obstacle_radius"):
+        text = params.get(key, "0")
+        try:
+            value = float(text)
+        except ValueError:
+            value = text  # not a number: refused below with the library's message
+        radii[key] = check_radius(value, key)
+    return radii if check_refine_flag(flag, radii["radius"], radii["obstacle_radius"]) else None
+
+
+def plan_json(obj, samples=None, refine: dict | None = None) -> dict:
+    """Plan the decoded ``pmplan plan`` query ``obj``; the dict ``pmplan plan`` prints. With
+    ``refine`` (the keywords of :func:`pmplan.refine`) the refined motion's dict, with the raw
+    motion under ``raw``."""
     query = parse_query(obj)
     _check_size(query)
-    return plan_to_dict(api.plan_query(query), samples=samples)
+    plan = api.plan_query(query)
+    if refine is None:
+        return plan_to_dict(plan, samples=samples)
+    out = plan_to_dict(api.refine(plan, **refine), samples=samples)
+    out["raw"] = {"times": plan.path.times.tolist(), "waypoints": plan.path.waypoints.tolist()}
+    return out
 
 
 def _int_field(obj: dict, key: str, lo: int, hi: int) -> int:
@@ -325,7 +354,11 @@ def create_app():
                 samples = int(samples)
             except ValueError:
                 return error(422, f"`samples` must be an integer, got {samples!r}", "InputError")
-        return await answer(request, plan_json, samples)
+        try:
+            refine = refine_options(request.query_params)
+        except InputError as exc:
+            return error(422, str(exc), type(exc).__name__)
+        return await answer(request, plan_json, samples, refine)
 
     async def map_endpoint(request: Request):
         return await answer(request, domain_map)

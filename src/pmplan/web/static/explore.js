@@ -101,11 +101,18 @@
   }
 
   function drawPlan() {
-    const gp = $("paths");
-    gp.replaceChildren();
+    const gp = $("paths"), gr = $("raw-paths");
+    gp.replaceChildren(); gr.replaceChildren();
     const plan = state.plan;
     if (!plan) { drawMovers(); return; }
     const m = state.obstacles.length, n = plan.waypoints[0].length - m;
+    if (plan.raw) {  // a refined motion: the planner's own motion, dashed, underneath
+      for (let i = 0; i < n; i++) {
+        const pts = plan.raw.waypoints.map((w) => `${sx(w[m + i][0]).toFixed(2)},${sy(w[m + i][1]).toFixed(2)}`);
+        el("polyline", { id: `raw-${i + 1}`, class: "raw-path", points: pts.join(" "),
+                         stroke: COLORS[i % COLORS.length] }, gr);
+      }
+    }
     for (let i = 0; i < n; i++) {
       const pts = plan.waypoints.map((w) => `${sx(w[m + i][0]).toFixed(2)},${sy(w[m + i][1]).toFixed(2)}`);
       el("polyline", { id: `path-${i + 1}`, class: "robot-path", points: pts.join(" "),
@@ -127,6 +134,15 @@
       const r = plan.clearance / 2 * state.view.scale;
       pos.forEach((p) => el("circle", { cx: sx(p[0]), cy: sy(p[1]), r: r, class: "disc" }, gd));
     }
+    if (plan.refined && (plan.radius > 0 || plan.obstacle_radius > 0)) {
+      // the robots and obstacles as discs of their radii: they never overlap when the radii
+      // are kept (the "radii" row says whether they are, decided exactly)
+      const s = state.view.scale;
+      pos.forEach((p, i) => el("circle", {
+        cx: sx(p[0]), cy: sy(p[1]), r: (i < m ? plan.obstacle_radius : plan.radius) * s,
+        class: i < m ? "body obstacle-body" : "body robot-body",
+        fill: i < m ? "#333" : COLORS[(i - m) % COLORS.length] }, gd));
+    }
     pos.slice(m).forEach((p, i) => el("circle", {
       id: `mover-${i + 1}`, cx: sx(p[0]), cy: sy(p[1]), r: 5, class: "mover",
       fill: COLORS[i % COLORS.length] }, g));
@@ -145,6 +161,11 @@
     $("domain").dataset.label = p ? String(p.domain) : "";
     $("stratum").innerHTML = p ? tex(p.stratum) : "-";
     $("clearance").textContent = p ? p.clearance.toPrecision(4) : "-";
+    const rd = (v) => (v === null ? "-" : v.toPrecision(3));
+    $("radii").textContent = !p || !p.refined ? "-" :
+      `${p.respects_radius ? "kept" : "not kept"} (robots ${rd(p.robot_distance)}, ` +
+      `obstacles ${rd(p.obstacle_distance)} apart)`;
+    $("radii").dataset.kept = p && p.refined ? String(p.respects_radius) : "";
     const e = $("error");
     e.hidden = !state.error;
     e.textContent = state.error || "";
@@ -170,13 +191,19 @@
     net.timer = setTimeout(() => { net.timer = null; replan(); }, delay);
   }
 
+  function planUrl() {  // the refined motion: robots and obstacles of the same radius
+    if (!$("refine-toggle").checked) return "/api/plan";
+    const r = encodeURIComponent($("radius").value);
+    return `/api/plan?refine=true&radius=${r}&obstacle_radius=${r}`;
+  }
+
   async function replan() {
     if (net.busy) { net.dirty = true; return; }
     net.busy = true; net.dirty = false;
     document.body.dataset.state = "planning";
     const seq = ++net.seq;
     try {
-      const r = await post("/api/plan", query());
+      const r = await post(planUrl(), query());
       if (seq !== net.seq) return;
       if (r.ok) {
         state.plan = r.data; state.error = null;
@@ -359,6 +386,8 @@
   };
   $("map-mode").onchange = () => { state.mapKey = null; updateMap(); };
   $("discs-toggle").onchange = () => drawMovers();
+  $("refine-toggle").onchange = () => schedule(0);
+  $("radius").onchange = () => { if ($("refine-toggle").checked) schedule(0); };
   $("time").oninput = (ev) => { state.t = Number(ev.target.value) / 1000; drawMovers(); };
 
   let last = null;
