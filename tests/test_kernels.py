@@ -38,6 +38,7 @@ import pmplan
 from pmplan import api, configuration, running
 from pmplan.configuration import coincident_pairs
 from pmplan.errors import CertificationError, InputError, PmplanError
+from pmplan.kernels import common as kernels_common
 from pmplan.kernels import obstacle_line as kernels_line
 from pmplan.kernels import validation as kernels_validation
 from pmplan.planners.obstacle_line import OBSTACLE_LINE, path_times
@@ -437,10 +438,10 @@ def _mixed_batch(rng, b, d, m, n, r, special):
     """A batch of b queries through r configurations: mostly generic normal queries, with
     ``special`` queries at random positions replaced by one that the lanes must hand to the
     scalar kernel (exact lattice ties, coincident points, NaN, the odd-d pole, a tiny robot
-    gap, a huge scale)."""
+    gap, a huge scale, finite obstacles whose difference w overflows: e is NaN)."""
     o = rng.normal(size=(b, m, d))
     cs = [rng.normal(size=(b, n, d)) for _ in range(r)]
-    kinds = ["lattice", "coincident", "nan", "pole", "tiny", "huge", "zero_w"]
+    kinds = ["lattice", "coincident", "nan", "pole", "tiny", "huge", "zero_w", "overflow_w"]
     for i in rng.choice(b, size=min(special, b), replace=False):
         kind = kinds[rng.integers(len(kinds))]
         if kind == "lattice":
@@ -460,6 +461,9 @@ def _mixed_batch(rng, b, d, m, n, r, special):
             o[i] *= 1e200
             for c in cs:
                 c[i] *= 1e200
+        elif kind == "overflow_w":
+            o[i, 0, 0] = -1.5e308
+            o[i, 1, 0] = 1.5e308
         elif kind == "zero_w":
             o[i, 1] = o[i, 0]
     return o, cs
@@ -521,6 +525,34 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
     if special == 0:  # ...and decide all of those in full blocks of a random batch
         assert decided[:full].all()
 
+
+
+@settings(max_examples=40)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([8, 16, 32, 64]), st.integers(1, 200),
+       st.integers(0, 3))
+def test_write_lanes_is_the_transpose(seed, lanes, size, block):
+    """``kernels.common._write_lanes`` (8 x 8 blocks transposed in registers, the rest element
+    by element) writes ``S.T`` into rows ``b0 .. b0 + L`` of the output, bit for bit (NaN
+    payloads, signed zeros, subnormals included), and touches no other row or element;
+    ``_read_lanes`` reads them back the other way."""
+    rng = np.random.default_rng(seed)
+    S = rng.standard_normal((size, lanes))
+    special = np.array([np.nan, -0.0, np.inf, -np.inf, 5e-324, -1.7976931348623157e308])
+    S.flat[rng.integers(0, S.size, 5)] = rng.choice(special, 5)
+    S.view(np.uint64).flat[0] ^= np.uint64(1)  # (an odd bit pattern: a NaN payload or ulp)
+    b0 = block * lanes
+    out = np.full((b0 + 2 * lanes, size), 7.0)
+    kernels_common._write_lanes(S, out, b0, lanes, size)
+    want = np.full_like(out, 7.0)
+    want[b0:b0 + lanes] = S.T
+    assert np.array_equal(out.view(np.uint64), want.view(np.uint64))
+    # and back: _read_lanes reads those rows into rows y0 .. y0 + size of lanes-innermost rows
+    y0 = block + 1
+    back = np.full((y0 + size + 3, lanes), 7.0)
+    kernels_common._read_lanes(out, b0, lanes, size, back, y0)
+    want = np.full_like(back, 7.0)
+    want[y0:y0 + size] = S
+    assert np.array_equal(back.view(np.uint64), want.view(np.uint64))
 
 def test_large_batch_equals_reference():
     """A batch large enough for several SIMD blocks, generic and exactly degenerate queries

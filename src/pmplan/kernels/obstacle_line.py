@@ -104,11 +104,15 @@ from .common import (
     INVALID,
     NONFINITE,
     SUSPECT,
+    _NoneType,
+    _read_lanes,
     _segment_dist2_plane,
     _segment_param,
     _two_prod,
     _two_sum,
+    _write_lanes,
     njit,
+    overload,
 )
 
 __all__ = [
@@ -1312,26 +1316,55 @@ def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
 
 @njit(**_INLINE)
 def _rel4(S, w, a, b, a3, b3, l):  # pragma: no cover - compiled
-    """The relative position of a pair at waypoint block ``w``, lane l (see :func:`_pair_space`)."""
+    """The relative position of a pair at waypoint block ``w``, lane l (see :func:`_pair_space`):
+    coordinates 0-2 at rows ``a``, ``b`` (+ 0, 1, 2), and with ``a3`` not None (d = 4) the
+    fourth at rows ``a3``, ``b3`` (:func:`_fourth`: the d = 3 specialisation has 3-tuples)."""
     return (S[w + a, l] - S[w + b, l], S[w + a + 1, l] - S[w + b + 1, l],
-            S[w + a + 2, l] - S[w + b + 2, l], S[w + a3, l] - S[w + b3, l])
+            S[w + a + 2, l] - S[w + b + 2, l]) + _fourth(S, w, a3, b3, l)
+
+
+def _fourth(S, w, a3, b3, l):  # pragma: no cover - only its compiled overload runs
+    """The fourth coordinate of :func:`_rel4` as a tuple: ``()`` when ``a3`` is None (d = 3),
+    else ``(S[w + a3, l] - S[w + b3, l],)``; chosen by the type of ``a3`` when numba compiles."""
+    raise NotImplementedError("compiled only")
+
+
+@overload(_fourth)
+def _fourth_typed(S, w, a3, b3, l):  # pragma: no cover - compiled
+    if isinstance(a3, _NoneType):
+        return lambda S, w, a3, b3, l: ()
+    return lambda S, w, a3, b3, l: (S[w + a3, l] - S[w + b3, l],)
+
+
+@njit(**_INLINE)
+def _norm2(r):  # pragma: no cover - compiled
+    """The squared norm of the tuple ``r``, summed in order (``r[0]**2`` first, no ``0.0 +``:
+    a sum of squares is never -0, so the value is that of certify's sum)."""
+    s = r[0] * r[0]
+    for c in range(1, len(r)):
+        s += r[c] * r[c]
+    return s
 
 
 @njit(**_INLINE)
 def _dist2_space(r1, r2):  # pragma: no cover - compiled
-    """:func:`_dist2_lanes` for 4 coordinates (relative positions ``r1`` -> ``r2``): the sums
-    sequential; without the ``0.0 +`` (no value changes, see :func:`_dist2_lanes`)."""
-    vx = r2[0] - r1[0]
-    vy = r2[1] - r1[1]
-    vz = r2[2] - r1[2]
-    vu = r2[3] - r1[3]
-    vv = ((vx * vx + vy * vy) + vz * vz) + vu * vu
-    q = _segment_param(-(((r1[0] * vx + r1[1] * vy) + r1[2] * vz) + r1[3] * vu), vv)
-    qx = r1[0] + q * vx
-    qy = r1[1] + q * vy
-    qz = r1[2] + q * vz
-    qu = r1[3] + q * vu
-    return ((qx * qx + qy * qy) + qz * qz) + qu * qu
+    """:func:`_dist2_lanes` for 3 or 4 coordinates (the tuples ``r1`` -> ``r2``): the sums
+    sequential; without the ``0.0 +`` (no value changes, see :func:`_dist2_lanes`). The loops
+    over the coordinates have a length numba knows (the tuples'), so LLVM unrolls them."""
+    v = r2[0] - r1[0]
+    vv = v * v
+    num = r1[0] * v
+    for c in range(1, len(r1)):
+        v = r2[c] - r1[c]
+        vv += v * v
+        num += r1[c] * v
+    q = _segment_param(-num, vv)
+    qc = r1[0] + q * (r2[0] - r1[0])
+    s = qc * qc
+    for c in range(1, len(r1)):
+        qc = r1[c] + q * (r2[c] - r1[c])
+        s += qc * qc
+    return s
 
 
 @njit(**_INLINE)
@@ -1348,15 +1381,15 @@ def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - co
     """:func:`_pair_plane` in space, d = 3 or 4: one pair over one segment, every lane.
 
     Coordinates 0-2 of the pair's points are at rows ``a``, ``b`` (+ 0, 1, 2) of a waypoint,
-    the fourth at rows ``a3``, ``b3`` (d = 4: ``a + 3``, ``b + 3``; d = 3: ``a3 == b3``, whose
-    difference is 0: the sums then add 0.0 last, which changes no value -- a sum of squares
-    is never -0, and the sign of a zero ``num`` does not change the parameter, see
-    :func:`_dist2_lanes`). The sums over the coordinates are sequential, in certify's order.
-    Written out piece by piece (no inner loop), so that the loop over the lanes vectorises.
+    the fourth (d = 4) at rows ``a3``, ``b3`` (``a + 3``, ``b + 3``); d = 3 passes
+    ``a3 = b3 = None`` and gets its own specialisation with three coordinates (a zero fourth
+    coordinate, as before, cost (3,4,2) about 4 % of the kernel). The sums over the coordinates
+    are sequential, in certify's order. Written out piece by piece (no inner loop over the
+    pieces), so that the loop over the lanes vectorises.
     """
     for l in range(S.shape[1]):
         r0 = _rel4(S, w0, a, b, a3, b3, l)
-        best = ((r0[0] * r0[0] + r0[1] * r0[1]) + r0[2] * r0[2]) + r0[3] * r0[3]
+        best = _norm2(r0)
         z = T[src, l]
         best = best if best < z else z  # noqa: FURB136 (a select: NaN never chosen)
         r1 = _rel4(S, w0 + row, a, b, a3, b3, l)
@@ -1387,6 +1420,41 @@ def _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover
 
 
 @njit(**_OPTS)
+def _max_finite(S, T, x0, x1, mx, mx2, BAD):  # pragma: no cover - compiled
+    """Rows ``x0 .. x1`` of ``S`` into the running maximum of |value| of every lane (row ``mx``
+    of T, alternating with ``mx2``: returns the new pair) and the finiteness test (adds to row
+    ``BAD``: ``v - v`` is NaN unless v is finite). Four rows per pass."""
+    L = S.shape[1]
+    quads = x1 - (x1 - x0) % 4
+    for x in range(x0, quads, 4):
+        for l in range(L):
+            v0 = S[x, l]
+            v1 = S[x + 1, l]
+            v2 = S[x + 2, l]
+            v3 = S[x + 3, l]
+            T[BAD, l] += ((v0 - v0) + (v1 - v1)) + ((v2 - v2) + (v3 - v3))
+            a0 = abs(v0)
+            a1 = abs(v1)
+            a2 = abs(v2)
+            a3 = abs(v3)
+            a0 = a1 if a1 > a0 else a0  # noqa: FURB136 (selects: NaN is caught by BAD)
+            a2 = a3 if a3 > a2 else a2  # noqa: FURB136
+            a0 = a2 if a2 > a0 else a0  # noqa: FURB136
+            z = T[mx, l]
+            T[mx2, l] = a0 if a0 > z else z  # noqa: FURB136
+        mx, mx2 = mx2, mx
+    for x in range(quads, x1):
+        for l in range(L):
+            v = S[x, l]
+            av = abs(v)
+            T[BAD, l] += v - v
+            z = T[mx, l]
+            T[mx2, l] = av if av > z else z  # noqa: FURB136 (a select: NaN never chosen)
+        mx, mx2 = mx2, mx
+    return mx, mx2
+
+
+@njit(**_OPTS)
 def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2, wf,
                    b0, GAP, NORM):  # pragma: no cover - compiled
     """The certificate of :func:`_plan_lanes` for one block of L queries (SPEC section 5).
@@ -1404,36 +1472,22 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
     # (the obstacle rows, the endpoints and the configurations C_k are copies of the input
     # here -- F(C_k, 1) = C_k + 0 e as values for finite e -- so the scalar kernel's BROKEN
     # checks hold for every lane with finite waypoints, and the pieces 7k -> 7k + 1,
-    # 7k + 6 -> 7k + 7 do not move). Four waypoint rows per pass: the largest |coordinate|
-    # (certify's scale) and the finiteness test (v - v is NaN unless v is finite).
+    # 7k + 6 -> 7k + 7 do not move). The largest |coordinate| (certify's scale) and the
+    # finiteness test over the rows that hold every value of the waypoints: the
+    # configurations (waypoints 7k and the last) and the robots of waypoints 7k + 2 .. 7k + 5.
+    # The others are copies, up to the sign of a zero, of these: the obstacles (+ 0.0 at
+    # 7k + 3, 7k + 4) and F(C_k, 1) = C_k + 0 e at 7k + 1, 7k + 6 -- unless e has a NaN (e is
+    # never infinite), and then the projected robots at 7k + 2 are NaN too. (Every row:
+    # 7-9 % of the (3,4,2) and (4,4,2) kernels; these rows are 84 of (3,4,2)'s 144.)
     for l in range(L):
         T[mx, l] = 0.0
-    quads = size - size % 4
-    for x in range(0, quads, 4):
-        for l in range(L):
-            v0 = S[x, l]
-            v1 = S[x + 1, l]
-            v2 = S[x + 2, l]
-            v3 = S[x + 3, l]
-            T[BAD, l] += ((v0 - v0) + (v1 - v1)) + ((v2 - v2) + (v3 - v3))
-            a0 = abs(v0)
-            a1 = abs(v1)
-            a2 = abs(v2)
-            a3 = abs(v3)
-            a0 = a1 if a1 > a0 else a0  # noqa: FURB136 (selects: NaN is caught by BAD)
-            a2 = a3 if a3 > a2 else a2  # noqa: FURB136
-            a0 = a2 if a2 > a0 else a0  # noqa: FURB136
-            z = T[mx, l]
-            T[mx2, l] = a0 if a0 > z else z  # noqa: FURB136
-        mx, mx2 = mx2, mx
-    for x in range(quads, size):
-        for l in range(L):
-            v = S[x, l]
-            av = abs(v)
-            T[BAD, l] += v - v
-            z = T[mx, l]
-            T[mx2, l] = av if av > z else z  # noqa: FURB136 (a select: NaN never chosen)
-        mx, mx2 = mx2, mx
+    md = m * d
+    for k in range(r - 1):
+        t0 = 7 * k * row
+        mx, mx2 = _max_finite(S, T, t0, t0 + row, mx, mx2, BAD)
+        for s in range(2, 6):
+            mx, mx2 = _max_finite(S, T, t0 + s * row + md, t0 + (s + 1) * row, mx, mx2, BAD)
+    mx, mx2 = _max_finite(S, T, (kk - 1) * row, kk * row, mx, mx2, BAD)
     mn = np.int64(13)  # not the literal 13: numba would compile _pair_plane for it too
     mn2 = np.int64(14)
     for l in range(L):
@@ -1483,9 +1537,11 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
         for k in range(r - 1 if d <= 4 else 0):
             for i in range(p - 1):
                 for j in range(max(i + 1, m), p):
-                    a3 = i * d + 3 if d == 4 else 0
-                    b3 = j * d + 3 if d == 4 else 0
-                    _pair_space(S, 7 * k * row, i * d, j * d, a3, b3, row, T, mn, mn2)
+                    if d == 3:
+                        _pair_space(S, 7 * k * row, i * d, j * d, None, None, row, T, mn, mn2)
+                    else:
+                        _pair_space(S, 7 * k * row, i * d, j * d, i * d + 3, j * d + 3, row,
+                                    T, mn, mn2)
                     mn, mn2 = mn2, mn
         R = np.empty((2 * d, L))  # d > 4: the relative position and motion of a pair
         for t in range(kk - 1 if d > 4 else 0):
@@ -1532,6 +1588,25 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
             mn, mn2 = mn2, mn
     return mn
 
+
+# Where the time of _plan_lanes goes (issue 17 item 3), measured by removing one part at a time
+# in throwaway variants (kernel code only, CPU time in one process, 32,768 generic queries, best
+# of 20 alternating rounds; a share is the time the variant saves, +-3 % noise):
+#   at 2e4589d, the waypoints written to the output element by element: 43 % of (2,4,2),
+#     43 % of (3,4,2), 47 % of (4,4,2); the certificate 26 / 33 / 30 %, its pair minima
+#     21 / 22 / 23 %. The strided reads of the lanes' rows made the write cost twice a copy.
+#   then (the write in 8 x 8 blocks transposed in registers, common._write_lanes; d = 3
+#     pairs with three coordinates; before the blocked read, _read_lanes): the write
+#     36 / 35 / 35 % -- about one copy of the output: memory-bound --, the certificate
+#     30 / 34 / 35 % (pair minima 23 / 25 / 25 %: arithmetic, one division per piece and
+#     lane), reading the queries 11 / 15 / 10 %, building the waypoint rows 5 / 2 / 7 %, the
+#     rest (frame, column classes, projection, lift) about 15 %. Per output float (3,4,2)
+#     costs what (2,4,2) does.
+#   since: the queries read in blocks too (_read_lanes), the next block's output rows
+#     prefetched (_write_lanes), the scale and finiteness from 84 of (3,4,2)'s 144 rows
+#     (_max_finite: every row was 7-9 %). Kernel against 2e4589d, CPU time, one process,
+#     best of 30 (benchmarks/kernel_ab.py): (2,4,2) 0.84, (3,4,2) 0.81, (4,4,2) 0.84; against
+#     8632269: 0.85, 0.66, 0.68.
 @njit(**_OPTS)
 def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance, flags, todo,
                L):  # pragma: no cover - compiled
@@ -1594,18 +1669,18 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     dom = 2 - (r - 1) * m + r * p
     for blk in range(nfull):
         b0 = blk * L
-        # --- the configurations, lanes innermost ---------------------------------------------
-        for l in range(L):
-            b = b0 + l
-            for k in range(r):
-                for x in range(md):
-                    Y[k * row + x, l] = of[b, x]
-            for x in range(nd):
-                Y[md + x, l] = ff[b, x]
-                Y[(r - 1) * row + md + x, l] = lf[b, x]
-            for k in range(1, r - 1):
-                for x in range(nd):
-                    Y[k * row + md + x, l] = mf[k - 1, b, x]
+        # --- the configurations, lanes innermost (8 x 8 blocks transposed in registers; read
+        # element by element, this was 10-15 % of the kernel's time: blocked, (4,4,2) is 4 %
+        # faster, (2,4,2) 2 %; (3,4,2), whose rows are 6 and 12 long, unchanged) ------------
+        _read_lanes(of, b0, L, md, Y, 0)
+        _read_lanes(ff, b0, L, nd, Y, md)
+        _read_lanes(lf, b0, L, nd, Y, (r - 1) * row + md)
+        for k in range(1, r - 1):
+            _read_lanes(mf[k - 1], b0, L, nd, Y, k * row + md)
+        for k in range(1, r):
+            for x in range(md):
+                for l in range(L):
+                    Y[k * row + x, l] = Y[x, l]
         for l in range(L):
             T[BAD, l] = 0.0
         # --- the frame: w = o2 - o1, e, |w|, nu(e) ------------------------------------------
@@ -1794,21 +1869,13 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         for x in range(row):
             for l in range(L):
                 S[(kk - 1) * row + x, l] = Y[(r - 1) * row + x, l]
-        # --- write the waypoints: from 256 values per query eight lanes at a time, every cache
-        # line of S read used whole (lane by lane it is read again for each lane); below it
-        # lane by lane, one stream to memory. kernel_ab, B = 65,536, against lane by lane:
-        # (2,16,2) -8 to -15 %, (2,64,2) -13 %; eight at a time on (2,1,2) +26 to +34 %,
-        # (2,4,2) +8 % (L is a multiple of 8, :func:`lanes`) -------------------------------
-        if size >= 256:
-            for l0 in range(0, L, 8):
-                for x in range(size):
-                    for l in range(l0, l0 + 8):
-                        wf[b0 + l, x] = S[x, l]
-        else:
-            for l in range(L):
-                w = wf[b0 + l]
-                for x in range(size):
-                    w[x] = S[x, l]
+        # --- write the waypoints (query after query), before the certificate: the lane sweeps
+        # read them there. 8 x 8 blocks transposed in registers (common._write_lanes): element
+        # by element, this write was 43-47 % of the kernel's time for (2,4,2), (3,4,2),
+        # (4,4,2); blocked, the kernel is 10-13 % faster. (Eight lanes at a time element by
+        # element, from 256 values per query, had made (2,16,2) 8-15 % and (2,64,2) 13 %
+        # faster than lane by lane, (2,1,2) 26-34 % and (2,4,2) 8 % slower.)
+        _write_lanes(S, wf, b0, L, size)
         # --- certificate: finite, clearance (:func:`_certify_lanes`) -------------------------
         mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2,
                             wf, b0, GAP, NORM)
