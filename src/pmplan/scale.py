@@ -179,12 +179,15 @@ def _template(p, r: int, m: int, n: int, d: int, refine: dict | None) -> dict:
     return template
 
 
-def _extra(b: int, refine: dict, measured: dict) -> dict:
-    """The refinement record (:attr:`pmplan.PlanBatch._extra`) of ``b`` refined plans whose
-    measured fields (robot and obstacle distance, radii respected) are ``measured``."""
-    return {"radius": np.full(b, refine["radius"]),
-            "obstacle_radius": np.full(b, refine["obstacle_radius"]),
-            "refined": np.ones(b, dtype=bool), **measured}
+def _extra(refine: dict, measured: dict) -> dict:
+    """The refinement record (:attr:`pmplan.PlanBatch._extra`) of lazy refined plans whose
+    measured fields (robot and obstacle distance, radii respected: dask arrays) are
+    ``measured``; the radii and the ``refined`` flag are constant dask arrays chunked alike."""
+    da = _need("dask.array")
+    rd = measured["robot_distance"]
+    return {"radius": da.full(rd.shape, refine["radius"], chunks=rd.chunks),
+            "obstacle_radius": da.full(rd.shape, refine["obstacle_radius"], chunks=rd.chunks),
+            "refined": da.ones(rd.shape, dtype=bool, chunks=rd.chunks), **measured}
 
 
 def _context(exc: PmplanError, lo: int, hi: int, where: str):
@@ -286,10 +289,7 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
         out["times"] = template["times"]
     extra = {}
     if refine is not None:
-        b = obstacles.shape[0]
-        measured = {k: out.pop(k) for k in REFINED_OUTPUTS}
-        extra = {k: da.from_array(v, chunks=obstacles.chunks[0]) if k not in measured else v
-                 for k, v in _extra(b, refine, measured).items()}
+        extra = _extra(refine, {k: out.pop(k) for k in REFINED_OUTPUTS})
     return api.PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
 
 
@@ -771,8 +771,5 @@ def open_plans(path):
     extra = {}
     refine = attrs.get("refine")
     if refine is not None:
-        measured = {k: da.from_zarr(group[k]) for k in REFINED_OUTPUTS}
-        chunks = measured["robot_distance"].chunks[0]
-        extra = {k: v if k in measured else da.from_array(v, chunks=chunks)
-                 for k, v in _extra(attrs["B"], refine, measured).items()}
+        extra = _extra(refine, {k: da.from_zarr(group[k]) for k in REFINED_OUTPUTS})
     return api.PlanBatch(planner=attrs["planner"], dims=(d, n, m), _extra=extra, **arrays)

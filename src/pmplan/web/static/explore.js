@@ -100,6 +100,10 @@
     }));
   }
 
+  function screenPoints(waypoints, k) {  // point k of every waypoint, as SVG "x,y" pairs
+    return waypoints.map((w) => `${sx(w[k][0]).toFixed(2)},${sy(w[k][1]).toFixed(2)}`).join(" ");
+  }
+
   function drawPlan() {
     const gp = $("paths"), gr = $("raw-paths");
     gp.replaceChildren(); gr.replaceChildren();
@@ -108,14 +112,12 @@
     const m = state.obstacles.length, n = plan.waypoints[0].length - m;
     if (plan.raw) {  // a refined motion: the planner's own motion, dashed, underneath
       for (let i = 0; i < n; i++) {
-        const pts = plan.raw.waypoints.map((w) => `${sx(w[m + i][0]).toFixed(2)},${sy(w[m + i][1]).toFixed(2)}`);
-        el("polyline", { id: `raw-${i + 1}`, class: "raw-path", points: pts.join(" "),
+        el("polyline", { id: `raw-${i + 1}`, class: "raw-path", points: screenPoints(plan.raw.waypoints, m + i),
                          stroke: COLORS[i % COLORS.length] }, gr);
       }
     }
     for (let i = 0; i < n; i++) {
-      const pts = plan.waypoints.map((w) => `${sx(w[m + i][0]).toFixed(2)},${sy(w[m + i][1]).toFixed(2)}`);
-      el("polyline", { id: `path-${i + 1}`, class: "robot-path", points: pts.join(" "),
+      el("polyline", { id: `path-${i + 1}`, class: "robot-path", points: screenPoints(plan.waypoints, m + i),
                        stroke: COLORS[i % COLORS.length],
                        "data-times": JSON.stringify(plan.times),
                        "data-world": JSON.stringify(plan.waypoints.map((w) => w[m + i])) }, gp);
