@@ -420,3 +420,72 @@ def test_radius_report_exact_at_ties():
     _, _, ok = radius_report(wp, 1, 0.5, np.nextafter(0.5, 1))
     assert not ok[0]
     assert R.KAPPA > 0 and 0 < R.PHI < 1
+
+
+def _pieces_exact(wp: np.ndarray, a, b) -> np.ndarray:
+    """The exact squared minimum of every pair on every piece of paths (B, W, P, d), as floats
+    rounded from rationals (B, W-1, pairs)."""
+    out = np.empty((wp.shape[0], wp.shape[1] - 1, len(a)))
+    for i in range(wp.shape[0]):
+        for j in range(wp.shape[1] - 1):
+            for q, (pa, pb) in enumerate(zip(a, b)):
+                out[i, j, q] = float(_exact_segment_dist2(wp[i, j, pa], wp[i, j, pb],
+                                                          wp[i, j + 1, pa], wp[i, j + 1, pb]))
+    return out
+
+
+@settings(max_examples=60, deadline=None)
+@given(data=st.data(), integer=st.booleans(), d=st.sampled_from([2, 3]),
+       robots=st.integers(1, 3), w=st.integers(3, 6), phi=st.sampled_from([0.0, 0.25, 0.9]),
+       gain=st.sampled_from([0.3, 3.0, 30.0]))
+def test_clearing_scale_keeps_every_floor(data, integer, d, robots, w, phi, gain):
+    """A clearing move scaled by ``_clear_scale`` (isotropic or directional allowance) keeps
+    every pair above its floor F on every piece, exactly (rational distances), for random and
+    integer (degenerate: collinear, head-on, zero-length pieces) paths and moves of any size."""
+    m, p = 2, 2 + robots
+    if integer:
+        coords = st.integers(-3, 3).map(float)
+    else:
+        coords = st.floats(-1, 1, allow_nan=False, allow_subnormal=False)
+    x = np.array(data.draw(st.lists(coords, min_size=w * p * d, max_size=w * p * d)))
+    x = x.reshape(1, w, p, d)
+    x[:, :, :m] = x[:, :1, :m]  # the obstacles stay fixed
+    a, b, c = pairs(p, m)
+    d0 = R.piece_minima(x, a, b)
+    if not (d0 > 1e-6).all():
+        return  # a colliding "path": not an input of the refinement
+    rng = np.random.default_rng(data.draw(st.integers(0, 2**32 - 1)))
+    delta = gain * rng.normal(size=x.shape)
+    delta[:, :, :m] = 0.0
+    floor = phi * d0
+    gap = np.maximum(d0 - floor, 0.0)
+    cap = R._caps(x, a, b, c, (R.SHARE * c) * gap)
+    s = R._clear_scale(x, delta, m, a, b, c, d0, gap, cap)
+    assert ((s >= 0) & (s <= 1)).all()
+    moved = x.copy()
+    moved[:, :, m:] = x[:, :, m:] + delta[:, :, m:] * s[:, :, m:, None]
+    after2 = _pieces_exact(moved, a, b)
+    # the floor, up to the rounding of the float move (relative 1e-9 of the distances)
+    assert (after2 >= (floor * floor) * (1 - 1e-9) - 1e-12 * d0 * d0).all()
+
+
+def test_clearing_directional_allowance_pushes_a_near_contact_out():
+    """A robot whose path nearly touches an obstacle head-on at a waypoint (distance 1e-6) is
+    pushed out, along the path's turn, by far more than its isotropic cap, and stays clear."""
+    c_near = 1e-6
+    x = np.zeros((1, 3, 3, 2))
+    x[:, :, 1] = [5.0, 5.0]  # the second obstacle, far away
+    x[0, :, 2] = [[1.0, 0.0], [c_near, 0.0], [1.0, 0.5]]  # in, nearly touching 0, out
+    a, b, c = pairs(3, 2)
+    d0 = R.piece_minima(x, a, b)
+    floor = R.PHI * d0
+    gap = np.maximum(d0 - floor, 0.0)
+    cap = R._caps(x, a, b, c, (R.SHARE * c) * gap)
+    delta = np.zeros(x.shape)
+    delta[0, 1, 2] = [0.1, 0.025]  # outward, between the two pieces
+    s = R._clear_scale(x, delta, 2, a, b, c, d0, gap, cap)
+    moved = x.copy()
+    moved[:, :, 2:] += delta[:, :, 2:] * s[:, :, 2:, None]
+    step = np.hypot(*(moved[0, 1, 2] - x[0, 1, 2]))
+    assert step > 1e4 * cap[0, 1, 2] and step > 0.05
+    assert (R.piece_minima(moved, a, b) >= floor).all()

@@ -38,7 +38,11 @@ numbers, no discrete choice (only min, max and clip of continuous quantities):
    ``D`` and ``c = 1/2`` for two robots, ``1`` for a robot and an obstacle (which never moves).
    Then every distance stays above its floor: shortening uses ``F = min(T (1 + MARGIN), D)``
    (a pair at or above the target never goes below it), clearing uses ``F = PHI D`` below ``T``,
-   rising continuously to ``T (1 + MARGIN)`` at ``T*``.
+   rising continuously to ``T (1 + MARGIN)`` at ``T*``. The clearing spends half of that
+   (:data:`SHARE`) isotropically, and may instead move a point further when the *inward* part
+   of its move along the piece, ``max_t w(t) (-r(t).move)``, stays within its share of
+   ``D^2 - F'^2`` (``|r + dr|^2 >= |r|^2 + 2 r.dr``; :func:`_clear_scale`): a pair that nearly
+   touches is pushed out in steps that do not shrink with its distance.
 
 The targets: ``T = 2 radius`` between robots and ``radius + obstacle_radius`` between a robot and
 an obstacle; when a target is 0 (no radius asked), ``KAPPA`` times the raw plan's clearance, so
@@ -112,6 +116,17 @@ MARGIN = 2.0**-30
 #: 1 / LAMBDA, so a larger LAMBDA keeps the continuity modulus small (measured: 2**-4 halves
 #: the largest 1e-6 probe of n = 8 against 2**-12, at the same lengths)
 LAMBDA = 2.0**-4
+#: the clearing's share of a pair's free distance ``D - F``: a move of a point within
+#: ``SHARE c (D - F)`` (isotropic), or whose inward part along the piece stays within its share of
+#: ``D^2 - F'^2`` (directional: a near-contact is pushed out, or slides, in large steps), keeps the
+#: pair above ``F`` (1/2 makes the two kinds add up to at most ``D - F``; measured on the n = 8
+#: rows of benchmarks/refine_bench.py: the largest 1e-6 probe 3-4e-4 against 0.7-4.9e-3 with the
+#: isotropic cap alone, same lengths)
+SHARE = 0.5
+#: the push direction at an interior waypoint is ``r + GAMMA min(|v_in|, |v_out|) (v_out/|v_out|
+#: - v_in/|v_in|)`` (r the relative position, v the relative path's pieces): where a pair nearly
+#: touches at the end of a piece it follows the path's turn rather than ``r / |r|``
+GAMMA = 0.25
 #: the weight of the push at the waypoints (along the pair's relative position there) against
 #: the push at the soft closest point of each piece (weight 1). Where a pair nearly touches at a
 #: waypoint (clearance c) its direction turns by delta / c under a move delta of the query, so
@@ -365,6 +380,57 @@ def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
         _apply(x, delta, cap[:, j], m, j)
 
 
+def _qmax(al, be, start: bool):
+    """``max(0, max over t in [0, 1] of w(t) (al + t be))``, ``w = 1 - t`` (``start``) or ``t``:
+    the largest inward part of a move of one end of a piece (see :func:`_clear_scale`)."""
+    if start:  # (1 - t)(al + t be) = al + t (be - al) - t^2 be
+        c0, c1, c2 = al, be - al, -be
+    else:  # t (al + t be)
+        c0, c1, c2 = np.zeros_like(al), al, be
+    q1 = c0 + c1 + c2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ts = np.where(c2 < 0, np.clip(-c1 / np.where(c2 < 0, 2.0 * c2, -1.0), 0.0, 1.0), 0.0)
+    qs = c0 + ts * (c1 + ts * c2)
+    return np.maximum(np.maximum(np.maximum(c0, q1), qs), 0.0)
+
+
+def _clear_scale(x, delta, m, a, b, c, d, gap, cap) -> np.ndarray:
+    """The scale in [0, 1] of every point's clearing move, (B, W, P): 1 within the isotropic cap
+    ``cap``; beyond it the smallest, over the point's pairs and the two adjacent pieces, of the
+    larger of its isotropic scale ``SHARE c (D - F) / |move|`` and its *directional* scale
+    ``share / P``, ``share = (D^2 - F'^2) / (2 terms)``, ``F' = D - SHARE (D - F)``, ``P`` the
+    largest inward part ``max_t w(t) (-r(t).move)`` of the move along the piece (closed form:
+    a quadratic in t). Collision-free: ``|r + dr|^2 >= |r|^2 + 2 r.dr``, so the directional
+    terms keep the pair above ``F'`` and the isotropic ones take at most ``SHARE (D - F)`` more;
+    with ``SHARE = 1/2`` the pair stays above ``F``."""
+    bsz, w, p = x.shape[:3]
+    nrm = np.sqrt(_dot(delta, delta))
+    s = np.ones((bsz, w, p))
+    for q in range(a.shape[0]):
+        pa, pb = a[q], b[q]
+        r = x[:, :, pa] - x[:, :, pb]
+        r0, v = r[:, :-1], r[:, 1:] - r[:, :-1]
+        dq = d[:, :, q]
+        gq = gap[:, :, q]
+        f2 = dq - SHARE * gq
+        nterms = 4.0 if pa >= m else 2.0
+        share = np.maximum(dq * dq - f2 * f2, 0.0) / (2.0 * nterms)
+        iso = (SHARE * c[q]) * gq
+        for pt, sign in ((pb, -1.0), (pa, 1.0)) if pa >= m else ((pb, -1.0),):
+            for start in (True, False):
+                sl = slice(None, -1) if start else slice(1, None)
+                dl = delta[:, sl, pt]
+                big = nrm[:, sl, pt] > cap[:, sl, pt]  # only the moves beyond the cap
+                P = _qmax(-sign * _dot(r0, dl), -sign * _dot(v, dl), start)
+                nm = nrm[:, sl, pt]
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    sd = np.where(P > share, share / np.where(P > 0, P, 1.0), 1.0)
+                    si = np.where(nm > iso, iso / np.where(nm > 0, nm, 1.0), 1.0)
+                s[:, sl, pt] = np.where(big, np.minimum(s[:, sl, pt], np.maximum(sd, si)),
+                                        s[:, sl, pt])
+    return s
+
+
 def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
     d = piece_minima(x, a, b)
     keep = tgt * (1.0 + MARGIN)  # (B, pairs)
@@ -375,17 +441,29 @@ def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
     floor = np.where(d <= t_, PHI * d,
                      np.where(d >= star[:, None, :], keep[:, None, :],
                               low[:, None, :] + (d - t_) * slope[:, None, :]))
-    free = c * np.maximum(d - floor, 0.0)
-    cap = _caps(x, a, b, c, free)
+    gap = np.maximum(d - floor, 0.0)
+    cap = _caps(x, a, b, c, (SHARE * c) * gap)
     push = np.zeros(x.shape)
     for q in range(a.shape[0]):
         pa, pb, cq, sq = a[q], b[q], c[q], star[:, q][:, None]
         rel = x[:, :, pa] - x[:, :, pb]  # (B, W, d)
         dist = np.sqrt(_dot(rel, rel))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            fac = np.where(dist > 0, (OMEGA * cq) * np.maximum(sq - dist, 0.0) / dist, 0.0)
         r0, r1 = rel[:, :-1], rel[:, 1:]
         v = r1 - r0
+        # the push direction at an interior waypoint: the relative position plus GAMMA times
+        # the turn of the relative path there (continuous; it does not turn with r / |r| where
+        # the pair nearly touches at the end of a piece)
+        vn = np.sqrt(_dot(v, v))
+        nin, nout = vn[:, :-1], vn[:, 1:]
+        eps = GAMMA * np.minimum(nin, nout)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ein = np.where(nin > 0, eps / np.where(nin > 0, nin, 1.0), 0.0)
+            eout = np.where(nout > 0, eps / np.where(nout > 0, nout, 1.0), 0.0)
+        u = rel.copy()
+        u[:, 1:-1] = rel[:, 1:-1] + eout[..., None] * v[:, 1:] - ein[..., None] * v[:, :-1]
+        den = np.maximum(np.sqrt(_dot(u, u)), dist)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fac = np.where(den > 0, (OMEGA * cq) * np.maximum(sq - dist, 0.0) / den, 0.0)
         # the soft closest point of the piece: continuous even where v -> 0
         soft = np.clip(-_dot(r0, v) / (_dot(v, v) + LAMBDA * (_dot(r0, r0) + _dot(r1, r1))),
                        0.0, 1.0)
@@ -395,7 +473,7 @@ def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
             facm = np.where(distm > 0, cq * np.maximum(sq - distm, 0.0) / distm, 0.0)
         # no push on a piece whose every point is at least sq apart (d: its exact minimum)
         facm = np.where(d[:, :, q] < sq, facm, 0.0)
-        fw = fac[..., None] * rel
+        fw = fac[..., None] * u
         push[:, :, pb] = push[:, :, pb] - fw
         if pa >= m:
             push[:, :, pa] = push[:, :, pa] + fw
@@ -407,7 +485,8 @@ def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
             push[:, 1:, pa] = push[:, 1:, pa] + f1
             push[:, :-1, pa] = push[:, :-1, pa] + f0
     delta = (BETA * mob)[..., None, None] * push
-    _apply(x, delta, cap, m)
+    scale = _clear_scale(x, delta, m, a, b, c, d, gap, cap)
+    x[:, :, m:] = x[:, :, m:] + delta[:, :, m:] * scale[:, :, m:, None]
 
 
 def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,

@@ -31,7 +31,7 @@ from .common import _OBSTACLE_TINY2, _OPTS, _REL, njit
 __all__ = ["measure_batch", "refine_batch"]
 
 # the reference's constants are passed as ``kp`` = (ALPHA, BETA, PHI, ETA, MARGIN, LAMBDA,
-# OMEGA) and the overshoot ``eta`` of the level, read at every call (a module global would be
+# OMEGA, SHARE, GAMMA) and the overshoot ``eta`` of the level, read at every call (a module global would be
 # compiled in, and cached on disk, as a constant: a change of pmplan.refine would not reach the
 # kernel)
 
@@ -97,21 +97,6 @@ def _caps(a, b, free, cap):  # pragma: no cover - compiled
 
 
 @njit(**_OPTS)
-def _apply(x, delta, cap, m):  # pragma: no cover - compiled
-    """``x += delta min(1, cap/|delta|)`` for the robots (:func:`pmplan.refine._apply`)."""
-    w, p, dd = x.shape
-    for j in range(w):
-        for i in range(m, p):
-            s = 0.0
-            for k in range(dd):
-                s = s + delta[j, i, k] * delta[j, i, k]
-            nrm = math.sqrt(s)
-            scale = cap[j, i] / nrm if nrm > cap[j, i] else 1.0
-            for k in range(dd):
-                x[j, i, k] = x[j, i, k] + delta[j, i, k] * scale
-
-
-@njit(**_OPTS)
 def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel, kp):  # pragma: no cover
     w, p, dd = x.shape
     _minima(x, a, b, dmin, rel)
@@ -132,7 +117,7 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel, kp):  #
                     dk = wgt * (chord - x[j, i, k])
                     delta[j, i, k] = dk
                     s = s + dk * dk
-                # the capped move of _apply, written out: a shared inlined helper cost 10-20 %
+                # the capped move of pmplan.refine._apply, written out: a shared inlined helper cost 10-20 %
                 # of a refined (2,4,2) batch (CPU time, 5 alternating pairs, 2,000 queries)
                 nrm = math.sqrt(s)
                 scale = cap[j, i] / nrm if nrm > cap[j, i] else 1.0
@@ -141,9 +126,68 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel, kp):  #
 
 
 @njit(**_OPTS)
-def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, kp, eta):  # pragma: no cover
+def _qmax(al, be, start):  # pragma: no cover - compiled
+    """:func:`pmplan.refine._qmax` of one term."""
+    if start:
+        c0 = al
+        c1 = be - al
+        c2 = -be
+    else:
+        c0 = 0.0
+        c1 = al
+        c2 = be
+    q1 = c0 + c1 + c2
+    ts = 0.0
+    if c2 < 0:
+        ts = min(max(-c1 / (2.0 * c2), 0.0), 1.0)
+    qs = c0 + ts * (c1 + ts * c2)
+    return max(max(max(c0, q1), qs), 0.0)
+
+
+@njit(**_OPTS)
+def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp):  # pragma: no cover - compiled
+    """The scale of point ``pt``'s clearing move at waypoint ``j`` beyond its isotropic cap
+    (:func:`pmplan.refine._clear_scale`, same arithmetic)."""
+    w, _, dd = x.shape
+    share_k = kp[7]
+    s = 1.0
+    for q in range(a.shape[0]):
+        pa, pb = a[q], b[q]
+        if pb == pt:
+            sign = -1.0
+        elif pa == pt and pa >= m:
+            sign = 1.0
+        else:
+            continue
+        nterms = 4.0 if pa >= m else 2.0
+        for jp in (j, j - 1):  # the piece starting at j, then the piece ending at j
+            if jp < 0 or jp >= w - 1:
+                continue
+            dq = dmin[jp, q]
+            gq = gap[jp, q]
+            f2 = dq - share_k * gq
+            share = max(dq * dq - f2 * f2, 0.0) / (2.0 * nterms)
+            iso = (share_k * c[q]) * gq
+            r0d = 0.0
+            vd = 0.0
+            for k in range(dd):
+                r0 = x[jp, pa, k] - x[jp, pb, k]
+                v = (x[jp + 1, pa, k] - x[jp + 1, pb, k]) - r0
+                r0d = r0d + r0 * delta[j, pt, k]
+                vd = vd + v * delta[j, pt, k]
+            big_p = _qmax(-sign * r0d, -sign * vd, jp == j)
+            sd = share / big_p if big_p > share else 1.0
+            si = iso / nm if nm > iso else 1.0
+            s = min(s, max(sd, si))
+    return s
+
+
+@njit(**_OPTS)
+def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, kp, eta):  # pragma: no cover
     w, p, dd = x.shape
     delta[:, :, :] = 0.0  # the push
+    share_k = kp[7]
+    gamma = kp[8]
     for q in range(a.shape[0]):
         t = tgt[q]
         keep = t * (1.0 + kp[4])
@@ -155,7 +199,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, kp, eta):  # pr
         near = False  # (a pair at least sq apart on every piece gets no push: skipped)
         for j in range(w - 1):
             dq = _piece_min(rel, j)
-            dmin[j, 0] = dq
+            dmin[j, q] = dq
             near = near or dq < star
             if dq <= t:
                 floor = kp[2] * dq
@@ -163,7 +207,9 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, kp, eta):  # pr
                 floor = keep
             else:
                 floor = low + (dq - t) * slope
-            free[j, q] = cq * max(dq - floor, 0.0)
+            g = max(dq - floor, 0.0)
+            gap[j, q] = g
+            free[j, q] = (share_k * cq) * g
         if not near:
             continue
         sq = star
@@ -172,16 +218,41 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, kp, eta):  # pr
             for k in range(dd):
                 s = s + rel[j, k] * rel[j, k]
             dist = math.sqrt(s)
-            fw0 = (kp[6] * cq) * max(sq - dist, 0.0) / dist if dist > 0 else 0.0
-            if fw0 == 0.0:
-                continue
+            if not sq - dist > 0.0:
+                continue  # no push (the reference adds a zero)
+            ein = 0.0
+            eout = 0.0
+            if 0 < j < w - 1:
+                sin = 0.0
+                sout = 0.0
+                for k in range(dd):
+                    vi = rel[j, k] - rel[j - 1, k]
+                    vo = rel[j + 1, k] - rel[j, k]
+                    sin = sin + vi * vi
+                    sout = sout + vo * vo
+                nin = math.sqrt(sin)
+                nout = math.sqrt(sout)
+                eps = gamma * min(nin, nout)
+                ein = eps / nin if nin > 0 else 0.0
+                eout = eps / nout if nout > 0 else 0.0
+            su = 0.0
             for k in range(dd):
-                fw = fw0 * rel[j, k]
+                uk = rel[j, k]
+                if 0 < j < w - 1:
+                    uk = uk + eout * (rel[j + 1, k] - rel[j, k]) - ein * (rel[j, k] - rel[j - 1, k])
+                su = su + uk * uk
+            den = max(math.sqrt(su), dist)
+            fw0 = (kp[6] * cq) * max(sq - dist, 0.0) / den if den > 0 else 0.0
+            for k in range(dd):
+                uk = rel[j, k]
+                if 0 < j < w - 1:
+                    uk = uk + eout * (rel[j + 1, k] - rel[j, k]) - ein * (rel[j, k] - rel[j - 1, k])
+                fw = fw0 * uk
                 delta[j, pb, k] = delta[j, pb, k] - fw
                 if pa >= m:
                     delta[j, pa, k] = delta[j, pa, k] + fw
         for j in range(w - 1):  # at the soft closest point of every piece
-            if not dmin[j, 0] < sq:
+            if not dmin[j, q] < sq:
                 continue  # no point of the piece is closer than sq: no push (exactly)
             r0v = 0.0
             vv = 0.0
@@ -217,7 +288,20 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, cap, delta, rel, kp, eta):  # pr
         for i in range(p):
             for k in range(dd):
                 delta[j, i, k] = wgt * delta[j, i, k]
-    _apply(x, delta, cap, m)
+    # the scales first (every one from the positions before the move), kept in ``cap``
+    for j in range(w):
+        for i in range(m, p):
+            s = 0.0
+            for k in range(dd):
+                s = s + delta[j, i, k] * delta[j, i, k]
+            nm = math.sqrt(s)
+            cap[j, i] = _dir_scale(x, m, a, b, c, dmin, gap, delta, j, i, nm, kp) \
+                if nm > cap[j, i] else 1.0
+    for j in range(w):
+        for i in range(m, p):
+            sc = cap[j, i]
+            for k in range(dd):
+                x[j, i, k] = x[j, i, k] + delta[j, i, k] * sc
 
 
 @njit(**_OPTS)
@@ -229,6 +313,7 @@ def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta):  # pragma
     npair = a.shape[0]
     dmin = np.empty((w - 1, npair))
     free = np.empty((w - 1, npair))
+    gap = np.empty((w - 1, npair))
     cap = np.empty((w, p))
     delta = np.empty((w, p, dd))
     rel = np.empty((w, dd))
@@ -236,10 +321,10 @@ def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta):  # pragma
         xi = x[i]
         g = i if mob.shape[0] > 1 else 0  # shared times: one row of mobility and fractions
         for _ in range(steps):
-            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, cap, delta, rel, kp, eta)
+            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, kp, eta)
             _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel, kp)
         for _ in range(clear_only):
-            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, cap, delta, rel, kp, eta)
+            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, kp, eta)
 
 
 #: flags of :func:`measure_batch`: the certificate's exact re-decision is needed (a piece
@@ -318,7 +403,8 @@ def measure_batch(waypoints: np.ndarray, m: int, need: tuple[float, float]):
 def constants() -> np.ndarray:
     """The reference's constants, as the kernel reads them."""
     ref = sys.modules["pmplan.refine"]
-    return np.array([ref.ALPHA, ref.BETA, ref.PHI, ref.ETA, ref.MARGIN, ref.LAMBDA, ref.OMEGA])
+    return np.array([ref.ALPHA, ref.BETA, ref.PHI, ref.ETA, ref.MARGIN, ref.LAMBDA, ref.OMEGA,
+                     ref.SHARE, ref.GAMMA])
 
 
 def _grids(times: np.ndarray, r: int, waypoints_per_piece: int, steps: int, b: int):
