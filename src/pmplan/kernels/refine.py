@@ -72,14 +72,50 @@ def _piece_min(rel, j):  # pragma: no cover - compiled
 
 
 @njit(**_OPTS)
-def _minima(x, a, b, dmin, rel):  # pragma: no cover - compiled
+def _minima(x, a, b, dmin, rel_t):  # pragma: no cover - compiled
     """The closed-form minimum distance of every pair on every piece into ``dmin`` (W-1,
-    pairs)."""
-    w = x.shape[0]
+    pairs): :func:`_piece_min`'s arithmetic (bit for bit), on the relative positions held
+    coordinate-major in ``rel_t`` (d, W) so that the loop over the pieces vectorises (2.2x
+    faster than a call of :func:`_piece_min` per piece for W = 15, 14 pairs)."""
+    w, _, dd = x.shape
     for q in range(a.shape[0]):
-        _pair_rel(x, a[q], b[q], rel)
-        for j in range(w - 1):
-            dmin[j, q] = _piece_min(rel, j)
+        pa, pb = a[q], b[q]
+        for k in range(dd):
+            for j in range(w):
+                rel_t[k, j] = x[j, pa, k] - x[j, pb, k]
+        if dd == 2:
+            for j in range(w - 1):
+                r0x = rel_t[0, j]
+                r0y = rel_t[1, j]
+                vx = rel_t[0, j + 1] - r0x
+                vy = rel_t[1, j + 1] - r0y
+                vv = (0.0 + vx * vx) + vy * vy
+                num = -((0.0 + r0x * vx) + r0y * vy)
+                qq = num / vv  # (vv = 0: replaced below)
+                qq = 1.0 if num >= vv else qq
+                qq = 0.0 if num <= 0 else qq
+                qq = qq if vv > 0 else 0.0
+                qx = r0x + qq * vx
+                qy = r0y + qq * vy
+                dmin[j, q] = math.sqrt((0.0 + qx * qx) + qy * qy)
+        else:
+            for j in range(w - 1):
+                vv = 0.0
+                r0v = 0.0
+                for k in range(dd):
+                    v = rel_t[k, j + 1] - rel_t[k, j]
+                    vv = vv + v * v
+                    r0v = r0v + rel_t[k, j] * v
+                num = -r0v
+                qq = num / vv
+                qq = 1.0 if num >= vv else qq
+                qq = 0.0 if num <= 0 else qq
+                qq = qq if vv > 0 else 0.0
+                sq = 0.0
+                for k in range(dd):
+                    qx = rel_t[k, j] + qq * (rel_t[k, j + 1] - rel_t[k, j])
+                    sq = sq + qx * qx
+                dmin[j, q] = math.sqrt(sq)
 
 
 @njit(**_OPTS)
@@ -97,9 +133,9 @@ def _caps(a, b, free, cap):  # pragma: no cover - compiled
 
 
 @njit(**_OPTS)
-def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel, kp):  # pragma: no cover
+def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel_t, kp):  # pragma: no cover
     w, p, dd = x.shape
-    _minima(x, a, b, dmin, rel)
+    _minima(x, a, b, dmin, rel_t)
     for q in range(a.shape[0]):
         keep = tgt[q] * (1.0 + kp[4])
         for j in range(w - 1):
@@ -183,11 +219,12 @@ def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp):  # pragma: no co
 
 
 @njit(**_OPTS)
-def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, kp, eta):  # pragma: no cover
+def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta):  # pragma: no cover
     w, p, dd = x.shape
     delta[:, :, :] = 0.0  # the push
     share_k = kp[7]
     gamma = kp[8]
+    _minima(x, a, b, dmin, rel_t)
     for q in range(a.shape[0]):
         t = tgt[q]
         keep = t * (1.0 + kp[4])
@@ -195,11 +232,9 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, kp, eta): 
         low = kp[2] * t
         slope = (keep - low) / (star - t)
         pa, pb, cq = a[q], b[q], c[q]
-        _pair_rel(x, pa, pb, rel)
         near = False  # (a pair at least sq apart on every piece gets no push: skipped)
         for j in range(w - 1):
-            dq = _piece_min(rel, j)
-            dmin[j, q] = dq
+            dq = dmin[j, q]
             near = near or dq < star
             if dq <= t:
                 floor = kp[2] * dq
@@ -212,6 +247,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, kp, eta): 
             free[j, q] = (share_k * cq) * g
         if not near:
             continue
+        _pair_rel(x, pa, pb, rel)
         sq = star
         for j in range(w):  # at the waypoints
             s = 0.0
@@ -317,14 +353,15 @@ def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta):  # pragma
     cap = np.empty((w, p))
     delta = np.empty((w, p, dd))
     rel = np.empty((w, dd))
+    rel_t = np.empty((dd, w))
     for i in range(bsz):
         xi = x[i]
         g = i if mob.shape[0] > 1 else 0  # shared times: one row of mobility and fractions
         for _ in range(steps):
-            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, kp, eta)
-            _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel, kp)
+            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, rel_t, kp, eta)
+            _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel_t, kp)
         for _ in range(clear_only):
-            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, kp, eta)
+            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, rel_t, kp, eta)
 
 
 #: flags of :func:`measure_batch`: the certificate's exact re-decision is needed (a piece
