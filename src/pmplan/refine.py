@@ -116,6 +116,14 @@ MARGIN = 2.0**-30
 #: 1 / LAMBDA, so a larger LAMBDA keeps the continuity modulus small (measured: 2**-4 halves
 #: the largest 1e-6 probe of n = 8 against 2**-12, at the same lengths)
 LAMBDA = 2.0**-4
+#: clearing floor of the waypoint pass (its pushes first, then the soft points' with PHI): a
+#: pair below its target may lose at most 1 - PHI_WAYPOINT of its distance in that pass. Two
+#: passes, so that the push at a waypoint where a pair nearly touches (along the path's turn,
+#: outward on both pieces) is not held back by the soft points' pushes, nearly along the pieces
+#: (measured on the n = 8 rows of benchmarks/refine_bench.py, three draws: 2 probes above 1e-4
+#: of 400 against 4-13 in one pass; 0.9 keeps every path clear of 1e-2, 0.5 squeezes some to
+#: 1e-9)
+PHI_WAYPOINT = 0.9
 #: the clearing's share of a pair's free distance ``D - F``: a move of a point within
 #: ``SHARE c (D - F)`` (isotropic), or whose inward part along the piece stays within its share of
 #: ``D^2 - F'^2`` (directional: a near-contact is pushed out, or slides, in large steps), keeps the
@@ -431,14 +439,18 @@ def _clear_scale(x, delta, m, a, b, c, d, gap, cap) -> np.ndarray:
     return s
 
 
-def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
+def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool) -> None:
+    """One clearing pass: the pushes at the waypoints (``at_waypoints``, floor factor
+    :data:`PHI_WAYPOINT`) or at the soft closest points of the pieces (floor factor
+    :data:`PHI`), each point's move scaled by :func:`_clear_scale`."""
+    phi = PHI_WAYPOINT if at_waypoints else PHI
     d = piece_minima(x, a, b)
     keep = tgt * (1.0 + MARGIN)  # (B, pairs)
     star = tgt * (1.0 + eta)
-    low = PHI * tgt
+    low = phi * tgt
     slope = (keep - low) / (star - tgt)
     t_ = tgt[:, None, :]
-    floor = np.where(d <= t_, PHI * d,
+    floor = np.where(d <= t_, phi * d,
                      np.where(d >= star[:, None, :], keep[:, None, :],
                               low[:, None, :] + (d - t_) * slope[:, None, :]))
     gap = np.maximum(d - floor, 0.0)
@@ -447,23 +459,29 @@ def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
     for q in range(a.shape[0]):
         pa, pb, cq, sq = a[q], b[q], c[q], star[:, q][:, None]
         rel = x[:, :, pa] - x[:, :, pb]  # (B, W, d)
-        dist = np.sqrt(_dot(rel, rel))
         r0, r1 = rel[:, :-1], rel[:, 1:]
         v = r1 - r0
-        # the push direction at an interior waypoint: the relative position plus GAMMA times
-        # the turn of the relative path there (continuous; it does not turn with r / |r| where
-        # the pair nearly touches at the end of a piece)
-        vn = np.sqrt(_dot(v, v))
-        nin, nout = vn[:, :-1], vn[:, 1:]
-        eps = GAMMA * np.minimum(nin, nout)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            ein = np.where(nin > 0, eps / np.where(nin > 0, nin, 1.0), 0.0)
-            eout = np.where(nout > 0, eps / np.where(nout > 0, nout, 1.0), 0.0)
-        u = rel.copy()
-        u[:, 1:-1] = rel[:, 1:-1] + eout[..., None] * v[:, 1:] - ein[..., None] * v[:, :-1]
-        den = np.maximum(np.sqrt(_dot(u, u)), dist)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            fac = np.where(den > 0, (OMEGA * cq) * np.maximum(sq - dist, 0.0) / den, 0.0)
+        if at_waypoints:
+            dist = np.sqrt(_dot(rel, rel))
+            # the push direction at an interior waypoint: the relative position plus GAMMA
+            # times the turn of the relative path there (continuous; it does not turn with
+            # r / |r| where the pair nearly touches at the end of a piece)
+            vn = np.sqrt(_dot(v, v))
+            nin, nout = vn[:, :-1], vn[:, 1:]
+            eps = GAMMA * np.minimum(nin, nout)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                ein = np.where(nin > 0, eps / np.where(nin > 0, nin, 1.0), 0.0)
+                eout = np.where(nout > 0, eps / np.where(nout > 0, nout, 1.0), 0.0)
+            u = rel.copy()
+            u[:, 1:-1] = rel[:, 1:-1] + eout[..., None] * v[:, 1:] - ein[..., None] * v[:, :-1]
+            den = np.maximum(np.sqrt(_dot(u, u)), dist)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                fac = np.where(den > 0, (OMEGA * cq) * np.maximum(sq - dist, 0.0) / den, 0.0)
+            fw = fac[..., None] * u
+            push[:, :, pb] = push[:, :, pb] - fw
+            if pa >= m:
+                push[:, :, pa] = push[:, :, pa] + fw
+            continue
         # the soft closest point of the piece: continuous even where v -> 0
         soft = np.clip(-_dot(r0, v) / (_dot(v, v) + LAMBDA * (_dot(r0, r0) + _dot(r1, r1))),
                        0.0, 1.0)
@@ -473,10 +491,6 @@ def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
             facm = np.where(distm > 0, cq * np.maximum(sq - distm, 0.0) / distm, 0.0)
         # no push on a piece whose every point is at least sq apart (d: its exact minimum)
         facm = np.where(d[:, :, q] < sq, facm, 0.0)
-        fw = fac[..., None] * u
-        push[:, :, pb] = push[:, :, pb] - fw
-        if pa >= m:
-            push[:, :, pa] = push[:, :, pa] + fw
         f1 = (facm * soft)[..., None] * relm
         f0 = (facm - facm * soft)[..., None] * relm
         push[:, 1:, pb] = push[:, 1:, pb] - f1
@@ -487,6 +501,12 @@ def _clear(x, m, a, b, c, tgt, mob, eta) -> None:
     delta = (BETA * mob)[..., None, None] * push
     scale = _clear_scale(x, delta, m, a, b, c, d, gap, cap)
     x[:, :, m:] = x[:, :, m:] + delta[:, :, m:] * scale[:, :, m:, None]
+
+
+def _clearing(x, m, a, b, c, tgt, mob, eta) -> None:
+    """The clearing substep: the waypoint pass, then the soft-point pass."""
+    _clear(x, m, a, b, c, tgt, mob, eta, True)
+    _clear(x, m, a, b, c, tgt, mob, eta, False)
 
 
 def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
@@ -528,10 +548,10 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         frac = chord_fraction(tb)
         eta = overshoot(level)
         for _ in range(n_steps):
-            _clear(x, m, a, b, c, tgt, mob, eta)
+            _clearing(x, m, a, b, c, tgt, mob, eta)
             _shorten(x, m, a, b, c, tgt, frac, mob)
     for _ in range(final_steps(steps)):
-        _clear(x, m, a, b, c, tgt, mob, eta)
+        _clearing(x, m, a, b, c, tgt, mob, eta)
     return t, x
 
 

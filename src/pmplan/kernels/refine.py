@@ -31,7 +31,7 @@ from .common import _OBSTACLE_TINY2, _OPTS, _REL, njit
 __all__ = ["measure_batch", "refine_batch"]
 
 # the reference's constants are passed as ``kp`` = (ALPHA, BETA, PHI, ETA, MARGIN, LAMBDA,
-# OMEGA, SHARE, GAMMA) and the overshoot ``eta`` of the level, read at every call (a module global would be
+# OMEGA, SHARE, GAMMA, PHI_WAYPOINT) and the overshoot ``eta`` of the level, read at every call (a module global would be
 # compiled in, and cached on disk, as a constant: a change of pmplan.refine would not reach the
 # kernel)
 
@@ -219,8 +219,11 @@ def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp):  # pragma: no co
 
 
 @njit(**_OPTS)
-def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta):  # pragma: no cover
+def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta,
+           at_waypoints):  # pragma: no cover - compiled
+    """One clearing pass of :func:`pmplan.refine._clear` (same arithmetic, same order)."""
     w, p, dd = x.shape
+    phi = kp[9] if at_waypoints else kp[2]
     delta[:, :, :] = 0.0  # the push
     share_k = kp[7]
     gamma = kp[8]
@@ -229,7 +232,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
         t = tgt[q]
         keep = t * (1.0 + kp[4])
         star = t * (1.0 + eta)
-        low = kp[2] * t
+        low = phi * t
         slope = (keep - low) / (star - t)
         pa, pb, cq = a[q], b[q], c[q]
         near = False  # (a pair at least sq apart on every piece gets no push: skipped)
@@ -237,7 +240,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
             dq = dmin[j, q]
             near = near or dq < star
             if dq <= t:
-                floor = kp[2] * dq
+                floor = phi * dq
             elif dq >= star:
                 floor = keep
             else:
@@ -249,7 +252,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
             continue
         _pair_rel(x, pa, pb, rel)
         sq = star
-        for j in range(w):  # at the waypoints
+        for j in range(w if at_waypoints else 0):  # at the waypoints
             s = 0.0
             for k in range(dd):
                 s = s + rel[j, k] * rel[j, k]
@@ -287,7 +290,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
                 delta[j, pb, k] = delta[j, pb, k] - fw
                 if pa >= m:
                     delta[j, pa, k] = delta[j, pa, k] + fw
-        for j in range(w - 1):  # at the soft closest point of every piece
+        for j in range(0 if at_waypoints else w - 1):  # at the soft closest point of every piece
             if not dmin[j, q] < sq:
                 continue  # no point of the piece is closer than sq: no push (exactly)
             r0v = 0.0
@@ -357,11 +360,13 @@ def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta):  # pragma
     for i in range(bsz):
         xi = x[i]
         g = i if mob.shape[0] > 1 else 0  # shared times: one row of mobility and fractions
-        for _ in range(steps):
-            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, rel_t, kp, eta)
-            _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel_t, kp)
-        for _ in range(clear_only):
-            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, rel_t, kp, eta)
+        for k in range(steps + clear_only):
+            for at_waypoints in (True, False):  # the clearing substep: two passes
+                _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, rel_t,
+                       kp, eta, at_waypoints)
+            if k < steps:
+                _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel_t,
+                         kp)
 
 
 #: flags of :func:`measure_batch`: the certificate's exact re-decision is needed (a piece
@@ -441,7 +446,7 @@ def constants() -> np.ndarray:
     """The reference's constants, as the kernel reads them."""
     ref = sys.modules["pmplan.refine"]
     return np.array([ref.ALPHA, ref.BETA, ref.PHI, ref.ETA, ref.MARGIN, ref.LAMBDA, ref.OMEGA,
-                     ref.SHARE, ref.GAMMA])
+                     ref.SHARE, ref.GAMMA, ref.PHI_WAYPOINT])
 
 
 def _grids(times: np.ndarray, r: int, waypoints_per_piece: int, steps: int, b: int):
