@@ -18,7 +18,9 @@ numbers, no discrete choice (only min, max and clip of continuous quantities):
    Every raw breakpoint stays a breakpoint, so the intermediate configurations stay exactly at
    their times.
 2. *Steps.* At each level, ``steps`` are split evenly; a step is a *clearing* substep followed
-   by a *shortening* substep. Shortening moves every interior waypoint a fraction
+   by a *shortening* substep. The clearing substep has two passes, the pushes at the waypoints
+   then those at the soft closest points (:func:`_clearing`). Shortening moves every interior
+   waypoint a fraction
    :data:`ALPHA` toward the point of the chord of its two neighbours at its time (red-black:
    the odd waypoints first, then the even ones toward the moved odd ones); clearing
    pushes the two points of a pair apart at the waypoints (weight :data:`OMEGA`) and at the
