@@ -390,29 +390,52 @@ def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
         _apply(x, delta, cap[:, j], m, j)
 
 
-def _qmax(al, be, start: bool):
-    """``max(0, max over t in [0, 1] of w(t) (al + t be))``, ``w = 1 - t`` (``start``) or ``t``:
-    the largest inward part of a move of one end of a piece (see :func:`_clear_scale`)."""
+def _budget(r0, v, f2, nterms: float, al, be, start: bool):
+    """The directional scale of one end's move on one piece: ``min(1, min over t in [0, 1]
+    with g(t) > 0 of h(t) / g(t))``, where ``g(t) = w(t) (al + t be)`` is the inward part of the
+    move at the piece's parameter t (``w = 1 - t`` at the start, ``t`` at the end) and
+    ``h(t) = (|r(t)|^2 - F'^2) / (2 terms)`` its share of the room above ``F'`` there. The
+    minimum of the ratio of two quadratics is at t = 0, 1 or a root of ``h' g - h g'``, itself a
+    quadratic (its cubic terms cancel); the candidates are clipped to [0, 1] (an extra one,
+    the vertex ``-B / A``, only lowers the result)."""
     if start:  # (1 - t)(al + t be) = al + t (be - al) - t^2 be
-        c0, c1, c2 = al, be - al, -be
+        g0, g1, g2 = al, be - al, -be
     else:  # t (al + t be)
-        c0, c1, c2 = np.zeros_like(al), al, be
-    q1 = c0 + c1 + c2
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ts = np.where(c2 < 0, np.clip(-c1 / np.where(c2 < 0, 2.0 * c2, -1.0), 0.0, 1.0), 0.0)
-    qs = c0 + ts * (c1 + ts * c2)
-    return np.maximum(np.maximum(np.maximum(c0, q1), qs), 0.0)
+        g0, g1, g2 = np.zeros_like(al), al, be
+    den = 2.0 * nterms
+    h0 = (_dot(r0, r0) - f2 * f2) / den
+    h1 = (2.0 * _dot(r0, v)) / den
+    h2 = _dot(v, v) / den
+    qa = h2 * g1 - h1 * g2
+    qb = h2 * g0 - h0 * g2
+    qc = h1 * g0 - h0 * g1
+    sq = np.sqrt(np.maximum(qb * qb - qa * qc, 0.0))
+    qq = np.where(qb >= 0, -(qb + sq), -(qb - sq))
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        cands = (np.zeros_like(al), np.ones_like(al),
+                 np.where(qa != 0, qq / np.where(qa != 0, qa, 1.0), 0.0),
+                 np.where(qq != 0, qc / np.where(qq != 0, qq, 1.0), 0.0),
+                 np.where(qa != 0, -qb / np.where(qa != 0, qa, 1.0), 0.0))
+    s = np.ones_like(al)
+    for t in cands:
+        t = np.clip(np.where(np.isnan(t), 0.0, t), 0.0, 1.0)
+        g = ((1.0 - t) if start else t) * (al + t * be)
+        rt = r0 + t[..., None] * v
+        h = np.maximum((_dot(rt, rt) - f2 * f2) / den, 0.0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            s = np.where(g > 0, np.minimum(s, h / np.where(g > 0, g, 1.0)), s)
+    return s
 
 
 def _clear_scale(x, delta, m, a, b, c, d, gap, cap) -> np.ndarray:
     """The scale in [0, 1] of every point's clearing move, (B, W, P): 1 within the isotropic cap
     ``cap``; beyond it the smallest, over the point's pairs and the two adjacent pieces, of the
     larger of its isotropic scale ``SHARE c (D - F) / |move|`` and its *directional* scale
-    ``share / P``, ``share = (D^2 - F'^2) / (2 terms)``, ``F' = D - SHARE (D - F)``, ``P`` the
-    largest inward part ``max_t w(t) (-r(t).move)`` of the move along the piece (closed form:
-    a quadratic in t). Collision-free: ``|r + dr|^2 >= |r|^2 + 2 r.dr``, so the directional
-    terms keep the pair above ``F'`` and the isotropic ones take at most ``SHARE (D - F)`` more;
-    with ``SHARE = 1/2`` the pair stays above ``F``."""
+    (:func:`_budget`): at every t of the piece the inward part of the move stays within its share
+    ``(|r(t)|^2 - F'^2) / (2 terms)``, ``F' = D - SHARE (D - F)``. Collision-free:
+    ``|r + dr|^2 >= |r|^2 + 2 r.dr``, so the directional terms keep the pair above ``F'`` at every
+    t and the isotropic ones take at most ``SHARE (D - F)`` more; with ``SHARE = 1/2`` the pair
+    stays above ``F``."""
     bsz, w, p = x.shape[:3]
     nrm = np.sqrt(_dot(delta, delta))
     s = np.ones((bsz, w, p))
@@ -420,21 +443,18 @@ def _clear_scale(x, delta, m, a, b, c, d, gap, cap) -> np.ndarray:
         pa, pb = a[q], b[q]
         r = x[:, :, pa] - x[:, :, pb]
         r0, v = r[:, :-1], r[:, 1:] - r[:, :-1]
-        dq = d[:, :, q]
         gq = gap[:, :, q]
-        f2 = dq - SHARE * gq
+        f2 = d[:, :, q] - SHARE * gq
         nterms = 4.0 if pa >= m else 2.0
-        share = np.maximum(dq * dq - f2 * f2, 0.0) / (2.0 * nterms)
         iso = (SHARE * c[q]) * gq
         for pt, sign in ((pb, -1.0), (pa, 1.0)) if pa >= m else ((pb, -1.0),):
             for start in (True, False):
                 sl = slice(None, -1) if start else slice(1, None)
                 dl = delta[:, sl, pt]
                 big = nrm[:, sl, pt] > cap[:, sl, pt]  # only the moves beyond the cap
-                P = _qmax(-sign * _dot(r0, dl), -sign * _dot(v, dl), start)
+                sd = _budget(r0, v, f2, nterms, -sign * _dot(r0, dl), -sign * _dot(v, dl), start)
                 nm = nrm[:, sl, pt]
                 with np.errstate(invalid="ignore", divide="ignore"):
-                    sd = np.where(P > share, share / np.where(P > 0, P, 1.0), 1.0)
                     si = np.where(nm > iso, iso / np.where(nm > 0, nm, 1.0), 1.0)
                 s[:, sl, pt] = np.where(big, np.minimum(s[:, sl, pt], np.maximum(sd, si)),
                                         s[:, sl, pt])

@@ -162,28 +162,65 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel_t, kp): 
 
 
 @njit(**_OPTS)
-def _qmax(al, be, start):  # pragma: no cover - compiled
-    """:func:`pmplan.refine._qmax` of one term."""
-    if start:
-        c0 = al
-        c1 = be - al
-        c2 = -be
-    else:
-        c0 = 0.0
-        c1 = al
-        c2 = be
-    q1 = c0 + c1 + c2
-    ts = 0.0
-    if c2 < 0:
-        ts = min(max(-c1 / (2.0 * c2), 0.0), 1.0)
-    qs = c0 + ts * (c1 + ts * c2)
-    return max(max(max(c0, q1), qs), 0.0)
+def _budget_at(r0, v, f2, den, al, be, start, t):  # pragma: no cover - compiled
+    """``h(t) / g(t)`` of :func:`pmplan.refine._budget` at one candidate t (inf where g <= 0)."""
+    t = 0.0 if math.isnan(t) else min(max(t, 0.0), 1.0)
+    g = ((1.0 - t) if start else t) * (al + t * be)
+    if not g > 0:
+        return np.inf
+    s = 0.0
+    for k in range(r0.shape[0]):
+        rt = r0[k] + t * v[k]
+        s = s + rt * rt
+    return max((s - f2 * f2) / den, 0.0) / g
 
 
 @njit(**_OPTS)
-def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp):  # pragma: no cover - compiled
+def _budget(r0, v, f2, nterms, al, be, start):  # pragma: no cover - compiled
+    """:func:`pmplan.refine._budget` of one term, same arithmetic."""
+    if start:
+        g0 = al
+        g1 = be - al
+        g2 = -be
+    else:
+        g0 = 0.0
+        g1 = al
+        g2 = be
+    den = 2.0 * nterms
+    rr = 0.0
+    rv = 0.0
+    vv = 0.0
+    for k in range(r0.shape[0]):
+        rr = rr + r0[k] * r0[k]
+        rv = rv + r0[k] * v[k]
+        vv = vv + v[k] * v[k]
+    h0 = (rr - f2 * f2) / den
+    h1 = (2.0 * rv) / den
+    h2 = vv / den
+    qa = h2 * g1 - h1 * g2
+    qb = h2 * g0 - h0 * g2
+    qc = h1 * g0 - h0 * g1
+    sq = math.sqrt(max(qb * qb - qa * qc, 0.0))
+    qq = -(qb + sq) if qb >= 0 else -(qb - sq)
+    s = min(1.0, _budget_at(r0, v, f2, den, al, be, start, 0.0))
+    s = min(s, _budget_at(r0, v, f2, den, al, be, start, 1.0))
+    if qa != 0:
+        s = min(s, _budget_at(r0, v, f2, den, al, be, start, qq / qa))
+    else:
+        s = min(s, _budget_at(r0, v, f2, den, al, be, start, 0.0))
+    if qq != 0:
+        s = min(s, _budget_at(r0, v, f2, den, al, be, start, qc / qq))
+    else:
+        s = min(s, _budget_at(r0, v, f2, den, al, be, start, 0.0))
+    if qa != 0:
+        s = min(s, _budget_at(r0, v, f2, den, al, be, start, -qb / qa))
+    return s
+
+
+@njit(**_OPTS)
+def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v):  # pragma: no cover
     """The scale of point ``pt``'s clearing move at waypoint ``j`` beyond its isotropic cap
-    (:func:`pmplan.refine._clear_scale`, same arithmetic)."""
+    (:func:`pmplan.refine._clear_scale`, same arithmetic); ``r0``, ``v``: (d,) scratch."""
     w, _, dd = x.shape
     share_k = kp[7]
     s = 1.0
@@ -199,20 +236,17 @@ def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp):  # pragma: no co
         for jp in (j, j - 1):  # the piece starting at j, then the piece ending at j
             if jp < 0 or jp >= w - 1:
                 continue
-            dq = dmin[jp, q]
             gq = gap[jp, q]
-            f2 = dq - share_k * gq
-            share = max(dq * dq - f2 * f2, 0.0) / (2.0 * nterms)
+            f2 = dmin[jp, q] - share_k * gq
             iso = (share_k * c[q]) * gq
             r0d = 0.0
             vd = 0.0
             for k in range(dd):
-                r0 = x[jp, pa, k] - x[jp, pb, k]
-                v = (x[jp + 1, pa, k] - x[jp + 1, pb, k]) - r0
-                r0d = r0d + r0 * delta[j, pt, k]
-                vd = vd + v * delta[j, pt, k]
-            big_p = _qmax(-sign * r0d, -sign * vd, jp == j)
-            sd = share / big_p if big_p > share else 1.0
+                r0[k] = x[jp, pa, k] - x[jp, pb, k]
+                v[k] = (x[jp + 1, pa, k] - x[jp + 1, pb, k]) - r0[k]
+                r0d = r0d + r0[k] * delta[j, pt, k]
+                vd = vd + v[k] * delta[j, pt, k]
+            sd = _budget(r0, v, f2, nterms, -sign * r0d, -sign * vd, jp == j)
             si = iso / nm if nm > iso else 1.0
             s = min(s, max(sd, si))
     return s
@@ -334,8 +368,8 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
             for k in range(dd):
                 s = s + delta[j, i, k] * delta[j, i, k]
             nm = math.sqrt(s)
-            cap[j, i] = _dir_scale(x, m, a, b, c, dmin, gap, delta, j, i, nm, kp) \
-                if nm > cap[j, i] else 1.0
+            cap[j, i] = _dir_scale(x, m, a, b, c, dmin, gap, delta, j, i, nm, kp, rel[0],
+                                   rel[1]) if nm > cap[j, i] else 1.0
     for j in range(w):
         for i in range(m, p):
             sc = cap[j, i]
