@@ -6,8 +6,8 @@ Usage (from the repository root)::
     python benchmarks/verify_ab.py A B --case 2,1,3 --rounds 5 --repeats 2
 
 Each ref's ``src/pmplan`` is exported (``git archive``, as ``kernel_ab.py`` does) into a folder; a
-fresh process per (round, ref) imports it, runs ``verify`` once small (compiling or loading the
-numba kernels; not timed), then times ``verify(d, n, m, progress=False, refine=True)``
+fresh process per (round, ref) imports it, runs the ``verify`` call once (compiling or loading
+every numba kernel it uses; not timed), then times ``verify(d, n, m, progress=False, refine=True)``
 ``--repeats`` times and keeps the best; the refs alternate round by round. Wall clock and the
 process's CPU time (``time.process_time``: on a machine shared with other jobs the wall clock
 also counts the time spent waiting for a core). Every process also returns a digest of the
@@ -33,7 +33,7 @@ CHILD = """
 import hashlib, json, sys, time
 from pmplan.verify import verify
 d, n, m, repeats = (int(v) for v in sys.argv[1:5])
-verify(d=d, n=n, m=m, queries=20, progress=False, refine=True)  # kernels compiled or loaded
+verify(d=d, n=n, m=m, progress=False, refine=True)  # every kernel compiled or loaded
 wall, cpu = [], []
 for _ in range(repeats):
     w0, c0 = time.perf_counter(), time.process_time()
