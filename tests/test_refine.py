@@ -104,17 +104,71 @@ def test_refined_plan_certified_same_domain(dims, degenerate, data):
     assert ref.clearance > 0
 
 
+def _assert_fixed_waypoints(raw_times, raw_wp, ref_times, ref_wp, fixed, full):
+    """The fixed waypoints ``fixed`` of one raw path are its r = len(full) configurations at the
+    times k / (r - 1), and the refined path keeps each exactly at waypoint ``fixed[k] S``."""
+    r = len(full)
+    s = (ref_times.shape[-1] - 1) // (raw_times.shape[-1] - 1)
+    assert s == DEFAULT_WAYPOINTS and fixed.shape == (r,)
+    for k, (kj, conf) in enumerate(zip(fixed.tolist(), full)):
+        assert raw_times[kj] == k / (r - 1) == ref_times[kj * s]
+        assert np.array_equal(raw_wp[kj], conf) and np.array_equal(ref_wp[kj * s], conf)
+
+
 @pytest.mark.parametrize("degenerate", [False, True])
 @settings(max_examples=10, deadline=None)
-@given(data=st.data())
-def test_refined_sequence_keeps_vias(degenerate, data):
-    o, s, g = data.draw(queries(2, 2, 2, degenerate=degenerate))
-    v = g[::-1].copy()  # the robots swapped: distinct from each other and from the obstacles
-    raw = pmplan.plan_sequence(o, [s, v, g])
+@given(data=st.data(), r=st.integers(2, 5), dims=st.sampled_from([(2, 2, 2), (3, 1, 3)]))
+def test_refined_sequence_keeps_vias(degenerate, data, r, dims):
+    """r = 2..5 configurations, single and batch: the planner's fixed waypoints
+    (``Planner.fixed_waypoints``) are the configurations, and the refined path keeps them."""
+    d, n, m = dims
+    o, s, g = data.draw(queries(d, m, n, degenerate=degenerate))
+    # intermediate configurations: the robots of the query in another order (distinct from
+    # each other and from the obstacles)
+    v = [g[::-1].copy(), s[::-1].copy(), g.copy()][:r - 2]
+    configs = [s, *v, g]
+    raw = pmplan.plan_sequence(o, configs)
     ref = pmplan.refine(raw)
-    _check_refined(raw, ref, [s, v, g])
-    again = pmplan.plan_sequence(o, [s, v, g], refine=True)
+    _check_refined(raw, ref, configs)
+    again = pmplan.plan_sequence(o, configs, refine=True)
     assert np.array_equal(again.path.waypoints, ref.path.waypoints)
+    full = [_full(o, c) for c in configs]
+    planner = REGISTRY[raw.planner]
+    fixed = planner.fixed_waypoints(raw.path.times)
+    _assert_fixed_waypoints(raw.path.times, raw.path.waypoints, ref.path.times,
+                            ref.path.waypoints, fixed, full)
+    raw_b = pmplan.plan_sequence_batch(np.stack([o, o]), [np.stack([c, c]) for c in configs])
+    ref_b = pmplan.refine(raw_b)
+    assert np.array_equal(planner.fixed_waypoints(raw_b.times), fixed)
+    for i in range(2):
+        _assert_fixed_waypoints(raw_b.times, raw_b.waypoints[i], ref_b.times,
+                                ref_b.waypoints[i], fixed, full)
+        assert np.array_equal(ref_b.waypoints[i], ref.path.waypoints)
+
+
+@settings(max_examples=10, deadline=None)
+@given(data=st.data(), degenerate=st.booleans())
+def test_planar_fixed_waypoints_first_and_last(data, degenerate):
+    """The planar planner (per-query breakpoints in a batch): r = 2, the first and the last
+    waypoint, single and batch."""
+    o, s, g = data.draw(queries(2, 3, 1, degenerate=degenerate))
+    raw = pmplan.plan(o, s, g)
+    assert raw.planner == "planar_three"
+    planner = REGISTRY[raw.planner]
+    full = [_full(o, s), _full(o, g)]
+    ref = pmplan.refine(raw)
+    k = raw.path.times.shape[0]
+    fixed = planner.fixed_waypoints(raw.path.times)
+    assert fixed.tolist() == [0, k - 1]
+    _assert_fixed_waypoints(raw.path.times, raw.path.waypoints, ref.path.times,
+                            ref.path.waypoints, fixed, full)
+    raw_b = pmplan.plan_batch(o[None], s[None], g[None])
+    assert raw_b.times.ndim == 2
+    fixed_b = planner.fixed_waypoints(raw_b.times)
+    assert fixed_b.tolist() == [0, raw_b.times.shape[1] - 1]
+    ref_b = pmplan.refine(raw_b)
+    _assert_fixed_waypoints(raw_b.times[0], raw_b.waypoints[0], ref_b.times[0],
+                            ref_b.waypoints[0], fixed_b, full)
 
 
 @settings(max_examples=15, deadline=None)

@@ -350,3 +350,90 @@ def test_verify_does_not_branch_on_a_planner_name(monkeypatch, name, dims):
     assert a == b
     assert a["ok"] and a["realised"] == a["labels"]
     assert bool(a["notes"]) == (name == "obstacle_line" and d % 2 == 1)
+
+
+# --------------------------------------------------------------------------------------------
+# verify(refine=True) refines every plan once: the continuity pass reuses the family pass's
+# refined plans of the base queries Q and refines only the moved queries Q'
+
+
+def _row_keys(batch) -> list[bytes]:
+    """One key per plan of a batch: the bytes of its breakpoints and waypoints."""
+    times = np.broadcast_to(batch.times, (len(batch), batch.times.shape[-1]))
+    return [t.tobytes() + w.tobytes() for t, w in zip(times, batch.waypoints)]
+
+
+def _refusing_refine(monkeypatch, log: list | None = None) -> None:
+    """Make ``pmplan.api.refine`` refuse (CertificationError naming them) the plans whose key
+    hashes to 0 mod 4 -- a rule of the plan alone, as a certificate is -- and log the keys of
+    the plans it refines."""
+    import hashlib
+    import sys
+
+    from pmplan.errors import CertificationError
+
+    api = sys.modules["pmplan.api"]
+    real = api.refine
+
+    def refine(batch, **kwargs):
+        keys = _row_keys(batch)
+        bad = [i for i, k in enumerate(keys) if hashlib.sha256(k).digest()[0] % 4 == 0]
+        if bad:
+            raise CertificationError("refused by the test", indices=np.array(bad))
+        if log is not None:
+            log.append(keys)
+        return real(batch, **kwargs)
+
+    monkeypatch.setattr(api, "refine", refine)
+
+
+@pytest.mark.parametrize("planner, d, n, m", [("obstacle_line", 2, 2, 2),
+                                              ("planar_three", 2, 1, 3)])
+def test_reused_refined_plans_are_what_refining_again_gives(monkeypatch, planner, d, n, m):
+    """The reuse is exact: planning rows of a family again gives the family's plans bit for
+    bit, and the refined plans ``_refined_rows`` takes from the family pass (refused ones
+    left out) are those that refining the plans again gives, in the order asked."""
+    from pmplan.verify import _plan_each, _refine_each, _refined_rows
+
+    _refusing_refine(monkeypatch)
+    rng = np.random.default_rng(7)
+    planned, refined = {}, {}
+    for name in ("exact", "random"):
+        q = tuple(gen.random_queries(rng, d, n, m, 16))
+        batch, kept, _ = _plan_each(q, planner)
+        rb, rk, refused = _refine_each(batch)
+        assert refused and rk.size  # some refused, some refined
+        planned[name], refined[name] = (q, batch, kept), (rb, rk)
+    # rows as the continuity pass asks them: exact ones first, refused ones among them
+    fams = np.array(["exact"] * 10 + ["random"] * 9)
+    rows = np.concatenate([np.arange(10), np.arange(3, 12)])
+    paths, at = _refined_rows(refined, fams, rows)
+    base = tuple(np.concatenate([np.asarray(planned[f][0][k])[planned[f][2][rows[fams == f]]]
+                                 for f in ("exact", "random")]) for k in range(3))
+    b0, k0, _ = _plan_each(base, planner)
+    assert k0.size == rows.size
+    for f in ("exact", "random"):
+        same = planned[f][1][rows[fams == f]]
+        assert np.array_equal(b0.waypoints[fams == f], same.waypoints)
+        assert np.array_equal(b0.clearance[fams == f], same.clearance)
+    r0, k0r, refused = _refine_each(b0)
+    assert refused and 0 < at.size < rows.size
+    assert np.array_equal(at, k0r)
+    assert np.array_equal(paths.waypoints, r0.waypoints)
+    assert np.array_equal(paths.times, np.broadcast_to(r0.times, paths.times.shape))
+
+
+def test_verify_refine_refines_each_plan_once(monkeypatch):
+    """The plans the continuity pass refines (those of the moved queries Q') are none of the
+    plans the family pass refined: the base queries' refined plans are reused, not refined
+    again; with refusals among them, the report still counts them as refused."""
+    log: list = []
+    _refusing_refine(monkeypatch, log)
+    r = verify(d=2, n=2, m=2, queries=30, seed=2, progress=False, refine=True)
+    families = [k for k in r.families if k.startswith("refined ")]
+    assert len(families) == 3 and len(log) == 4  # one refinement per family, one of Q'
+    family_keys = set().union(*log[:3])
+    assert sum(r.families[k]["planned"] for k in families) == len(family_keys)
+    assert log[3] and family_keys.isdisjoint(log[3])
+    assert any(r.families[k]["failed"] for k in families)  # refusals met
+    assert any(dr.refined_perturbations for dr in r.domains)

@@ -712,9 +712,9 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
         raise InputError(_MSG_REFINED.format(radius=f"{float(np.max(batch.radius)):g}"))
     p = REGISTRY[batch.planner]
     m = batch.dims[2]
-    r = p.configurations(np.asarray(times)) if np.ndim(times) == 1 else 2
-    stage = RefineStage(times, wp, clearance, m, r, radius, obstacle_radius, s, steps, backend)
-    check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in stage.fixed], radius, obstacle_radius,
+    fixed = p.fixed_waypoints(np.asarray(times))  # start, intermediate configurations, goal
+    stage = RefineStage(times, wp, clearance, m, fixed, radius, obstacle_radius, s, steps, backend)
+    check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in fixed], radius, obstacle_radius,
                 batched=not single, kernel=stage.kernel)
     run_stage(stage, progress=progress, workers=workers)
     extra = stage.extra()

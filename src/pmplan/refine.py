@@ -740,7 +740,12 @@ class RefineStage(Stage):
         The certified raw paths (not modified).
     clearance : ndarray, shape (B,)
         Their clearance (the targets when a radius is 0, see :func:`targets`).
-    m, r : int
+    m : int
+        Obstacles (the first m points).
+    fixed : sequence of int, length r
+        The raw waypoints the path passes through its r configurations (start, intermediate
+        ones at ``k / (r - 1)``, goal): :meth:`pmplan.planners.base.Planner.fixed_waypoints`.
+        The refinement keeps them exactly (at refined waypoint ``fixed[k] * waypoints_per_piece``).
     radius, obstacle_radius : float
     waypoints_per_piece, steps : int
     backend : str or None
@@ -750,14 +755,15 @@ class RefineStage(Stage):
     chunk = 512
     label = "refining"
 
-    def __init__(self, times, waypoints, clearance, m: int, r: int, radius: float,
+    def __init__(self, times, waypoints, clearance, m: int, fixed, radius: float,
                  obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None):
         from .backend import NUMBA, resolve
 
         self.raw_times = np.asarray(times, dtype=float)
         self.raw = waypoints
         self.size = waypoints.shape[0]
-        self.m, self.r = m, r
+        self.fixed = [int(kj) for kj in fixed]
+        self.m, self.r = m, len(self.fixed)
         self.radius, self.obstacle_radius = radius, obstacle_radius
         self.s, self.steps = waypoints_per_piece, steps
         self.kernel = resolve(backend) == NUMBA
@@ -772,10 +778,6 @@ class RefineStage(Stage):
         self.obstacle_distance = np.empty(b)
         self.respects = np.empty(b, dtype=bool)
         self.clause = np.zeros(b, np.uint8)
-        # the fixed waypoints: the raw ones at the times k / (r - 1)
-        self.fixed = [int(np.flatnonzero(self.raw_times[..., :] == j / (r - 1))[0])
-                      if self.raw_times.ndim == 1 else (0 if j == 0 else k - 1)
-                      for j in range(r)]
 
     def _refine(self, times, wp, target):
         if self.kernel:

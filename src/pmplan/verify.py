@@ -481,6 +481,30 @@ def _refine_each(batch):
     return _surviving(lambda k: api.refine(batch[k]), len(batch))
 
 
+def _refined_rows(refined: dict, fams: np.ndarray, rows: np.ndarray):
+    """The refined plans of the planned family rows ``(fams[j], rows[j])`` that the family
+    pass refined (``refined[family] = (refined batch or None, kept rows)``, :func:`_refine_each`
+    of the family's planned batch): return (their paths, with per-path breakpoints, or None
+    when there is none; the positions j they are for, ascending)."""
+    at, times, wp = [], [], []
+    for fname in dict.fromkeys(fams.tolist()):
+        rb, rk = refined[fname]
+        if rb is None:
+            continue
+        here = np.flatnonzero(fams == fname)
+        j = np.minimum(np.searchsorted(rk, rows[here]), rk.size - 1)
+        hit = rk[j] == rows[here]
+        at.append(here[hit])
+        times.append(np.broadcast_to(rb.times, (len(rb), rb.times.shape[-1]))[j[hit]])
+        wp.append(rb.waypoints[j[hit]])
+    if not at:
+        return None, np.zeros(0, dtype=np.int64)
+    at = np.concatenate(at)
+    order = np.argsort(at, kind="stable")
+    return (PiecewiseLinearPath(np.concatenate(times)[order], np.concatenate(wp)[order]),
+            at[order])
+
+
 def _rows(batch, idx) -> PiecewiseLinearPath:
     """The paths of plans ``idx`` of a batch."""
     return PiecewiseLinearPath(batch.times if batch.times.ndim == 1 else batch.times[idx],
@@ -632,10 +656,12 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
                             "stratum": _stratum_name(p, d, n, m, q, i), "error": msg})
         return out
 
+    refined_plans: dict[str, tuple] = {}  # family -> (refined batch or None, kept rows)
     if refine:  # the refined planner on every planned family: certificates, labels kept
         changed = 0
         for fname, (batch, kept) in planned.items():
             rb, rk, refused = _refine_each(batch)
+            refined_plans[fname] = (rb, rk)
             fails = refined_failures(REFINED + fname, families[fname], refused, kept)
             failures.extend(fails)
             fam_stats[REFINED + fname] = {
@@ -661,6 +687,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     ratios: dict[int, list] = {}
     refined_ratios: dict[int, list] = {}
     base_o, base_s, base_g, pert = [], [], [], []
+    source: list[tuple[str, int]] = []  # (family, row of its planned batch) of each base query
     for fname, share in (("exact", 2), ("random", 3)):
         if fname not in planned:
             continue
@@ -676,12 +703,15 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
             base_s.append(q[1][i])
             base_g.append(q[2][i])
             pert.append(moved)
+            source.append((fname, i))
     if pert:
         base = (np.stack(base_o), np.stack(base_s), np.stack(base_g))
         moved = tuple(np.stack([pq[k] for pq in pert]) for k in range(3))
         dist = query_distance(base, moved)
         use = dist > 0
         base, moved, dist = _take(base, use), _take(moved, use), dist[use]
+        src_fam = np.array([f for f, _ in source])[use]
+        src_row = np.array([i for _, i in source], dtype=np.int64)[use]
         b0, k0, r0 = _plan_each(base, name, lift)
         b1, k1, r1 = _plan_each(moved, name, lift)
         for fam_name, refused, qq in (("exact+random", r0, base), ("perturbed", r1, moved)):
@@ -708,12 +738,16 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
                     ratios.setdefault(label, []).append(r)
             if refine:  # the refined planner on the same pairs (refusals counted above)
                 same = np.flatnonzero(la == lb)
-                r0, k0r, _ = _refine_each(b0[i0[same]])
+                # Q: the family pass refined its plan already (b0 plans the same queries of
+                # the exact and random families, alike); only the moved queries Q' are new
+                pair = both[same]
+                r0, k0r = _refined_rows(refined_plans, src_fam[pair], src_row[pair])
                 r1, k1r, _ = _refine_each(b1[i1[same]])
                 if r0 is not None and r1 is not None:
                     kk = np.intersect1d(k0r, k1r)
                     j0, j1 = np.searchsorted(k0r, kk), np.searchsorted(k1r, kk)
-                    ratio = (path_distance(_rows(r0, j0), _rows(r1, j1))
+                    ratio = (path_distance(PiecewiseLinearPath(r0.times[j0], r0.waypoints[j0]),
+                                           _rows(r1, j1))
                              / dist[both][same][kk])
                     for label, r in zip(la[same][kk].tolist(), ratio.tolist()):
                         refined_ratios.setdefault(label, []).append(r)

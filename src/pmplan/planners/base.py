@@ -161,11 +161,28 @@ class Planner:
         are per query."""
         return None
 
-    def configurations(self, times: np.ndarray) -> int:
-        """The number r of configurations a path of this planner with breakpoints ``times``
-        (K,) passes through (start, intermediate ones at ``k / (r - 1)``, goal), for the stages
-        that must keep them fixed (:func:`pmplan.refine`). Default: the r whose shared
-        :meth:`path_times` are ``times`` (r <= K), else 2."""
+    def fixed_waypoints(self, times: np.ndarray) -> np.ndarray:
+        """The indices of the waypoints where a path of this planner with breakpoints ``times``
+        passes through its r configurations, in order; r is the length of the result.
+
+        A motion through r configurations (SPEC 4c, sequential planning) is at the start at
+        time 0, at the intermediate configuration C_k at time ``k / (r - 1)`` and at the goal at
+        time 1, each a breakpoint of the path; the stages that must keep them fixed
+        (:func:`pmplan.refine`) read them here, the one place that decides them.
+
+        Parameters
+        ----------
+        times : ndarray, shape (K,) or (B, K)
+            Breakpoints shared by a batch, or per query.
+
+        Returns
+        -------
+        ndarray of int64, shape (r,)
+            For shared breakpoints of a :attr:`sequential` planner that are its
+            :meth:`path_times` ``(r)`` (r <= K): the first index of each time ``k / (r - 1)``.
+            Else (per-query breakpoints, or a planner of two configurations): r = 2, the first
+            and the last waypoint.
+        """
         k = times.shape[-1]
         if self.sequential and times.ndim == 1:
             for r in range(2, k + 1):
@@ -173,8 +190,8 @@ class Planner:
                 if shared is None or shared.shape[0] > k:
                     break
                 if shared.shape[0] == k and np.array_equal(shared, times):
-                    return r
-        return 2
+                    return np.searchsorted(times, np.arange(r) / (r - 1)).astype(np.int64)
+        return np.array([0, k - 1], dtype=np.int64)
 
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
