@@ -378,10 +378,12 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
 
 
 @njit(**_OPTS)
-def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta):  # pragma: no cover - compiled
+def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta,
+           waypoint_pass):  # pragma: no cover - compiled
     """``steps`` steps (clear, shorten) then ``clear_only`` clearing steps on every query of
     the batch ``x`` (B, W, P, d), in place; ``frac`` (B, W-2), ``mob`` (B, W), ``tgt`` (B,
-    pairs)."""
+    pairs); ``waypoint_pass``: the steps' clearing begins with the waypoint pass (the coarsest
+    level)."""
     bsz, w, p, dd = x.shape
     npair = a.shape[0]
     dmin = np.empty((w - 1, npair))
@@ -395,9 +397,11 @@ def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta):  # pragma
         xi = x[i]
         g = i if mob.shape[0] > 1 else 0  # shared times: one row of mobility and fractions
         for k in range(steps + clear_only):
-            for at_waypoints in (True, False):  # the clearing substep: two passes
+            if waypoint_pass and k < steps:  # the clearing substep: the waypoint pass first
                 _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, rel_t,
-                       kp, eta, at_waypoints)
+                       kp, eta, True)
+            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, rel_t, kp,
+                   eta, False)
             if k < steps:
                 _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel_t,
                          kp)
@@ -522,5 +526,6 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
             x = subdivide(x)
         if x.shape[0]:
             _level(x, m, a, b, c, tgt, frac, mob, n_steps,
-                   final_steps(steps) if level == len(levels) - 1 else 0, kp, overshoot(level))
+                   final_steps(steps) if level == len(levels) - 1 else 0, kp, overshoot(level),
+                   level == 0)
     return t, x
