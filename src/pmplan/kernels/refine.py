@@ -31,9 +31,9 @@ from .common import _OBSTACLE_TINY2, _OPTS, _REL, njit
 __all__ = ["measure_batch", "refine_batch"]
 
 # the reference's constants are passed as ``kp`` = (ALPHA, BETA, PHI, ETA, MARGIN, LAMBDA,
-# OMEGA, SHARE, GAMMA, PHI_WAYPOINT) and the overshoot ``eta`` of the level, read at every call (a module global would be
-# compiled in, and cached on disk, as a constant: a change of pmplan.refine would not reach the
-# kernel)
+# OMEGA, SHARE, GAMMA, PHI_WAYPOINT) and the overshoot ``eta`` of the level, read at every call
+# (a module global would be compiled in, and cached on disk, as a constant: a change of
+# pmplan.refine would not reach the kernel)
 
 
 @njit(**_OPTS)
@@ -46,37 +46,12 @@ def _pair_rel(x, pa, pb, rel):  # pragma: no cover - compiled
 
 
 @njit(**_OPTS)
-def _piece_min(rel, j):  # pragma: no cover - compiled
-    """The closed-form minimum distance on piece j of the relative positions ``rel`` (W, d):
-    :func:`pmplan.refine.piece_minima`'s arithmetic."""
-    dd = rel.shape[1]
-    vv = 0.0
-    r0v = 0.0
-    for k in range(dd):
-        v = rel[j + 1, k] - rel[j, k]
-        vv = vv + v * v
-        r0v = r0v + rel[j, k] * v
-    num = -r0v
-    qq = num / vv if vv != 0.0 else 0.0
-    if num >= vv:
-        qq = 1.0
-    if num <= 0:
-        qq = 0.0
-    if not vv > 0:
-        qq = 0.0
-    s = 0.0
-    for k in range(dd):
-        qx = rel[j, k] + qq * (rel[j + 1, k] - rel[j, k])
-        s = s + qx * qx
-    return math.sqrt(s)
-
-
-@njit(**_OPTS)
 def _minima(x, a, b, dmin, rel_t):  # pragma: no cover - compiled
     """The closed-form minimum distance of every pair on every piece into ``dmin`` (W-1,
-    pairs): :func:`_piece_min`'s arithmetic (bit for bit), on the relative positions held
-    coordinate-major in ``rel_t`` (d, W) so that the loop over the pieces vectorises (2.2x
-    faster than a call of :func:`_piece_min` per piece for W = 15, 14 pairs)."""
+    pairs), in :func:`pmplan.refine.piece_minima`'s (and :func:`pmplan.certify.clearance`'s)
+    arithmetic, bit for bit; the relative positions are held coordinate-major in ``rel_t``
+    (d, W), so that the loop over the pieces vectorises (2.2x faster than one piece at a time
+    with the positions point-major, W = 15, 14 pairs)."""
     w, _, dd = x.shape
     for q in range(a.shape[0]):
         pa, pb = a[q], b[q]
@@ -153,8 +128,9 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel_t, kp): 
                     dk = wgt * (chord - x[j, i, k])
                     delta[j, i, k] = dk
                     s = s + dk * dk
-                # the capped move of pmplan.refine._apply, written out: a shared inlined helper cost 10-20 %
-                # of a refined (2,4,2) batch (CPU time, 5 alternating pairs, 2,000 queries)
+                # the capped move of pmplan.refine._apply, written out: a shared inlined helper
+                # cost 10-20 % of a refined (2,4,2) batch (CPU time, 5 alternating pairs, 2,000
+                # queries)
                 nrm = math.sqrt(s)
                 scale = cap[j, i] / nrm if nrm > cap[j, i] else 1.0
                 for k in range(dd):
@@ -253,6 +229,16 @@ def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v):  # pragma
 
 
 @njit(**_OPTS)
+def _turned(rel, j, k, ein, eout):  # pragma: no cover - compiled
+    """Coordinate k of the waypoint push direction ``u`` at waypoint j of
+    :func:`pmplan.refine._clear`: the relative position plus the turn of the relative path
+    (interior waypoints only)."""
+    if 0 < j < rel.shape[0] - 1:
+        return rel[j, k] + eout * (rel[j + 1, k] - rel[j, k]) - ein * (rel[j, k] - rel[j - 1, k])
+    return rel[j, k]
+
+
+@njit(**_OPTS)
 def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta,
            at_waypoints):  # pragma: no cover - compiled
     """One clearing pass of :func:`pmplan.refine._clear` (same arithmetic, same order)."""
@@ -310,17 +296,12 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
                 eout = eps / nout if nout > 0 else 0.0
             su = 0.0
             for k in range(dd):
-                uk = rel[j, k]
-                if 0 < j < w - 1:
-                    uk = uk + eout * (rel[j + 1, k] - rel[j, k]) - ein * (rel[j, k] - rel[j - 1, k])
+                uk = _turned(rel, j, k, ein, eout)
                 su = su + uk * uk
             den = max(math.sqrt(su), dist)
             fw0 = (kp[6] * cq) * max(sq - dist, 0.0) / den if den > 0 else 0.0
             for k in range(dd):
-                uk = rel[j, k]
-                if 0 < j < w - 1:
-                    uk = uk + eout * (rel[j + 1, k] - rel[j, k]) - ein * (rel[j, k] - rel[j - 1, k])
-                fw = fw0 * uk
+                fw = fw0 * _turned(rel, j, k, ein, eout)
                 delta[j, pb, k] = delta[j, pb, k] - fw
                 if pa >= m:
                     delta[j, pa, k] = delta[j, pa, k] + fw
@@ -422,18 +403,21 @@ def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
     sequential) and the flags above; ``need`` = (2 radius, radius + obstacle_radius)."""
     bsz, w, _p, dd = x.shape
     rel = np.empty((w, dd))
+    rel_t = np.empty((dd, w))
+    dmin = np.empty((w - 1, a.shape[0]))
     for i in range(bsz):
         xi = x[i]
         fl = 0
         clr = np.inf
         rob = np.inf
         obs = np.inf
+        _minima(xi, a, b, dmin, rel_t)
         for q in range(a.shape[0]):
             pa, pb = a[q], b[q]
             nd = need[0] if pa >= m else need[1]
             _pair_rel(xi, pa, pb, rel)
             for j in range(w - 1):
-                dq = _piece_min(rel, j)
+                dq = dmin[j, q]
                 scale = 0.0
                 absval = 0.0
                 for jj in range(j, j + 2):
