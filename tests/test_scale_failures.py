@@ -248,20 +248,27 @@ def _namespace_or_fail():
         pytest.skip("needs root for a private mount namespace (a tmpfs of a few MB)")
 
 
-def in_namespace(script: str, tmp_path) -> list[dict]:
+def in_namespace(script: str, tmp_path) -> dict[str, dict]:
     """Run ``script`` (bash, with ``$PMPLAN`` the command and ``$DISK`` a fresh mount point)
     in a private mount namespace; every ``step NAME ARGS...`` line in it runs pmplan and
     records its status and output; returns the records."""
     log = tmp_path / "steps.jsonl"
     disk = tmp_path / "disk"
     disk.mkdir()
+    recorder = tmp_path / "record.py"
+    recorder.write_text(
+        "import json, sys\n"
+        "name, rc, out, err = sys.argv[1:]\n"
+        "print(json.dumps(dict(name=name, rc=int(rc), out=open(out).read(),\n"
+        "                      err=open(err).read())))\n")
     prelude = f"""
 set -u
 PMPLAN="{' '.join(PMPLAN)}"
 DISK="{disk}"
 step() {{ local name=$1; shift
   $PMPLAN "$@" >"{tmp_path}/out.txt" 2>"{tmp_path}/err.txt"; local rc=$?
-  "{sys.executable}" -c 'import json,sys; print(json.dumps(dict(name=sys.argv[1], rc=int(sys.argv[2]), out=open(sys.argv[3]).read(), err=open(sys.argv[4]).read())))' "$name" $rc "{tmp_path}/out.txt" "{tmp_path}/err.txt" >>"{log}"; }}
+  "{sys.executable}" "{recorder}" "$name" $rc "{tmp_path}/out.txt" "{tmp_path}/err.txt" \\
+    >>"{log}"; }}
 """
     res = subprocess.run(["unshare", "-m", "--propagation", "private", "bash", "-c",
                           prelude + script], env=ENV, capture_output=True, text=True,
