@@ -356,7 +356,7 @@ class Cluster:
     """``dask scheduler`` and ``dask worker`` processes started as a user starts them, in a
     directory of their own (so relative paths would not resolve there)."""
 
-    def __init__(self, tmp_path, workers=2, env=None):
+    def __init__(self, tmp_path, workers=2, env=None, hide=None):
         self.dir = tmp_path / "cluster"
         self.dir.mkdir(exist_ok=True)
         self.file = self.dir / f"scheduler-{time.monotonic_ns()}.json"
@@ -373,15 +373,22 @@ class Cluster:
         self.address = json.loads(self.file.read_text())["address"]
         self.workers = [self._start("distributed.cli.dask_worker", "--scheduler-file",
                                     self.file, "--host", "127.0.0.1", "--nthreads", "1",
-                                    "--no-nanny", "--no-dashboard") for _ in range(workers)]
+                                    "--no-nanny", "--no-dashboard", hide=hide)
+                        for _ in range(workers)]
         import distributed
 
         with distributed.Client(self.address, timeout=60) as c:
             c.wait_for_workers(workers, timeout=120)
 
-    def _start(self, module, *args):
-        p = subprocess.Popen([sys.executable, "-m", module, *map(str, args)], cwd=self.dir,
-                             env=self.env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    def _start(self, module, *args, hide=None):
+        """``python -m module args``; with ``hide``, in a private mount namespace where an
+        empty tmpfs covers the directory ``hide`` (a worker that does not see those files)."""
+        cmd = [sys.executable, "-m", module, *map(str, args)]
+        if hide is not None:
+            cmd = ["unshare", "-m", "--propagation", "private", "sh", "-c",
+                   f'mount -t tmpfs tmpfs "{hide}" && exec "$@"', "sh", *cmd]
+        p = subprocess.Popen(cmd, cwd=self.dir, env=self.env, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL)
         self.procs.append(p)
         return p
 
@@ -507,3 +514,23 @@ def test_a_failing_chunk_on_a_local_cluster_prints_one_line(tmp_path):
     one_line(res, "query 537", "[chunk 5: queries 500..599 of the batch]")
     done = int(done_flags(dst).sum())
     assert f"{dst} is incomplete ({done} of 7 chunks written)" in res.stderr
+
+
+def test_workers_that_do_not_see_the_input_say_so(tmp_path, separate):
+    """Workers in a mount namespace where the input's directory is an empty tmpfs (another
+    machine without the shared filesystem): one line that says what the workers need, and
+    --resume then finishes the store."""
+    _namespace_or_fail()
+    o, s, g = random_queries(400, seed=46)
+    (tmp_path / "data").mkdir()
+    src = write_store(tmp_path / "data" / "in.zarr", o, s, g)
+    c = separate(hide=tmp_path / "data")
+    dst = tmp_path / "out.zarr"
+    res = cli("batch", "data/in.zarr", "--out", "out.zarr", "--scheduler", c.address,
+              "--no-progress", cwd=tmp_path)
+    one_line(res, "could not open its stores on host", str(src),
+             "every worker must see the input and output stores at the same absolute paths",
+             f"{dst} is incomplete (0 of 4 chunks written)", "rerun with --resume")
+    res = cli("batch", src, "--out", dst, "--resume", "--no-progress")
+    assert res.returncode == 0, res.stderr
+    assert_same(read_store(dst), pmplan.plan_batch(o, s, g))

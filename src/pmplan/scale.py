@@ -83,6 +83,9 @@ OUTPUTS = ("domain", "strata", "clearance", "times", "waypoints")
 #: the arrays a store of refined motions has besides :data:`OUTPUTS` (written before ``done``)
 REFINED_OUTPUTS = ("robot_distance", "obstacle_distance", "respects_radius")
 _RECHUNK = "x.rechunk({1: -1, 2: -1})"
+#: zstd's level in a compressed store: on plans it gives the ratio of Zarr's default (level 3),
+#: about 1.9-2, two to three times as fast (``benchmarks/store_breakdown.py``)
+ZSTD_LEVEL = 1
 
 
 def _need(module: str):
@@ -523,10 +526,16 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
     """
     zarr = _need("zarr")
     lo, hi = i * spec.chunk, min(spec.b, (i + 1) * spec.chunk)
-    if rows is None:
-        rows = _read_rows(_open_input(Path(spec.source)), lo, hi)
-    if group is None:
-        group = zarr.open_group(spec.out, mode="r+")
+    try:
+        if rows is None:
+            rows = _read_rows(_open_input(Path(spec.source)), lo, hi)
+        if group is None:
+            group = zarr.open_group(spec.out, mode="r+")
+    except (InputError, OSError, FileNotFoundError) as exc:
+        import socket
+
+        raise StoreError(_MSG_UNREACHABLE.format(host=socket.gethostname(), i=i, cause=exc),
+                         path=spec.out, resumable=True) from None
     fingerprint = _fingerprint(rows)
     refined = spec.refine is not None
     if bool(group["done"][i]) and np.array_equal(group["inputs"][i], fingerprint):
@@ -550,10 +559,16 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
                         batch.respects_radius if refined else None)
 
 
+def compressors(compress: bool = True):
+    """The codecs of a store's arrays: zstd at level :data:`ZSTD_LEVEL`, or none."""
+    zarr = _need("zarr")
+    return (zarr.codecs.ZstdCodec(level=ZSTD_LEVEL),) if compress else None
+
+
 def _create_arrays(group, template: dict, b: int, chunk: int, nchunks: int, compress: bool,
                    refined: bool) -> None:
     c = max(1, min(chunk, b))
-    comp = "auto" if compress else None
+    comp = compressors(compress)
     names = ["domain", "strata", "clearance", "waypoints"]
     if refined:
         template = {**template, "robot_distance": np.empty(0), "obstacle_distance": np.empty(0),
@@ -637,6 +652,8 @@ _OPTIONS = {"planner": "--planner (planner=)", "lift": "--lift (lift=)",
             "r": "the input's configurations per query (via)", "format": "the store's format"}
 _MSG_CREATE = "cannot create the output store {out}: {cause}; nothing was written: {fix}"
 _MSG_INCOMPLETE = "{out} is incomplete ({done} of {total} chunks written): {fix}"
+_MSG_UNREACHABLE = ("chunk {i} could not open its stores on host {host} ({cause}); every worker "
+                    "must see the input and output stores at the same absolute paths")
 _MSG_DIFFERENT_INPUT = (
     "cannot resume {out}: the input differs from the one it was planned from in {count} done "
     "chunk(s) {chunks}{more} (queries {rows}); resuming would mix the plans of two inputs in "
@@ -679,9 +696,13 @@ def _is_cluster_error(exc: BaseException) -> bool:
 def _failure(exc: BaseException, out: Path, group, nchunks: int) -> BaseException | None:
     """The one-line error of a run stopped by ``exc``, naming the store and what finishes it;
     None for an exception passed on as it is (Ctrl-C, a bug)."""
-    if isinstance(exc, StoreError):
-        return exc
     done = _done_count(group)
+    if isinstance(exc, StoreError):
+        if not exc.resumable or " is incomplete (" in str(exc):
+            return exc
+        return StoreError(f"{exc}; " + _MSG_INCOMPLETE.format(
+            out=out, done=done, total=nchunks, fix="fix that, then rerun with --resume"),
+            path=out, resumable=True)
     if isinstance(exc, PmplanError):  # a query: its rows are in the message
         text = _MSG_INCOMPLETE.format(out=out, done=done, total=nchunks,
                                       fix="fix the input and rerun with --resume")
@@ -809,8 +830,9 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     workers : int
         Threads per chunk (as in :func:`pmplan.plan_batch`).
     compress : bool
-        Compress the output chunks (Zarr's default codec, zstd); False writes them raw (twice
-        the disk). ``benchmarks/store_breakdown.py`` measures what each costs.
+        Compress the output chunks (zstd at level :data:`ZSTD_LEVEL`: about half the disk);
+        False writes them raw. A compressed run is bound by the compression, an uncompressed
+        one by the disk (``benchmarks/store_breakdown.py`` times plan, compress and write).
     on_chunk : callable, optional
         Called as ``on_chunk(i, done, total)`` after chunk ``i`` is written and marked done.
     refine : dict, optional
