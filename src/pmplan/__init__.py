@@ -37,8 +37,7 @@ from .errors import (
     UnsupportedError,
 )
 from .path import PiecewiseLinearPath
-
-__version__ = "0.1.0"
+from .version import __version__  # noqa: F401  (pmplan.__version__)
 
 __all__ = [
     "Plan",

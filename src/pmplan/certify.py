@@ -43,16 +43,16 @@ __all__ = [
     "certify",
 ]
 
-# a float minimum below _REL * (scale of the pair on that piece) is re-decided exactly
-_REL = 1e-9
-# (for the kernels) _REL * max(scale, 1e-6 absval) <= 2.0000001e-9 * (the largest absolute
-# coordinate of the pair's points): a float distance above _SURE times that is certainly above
-# the threshold of _REL
-_SURE = 2.1e-9
-_MAXF = 1.7976931348623157e308  # the largest finite float
+# a float minimum below REL * (scale of the pair on that piece) is re-decided exactly
+REL = 1e-9
+# (for the kernels) REL * max(scale, 1e-6 absval) <= 2.0000001e-9 * (the largest absolute
+# coordinate of the pair's points): a float distance above SURE times that is certainly above
+# the threshold of REL
+SURE = 2.1e-9
+MAXF = 1.7976931348623157e308  # the largest finite float
 # an obstacle pair whose squared distance is below this (it may have underflowed), or not finite
 # (it overflowed), is measured exactly (the kernels flag it SUSPECT)
-_OBSTACLE_TINY2 = 2.0**-1000
+OBSTACLE_TINY2 = 2.0**-1000
 # paths with waypoints outside [2**-_RANGE, 2**_RANGE) are measured scaled by a power of two
 _RANGE = 500
 # from this many points on, clearance() evaluates only the pairs _swept cannot exclude
@@ -188,7 +188,7 @@ def check_paths(times, waypoints, start, goal, m: int, via=()) -> np.ndarray:
     return codes
 
 
-def _pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray]:
+def point_pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray]:
     """Index pairs (i < j) with at least one moving point (index >= m)."""
     i, j = np.triu_indices(p, k=1)
     keep = j >= m
@@ -207,7 +207,7 @@ def segment_clearance(r0: np.ndarray, r1: np.ndarray) -> np.ndarray:
         return np.sqrt((q * q).sum(-1))
 
 
-def _exact_segment_dist2(a0, b0, a1, b1) -> Fraction:
+def exact_segment_dist2(a0, b0, a1, b1) -> Fraction:
     """Exact squared min distance between points moving linearly a0->a1 and b0->b1."""
     r0 = [Fraction(x) - Fraction(y) for x, y in zip(a0.tolist(), b0.tolist())]
     r1 = [Fraction(x) - Fraction(y) for x, y in zip(a1.tolist(), b1.tolist())]
@@ -220,9 +220,9 @@ def _exact_segment_dist2(a0, b0, a1, b1) -> Fraction:
     return sum((p + t * q) ** 2 for p, q in zip(r0, v))
 
 
-def _exact_segment_clearance(a0, b0, a1, b1) -> float:
+def exact_segment_clearance(a0, b0, a1, b1) -> float:
     """Exact min distance between points moving linearly a0->a1 and b0->b1 (rational)."""
-    sq = _exact_segment_dist2(a0, b0, a1, b1)
+    sq = exact_segment_dist2(a0, b0, a1, b1)
     if sq == 0:
         return 0.0
     try:
@@ -238,7 +238,7 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
         try:
             val = math.ldexp(root, -j)
         except OverflowError:
-            val = _MAXF
+            val = MAXF
     if val == 0.0:
         val = 5e-324
     return val
@@ -246,7 +246,7 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
 
 def _decided(a0, b0, a1, b1) -> np.ndarray:
     """The decided minimum distance of every pair on its piece: points a0 -> a1 and b0 -> b1
-    (arrays (..., d)); the float closed form, exact (:func:`_exact_segment_clearance`) where it
+    (arrays (..., d)); the float closed form, exact (:func:`exact_segment_clearance`) where it
     is small against the pair's scale or not finite (a relative position or a square that
     overflows), NaN where a waypoint is not finite."""
     with np.errstate(over="ignore", invalid="ignore"):  # re-decided exactly below
@@ -259,11 +259,11 @@ def _decided(a0, b0, a1, b1) -> np.ndarray:
     finite = np.isfinite(a0).all(-1) & np.isfinite(b0).all(-1) & np.isfinite(a1).all(-1) \
         & np.isfinite(b1).all(-1)
     with np.errstate(invalid="ignore", over="ignore"):
-        suspect = (~(dist > _REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(dist)) \
+        suspect = (~(dist > REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(dist)) \
             & finite
     dist[~finite] = np.nan
     for idx in zip(*np.nonzero(suspect)):
-        dist[idx] = _exact_segment_clearance(a0[idx], b0[idx], a1[idx], b1[idx])
+        dist[idx] = exact_segment_clearance(a0[idx], b0[idx], a1[idx], b1[idx])
     return dist
 
 
@@ -371,9 +371,9 @@ def _scaled_rows(wp: np.ndarray, m: int):
         with np.errstate(over="ignore", under="ignore"):
             v = float(np.ldexp(c, e)) if np.isfinite(c) else c
         if c > 0 and v == 0.0:
-            v = 5e-324  # positive below the float range (as _exact_segment_clearance)
+            v = 5e-324  # positive below the float range (as exact_segment_clearance)
         if np.isfinite(c) and v == np.inf:
-            v = _MAXF  # above the float range: the largest double, a lower bound
+            v = MAXF  # above the float range: the largest double, a lower bound
         rows.append(i)
         values.append(v)
     if not rows:
@@ -417,7 +417,7 @@ def clearance(waypoints: np.ndarray, m: int, *, sweep: bool = True) -> np.ndarra
         if rest.any():
             out[rest] = clearance(wp[rest], m, sweep=False)
         return out
-    pi, pj = _pairs(p, m)
+    pi, pj = point_pairs(p, m)
     out = np.full(b, np.inf)
     if pi.size == 0:
         return out
@@ -447,11 +447,11 @@ def _obstacle_clearance(wp: np.ndarray, m: int) -> np.ndarray:
         od = wp[:, 0, oi] - wp[:, 0, oj]
         od2 = (od * od).sum(-1)  # (B, pairs), summed as the kernels sum it
         odist = np.sqrt(od2)
-        bad = ~(od2 >= _OBSTACLE_TINY2) & np.isfinite(wp[:, 0, oi]).all(-1) \
+        bad = ~(od2 >= OBSTACLE_TINY2) & np.isfinite(wp[:, 0, oi]).all(-1) \
             & np.isfinite(wp[:, 0, oj]).all(-1)
     for bi, qi in zip(*np.nonzero(bad)):  # the square overflowed or may have underflowed
         a, c = wp[bi, 0, oi[qi]], wp[bi, 0, oj[qi]]
-        odist[bi, qi] = _exact_segment_clearance(a, c, a, c)
+        odist[bi, qi] = exact_segment_clearance(a, c, a, c)
     return odist.min(axis=1)
 
 

@@ -71,11 +71,11 @@ from functools import lru_cache
 import numpy as np
 
 from .certify import (
-    _REL,
+    REL,
     CLEARANCE,
-    _exact_segment_clearance,
-    _exact_segment_dist2,
-    _pairs,
+    exact_segment_clearance,
+    exact_segment_dist2,
+    point_pairs,
     check_paths,
     clearance,
     describe,
@@ -172,12 +172,12 @@ _MSG_WAYPOINTS = ("`waypoints` must be a power of two from 1 to {max} (sub-piece
                   "the raw path), got {value!r}")
 _MSG_STEPS = "`steps` must be an int from 1 to {max} (refinement steps), got {value!r}"
 _MSG_REFINE = "`refine` must be True or False, got {value!r}"
-_MSG_PLAN = "refine() takes a Plan or a PlanBatch returned by pmplan, got {value}"
-_MSG_REFINED = ("this plan is already refined (radius {radius}); refine the unrefined plan "
+MSG_PLAN = "refine() takes a Plan or a PlanBatch returned by pmplan, got {value}"
+MSG_REFINED = ("this plan is already refined (radius {radius}); refine the unrefined plan "
                 "(plan(..., refine=False)) with the radii you want")
-_MSG_REFINE_OUT = ("`out=` cannot be combined with refine=True (a refined batch has more "
+MSG_REFINE_OUT = ("`out=` cannot be combined with refine=True (a refined batch has more "
                    "breakpoints): plan into `out`, then call pmplan.refine on it")
-_MSG_REFINE_DASK = ("refine() takes a computed batch, and this PlanBatch holds dask arrays: "
+MSG_REFINE_DASK = ("refine() takes a computed batch, and this PlanBatch holds dask arrays: "
                     "plan it with refine=True (plan_batch on dask arrays then refines every "
                     "block lazily), or compute it first (pmplan.scale.compute)")
 _MSG_RADII_UNREFINED = ("`radius` and `obstacle_radius` apply to refined motions: pass "
@@ -275,7 +275,7 @@ def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The pairs (a < b) with a moving point b (index >= m): ``a``, ``b`` (int64) and ``c``
     (1/2 for two robots, 1 for an obstacle and a robot), in the kernel's order (read-only,
     cached)."""
-    a, b = (v.astype(np.int64) for v in _pairs(p, m))  # the certificate's pairs, its order
+    a, b = (v.astype(np.int64) for v in point_pairs(p, m))  # the certificate's pairs, its order
     c = np.where(a >= m, 0.5, 1.0)
     for arr in (a, b, c):
         arr.flags.writeable = False
@@ -601,9 +601,9 @@ def _minima_exact(wp: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     absval = np.maximum(np.abs(pa).max(-1), np.abs(pb).max(-1))
     absval = np.maximum(absval[:, :-1], absval[:, 1:])
     with np.errstate(invalid="ignore", over="ignore"):
-        suspect = ~(d > _REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(d)
+        suspect = ~(d > REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(d)
     for bi, ki, qi in zip(*np.nonzero(suspect)):
-        d[bi, ki, qi] = _exact_segment_clearance(wp[bi, ki, a[qi]], wp[bi, ki, b[qi]],
+        d[bi, ki, qi] = exact_segment_clearance(wp[bi, ki, a[qi]], wp[bi, ki, b[qi]],
                                                  wp[bi, ki + 1, a[qi]], wp[bi, ki + 1, b[qi]])
     return d
 
@@ -650,7 +650,7 @@ def _at_least(wp, d, pa, pb, need: Fraction) -> np.ndarray:
     ok &= ~fail.reshape(bsz, -1).any(axis=1)
     need2 = need * need
     for bi, ki, qi in zip(*np.nonzero(~sure & ~fail)):
-        if ok[bi] and _exact_segment_dist2(wp[bi, ki, pa[qi]], wp[bi, ki, pb[qi]],
+        if ok[bi] and exact_segment_dist2(wp[bi, ki, pa[qi]], wp[bi, ki, pb[qi]],
                                            wp[bi, ki + 1, pa[qi]], wp[bi, ki + 1, pb[qi]]) < need2:
             ok[bi] = False
     return ok
@@ -705,7 +705,7 @@ def _raise_too_close(conf, m, radius, obstacle_radius, name, index) -> None:
     for pa, pb in zip(a, b):
         need, value = (("2 * radius", 2 * radius) if pa >= m else
                        ("radius + obstacle_radius", radius + obstacle_radius))
-        sq = _exact_segment_dist2(conf[pa], conf[pb], conf[pa], conf[pb])
+        sq = exact_segment_dist2(conf[pa], conf[pb], conf[pa], conf[pb])
         if sq < Fraction(value) ** 2:
             best = (label[pa], label[pb], math.sqrt(float(sq)), need, value)
             break
@@ -860,3 +860,18 @@ class RefineStage(Stage):
         return {"radius": np.full(b, self.radius), "obstacle_radius": np.full(b, self.obstacle_radius),
                     "refined": np.ones(b, dtype=bool), "robot_distance": self.robot_distance,
                     "obstacle_distance": self.obstacle_distance, "respects_radius": self.respects}
+
+
+def asks_refine(refine, radius, obstacle_radius, out=None) -> bool:
+    """Whether a planning function was asked ``refine=True`` (the flag and the radii checked:
+    :func:`pmplan.refine.check_refine_flag`; radii without the flag are refused, and so is
+    ``out=`` with it: a refined batch has other shapes)."""
+    if refine is False and type(radius) is float and type(obstacle_radius) is float \
+            and radius == 0.0 and obstacle_radius == 0.0:
+        return False
+    if check_refine_flag(refine, radius, obstacle_radius):
+        check_parameters(radius, obstacle_radius, None, None)
+        if out is not None:
+            raise InputError(MSG_REFINE_OUT)
+        return True
+    return False

@@ -55,7 +55,11 @@ from typing import Callable
 
 import numpy as np
 
+from .checks import check_backend, check_lift, check_sequential, check_workers, choose_planner
 from .errors import CertificationError, CollisionError, InputError, PmplanError, StoreError
+from .planners.base import default_planner
+from .results import PlanBatch
+from .running import plan_arrays, refine_plans
 
 __all__ = [
     "FORMAT",
@@ -244,17 +248,11 @@ def _context(exc: PmplanError, lo: int, hi: int, where: str):
 def _plan_chunk_arrays(obstacles, configs, planner, lift, backend, workers, refine=None):
     """``plan_batch`` (r = 2) or ``plan_sequence_batch`` on one chunk of numpy arrays, then
     :func:`pmplan.refine` with the options ``refine`` (None: raw plans)."""
-    from . import api
-
-    if len(configs) == 2:
-        batch = api.plan_batch(obstacles, configs[0], configs[1], planner=planner, lift=lift,
-                               backend=backend, workers=workers)
-    else:
-        batch = api.plan_sequence_batch(obstacles, configs, lift=lift, backend=backend,
-                                        workers=workers)
+    batch = plan_arrays(obstacles, configs, planner=planner, lift=lift, backend=backend,
+                        workers=workers, sequential=len(configs) > 2)
     if refine is None:
         return batch
-    return api.refine(batch, **refine, workers=workers, backend=backend)
+    return refine_plans(batch, **refine, workers=workers, backend=backend)
 
 
 def _plan_block(obstacles, *configs, planner, lift, backend, workers, record, refine=None,
@@ -278,21 +276,19 @@ def _field(block: np.ndarray, name: str) -> np.ndarray:
 
 
 def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential, refine=None):
-    from . import api
-
     refine = _refine_options(refine)
     da, arrays = _dask_inputs([obstacles, *configs], names)
     obstacles, configs = arrays[0], arrays[1:]
-    api._check_lift(lift)  # checked now, not at compute time
-    workers = api._check_workers(workers)
-    api._check_backend(backend)
+    check_lift(lift)  # checked now, not at compute time
+    workers = check_workers(workers)
+    check_backend(backend)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
     for c, name in zip(configs, names[1:]):
         if c.shape[1:] != configs[0].shape[1:] or c.shape[2] != d:
             raise InputError(f"`{name}` has shape {c.shape}; expected (B, n, d) = "
                              f"({c.shape[0]}, {n}, {d})")
-    p = api.choose_planner(d, n, m, api.default_planner(d, n, m, sequential=True)
+    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True)
                            if sequential else planner)
     template = _template(p, len(configs), m, n, d, refine)
     per_query_times = template["times"].ndim == 2
@@ -317,7 +313,7 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
     extra = {}
     if refine is not None:
         extra = _extra(refine, {k: out.pop(k) for k in REFINED_OUTPUTS})
-    return api.PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
+    return PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
 
 
 def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
@@ -376,14 +372,12 @@ def compute(batch, **kwargs):
     PlanBatch of numpy arrays; ``kwargs`` go to :func:`dask.compute` (e.g. ``scheduler=``)."""
     import dask
 
-    from . import api
-
     names = ["domain", "strata", "clearance", "waypoints", "times"]
     extra = sorted(batch._extra)
     values = dask.compute(*(getattr(batch, k) for k in names),
                           *(batch._extra[k] for k in extra), **kwargs)
     values = [np.asarray(v) for v in values]
-    return api.PlanBatch(planner=batch.planner, dims=tuple(batch.dims),
+    return PlanBatch(planner=batch.planner, dims=tuple(batch.dims),
                          _extra=dict(zip(extra, values[len(names):])),
                          **dict(zip(names, values)))
 
@@ -634,7 +628,7 @@ def _create_output(out: Path, attrs: dict, template: dict, b: int, chunk: int, n
 
 
 def _attrs(planner, lift, dims, r, b, chunk, refine=None, compress=True) -> dict:
-    from . import __version__
+    from .version import __version__
 
     return {"format": FORMAT, "planner": planner, "lift": lift, "pmplan_version": __version__,
             "dims": list(dims), "r": r, "B": b, "chunk": chunk, "refine": refine,
@@ -858,8 +852,6 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         stopped the run: the message names the store, how many chunks it holds, and whether
         ``resume`` finishes it. A store is created whole or not at all.
     """
-    from . import api
-
     out = Path(out).resolve()
     arrays, src_path, src_name, lift, planner = _source_arrays(source, out, lift, planner)
     if chunk is not None and (isinstance(chunk, bool) or int(chunk) < 1):
@@ -867,13 +859,13 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     b, m, n, d, k, chunk = _check_inputs(arrays, src_name, chunk)
     refine = _refine_options(refine)
     lift = 1.0 if lift is None else lift
-    api._check_lift(lift)
-    workers = api._check_workers(workers)
-    api._check_backend(backend)
+    check_lift(lift)
+    workers = check_workers(workers)
+    check_backend(backend)
     r = k + 2
     if r > 2:
-        api._check_sequential(planner)
-    p = api.choose_planner(d, n, m, api.default_planner(d, n, m, sequential=True)
+        check_sequential(planner)
+    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True)
                            if r > 2 else planner)
     nchunks = -(-b // chunk)
     attrs = _attrs(p.name, lift if isinstance(lift, str) else float(lift), (d, n, m), r, b,
@@ -1021,8 +1013,6 @@ def open_plans(path):
     Raises InputError for a store that is not a pmplan output or is incomplete (an
     interrupted run: finish it with ``pmplan batch IN --out OUT --resume``).
     """
-    from . import api
-
     zarr = _need("zarr")
     da = _need("dask.array")
     try:
@@ -1044,4 +1034,4 @@ def open_plans(path):
     refine = attrs.get("refine")
     if refine is not None:
         extra = _extra(refine, {k: da.from_zarr(group[k]) for k in REFINED_OUTPUTS})
-    return api.PlanBatch(planner=attrs["planner"], dims=(d, n, m), _extra=extra, **arrays)
+    return PlanBatch(planner=attrs["planner"], dims=(d, n, m), _extra=extra, **arrays)
