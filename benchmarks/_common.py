@@ -181,7 +181,7 @@ def degenerate_queries(rng: np.random.Generator, b: int, d: int, n: int, m: int)
     Obstacles o1, o2 = o1 + w and every other point on the integer lattice
     ``o1 + a w + (integer vector orthogonal to w)`` with the column index ``a`` in
     {-1, 0, 1, 2}: robots share columns with o1, o2 and with each other, so cp(C) < n + m and
-    the desingularization ``(desin)`` and the exact tie decisions of the predicates are exercised.
+    the desingularization of paper (3.2) and the exact tie decisions of the predicates are exercised.
     Rows with two coincident points are redrawn.
     """
     obs, st, go = _lattice_rows(rng, b, d, n, m)

@@ -82,7 +82,7 @@ def test_strata_are_covered(reports):
     r3 = _report(reports, ("obstacle_line", 3, 1, 2))
     met3 = {s for dr in r3.domains for s in dr.strata}
     assert any("e=N" in s for s in met3) and any("e=N" not in s for s in met3)
-    for dr in r3.domains:  # at the pole e == N the label drops by one (SPEC 4a)
+    for dr in r3.domains:  # at the pole e == N the label drops by one (Mathematics §4.1)
         for s in dr.strata:
             i, j = (int(c) for c in s[s.index("{") + 1: s.index("}")].split(","))
             assert dr.label == i + j - ("e=N" in s)

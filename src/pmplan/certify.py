@@ -1,7 +1,7 @@
-"""The certificate of a piecewise-linear motion (SPEC section 5).
+"""The certificate of a piecewise-linear motion (Mathematics §6).
 
 A path with waypoints ``P_0..P_K`` at times ``t_0..t_K`` is *certified* for the query
-(C, C') -- through the intermediate configurations C_k at tau_k, for a sequence (SPEC 4c) --
+(C, C') -- through the intermediate configurations C_k at tau_k, for a sequence (Mathematics §4.3) --
 when every clause of :data:`CLAUSES` holds, checked in this order:
 
 1. the times are finite, 2. ``t_0 == 0``, 3. ``t_K == 1``, 4. they never decrease;
@@ -457,7 +457,7 @@ def _obstacle_clearance(wp: np.ndarray, m: int) -> np.ndarray:
 
 def certificate(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, *,
                 times=None, via=()) -> tuple[np.ndarray, np.ndarray]:
-    """Check the whole certificate of SPEC section 5 for a batch of paths, clause by clause.
+    """Check the whole certificate of Mathematics §6 for a batch of paths, clause by clause.
 
     Parameters
     ----------
@@ -489,7 +489,7 @@ def certificate(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: i
 
 def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, *,
             times=None, via=()) -> tuple[np.ndarray, np.ndarray]:
-    """Check the whole certificate of SPEC section 5 for a batch of paths.
+    """Check the whole certificate of Mathematics §6 for a batch of paths.
 
     Parameters are those of :func:`certificate`.
 

@@ -522,7 +522,7 @@ def cmd_info(args) -> int:
     print(f"(d, n, m, r) = ({i.d}, {i.n}, {i.m}, {i.r})")
     print(f"planner:  {i.planner} -- {i.message}")
     print(f"domains:  {i.domains} (labels {i.labels[0]}..{i.labels[-1]})")
-    ref = "Farber-Paul, sequential, unreduced" if i.r > 2 else "paper Theorem gongra, Cohen-Farber-Weinberger"
+    ref = "Farber-Paul, sequential, unreduced" if i.r > 2 else "paper Theorem 2.6, Cohen-Farber-Weinberger"
     print(f"TC:       {i.tc} ({ref})")
     print(f"optimal:  {'yes' if i.optimal else 'no'}")
     return 0

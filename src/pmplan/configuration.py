@@ -1,6 +1,6 @@
 """Validation of queries: the configuration space F(R^d, m+n) and the fibre condition.
 
-A configuration is an array of m+n pairwise distinct points of R^d, obstacles first (SPEC 0).
+A configuration is an array of m+n pairwise distinct points of R^d, obstacles first (Mathematics §1).
 A query is a pair of configurations with the same obstacles. Everything here raises a specific
 :mod:`pmplan.errors` exception naming what was expected and what was received; nothing is
 silently fixed.

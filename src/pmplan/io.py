@@ -5,7 +5,7 @@ Query JSON (one query)::
     {"obstacles": [[x, y], ...],      # (m, d)
      "start":     [[x, y], ...],      # (n, d)
      "goal":      [[x, y], ...],      # (n, d)
-     "via":       [[[x, y], ...], ...],   # optional: intermediate configurations (SPEC 4c)
+     "via":       [[[x, y], ...], ...],   # optional: intermediate configurations (Mathematics §4.3)
      "lift":      1.0,                # optional: a positive number, or "scene"
      "planner":   "obstacle_line"}    # optional
 

@@ -105,7 +105,7 @@ class Planner:
     #: planning ``2**k C`` with ``lift * 2**k`` gives exactly ``2**k`` times the path of C: the
     #: run loop then plans queries at extreme magnitudes scaled (:mod:`pmplan.magnitude`)
     equivariant: ClassVar[bool] = False
-    #: plans through r > 2 configurations (:meth:`plan_sequence`, SPEC 4c)
+    #: plans through r > 2 configurations (:meth:`plan_sequence`, Mathematics §4.3)
     sequential: ClassVar[bool] = False
     #: the default planner of the (d, n, m) it supports is the one of highest priority
     priority: ClassVar[int] = 0
@@ -165,7 +165,7 @@ class Planner:
         """The indices of the waypoints where a path of this planner with breakpoints ``times``
         passes through its r configurations, in order; r is the length of the result.
 
-        A motion through r configurations (SPEC 4c, sequential planning) is at the start at
+        A motion through r configurations (Mathematics §4.3, sequential planning) is at the start at
         time 0, at the intermediate configuration C_k at time ``k / (r - 1)`` and at the goal at
         time 1, each a breakpoint of the path; the stages that must keep them fixed
         (:func:`pmplan.refine`) read them here, the one place that decides them.
@@ -227,7 +227,7 @@ class Planner:
                                out)
 
     # --- what pmplan.verify asks: the planner's strata, exact queries in them, moves inside them ---
-    # Defaults: the column strata of the query space (SPEC 4b, paper Section 3;
+    # Defaults: the column strata of the query space (Mathematics §4.2, paper Section 3;
     # :func:`pmplan.generators.strata`), for a planner that decides on columns as the obstacle-line
     # planner does. A planner with its own strata overrides all five.
     def stratum_count(self, d: int, n: int, m: int) -> int:
@@ -356,7 +356,7 @@ def default_planner(d: int, n: int, m: int, sequential: bool = False) -> str:
     """The name of the default planner for (d, n, m): among the registered planners that
     support it (and, for a sequence of configurations, are :attr:`~Planner.sequential`), the one of
     highest :attr:`~Planner.priority` -- ``planar_three`` (paper Section 4) for (2, 1, 3),
-    ``obstacle_line`` (paper Section 3 and SPEC 4) otherwise. When none does, the most general
+    ``obstacle_line`` (paper Section 3 and Mathematics §4) otherwise. When none does, the most general
     one (lowest priority), whose :meth:`~Planner.supports` then says why."""
     pool = [p for p in REGISTRY.values() if p.sequential or not sequential]
     fit = [p for p in pool if p.supports(d, n, m) is None]
