@@ -138,7 +138,7 @@ def test_examples_cover_every_stratum_and_every_demo_domain(base):
         assert body == _roundtrip(_library(ex["query"])[1])
         if ex["group"].startswith("Section 4"):
             name = ex["name"].split()[0]
-            assert ex["name"].endswith(f"(W{body['domain']})")
+            assert ex["name"].endswith(f"(W_{body['domain']})")
             seen_strata.add(name)
         else:
             demo.setdefault(body["planner"], set()).add(body["domain"])

@@ -188,7 +188,7 @@ def test_examples_buttons_and_animation(page):
     from selenium.webdriver.support.ui import Select, WebDriverWait
 
     driver, shots = page
-    Select(driver.find_element("id", "examples")).select_by_visible_text("T23_34 (W4)")
+    Select(driver.find_element("id", "examples")).select_by_visible_text("T23_34 (W_4)")
     _wait_ready(driver)
     shown = _shown(driver)
     assert shown["planner"] == "planar_three" and shown["label"] == "4"

@@ -455,7 +455,7 @@ class PlanarThreePlanner(Planner):
     equivariant = True
     #: the default for (2, 1, 3), where ``obstacle_line`` applies too
     priority = 1
-    domain_prefix = "W"
+    domain_prefix = "W_"
     uses_heights = True
     phases = (
         ("polyline leg", "straight leg of the polyline of paper Section 4, at constant speed"),

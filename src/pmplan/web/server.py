@@ -101,11 +101,11 @@ def examples() -> list[dict]:
         out.append({"group": "demo: 3 robots, 2 obstacles (Section 3)", "name": f"W_{k + 4}",
                     "query": q(o, s, g)})
     for k, (o, s, g) in enumerate(planar_three_examples()):
-        out.append({"group": "demo: 1 robot, 3 obstacles (Section 4)", "name": f"W{k + 1}",
+        out.append({"group": "demo: 1 robot, 3 obstacles (Section 4)", "name": f"W_{k + 1}",
                     "query": q(o, s, g)})
     for name, (o, s, g) in figure_queries().items():
         out.append({"group": "Section 4: every stratum",
-                    "name": f"{name} (W{DOMAIN_OF[name]})", "query": q(o, s, g)})
+                    "name": f"{name} (W_{DOMAIN_OF[name]})", "query": q(o, s, g)})
     return out
 
 
