@@ -63,9 +63,11 @@ def time_style(t) -> tuple[np.ndarray, np.ndarray]:
 
     Examples
     --------
-    >>> w, a = time_style([0.0, 1.0])
-    >>> w.tolist(), a.tolist()
-    ([0.8, 3.4], [0.3, 1.0])
+    >>> w, a = time_style([0.0, 0.5, 1.0])
+    >>> w.round(2).tolist(), a.round(2).tolist()
+    ([0.8, 2.1, 3.4], [0.3, 0.65, 1.0])
+    >>> time_style(0.5)[0].shape
+    ()
     """
     t = np.clip(np.asarray(t, dtype=float), 0.0, 1.0)
     return _WIDTH[0] + (_WIDTH[1] - _WIDTH[0]) * t, _ALPHA[0] + (_ALPHA[1] - _ALPHA[0]) * t
