@@ -9,7 +9,7 @@ when every clause of :data:`CLAUSES` holds, checked in this order:
 6. ``P_0 == C`` and 7. ``P_K == C'`` exactly, 8. ``path(tau_k) == C_k`` exactly;
 9. the obstacle rows are the same in every waypoint (obstacles fixed);
 10. its *clearance* -- the minimum over pieces and over pairs of points of the distance between
-    the two linearly moving points -- is > 0.
+the two linearly moving points -- is > 0.
 
 :func:`certificate` returns the clearance and the number of the first clause that fails (0: the
 path is certified); :func:`describe` names a clause. Every entry point of :mod:`pmplan.api`

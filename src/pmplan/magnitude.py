@@ -49,7 +49,7 @@ def _down(e):
 
 
 def needs_scaling(arrays, lift) -> bool:
-    """Cheap test over a whole chunk: may some query need scaling (see :func:`exponents`)?
+    """Return whether some query of a chunk may need scaling (see :func:`exponents`): a cheap test.
 
     ``arrays`` are the query arrays (B, ., d); ``lift`` a float or an array (B,), 0.0 for
     ``lift="scene"`` (:data:`pmplan.planners.base.SCENE_CODE`). Reads each

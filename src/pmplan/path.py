@@ -5,9 +5,9 @@ A *piecewise-linear path* is a map ``[0, 1] -> (R^d)^P`` given by breakpoints
 P points in R^d, obstacles first), linear between consecutive breakpoints. A batch of B paths
 stores waypoints of shape (B, K, P, d) and breakpoints of shape (K,) (shared) or (B, K).
 
-The algebra: :func:`linear` (the straight motion between two configurations), :meth:`join`
-(concatenation with time fractions), :meth:`reversed`, evaluation ``path(t)``, :meth:`sample`
-and :meth:`resample`, and :meth:`arc_length_reparametrised` (constant speed). With it, the
+The algebra: :func:`linear` (the straight motion between two configurations), :meth:`~PiecewiseLinearPath.join`
+(concatenation with time fractions), :meth:`~PiecewiseLinearPath.reversed`, evaluation ``path(t)``,
+:meth:`~PiecewiseLinearPath.resample`, and :meth:`~PiecewiseLinearPath.arc_length_reparametrised` (constant speed). With it, the
 generic composition of the paper's Remark 2.5
 is written once, in :func:`compose_via_deformations`.
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["TIME_TICKS", "robot_colors", "time_style", "plan_title", "draw_radii", "draw_plan",
+__all__ = ["MAX_ARROWS", "TIME_TICKS", "robot_colors", "time_style", "plan_title", "draw_radii", "draw_plan",
            "legend_handles", "plan_grid"]
 
 #: the times marked by a dot on every path
@@ -58,8 +58,10 @@ def time_style(t) -> tuple[np.ndarray, np.ndarray]:
 
     Returns
     -------
-    width, alpha : numpy.ndarray
-        Both increase linearly from t = 0 (thin, faint) to t = 1 (thick, solid).
+    width : numpy.ndarray
+        Line widths in points, from 0.8 at t = 0 (thin) to 3.4 at t = 1 (thick), linear in t.
+    alpha : numpy.ndarray
+        Opacities, from 0.3 at t = 0 (faint) to 1 at t = 1 (solid), linear in t.
 
     Examples
     --------

@@ -105,8 +105,9 @@ RHO_MIN = 2.0**-26
 DELTA = 1e-6
 #: scales at which the near-degenerate family breaks exact ties
 NEAR_SCALES = (1e-9, 1e-15)
-#: bounds of ``queries`` (the size of the base families)
+#: the fewest ``queries`` (the size of the base families) :func:`verify` accepts
 MIN_QUERIES = 10
+#: the most ``queries`` :func:`verify` accepts
 MAX_QUERIES = 100_000
 #: most coordinates one family may hold in its pairwise-distance array (queries * P**2 * d)
 MAX_NUMBERS = 200_000_000

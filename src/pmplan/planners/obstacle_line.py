@@ -153,8 +153,8 @@ def two_configuration_path(fr, obstacles, h_start, h_goal, lam) -> PiecewiseLine
 def path_times(r: int) -> np.ndarray:
     """Return the breakpoints of a path through r >= 2 configurations, shape (7 (r - 1) + 1,).
 
-    They are computed by the reference path algebra itself (:func:`compose_via_deformations`
-    and :func:`~pmplan.path.join` on an empty batch), so both backends share them bitwise:
+    They are computed by the reference path algebra itself (:func:`~pmplan.path.compose_via_deformations`
+    and :meth:`~pmplan.path.PiecewiseLinearPath.join` on an empty batch), so both backends share them bitwise:
     tau = 0, 1/6, 1/3, 4/9, 5/9, 2/3, 5/6, 1 for r = 2.
     """
     empty = PiecewiseLinearPath(np.array([0.0, 0.5, 1.0]), np.zeros((0, 3, 1, 1)))
@@ -204,7 +204,7 @@ class ObstacleLinePlanner(Planner):
     )
 
     def notes(self, d: int, n: int, m: int) -> list[str]:
-        """For odd d, :data:`POLE_NOTE` (the modulus of continuity near the pole, Mathematics §4.1)."""
+        """For odd d, ``POLE_NOTE`` (the modulus of continuity near the pole, Mathematics §4.1)."""
         return [POLE_NOTE] if d % 2 == 1 else []
 
     def supports(self, d: int, n: int, m: int) -> str | None:
@@ -305,7 +305,7 @@ class ObstacleLinePlanner(Planner):
         (a sequence of r arrays (n, d)), and a float ``lift`` (positive, or
         :data:`~pmplan.planners.base.SCENE_CODE`) -- or None when no kernel plans
         that shape (numba missing, d > MAX_D, m < 2, n < 1, r < 2). ``run`` returns None
-        whenever the kernel (:func:`pmplan.kernels.obstacle_line._plan`, asked to validate, with the
+        whenever the kernel (``pmplan.kernels.obstacle_line._plan``, asked to validate, with the
         index tables looked up once here) flags the query or the clearance is not positive:
         the general path then raises the proper error or re-decides exactly. The breakpoints
         are :func:`path_times` ``(r)`` (strictly increasing, so the path is already compact),
@@ -350,7 +350,7 @@ class ObstacleLinePlanner(Planner):
         return run
 
     def validates(self, d: int, backend: str | None = None) -> bool:
-        """Whether :meth:`plan_certified` can validate the queries itself (``validate=True``):
+        """Whether :meth:`~pmplan.planners.base.Planner.plan_certified` can validate the queries itself (``validate=True``):
         with the numba kernel, for d <= MAX_D."""
         if resolve(backend) != NUMBA:
             return False
@@ -373,7 +373,7 @@ class ObstacleLinePlanner(Planner):
 
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
-        """Plan a chunk with :func:`pmplan.kernels.obstacle_line.plan_chunk` into ``out``; return its flags.
+        """Plan a chunk with ``pmplan.kernels.obstacle_line.plan_chunk`` into ``out``; return its flags.
 
         None for d > MAX_D: the kernel reproduces numpy's summation order for d <= MAX_D only,
         and the reference plans the chunk. With ``validate`` the kernel also checks every query

@@ -49,7 +49,7 @@ Every polyline has at most 5 legs; a batch pads them to WAYPOINTS = 6 waypoints 
 waypoint at time 1 (zero-duration pieces). A polyline of length 0 is the constant path.
 
 Why every path is collision-free: each leg either runs along a column that holds no obstacle
-(u(x) or u(x') off the obstacle columns, delta, |w|/2, s_a), or along a height that holds no
+(u(x) or u(x') off the obstacle columns, delta, ``|w|/2``, s_a), or along a height that holds no
 obstacle (H, h3/2; h(x), h(x') != 0 when all obstacles lie on L_C), or leaves x (x') along its
 height towards the first solid vertical, never reaching the next obstacle column.
 
@@ -597,7 +597,7 @@ class PlanarThreePlanner(Planner):
 
     def kernel(self, obstacles, configs, lift: float, out: dict,
                validate: bool) -> np.ndarray | None:
-        """Plan a chunk with :func:`pmplan.kernels.planar.plan_chunk` into ``out`` (per-query
+        """Plan a chunk with ``pmplan.kernels.planar.plan_chunk`` into ``out`` (per-query
         breakpoints); return its flags, or None for arrays the kernel does not take (the
         reference then decides, and raises its own errors)."""
         if len(configs) != 2:
