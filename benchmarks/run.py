@@ -96,7 +96,7 @@ def _label(d: int, n: int, m: int) -> str:
 
 
 def _queries(rng, family: str, b: int, d: int, n: int, m: int):
-    """The queries of one throughput row (see the family descriptions in the README)."""
+    """The queries of one throughput row (see the family descriptions in benchmarks/README.md)."""
     if family == "generic":
         return generic_queries(rng, b, d, n, m)
     k = min(b, MAX_DISTINCT)

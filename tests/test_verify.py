@@ -315,7 +315,7 @@ def _pole_modulus(angle, eps=1e-9, lift=1.0):
 
 
 def test_odd_d_modulus_near_the_pole_grows_like_one_over_the_angle():
-    """The figures of POLE_NOTE (README, tutorial): about 2 n lambda / angle; 0.4 at 1e-8 rad."""
+    """The figures of POLE_NOTE (Mathematics §4.1, the tutorial): about 2 n lambda / angle; 0.4 at 1e-8 rad."""
     for angle in (1e-2, 1e-4, 1e-6, 1e-8):
         ratio = _pole_modulus(angle) / 1e-9
         assert 3.9 < angle * ratio < 4.1, (angle, ratio)  # 2 n lambda = 2 * 2 * 1

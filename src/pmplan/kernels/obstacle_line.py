@@ -1911,8 +1911,8 @@ def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strat
     Plain Python on purpose, as :func:`_build_tables`: a jitted
     caller would have numba link :func:`_plan_lanes` and :func:`_plan` into its own module and
     optimise and generate their machine code a second time -- about a quarter of the first
-    run's compile time -- for a saving of a few microseconds per chunk (see the README, "first
-    run").
+    run's compile time -- for a saving of a few microseconds per chunk (see docs/install.md, "The first
+    run compiles the kernels").
     """
     nb, m, d = obstacles.shape
     n = first.shape[1]

@@ -166,7 +166,7 @@ def path_times(r: int) -> np.ndarray:
     return out
 
 
-#: what ``pmplan verify`` says for odd d (:meth:`ObstacleLinePlanner.notes`) (measured by ``benchmarks/odd_d_pole.py``; README, "Odd d")
+#: what ``pmplan verify`` says for odd d (:meth:`ObstacleLinePlanner.notes`) (measured by ``benchmarks/odd_d_pole.py``; Mathematics §4.1)
 POLE_NOTE = (
     "odd d: near the pole N = e_d the modulus of continuity grows like 1/angle, about "
     "2 n lambda / angle (lambda = lift + max_k |r(o_k)|); measured for d = 3, n = 2, lift 1: a "
