@@ -283,6 +283,37 @@ class Planner:
         """Facts to read a check of (d, n, m) by (``pmplan verify`` prints them as notes)."""
         return []
 
+    def map_boundaries(self, obstacles, others) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Return the lines of the plane on which the label of one moving point changes.
+
+        The moving point is one robot's start (or goal); ``obstacles`` (m, 2) and ``others``
+        (k, 2), the other robots of the same configuration, stay where they are. Its label
+        changes exactly where its column meets another point's column (Mathematics §3.6,
+        §4.2), so the default is the column line through every other point.
+
+        Parameters
+        ----------
+        obstacles : numpy.ndarray
+            The obstacles, shape (m, 2).
+        others : numpy.ndarray
+            The other robots' points of the mapped configuration, shape (k, 2).
+
+        Returns
+        -------
+        list of tuple
+            ``(point, direction)`` pairs of float arrays of shape (2,), one per line, with
+            ``direction`` a unit vector; points on one column give one line.
+        """
+        o = np.asarray(obstacles, dtype=float)
+        pts = np.concatenate([o, np.asarray(others, dtype=float).reshape(-1, 2)])
+        e = (o[1] - o[0]) / np.hypot(*(o[1] - o[0]))
+        nu = np.array([-e[1], e[0]])
+        from ..predicates import projection_classes
+
+        labels = projection_classes(pts[None], o[0][None], o[1][None])[0][0]
+        first = [int(np.flatnonzero(labels == lab)[0]) for lab in np.unique(labels)]
+        return [(pts[k], nu) for k in sorted(first)]
+
     # --- the single-query fast paths ---------------------------------------------------------
     def single_query(self, m: int, n: int, d: int) -> Callable | None:
         """``run(obstacles, start, goal, lift) -> (times, waypoints, domain, row, clearance) |

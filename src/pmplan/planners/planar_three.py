@@ -513,6 +513,34 @@ class PlanarThreePlanner(Planner):
 
         return gen.perturb_planar_stratum(rng, query, delta)
 
+    def map_boundaries(self, obstacles, others) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Return the lines on which the stratum of the robot's start (goal) changes.
+
+        With o3 exactly on the line o1o2 (the family ``T1_ij``) the stratum depends on the
+        robot's height only: the boundary is that line. Otherwise (``T22_rs``, ``T23_kl``) it
+        depends on the robot's column: the boundaries are the obstacles' columns
+        (Mathematics §5.2).
+
+        Parameters
+        ----------
+        obstacles : numpy.ndarray
+            The three obstacles, shape (3, 2).
+        others : numpy.ndarray
+            The other robots' points (none: n = 1), shape (0, 2).
+
+        Returns
+        -------
+        list of tuple
+            ``(point, direction)`` pairs, ``direction`` a unit vector.
+        """
+        from ..predicates import projection_classes
+
+        o = np.asarray(obstacles, dtype=float)
+        heights = projection_classes(o[None], o[0][None], o[1][None], perpendicular=True)[1]
+        if int(heights[0]) == 1:  # o3 on L_C: heights decide
+            return [(o[0], (o[1] - o[0]) / np.hypot(*(o[1] - o[0])))]
+        return super().map_boundaries(obstacles, others)
+
     def stratum_row(self, obstacles, start, goal) -> np.ndarray:
         """The record ``(family, i, j)`` of one query, :func:`classify`."""
         return classify(obstacles[None], start[None], goal[None]).record[0]
