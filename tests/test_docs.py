@@ -64,7 +64,8 @@ def test_no_latex_label_citation():
 
 
 def _math_sections() -> set[str]:
-    heads = re.findall(r"^#{2,4} (\d+(?:\.\d+)*) ", (DOCS / "mathematics.md").read_text(), re.M)
+    heads = re.findall(r"^#{2,4} (\d+(?:\.\d+)*) ", (DOCS / "mathematics.md").read_text(),
+                       re.MULTILINE)
     return set(heads)
 
 
@@ -101,7 +102,7 @@ CI_RUN = ROOT / ".ci" / "run"
 
 def _commands(text: str) -> list[str]:
     """The shell lines of the ```bash blocks that install pmplan."""
-    blocks = re.findall(r"^```bash\n(.*?)^```", text, flags=re.S | re.M)
+    blocks = re.findall(r"^```bash\n(.*?)^```", text, flags=re.DOTALL | re.MULTILINE)
     return [line.strip() for b in blocks for line in b.splitlines() if "pip install" in line]
 
 
@@ -117,8 +118,8 @@ def test_readme_commands_are_the_ones_ci_runs():
     assert cmds == [
         "python -m pip install . && pmplan demo",
         'python -m pip install -e ".[test]" && python -m pytest',
-        'python -m pip install -e ".[docs]" && python -m sphinx -W --keep-going -b html docs '
-        "docs/_build/html",
+        ('python -m pip install -e ".[docs]" && python -m sphinx -W --keep-going -b html docs '
+         "docs/_build/html"),
     ]
     ci = [line.strip() for line in CI_RUN.read_text().splitlines()
           if line.strip() and not line.lstrip().startswith("#")]

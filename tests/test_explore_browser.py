@@ -409,21 +409,15 @@ def test_phone_width_every_control_clicks_and_the_map_is_on_by_default(page):
             except ElementClickInterceptedException as exc:  # pragma: no cover - the defect
                 raise AssertionError(f"#{element_id} is covered: {exc.msg}") from None
 
-        robots = lambda: len(driver.find_elements("css selector", ".robot-path"))  # noqa: E731
-        obstacles = lambda: len(driver.find_elements("css selector", ".obstacle"))  # noqa: E731
-        n0, m0 = robots(), obstacles()
-        click("add-robot")
-        _wait_ready(driver)
-        assert robots() == n0 + 1
-        click("remove-robot")
-        _wait_ready(driver)
-        assert robots() == n0
-        click("add-obstacle")
-        _wait_ready(driver)
-        assert obstacles() == m0 + 1
-        click("remove-obstacle")
-        _wait_ready(driver)
-        assert obstacles() == m0
+        # each button adds or removes one robot path / obstacle marker
+        for button, selector, change in (("add-robot", ".robot-path", 1),
+                                         ("remove-robot", ".robot-path", -1),
+                                         ("add-obstacle", ".obstacle", 1),
+                                         ("remove-obstacle", ".obstacle", -1)):
+            before = len(driver.find_elements("css selector", selector))
+            click(button)
+            _wait_ready(driver)
+            assert len(driver.find_elements("css selector", selector)) == before + change, button
         click("play")
         WebDriverWait(driver, 30).until(
             lambda d: int(d.find_element("id", "time").get_attribute("value")) > 50)
