@@ -10,6 +10,7 @@ the motion jumps. Here the line o1o2 is tilted, so the columns are tilted too.
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap
 
 import pmplan
 
@@ -32,19 +33,23 @@ batch = pmplan.plan_batch(np.repeat(obstacles[None], ok.sum(), 0),
 labels[ok] = batch.domain
 print("labels met:", sorted(set(batch.domain.tolist())))
 
-# columns s(y) = (y - o1).e of the other points: the boundaries, as continuous lines
+# the boundaries: the column lines s(y) = (y - o1).e of the other points, drawn as lines
 e = (obstacles[1] - obstacles[0]) / np.linalg.norm(obstacles[1] - obstacles[0])
 nu = np.array([-e[1], e[0]])
+met = sorted(set(batch.domain.tolist()))
+cmap = ListedColormap(plt.get_cmap("Set3").colors[:len(met)])
+norm = BoundaryNorm(np.arange(met[0] - 0.5, met[-1] + 1), cmap.N)
 fig, ax = plt.subplots(figsize=(8, 6.5), layout="constrained")
-im = ax.pcolormesh(X, Y, labels.reshape(X.shape), cmap="viridis", shading="nearest")
+im = ax.pcolormesh(X, Y, labels.reshape(X.shape), cmap=cmap, norm=norm, shading="nearest")
 for y in np.concatenate([obstacles, goal[1:]]):
     c = obstacles[0] + ((y - obstacles[0]) @ e) * e
-    ax.axline(c, c + nu, color="white", lw=2.5)
+    ax.axline(c, c + nu, color="0.1", lw=2.5, ls=(0, (6, 2)))
 ax.plot(*obstacles.T, "ks", ms=9)
 ax.plot(*start.T, "o", mfc="white", mec="k")
 ax.plot(*goal[1:].T, "*", color="k", ms=12)
 ax.set_xlim(xs[0], xs[-1])
 ax.set_ylim(ys[0], ys[-1])
 ax.set_aspect("equal")
-fig.colorbar(im, ax=ax, label="domain label l of robot 1's goal")
-ax.set_title("Domain map of robot 1's goal (white: domain boundaries)")
+bar = fig.colorbar(im, ax=ax, ticks=met, label="domain of robot 1's goal")
+bar.ax.set_yticklabels([f"$W_{{{lab}}}$" for lab in met])
+ax.set_title("Domain map of robot 1's goal (dashed: the domain boundaries)")
