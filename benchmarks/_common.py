@@ -628,9 +628,10 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
     if ompl is not None:
         sect = ompl_section(ompl)
         parts += sect
-    # the sections written by benchmarks/scale_bench.py, cert_bench.py, planar_bench.py and
-    # refine_bench.py
-    for name in ("scale_results.md", "cert_results.md", "planar_results.md", "refine_results.md"):
+    # the sections written by benchmarks/scale_bench.py, store_breakdown.py, cert_bench.py,
+    # planar_bench.py and refine_bench.py
+    for name in ("scale_results.md", "store_breakdown.md", "cert_results.md", "planar_results.md",
+                 "refine_results.md"):
         section = HERE / name
         if section.exists():
             sect = section.read_text().rstrip().splitlines() + [""]

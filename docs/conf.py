@@ -121,11 +121,11 @@ nitpick_ignore_regex = [
     # (the build is offline: no intersphinx inventories of numpy, matplotlib, dask, zarr)
     (r"py:.*", (r"(numpy|np|matplotlib|mpl|dask|distributed|zarr|fractions|starlette|uvicorn"
                 r"|socket)\..*")),
-    # private helpers and tuning constants of pmplan.refine and pmplan.certify cited by name in
-    # their docstrings: those modules are reworked in parallel (issue 24); docs/refinement.md
-    # states what the constants mean
+    # private helpers and module constants (outside ``__all__``) of pmplan.refine,
+    # pmplan.certify and pmplan.scale cited by name in their docstrings: those modules are
+    # reworked in parallel (issues 23, 24); docs/refinement.md states what the constants mean
     (r"py:(func|data)", (r"_swept|_clear_scale|_minima_exact|ALPHA|BETA|OMEGA|SHARE|GROWTH"
-                         r"|pmplan\.refine\.KAPPA|OUTPUTS")),
+                         r"|pmplan\.refine\.KAPPA|OUTPUTS|_fingerprint|ZSTD_LEVEL")),
 ]
 
 intersphinx_mapping = {}

@@ -86,6 +86,14 @@ def test_every_mathematics_citation_exists():
     assert cited <= secs, sorted(cited - secs)
 
 
+def test_api_reference_lists_every_public_name():
+    """docs/api.rst names every name of ``pmplan.__all__`` (autosummary makes its page)."""
+    import pmplan
+
+    listed = set(re.findall(r"^   (\w+)$", (DOCS / "api.rst").read_text(), re.MULTILINE))
+    assert set(pmplan.__all__) <= listed, sorted(set(pmplan.__all__) - listed)
+
+
 @pytest.mark.parametrize("number", ["2.6", "2.5", "4.1"])
 def test_paper_printed_numbers_are_used(number):
     text = (DOCS / "mathematics.md").read_text()

@@ -33,6 +33,7 @@ from .errors import (
     ObstacleMismatchError,
     PmplanError,
     ShapeError,
+    StoreError,
     UnsupportedError,
 )
 from .path import PiecewiseLinearPath
@@ -63,4 +64,5 @@ __all__ = [
     "ObstacleMismatchError",
     "UnsupportedError",
     "CertificationError",
+    "StoreError",
 ]

@@ -389,6 +389,23 @@ def _streams(args) -> bool:
             or args.dask_workers is not None)
 
 
+def _quiet_dask() -> None:
+    """Silence dask.distributed's own log lines in this process: a failed run ends in one line,
+    pmplan's, which names the store and what finishes it."""
+    import logging
+
+    try:
+        import distributed  # noqa: F401 - its import sets up its loggers: quiet them after it
+    except ImportError:
+        return  # plan_store says how to install it
+    tops = ("distributed", "tornado", "asyncio")
+    names = [k for k in logging.root.manager.loggerDict if k.split(".")[0] in tops]
+    for name in set(names) | set(tops):
+        log = logging.getLogger(name)
+        log.handlers[:] = [logging.NullHandler()] if name in tops else []
+        log.propagate = name not in tops
+
+
 def _cmd_batch_store(args, options: dict | None) -> int:
     """``pmplan batch`` into a Zarr store, chunk by chunk (:func:`pmplan.scale.plan_store`),
     every chunk refined with ``options`` (``--refine``) when given."""
@@ -405,6 +422,8 @@ def _cmd_batch_store(args, options: dict | None) -> int:
     else:
         source = _with_options(read_queries(args.queries), args, args.queries)
         lift = planner = None
+    if args.scheduler is not None or args.dask_workers is not None:
+        _quiet_dask()
     try:
         rep = plan_store(source, args.out, planner=planner, lift=lift, chunk=args.chunk,
                          resume=args.resume, scheduler=args.scheduler,
