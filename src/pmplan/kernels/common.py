@@ -57,8 +57,8 @@ SMALL = 2.0**-900  # below this TwoProduct's error term may underflow (as in pmp
 OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
 #: the small helpers: compiled once each and inlined by LLVM where it pays. Not numba's
 #: ``inline="always"``, which copies them into every caller before typing and cost about three
-#: seconds of every first run's compilation, with the same machine code speed (README, "first
-#: run"; the floating-point operations are the same either way: no fast-math, no contraction)
+#: seconds of every first run's compilation, with the same machine code speed (docs/install.md, "The first
+#: run compiles the kernels"; the floating-point operations are the same either way: no fast-math, no contraction)
 INLINE = OPTS
 
 
