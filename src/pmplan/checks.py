@@ -41,7 +41,7 @@ def check_workers(workers) -> int:
 
 def check_backend(backend) -> None:
     """Raise :class:`~pmplan.errors.InputError` unless ``backend`` is None or a backend name
-    (:data:`pmplan.backend.BACKENDS`)."""
+    (:data:`pmplan.backends.BACKENDS`)."""
     _backend.check(backend)
 
 

@@ -756,7 +756,7 @@ class RefineStage(Stage):
 
     def __init__(self, times, waypoints, clearance, m: int, fixed, radius: float,
                  obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None):
-        from .backend import NUMBA, resolve
+        from .backends import NUMBA, resolve
 
         self.raw_times = np.asarray(times, dtype=float)
         self.raw = waypoints

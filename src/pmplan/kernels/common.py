@@ -9,7 +9,7 @@ compiles in as constants), the compile options (:data:`OPTS`), TwoSum / TwoProdu
 (:func:`two_sum`, :func:`two_prod`), the closed-form squared distance of a piece in the
 plane (:func:`segment_dist2_plane`) and the write of a block of lanes into the caller's rows
 (:func:`write_lanes`, :func:`read_lanes`). Without numba, :data:`AVAILABLE` is False, ``njit`` leaves
-the functions as Python, and the numpy references plan everything (:mod:`pmplan.backend`).
+the functions as Python, and the numpy references plan everything (:mod:`pmplan.backends`).
 """
 
 from __future__ import annotations
