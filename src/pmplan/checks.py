@@ -2,7 +2,7 @@
 the web page --, one rule and one message each, and the choice of the planner.
 
 Below the facade (:mod:`pmplan.api`) and above the planners: importing this module registers
-the planners (:mod:`pmplan.planners`).
+the planners (the package ``pmplan.planners``).
 """
 
 from __future__ import annotations

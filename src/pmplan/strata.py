@@ -1,6 +1,6 @@
 """What ``pmplan verify`` needs of a planner: its strata, exact queries in them, moves inside
 them, and the notes to read a check by -- kept apart from the planner's mathematics
-(:mod:`pmplan.planners`), as OMPL keeps a planner apart from its benchmark specifications.
+(the package ``pmplan.planners``), as OMPL keeps a planner apart from its benchmark specifications.
 
 Every registered planner has a :class:`StrataSpec` here (:func:`spec_for`; the contract test
 holds each to it): :class:`ColumnStrata` for a planner that decides on columns as the
@@ -100,7 +100,7 @@ class ObstacleLineStrata(ColumnStrata):
 
 
 class PlanarStrata(StrataSpec):
-    """The 12 strata of paper Section 4 (:data:`pmplan.planners.planar_three.STRATA`)."""
+    """The 12 strata of paper Section 4 (:data:`pmplan.planar_strata.STRATA`)."""
 
     def stratum_count(self, d: int, n: int, m: int) -> int:
         return len(STRATA)

@@ -25,8 +25,8 @@ from .. import backends
 from ..path import PiecewiseLinearPath
 from ..predicates import projection_classes
 
-__all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "default_planner", "lift_code",
-           "out_of_scope", "register", "scene_unit", "unit"]
+__all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage", "default_planner",
+           "lift_code", "out_of_scope", "register", "scene_unit", "unit"]
 
 #: how the planners and their kernels receive ``lift="scene"``: a ``lift`` that is not > 0.
 #: A positive lift is the unit itself; SCENE_CODE (0.0) asks for the unit u(O) of every query
@@ -247,8 +247,8 @@ class Planner:
 class Stage:
     """The protocol of a stage: a map applied to planned paths after the planner, chunk by
     chunk, by the run loop (:func:`pmplan.running.run_stage`, with ``workers`` and the progress
-    display of :func:`pmplan.plan_batch`). The refinement (:class:`pmplan.refine.RefineStage`)
-    is one.
+    display of :func:`pmplan.plan_batch`). The refinement (``RefineStage`` of
+    :mod:`pmplan.refine`) is one.
 
     Subclass it: :attr:`size` (the batch length B), :attr:`chunk` and :meth:`run`, which
     processes rows ``lo:hi`` into the stage's own output arrays (each chunk writes its own rows,
