@@ -83,14 +83,14 @@ def _plan_fast(obstacles, start, goal, planner, lift, backend=None) -> Plan | No
     g = _fast_array(goal)
     if o is None or s is None or g is None or (planner is not None and type(planner) is not str):
         return None
-    key = (planner, backend, o.shape, s.shape, g.shape)
-    entry = _FAST.get(key, _UNSEEN)
-    if entry is _UNSEEN:
-        entry = _fast_entry(key)
-    if entry is None:
-        return None
-    run, p, dims, names = entry
-    return _fast_answer(run(o, s, g, lift), p, dims, names)
+    entry = _entry(_FAST, (planner, backend, o.shape, s.shape, g.shape), _fast_entry)
+    return None if entry is None else _fast_answer(entry[0](o, s, g, lift), *entry[1:])
+
+
+def _entry(cache: dict, key: tuple, make):
+    """``cache[key]``, made by ``make(key)`` (which caches it) the first time."""
+    entry = cache.get(key, _UNSEEN)
+    return make(key) if entry is _UNSEEN else entry
 
 
 def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict) -> Plan | None:
@@ -213,14 +213,8 @@ def _plan_sequence_fast(obstacles, configs, lift, backend=None) -> Plan | None:
     for c in cs:
         if c is None or c.shape != shape:
             return None
-    key = (len(cs), backend, o.shape, shape)
-    entry = _FAST_SEQUENCE.get(key, _UNSEEN)
-    if entry is _UNSEEN:
-        entry = _sequence_entry(key)
-    if entry is None:
-        return None
-    run, p, dims, names = entry
-    return _fast_answer(run(o, cs, lift), p, dims, names)
+    entry = _entry(_FAST_SEQUENCE, (len(cs), backend, o.shape, shape), _sequence_entry)
+    return None if entry is None else _fast_answer(entry[0](o, cs, lift), *entry[1:])
 
 
 def _sequence_entry(key: tuple):
