@@ -6,18 +6,22 @@ import numpy as np
 import pytest
 
 from pmplan.errors import UnsupportedError
-from pmplan.planners.base import REGISTRY
-from pmplan.strata import SPECS, StrataSpec, spec_for
+from pmplan.planners.base import REGISTRY, Planner
+from pmplan.strata import SPECS, ColumnStrata, StrataSpec, spec_for
 
 CASES = [("obstacle_line", (2, 2, 2)), ("obstacle_line", (3, 2, 3)), ("obstacle_line", (2, 1, 4)),
          ("planar_three", (2, 1, 3))]
 
 
-def test_every_registered_planner_has_a_spec():
-    assert set(SPECS) == set(REGISTRY)
+def test_every_planner_has_a_spec():
     for name, p in REGISTRY.items():
         assert isinstance(spec_for(p), StrataSpec) and spec_for(name) is spec_for(p)
-    with pytest.raises(UnsupportedError, match="StrataSpec"):
+        assert spec_for(p) is SPECS[type(p)]
+    twin = type("Twin", (type(REGISTRY["planar_three"]),), {"name": "twin"})()
+    assert spec_for(twin) is spec_for("planar_three")  # a subclass: its ancestor's
+    plain = type("Plain", (Planner,), {"name": "plain"})()
+    assert type(spec_for(plain)) is ColumnStrata  # any planner: the column strata
+    with pytest.raises(UnsupportedError, match="unknown planner 'no_such_planner'"):
         spec_for("no_such_planner")
 
 
