@@ -143,7 +143,8 @@ def test_no_module_imports_another_modules_private_names():
 
 #: the core modules whose tests are not named after them, and where they are
 TESTED_IN = {"pmplan.planners.base": "test_contract.py",  # the protocol every planner keeps
-             "pmplan.backends.numpy": "test_backends.py", "pmplan.backends.numba": "test_backends.py",
+             "pmplan.backends.numpy": "test_backends.py",
+             "pmplan.backends.numba": "test_backends.py",
              "pmplan.kernels.refine": "test_refine.py",  # the kernel == the reference, bitwise
              "pmplan.version": "test_io_cli.py"}  # pmplan --version and the store attribute
 

@@ -7,10 +7,9 @@ import dataclasses
 
 import numpy as np
 import pytest
+from test_contract import _assert_same_plan, _queries
 
 import pmplan
-
-from test_contract import _assert_same_plan, _queries
 
 
 @pytest.fixture(scope="module")

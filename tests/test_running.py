@@ -7,12 +7,11 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_contract import _assert_same_batch, _queries
 
 import pmplan
 from pmplan import running
 from pmplan.errors import InputError, UnsupportedError
-
-from test_contract import _assert_same_batch, _queries
 
 
 @settings(max_examples=200, deadline=None)
