@@ -90,10 +90,19 @@ class RawPlan:
 class Planner:
     """The protocol every planner implements (see ``obstacle_line``, ``planar_three``).
 
-    Subclass it; the methods with a default here are optional. Required: :attr:`name`,
-    :attr:`summary`, :meth:`supports`, :meth:`domain_labels`, :meth:`stratum_name`,
-    :meth:`plan` (the numpy reference) and :meth:`allocate`. The faces (:mod:`pmplan.verify`,
-    :mod:`pmplan.animation`, the CLI) ask these members, never a planner's name.
+    Subclass it; the members with a default here are optional. By concern:
+
+    * the mathematics (required): :attr:`name`, :attr:`summary`, :meth:`supports`,
+      :meth:`domain_labels`, :meth:`stratum_name`, :meth:`reference` (the numpy reference)
+      and :meth:`allocate`; optional :attr:`equivariant`, :attr:`sequential`,
+      :attr:`priority`, :meth:`path_times`, :meth:`fixed_waypoints`;
+    * what the faces display: :attr:`domain_prefix`, :attr:`uses_heights`, :attr:`phases`,
+      :meth:`map_boundaries`;
+    * how a batch is computed is a backend's (:mod:`pmplan.backends`), and what ``pmplan
+      verify`` needs is the planner's :class:`~pmplan.strata.StrataSpec` (:mod:`pmplan.strata`).
+
+    The faces (:mod:`pmplan.verify`, :mod:`pmplan.animation`, the CLI, the web page) ask these
+    members, never a planner's name.
     """
 
     #: the name users pass as ``planner=``
