@@ -169,7 +169,7 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
         raw = plan(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             backend=backend)
-    return plan_one(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
+    return plan_one(obstacles, start, goal, planner, lift, backend)
 
 
 def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
@@ -248,7 +248,7 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
         raw = plan_sequence(obstacles, configs, lift=lift, backend=backend)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             backend=backend)
-    return plan_one_sequence(obstacles, configs, lift=lift, backend=backend)
+    return plan_one_sequence(obstacles, configs, lift, backend)
 
 
 def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> PlannerInfo:

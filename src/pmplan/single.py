@@ -27,7 +27,7 @@ from .running import run_loop, single_plan
 __all__ = ["plan_one", "plan_one_sequence"]
 
 
-def plan_one(obstacles, start, goal, *, planner: str | None = None, lift=1.0,
+def plan_one(obstacles, start, goal, planner: str | None = None, lift=1.0,
              backend: str | None = None) -> Plan:
     """:func:`pmplan.plan` of an unrefined query: the lean path, else the general one."""
     if backend is None or type(backend) is str and backend in _backend.REGISTRY:
@@ -44,7 +44,7 @@ def plan_one(obstacles, start, goal, *, planner: str | None = None, lift=1.0,
     return single_plan(p, (d, n, m), out)
 
 
-def plan_one_sequence(obstacles, configs, *, lift=1.0, backend: str | None = None) -> Plan:
+def plan_one_sequence(obstacles, configs, lift=1.0, backend: str | None = None) -> Plan:
     """:func:`pmplan.plan_sequence` of an unrefined query: the lean path, else the general
     one."""
     if backend is None or type(backend) is str and backend in _backend.REGISTRY:
@@ -83,14 +83,14 @@ def _plan_fast(obstacles, start, goal, planner, lift, backend=None) -> Plan | No
     g = _fast_array(goal)
     if o is None or s is None or g is None or (planner is not None and type(planner) is not str):
         return None
-    entry = _entry(_FAST, (planner, backend, o.shape, s.shape, g.shape), _fast_entry)
-    return None if entry is None else _fast_answer(entry[0](o, s, g, lift), *entry[1:])
-
-
-def _entry(cache: dict, key: tuple, make):
-    """``cache[key]``, made by ``make(key)`` (which caches it) the first time."""
-    entry = cache.get(key, _UNSEEN)
-    return make(key) if entry is _UNSEEN else entry
+    key = (planner, backend, o.shape, s.shape, g.shape)
+    entry = _FAST.get(key, _UNSEEN)
+    if entry is _UNSEEN:
+        entry = _fast_entry(key)
+    if entry is None:
+        return None
+    run, p, dims, names = entry
+    return _fast_answer(run(o, s, g, lift), p, dims, names)
 
 
 def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict) -> Plan | None:
@@ -213,8 +213,14 @@ def _plan_sequence_fast(obstacles, configs, lift, backend=None) -> Plan | None:
     for c in cs:
         if c is None or c.shape != shape:
             return None
-    entry = _entry(_FAST_SEQUENCE, (len(cs), backend, o.shape, shape), _sequence_entry)
-    return None if entry is None else _fast_answer(entry[0](o, cs, lift), *entry[1:])
+    key = (len(cs), backend, o.shape, shape)
+    entry = _FAST_SEQUENCE.get(key, _UNSEEN)
+    if entry is _UNSEEN:
+        entry = _sequence_entry(key)
+    if entry is None:
+        return None
+    run, p, dims, names = entry
+    return _fast_answer(run(o, cs, lift), p, dims, names)
 
 
 def _sequence_entry(key: tuple):
