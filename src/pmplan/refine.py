@@ -71,7 +71,6 @@ from functools import lru_cache
 import numpy as np
 
 from .certify import (
-    _REL,
     CLEARANCE,
     _exact_segment_clearance,
     _exact_segment_dist2,
@@ -79,6 +78,7 @@ from .certify import (
     check_paths,
     clearance,
     describe,
+    radius_report,
 )
 from .errors import CertificationError, CollisionError, InputError
 from .planners.base import Stage
@@ -588,87 +588,6 @@ def targets(radius: float, obstacle_radius: float, raw_clearance: np.ndarray) ->
                      c if ro == 0 else np.full(c.shape, ro)], axis=1)
 
 
-def _minima_exact(wp: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The piece minima (B, K-1, pairs) of :func:`piece_minima`, re-decided exactly where the
-    certificate re-decides them (:func:`pmplan.certify.clearance`: a float minimum not clearly
-    above the rounding of its evaluation is recomputed in rational arithmetic)."""
-    d = piece_minima(wp, a, b)
-    if a.size == 0 or d.size == 0:
-        return d
-    pa, pb = wp[:, :, a, :], wp[:, :, b, :]
-    r = np.abs(pa - pb).max(-1)
-    scale = np.maximum(r[:, :-1], r[:, 1:])
-    absval = np.maximum(np.abs(pa).max(-1), np.abs(pb).max(-1))
-    absval = np.maximum(absval[:, :-1], absval[:, 1:])
-    with np.errstate(invalid="ignore", over="ignore"):
-        suspect = ~(d > _REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(d)
-    for bi, ki, qi in zip(*np.nonzero(suspect)):
-        d[bi, ki, qi] = _exact_segment_clearance(wp[bi, ki, a[qi]], wp[bi, ki, b[qi]],
-                                                 wp[bi, ki + 1, a[qi]], wp[bi, ki + 1, b[qi]])
-    return d
-
-
-def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius: float):
-    """``(robot_distance, obstacle_distance, respects)`` of a batch of paths (B, K, P, d).
-
-    The distances are the minima over the pieces of the certificate's closed-form piece minima
-    (exact where the certificate is, :func:`_minima_exact`); ``inf`` for the robot-robot one
-    when n = 1. ``respects`` is decided exactly: the true minimum distance between two robots
-    is >= ``2 radius`` and between a robot and an obstacle >= ``radius + obstacle_radius``
-    (rational arithmetic on the waypoint floats where the float minimum is within 1e-9 of the
-    bound).
-    """
-    wp = np.asarray(waypoints, dtype=float)
-    bsz, _, p, _ = wp.shape
-    if bsz == 0:
-        return np.empty(0), np.empty(0), np.ones(0, dtype=bool)
-    if np.abs(wp).max() >= 2.0**RANGE:
-        return _scaled_report(wp, m, radius, obstacle_radius)
-    a, b, _ = pairs(p, m)
-    rr = a >= m
-    d = _minima_exact(wp, a, b).reshape(bsz, -1, a.size)
-    robot = d[:, :, rr].reshape(bsz, -1).min(axis=1, initial=np.inf)
-    obst = d[:, :, ~rr].reshape(bsz, -1).min(axis=1, initial=np.inf)
-    ok = _at_least(wp, d[:, :, rr], a[rr], b[rr], 2 * Fraction(radius))
-    ok &= _at_least(wp, d[:, :, ~rr], a[~rr], b[~rr],
-                    Fraction(radius) + Fraction(obstacle_radius))
-    return robot, obst, ok
-
-
-def _at_least(wp, d, pa, pb, need: Fraction) -> np.ndarray:
-    """Whether every pair (pa, pb), of piece minima ``d`` (B, K-1, pairs), keeps an exact
-    distance >= ``need`` along every path (B,): the float minimum decides where it is clearly
-    above or below, the exact one otherwise."""
-    bsz = wp.shape[0]
-    ok = np.ones(bsz, dtype=bool)
-    if pa.size == 0 or need == 0:
-        return ok
-    f = float(need)
-    with np.errstate(invalid="ignore"):
-        sure = d > f * (1 + 1e-9) + 1e-300
-        fail = d < f * (1 - 1e-9)
-    ok &= ~fail.reshape(bsz, -1).any(axis=1)
-    need2 = need * need
-    for bi, ki, qi in zip(*np.nonzero(~sure & ~fail)):
-        if ok[bi] and _exact_segment_dist2(wp[bi, ki, pa[qi]], wp[bi, ki, pb[qi]],
-                                           wp[bi, ki + 1, pa[qi]], wp[bi, ki + 1, pb[qi]]) < need2:
-            ok[bi] = False
-    return ok
-
-
-def _scaled_report(wp, m, radius, obstacle_radius):
-    """:func:`radius_report` for paths beyond the float range of squares: each scaled by a
-    power of two (exact where the bits allow) and its distances scaled back."""
-    out = [np.empty(wp.shape[0]), np.empty(wp.shape[0]), np.zeros(wp.shape[0], dtype=bool)]
-    for i in range(wp.shape[0]):
-        _, e = np.frexp(np.abs(wp[i]).max())
-        rd, od, ok = radius_report(np.ldexp(wp[i:i + 1], -e), m, float(np.ldexp(radius, -e)),
-                                   float(np.ldexp(obstacle_radius, -e)))
-        with np.errstate(over="ignore"):
-            out[0][i], out[1][i], out[2][i] = np.ldexp(rd[0], e), np.ldexp(od[0], e), ok[0]
-    return tuple(out)
-
-
 def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_radius: float,
                 batched: bool, kernel: bool = False) -> None:
     """Raise :class:`~pmplan.errors.CollisionError` (an InputError) if a configuration the path
@@ -701,15 +620,13 @@ def _raise_too_close(conf, m, radius, obstacle_radius, name, index) -> None:
     p = conf.shape[0]
     a, b, _ = pairs(p, m)
     label = [f"o{k + 1}" for k in range(m)] + [f"x{k + 1}" for k in range(p - m)]
-    best = None
-    for pa, pb in zip(a, b):
-        need, value = (("2 * radius", 2 * radius) if pa >= m else
-                       ("radius + obstacle_radius", radius + obstacle_radius))
-        sq = _exact_segment_dist2(conf[pa], conf[pb], conf[pa], conf[pb])
-        if sq < Fraction(value) ** 2:
-            best = (label[pa], label[pb], math.sqrt(float(sq)), need, value)
+    for pa, pb in zip(a, b):  # (check_radii's decision is exact: one pair is too close)
+        need, value = (("2 * radius", 2 * Fraction(radius)) if pa >= m else
+                       ("radius + obstacle_radius", Fraction(radius) + Fraction(obstacle_radius)))
+        if _exact_segment_dist2(conf[pa], conf[pb], conf[pa], conf[pb]) < value * value:
             break
-    pa, pb, dist, need, value = best
+    dist = _exact_segment_clearance(conf[pa], conf[pb], conf[pa], conf[pb])
+    pa, pb, value = label[pa], label[pb], float(value)
     where = f" in query {index}" if index is not None else ""
     raise CollisionError(
         _MSG_TOO_CLOSE.format(what=f"the {name} configuration" if name in ("start", "goal")

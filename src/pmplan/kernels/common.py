@@ -16,7 +16,15 @@ from __future__ import annotations
 
 # one source: the unit roundoff and the underflow bound of pmplan.predicates' filter, and the
 # thresholds of pmplan.certify (numba reads these module globals as compile-time constants)
-from ..certify import _MAXF, _OBSTACLE_TINY2, _REL, _SURE  # noqa: F401 (the kernels import them here)
+from ..certify import (  # noqa: F401 (the kernels import them here)
+    _BAND_ABS,
+    _BAND_REL,
+    _MAXF,
+    _OBSTACLE_TINY2,
+    _REL,
+    _SURE,
+    _TINY_DIST,
+)
 from ..predicates import _TINY, _U  # noqa: F401
 
 try:

@@ -26,7 +26,7 @@ from ..refine import (
     subdivide,
     subdivide_times,
 )
-from .common import _OBSTACLE_TINY2, _OPTS, _REL, njit
+from .common import _BAND_ABS, _BAND_REL, _OBSTACLE_TINY2, _OPTS, _REL, _TINY_DIST, njit
 
 __all__ = ["measure_batch", "refine_batch"]
 
@@ -390,7 +390,8 @@ def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta,
 
 #: flags of :func:`measure_batch`: the certificate's exact re-decision is needed (a piece
 #: minimum not clearly above its rounding, an obstacle pair that may underflow, a non-finite
-#: value), the radii are within 1e-9 of a minimum (decided exactly), the radii are not kept
+#: value), a piece minimum lies in the band of :func:`pmplan.certify.radius_report` around a
+#: radius bound (decided exactly), the radii are certainly not kept
 SUSPECT = 1
 CLOSE = 2
 SHORT = 4
@@ -424,18 +425,20 @@ def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
                     for k in range(dd):
                         scale = max(scale, abs(rel[jj, k]))
                         absval = max(absval, abs(xi[jj, pa, k]), abs(xi[jj, pb, k]))
+                # (a distance below 2**-480 may hold an underflowed square: measured exactly)
                 if not (dq > _REL * max(scale, absval * 1e-6)) or not math.isfinite(dq) \
-                        or not math.isfinite(absval):
+                        or not math.isfinite(absval) or not dq > _TINY_DIST:
                     fl |= SUSPECT
                 clr = min(clr, dq)
                 if pa >= m:
                     rob = min(rob, dq)
                 else:
                     obs = min(obs, dq)
-                if nd > 0:
-                    if dq < nd * (1 - 1e-9):
+                if nd > 0:  # the band of pmplan.certify.radius_report
+                    band = _BAND_REL * (nd + absval) + _BAND_ABS
+                    if dq < nd - band:
                         fl |= SHORT
-                    elif not dq > nd * (1 + 1e-9) + 1e-300:
+                    elif not dq > nd + band:
                         fl |= CLOSE
         for k1 in range(m):
             for k2 in range(k1 + 1, m):
