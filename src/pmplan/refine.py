@@ -162,8 +162,9 @@ MOBILITY = 4.0
 #: the kernel measures the refined paths for d below this (numpy sums fewer than 8 terms
 #: sequentially, as the kernel does; beyond, numpy's pairwise sums round differently)
 MAX_SEQUENTIAL_D = 8
-#: waypoints outside [2**-RANGE, 2**RANGE) are refined scaled by a power of two (exact)
-RANGE = 400
+#: the largest target in the refinement's frame (:func:`to_frame`: the path's extent is below 1
+#: there)
+MAX_TARGET = 2.0**20
 
 # the messages of the parameter checks (one source; the CLI prints them as they are)
 _MSG_RADIUS = ("`{name}` must be a finite real number >= 0 (a length in the scene's units), "
@@ -576,6 +577,52 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     return t, x
 
 
+# --- the frame -------------------------------------------------------------------------------
+
+def to_frame(raw: np.ndarray, target: np.ndarray):
+    """The normalised frame of every raw path (B, K, P, d) and its targets (B, 2): ``(y, tgt,
+    back)``. One rule for every query, no switch:
+
+    1. ``z = raw 2**-e1``, e1 the exponent of the path's largest |coordinate| (``z`` depends
+       only on the real values ``raw 2**-e1``, so a query scaled by ``2**k`` gives the same
+       bits, subnormals included);
+    2. ``u = z - c``, c the first point at the start (an obstacle: it never moves), so that a
+       small scene far from the origin is not lost in its offset;
+    3. ``y = u 2**-e2``, e2 the exponent of the largest |u|: the whole path (start, goal, every
+       configuration and lift) lies in the unit box of one frame, its extent in [1/2, 1).
+
+    In the frame the refinement's arithmetic neither overflows nor underflows (squares of
+    coordinates below 1, of distances above 2**-480; see docs/refinement.md), so it is the
+    same for every magnitude. The targets are scaled by ``2**-(e1 + e2)`` and held to
+    ``[2**-900, MAX_TARGET]`` (a target beyond a million extents is out of reach anyway).
+    :func:`from_frame` maps back."""
+    b = raw.shape[0]
+    with np.errstate(invalid="ignore"):
+        amax = np.abs(raw).reshape(b, -1).max(axis=1, initial=0.0)
+    good = np.isfinite(amax) & (amax > 0)
+    e1 = np.where(good, np.frexp(np.where(good, amax, 1.0))[1], 0)
+    with np.errstate(under="ignore"):
+        z = np.ldexp(raw, -e1[:, None, None, None])
+    c = z[:, :1, :1, :].copy()
+    u = z - c
+    umax = np.abs(u).reshape(b, -1).max(axis=1, initial=0.0)
+    e2 = np.where(umax > 0, np.frexp(np.where(umax > 0, umax, 1.0))[1], 0)
+    with np.errstate(under="ignore"):
+        y = np.ldexp(u, -e2[:, None, None, None])
+        tgt = np.ldexp(np.asarray(target, dtype=float), -(e1 + e2)[:, None])
+    tgt = np.clip(tgt, 2.0**-900, MAX_TARGET)
+    return y, tgt, (e1, e2, c)
+
+
+def from_frame(y: np.ndarray, back) -> np.ndarray:
+    """The paths of the frame ``y`` (B, W, P, d) in the query's coordinates (the caller
+    restores the fixed waypoints and the obstacles exactly)."""
+    e1, e2, c = back
+    with np.errstate(over="ignore", under="ignore"):
+        z = np.ldexp(y, e2[:, None, None, None]) + c
+        return np.ldexp(z, e1[:, None, None, None])
+
+
 # --- the radii -------------------------------------------------------------------------------
 
 def targets(radius: float, obstacle_radius: float, raw_clearance: np.ndarray) -> np.ndarray:
@@ -705,27 +752,18 @@ class RefineStage(Stage):
     def run(self, lo: int, hi: int) -> np.ndarray:
         raw = self.raw[lo:hi]
         times = self.raw_times if self.raw_times.ndim == 1 else self.raw_times[lo:hi]
-        target = self.target[lo:hi]
+        y, tgt, back = to_frame(raw, self.target[lo:hi])
         out = self.waypoints[lo:hi]
-        with np.errstate(invalid="ignore"):
-            amax = np.abs(raw).reshape(hi - lo, -1).max(axis=1, initial=0.0)
-        extreme = ~((amax >= 2.0**-RANGE) & (amax < 2.0**RANGE))
-        normal = np.flatnonzero(~extreme)
-        if normal.size == hi - lo:
-            out[...] = self._refine(times, raw, target)[1]
-        elif normal.size:
-            out[normal] = self._refine(times if times.ndim == 1 else times[normal], raw[normal],
-                                       target[normal])[1]
-        for i in np.flatnonzero(extreme):  # scaled by a power of two into range, exactly
-            _, e = np.frexp(amax[i])
-            t_i = times if times.ndim == 1 else times[i:i + 1]
-            res = self._refine(t_i, np.ldexp(raw[i:i + 1], -e), np.ldexp(target[i:i + 1], -e))[1]
-            with np.errstate(over="ignore", under="ignore"):
-                out[i] = np.ldexp(res[0], e)
-            out[i, :, :self.m] = raw[i, 0, :self.m]
-            for kj in self.fixed:
-                out[i, kj * self.s] = raw[i, kj]
-        self._certify(lo, hi, raw, out, extreme)
+        ref = self._refine(times, y, tgt)[1]
+        out[...] = from_frame(ref, back)
+        # the obstacles, and every raw waypoint the refinement left in place (the fixed
+        # configurations, a padded row's repeated goal), exactly: the frame rounds them
+        out[:, :, :self.m] = raw[:, :1, :self.m]
+        same = (ref[:, ::self.s] == y).all(axis=-1)  # (B, K, P)
+        out[:, ::self.s][same] = raw[same]
+        for kj in self.fixed:
+            out[:, kj * self.s] = raw[:, kj]
+        self._certify(lo, hi, raw, out, np.zeros(hi - lo, dtype=bool))
         return self.clause[lo:hi] == 0
 
     def _certify(self, lo, hi, raw, out, exact) -> None:
