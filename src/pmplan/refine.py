@@ -162,6 +162,17 @@ MOBILITY = 4.0
 #: the kernel measures the refined paths for d below this (numpy sums fewer than 8 terms
 #: sequentially, as the kernel does; beyond, numpy's pairwise sums round differently)
 MAX_SEQUENTIAL_D = 8
+#: no self-squeezing: a pair never goes below ``HOLD min(T, its raw distance)`` -- its smallest
+#: distance on the raw path -- nor below T where the raw path keeps T (the clearing's floor is
+#: at least ``min(T (1 + MARGIN), HOLD D_raw)``; the shortening never lowers a pair below T)
+HOLD = 0.5
+#: the rounding slack of the caps, in the frame (extent < 1): every cap is measured from ``D -
+#: SLACK (1 + A)`` (A the path's largest |coordinate| at the substep), every directional
+#: budget from ``h - 4 SLACK e**2`` against an inward part raised by ``SLACK e |move|`` (e = 2
+#: + A + |r0| + |v| + |move|): the float piece minimum, the float inward part and the rounded
+#: moves are within far less of the exact ones (about 2**-50 e), so every floor holds for the
+#: floats computed, exactly (tests/test_refine_exact.py)
+SLACK = 2.0**-44
 #: the largest target in the refinement's frame (:func:`to_frame`: the path's extent is below 1
 #: there)
 MAX_TARGET = 2.0**20
@@ -377,10 +388,16 @@ def _apply(x, delta, cap, m, j=slice(None)) -> None:
     x[:, j, m:] = x[:, j, m:] + delta[:, :, m:] * scale[:, :, m:, None]
 
 
+def _slack(x) -> np.ndarray:
+    """``SLACK (1 + A)`` per path (B,): the rounding slack of the caps (:data:`SLACK`)."""
+    return SLACK * (1.0 + np.abs(x).reshape(x.shape[0], -1).max(axis=1))
+
+
 def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
     d = piece_minima(x, a, b)
     keep = tgt * (1.0 + MARGIN)
-    free = c * np.maximum(d - keep[:, None, :], 0.0)
+    sl = _slack(x)[:, None, None]
+    free = c * np.maximum((d - sl) - keep[:, None, :], 0.0)
     cap = _caps(x, a, b, c, free)
     w = x.shape[1]
     # red-black: the odd waypoints toward the chords of the even ones, then the even ones
@@ -394,7 +411,7 @@ def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
         _apply(x, delta, cap[:, j], m, j)
 
 
-def _budget(r0, v, f2, nterms: float, al, be, start: bool):
+def _budget(r0, v, f2, nterms: float, al, be, start: bool, err=0.0):
     """The directional scale of one end's move on one piece: ``min(1, min over t in [0, 1]
     with g(t) > 0 of h(t) / g(t))``, where ``g(t) = w(t) (al + t be)`` is the inward part of the
     move at the piece's parameter t (``w = 1 - t`` at the start, ``t`` at the end) and
@@ -407,7 +424,7 @@ def _budget(r0, v, f2, nterms: float, al, be, start: bool):
     else:  # t (al + t be)
         g0, g1, g2 = np.zeros_like(al), al, be
     den = 2.0 * nterms
-    h0 = (_dot(r0, r0) - f2 * f2) / den
+    h0 = (_dot(r0, r0) - f2 * f2 - err) / den
     h1 = (2.0 * _dot(r0, v)) / den
     h2 = _dot(v, v) / den
     qa = h2 * g1 - h1 * g2
@@ -425,13 +442,13 @@ def _budget(r0, v, f2, nterms: float, al, be, start: bool):
         t = np.clip(np.where(np.isnan(t), 0.0, t), 0.0, 1.0)
         g = ((1.0 - t) if start else t) * (al + t * be)
         rt = r0 + t[..., None] * v
-        h = np.maximum((_dot(rt, rt) - f2 * f2) / den, 0.0)
+        h = np.maximum((_dot(rt, rt) - f2 * f2 - err) / den, 0.0)
         with np.errstate(invalid="ignore", divide="ignore"):
             s = np.where(g > 0, np.minimum(s, h / np.where(g > 0, g, 1.0)), s)
     return s
 
 
-def _clear_scale(x, delta, m, a, b, c, d, gap, cap) -> np.ndarray:
+def _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl=None) -> np.ndarray:
     """The scale in [0, 1] of every point's clearing move, (B, W, P): 1 within the isotropic cap
     ``cap``; beyond it the smallest, over the point's pairs and the two adjacent pieces, of the
     larger of its isotropic scale ``SHARE c (D - F) / |move|`` and its *directional* scale
@@ -443,34 +460,44 @@ def _clear_scale(x, delta, m, a, b, c, d, gap, cap) -> np.ndarray:
     bsz, w, p = x.shape[:3]
     nrm = np.sqrt(_dot(delta, delta))
     s = np.ones((bsz, w, p))
+    sl = _slack(x) if sl is None else sl
     for q in range(a.shape[0]):
         pa, pb = a[q], b[q]
         r = x[:, :, pa] - x[:, :, pb]
         r0, v = r[:, :-1], r[:, 1:] - r[:, :-1]
+        ext = (1.0 + sl[:, None] / SLACK) + (np.sqrt(_dot(r0, r0)) + np.sqrt(_dot(v, v)))
         gq = gap[:, :, q]
         f2 = d[:, :, q] - SHARE * gq
         nterms = 4.0 if pa >= m else 2.0
         iso = (SHARE * c[q]) * gq
         for pt, sign in ((pb, -1.0), (pa, 1.0)) if pa >= m else ((pb, -1.0),):
             for start in (True, False):
-                sl = slice(None, -1) if start else slice(1, None)
-                dl = delta[:, sl, pt]
-                big = nrm[:, sl, pt] > cap[:, sl, pt]  # only the moves beyond the cap
-                sd = _budget(r0, v, f2, nterms, -sign * _dot(r0, dl), -sign * _dot(v, dl), start)
-                nm = nrm[:, sl, pt]
+                sl_ = slice(None, -1) if start else slice(1, None)
+                dl = delta[:, sl_, pt]
+                big = nrm[:, sl_, pt] > cap[:, sl_, pt]  # only the moves beyond the cap
+                nm = nrm[:, sl_, pt]
+                e = ext + nm
+                # (the inward part raised by its rounding bound, so that a move the floats see
+                # as outward where the pair nearly touches is not taken as free)
+                err = (4.0 * SLACK) * (e * e)
+                sd = _budget(r0, v, f2, nterms, -sign * _dot(r0, dl) + (SLACK * e) * nm,
+                             -sign * _dot(v, dl), start, err)
+                # no directional allowance where the room above F' is within the rounding
+                # anywhere on the piece (its budget would be empty there)
+                dq = d[:, :, q]
+                sd = np.where(dq * dq - f2 * f2 > 2.0 * err, sd, 0.0)
                 with np.errstate(invalid="ignore", divide="ignore"):
                     si = np.where(nm > iso, iso / np.where(nm > 0, nm, 1.0), 1.0)
-                s[:, sl, pt] = np.where(big, np.minimum(s[:, sl, pt], np.maximum(sd, si)),
-                                        s[:, sl, pt])
+                s[:, sl_, pt] = np.where(big, np.minimum(s[:, sl_, pt], np.maximum(sd, si)),
+                                         s[:, sl_, pt])
     return s
 
 
-def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool) -> None:
-    """One clearing pass: the pushes at the waypoints (``at_waypoints``, floor factor
-    :data:`PHI_WAYPOINT`) or at the soft closest points of the pieces (floor factor
-    :data:`PHI`), each point's move scaled by :func:`_clear_scale`."""
-    phi = PHI_WAYPOINT if at_waypoints else PHI
-    d = piece_minima(x, a, b)
+def clear_floor(d, tgt, hold, phi, eta):
+    """The clearing's floor of every pair on every piece (B, W-1, pairs) from its piece minimum
+    ``d``: ``phi d`` below the target T, ``T (1 + MARGIN)`` from the push target ``T (1 +
+    eta)`` on, linear between; never below ``hold`` (B, pairs), the pair's no-squeezing level
+    (:func:`hold_levels`)."""
     keep = tgt * (1.0 + MARGIN)  # (B, pairs)
     star = tgt * (1.0 + eta)
     low = phi * tgt
@@ -479,7 +506,27 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool) -> None:
     floor = np.where(d <= t_, phi * d,
                      np.where(d >= star[:, None, :], keep[:, None, :],
                               low[:, None, :] + (d - t_) * slope[:, None, :]))
-    gap = np.maximum(d - floor, 0.0)
+    return np.maximum(floor, hold[:, None, :])
+
+
+def hold_levels(x, a, b, tgt) -> np.ndarray:
+    """The no-squeezing level of every pair (B, pairs): ``min(T (1 + MARGIN), HOLD D_raw)``,
+    ``D_raw`` the pair's smallest distance on the raw path ``x`` (:data:`HOLD`)."""
+    return np.minimum(tgt * (1.0 + MARGIN), HOLD * piece_minima(x, a, b).min(axis=1))
+
+
+def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None) -> None:
+    """One clearing pass: the pushes at the waypoints (``at_waypoints``, floor factor
+    :data:`PHI_WAYPOINT`) or at the soft closest points of the pieces (floor factor
+    :data:`PHI`), each point's move scaled by :func:`_clear_scale`; no pair below its floor
+    (:func:`clear_floor`; ``hold``: (B, pairs), 0 when not given)."""
+    phi = PHI_WAYPOINT if at_waypoints else PHI
+    d = piece_minima(x, a, b)
+    star = tgt * (1.0 + eta)
+    hold = np.zeros_like(tgt) if hold is None else hold
+    floor = clear_floor(d, tgt, hold, phi, eta)
+    sl = _slack(x)
+    gap = np.maximum((d - sl[:, None, None]) - floor, 0.0)
     cap = _caps(x, a, b, c, (SHARE * c) * gap)
     push = np.zeros(x.shape)
     for q in range(a.shape[0]):
@@ -525,7 +572,7 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool) -> None:
             push[:, 1:, pa] = push[:, 1:, pa] + f1
             push[:, :-1, pa] = push[:, :-1, pa] + f0
     delta = (BETA * mob)[..., None, None] * push
-    scale = _clear_scale(x, delta, m, a, b, c, d, gap, cap)
+    scale = _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl)
     x[:, :, m:] = x[:, :, m:] + delta[:, :, m:] * scale[:, :, m:, None]
 
 
@@ -558,6 +605,7 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     p = x.shape[2]
     a, b, c = pairs(p, m)
     tgt = np.where(a >= m, target[:, :1], target[:, 1:2])  # (B, pairs)
+    hold = hold_levels(x, a, b, tgt)
     t = times
     for level, (s, n_steps) in enumerate(schedule(waypoints_per_piece, steps)):
         if level:
@@ -569,11 +617,11 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         eta = overshoot(level)
         for _ in range(n_steps):
             if level == 0:  # the waypoint pass: at the coarsest level (PHI_WAYPOINT)
-                _clear(x, m, a, b, c, tgt, mob, eta, True)
-            _clear(x, m, a, b, c, tgt, mob, eta, False)
+                _clear(x, m, a, b, c, tgt, mob, eta, True, hold)
+            _clear(x, m, a, b, c, tgt, mob, eta, False, hold)
             _shorten(x, m, a, b, c, tgt, frac, mob)
     for _ in range(final_steps(steps)):
-        _clear(x, m, a, b, c, tgt, mob, eta, False)
+        _clear(x, m, a, b, c, tgt, mob, eta, False, hold)
     return t, x
 
 
