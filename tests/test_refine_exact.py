@@ -341,8 +341,8 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
                                                     tfrac, level):
     """One clearing pass, in the frame of a path scaled by 2**mag whose robot nearly touches
     another point (D/L = 1e-3 .. 1e-15): every pair on every piece ends at or above its floor
-    (:func:`pmplan.refine.clear_floor`, with the no-squeezing level ``min(T (1 + MARGIN),
-    HOLD D_raw)``) in rational arithmetic -- not one ulp below; the kernel's pass gives the
+    (:func:`pmplan.refine.clear_floor`, with the no-squeezing level ``HOLD min(T (1 +
+    MARGIN), D_raw)``) in rational arithmetic -- not one ulp below; the kernel's pass gives the
     same bits."""
     from pmplan.kernels.refine import _clear as kernel_clear
     from pmplan.kernels.refine import constants
@@ -383,8 +383,7 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
                 return  # the drawn "path" collides: not an input of the refinement
             ex = _exact_segment_dist2(y[0, j, pa], y[0, j, pb], y[0, j + 1, pa], y[0, j + 1, pb])
             assert ex >= min(Fraction(floor[0, j, q]) ** 2, ex0)
-            assert ex >= Fraction(hold[0, q]) ** 2 or \
-                ex >= Fraction(float(dy[0, j, q])) ** 2 * Fraction(R.PHI) ** 2
+            assert ex >= min(Fraction(hold[0, q]) ** 2, ex0)  # (the floor is above hold)
 
 
 @pytest.mark.parametrize("backend", ["numba", "numpy"])
@@ -392,7 +391,7 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
 @given(data=st.data(), dims=st.sampled_from([(2, 2, 2), (2, 4, 2), (3, 2, 3), (2, 3, 4)]),
        degenerate=st.booleans(), radius=st.sampled_from([0.0, 0.05, 0.3]))
 def test_no_pair_is_squeezed(backend, data, dims, degenerate, radius):
-    """Every pair of points keeps, along the refined path, at least ``min(T, HOLD D_raw)`` --
+    """Every pair of points keeps, along the refined path, at least ``HOLD min(T, D_raw)`` --
     ``D_raw`` its smallest distance on the raw path -- up to the rounding of the way back from
     the frame (4 ulps of the path's largest coordinate); random and exactly degenerate
     queries."""
@@ -412,5 +411,36 @@ def test_no_pair_is_squeezed(backend, data, dims, degenerate, radius):
         got = min(_exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
                   for j in range(len(wf) - 1))
         t = (2 * radius if pa >= m else radius) or R.KAPPA * raw.clearance
-        need = min(float(t), R.HOLD * float(draw) ** 0.5) - 4 * np.spacing(A)
+        need = R.HOLD * min(float(t), float(draw) ** 0.5) - 4 * np.spacing(A)
         assert got >= Fraction(max(need, 0.0)) ** 2
+
+
+#: a (2,4,6) query of benchmarks/refine_continuity.py whose refinement without the
+#: no-squeezing level squeezed a pair to 6e-7 of its raw distance (radius 0.025, lift 0.1)
+SQUEEZED = (
+    [[0.5903916550448541, 0.7602594097562984], [0.6569090232138539, 0.8850862280480009],
+     [0.5859833358104558, 0.03780602854798354], [0.5979484694933014, 0.9891188863010381],
+     [0.2356537419961956, 0.8161171190450113], [0.9676988264880368, 0.5151423513318135]],
+    [[0.9998037959475381, 0.18828133993160479], [0.8523182775396579, 0.546748833881212],
+     [0.39570698388309933, 0.7213749747552975], [0.26709240214481955, 0.719297635585027]],
+    [[0.8145680766978473, 0.7073280456624931], [0.8755835987749863, 0.6575533375011416],
+     [0.10506635606438497, 0.8767697419761109], [0.9540462970523458, 0.4122978877733604]])
+
+
+@pytest.mark.parametrize("backend", ["numba", "numpy"])
+def test_the_squeezed_query_is_held(backend):
+    """The query the clearing squeezed geometrically (a pair from its raw distance down to
+    6e-7 of it) keeps every pair at ``HOLD min(T, D_raw)`` (planted bug: HOLD = 0)."""
+    o, s, g = (np.array(v) for v in SQUEEZED)
+    raw = pmplan.plan(o, s, g, lift=0.1)
+    ref = pmplan.refine(raw, radius=0.025, backend=backend)
+    a, b, _ = pairs(10, 6)
+    wr, wf = raw.path.waypoints, ref.path.waypoints
+    for pa, pb in zip(a, b):
+        draw = min(_exact_segment_dist2(wr[j, pa], wr[j, pb], wr[j + 1, pa], wr[j + 1, pb])
+                   for j in range(len(wr) - 1))
+        got = min(_exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
+                  for j in range(len(wf) - 1))
+        t = 0.05 if pa >= 6 else 0.025
+        # (the documented kappa = 1/2, not R.HOLD: a planted HOLD = 0 must fail here)
+        assert got >= Fraction(0.5 * min(t, float(draw) ** 0.5) * (1 - 1e-12)) ** 2

@@ -162,9 +162,11 @@ MOBILITY = 4.0
 #: the kernel measures the refined paths for d below this (numpy sums fewer than 8 terms
 #: sequentially, as the kernel does; beyond, numpy's pairwise sums round differently)
 MAX_SEQUENTIAL_D = 8
-#: no self-squeezing: a pair never goes below ``HOLD min(T, its raw distance)`` -- its smallest
-#: distance on the raw path -- nor below T where the raw path keeps T (the clearing's floor is
-#: at least ``min(T (1 + MARGIN), HOLD D_raw)``; the shortening never lowers a pair below T)
+#: no self-squeezing: a pair never goes below ``HOLD min(T (1 + MARGIN), D_raw)``, D_raw its
+#: smallest distance on the raw path (the clearing's floor is at least that; the shortening
+#: never lowers a pair below min(D, T)). ``min(T, HOLD D_raw)`` instead (the floor at T for
+#: every pair the raw path keeps 2 T apart) cost 1.6x the kernel's time on refine_bench's
+#: (2,4,2) batch -- the caps bind far more often -- for no fewer jumps (docs/refinement.md)
 HOLD = 0.5
 #: the rounding slack of the caps, in the frame (extent < 1): every cap is measured from ``D -
 #: SLACK (1 + A)`` (A the path's largest |coordinate| at the substep), every directional
@@ -510,9 +512,9 @@ def clear_floor(d, tgt, hold, phi, eta):
 
 
 def hold_levels(x, a, b, tgt) -> np.ndarray:
-    """The no-squeezing level of every pair (B, pairs): ``min(T (1 + MARGIN), HOLD D_raw)``,
+    """The no-squeezing level of every pair (B, pairs): ``HOLD min(T (1 + MARGIN), D_raw)``,
     ``D_raw`` the pair's smallest distance on the raw path ``x`` (:data:`HOLD`)."""
-    return np.minimum(tgt * (1.0 + MARGIN), HOLD * piece_minima(x, a, b).min(axis=1))
+    return HOLD * np.minimum(tgt * (1.0 + MARGIN), piece_minima(x, a, b).min(axis=1))
 
 
 def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None) -> None:
