@@ -16,7 +16,7 @@ import sys
 
 import numpy as np
 
-from ..refine import (
+from ..refine_grid import (
     chord_fraction,
     final_steps,
     hold_levels,
@@ -495,7 +495,8 @@ def measure_batch(waypoints: np.ndarray, m: int, need: tuple[float, float]):
 
 
 def constants() -> np.ndarray:
-    """The reference's constants, as the kernel reads them."""
+    """The reference's constants, as the kernel reads them (at every call, from the loaded
+    :mod:`pmplan.refine`: the kernel does not import it)."""
     ref = sys.modules["pmplan.refine"]
     return np.array([ref.ALPHA, ref.BETA, ref.PHI, ref.ETA, ref.MARGIN, ref.LAMBDA, ref.OMEGA,
                      ref.SHARE, ref.GAMMA, ref.PHI_WAYPOINT, ref.SLACK])
