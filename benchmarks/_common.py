@@ -674,9 +674,10 @@ def write_reports(results: dict | None = None, ompl: dict | None = None) -> None
         sect = ompl_section(ompl)
         parts += sect
         doc += ["#" + s if s.startswith("## ") else s for s in sect]
-    # the sections written by benchmarks/scale_bench.py, cert_bench.py, planar_bench.py and
-    # refine_bench.py (their headings one level down in docs/benchmarks.md)
-    for name in ("scale_results.md", "cert_results.md", "planar_results.md", "refine_results.md"):
+    # the sections written by benchmarks/scale_bench.py, store_breakdown.py, cert_bench.py,
+    # planar_bench.py and refine_bench.py (their headings one level down in docs/benchmarks.md)
+    for name in ("scale_results.md", "store_breakdown.md", "cert_results.md", "planar_results.md",
+                 "refine_results.md"):
         section = HERE / name
         if section.exists():
             sect = section.read_text().rstrip().splitlines() + [""]

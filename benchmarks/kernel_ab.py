@@ -73,10 +73,12 @@ def _caller(kern, q, b: int, n: int, d: int, scalar: bool):
     fl = np.empty(b, np.uint8)
     tab = kern.tables(2, m, n, d)
     sel = np.arange(b)
+    # the scalar kernel: plan_queries (named _plan in refs before the backend seam)
+    scalar_kernel = getattr(kern, "plan_queries", None) or getattr(kern, "_plan")
 
     def call():
         if scalar:
-            kern._plan(o, s, g, np.empty((0, b, n, d)), 1.0, True, wp, dom, st, cl, fl, tab,
+            scalar_kernel(o, s, g, np.empty((0, b, n, d)), 1.0, True, wp, dom, st, cl, fl, tab,
                        sel, b)
             return
         for lo in range(0, b, CHUNK):

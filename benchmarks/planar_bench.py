@@ -62,32 +62,34 @@ def _load_old(path: str):
 
 
 class _Side:
-    """Switch this process between the old kernel and the new one, in place: the planner's
-    kernel module (``planar_three.planar_kernels``), whether the planner validates in its
-    kernel (the old one did not: ``pmplan.plan_batch`` then validates in a separate pass, as
-    it did) and the single-query fast paths cached by :mod:`pmplan.api`."""
+    """Switch this process between the old kernel and the new one, in place: the kernel module
+    the numba backend calls (``pmplan.backends.numba.planar_kernels``), whether the planner
+    validates in its kernel (the old one did not: ``pmplan.plan_batch`` then validates in a
+    separate pass, as it did) and the single-query fast paths cached by :mod:`pmplan.single`."""
 
     def __init__(self, old):
         import types
 
-        from pmplan import api
+        from pmplan import single
+        from pmplan.backends import numba as nb
         from pmplan.kernels import planar as kp
-        from pmplan.planners import planar_three as p3
 
-        self.api, self.p3, self.new = api, p3, p3.planar_kernels
+        self.single, self.nb, self.new = single, nb, nb.planar_kernels
+        self.glue = nb.PLANNERS[nb.PLANAR_THREE]
         self.shim = types.SimpleNamespace(AVAILABLE=True, plan_chunk=old.plan_planar,
                                           plan_planar_one=old.plan_planar_one)
         self.kp = kp
 
     def __call__(self, side: str) -> None:
-        planner = self.p3.PLANAR_THREE
         if side == "old":
-            self.p3.planar_kernels = lambda: self.shim
-            planner.validates = lambda d, backend=None: False
+            self.nb.planar_kernels = lambda: self.shim
+            arrays, kernel, _, single, sequence = self.glue
+            self.nb.PLANNERS[self.nb.PLANAR_THREE] = (arrays, kernel, lambda d: False, single,
+                                                sequence)
         else:
-            self.p3.planar_kernels = self.new
-            planner.__dict__.pop("validates", None)
-        self.api._FAST.clear()
+            self.nb.planar_kernels = self.new
+            self.nb.PLANNERS[self.nb.PLANAR_THREE] = self.glue
+        self.single._FAST.clear()
 
 
 def _interleaved(fns: dict, repeats: int) -> dict:
@@ -109,6 +111,7 @@ def worker(b: int, repeats: int, calls: int, old_file: str) -> dict:
     from _common import planar_three_mixed
 
     import pmplan
+    from pmplan import planar_strata
     from pmplan.planners import planar_three as p3
 
     old = _load_old(old_file)
@@ -127,7 +130,7 @@ def worker(b: int, repeats: int, calls: int, old_file: str) -> dict:
         o, s, g = (np.ascontiguousarray(a) for a in q)
         arr = p3.PLANAR_THREE.allocate(b, 2, 3, 1, 2)
         flags = np.empty(b, np.uint8)
-        args = (o, s, g, p3._EVEN, 1.0, True, arr["times"], arr["waypoints"], arr["domain"],
+        args = (o, s, g, planar_strata.EVEN, 1.0, True, arr["times"], arr["waypoints"], arr["domain"],
                 arr["strata"], arr["clearance"], flags)
         sel = np.arange(b, dtype=np.int64)
 

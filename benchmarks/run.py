@@ -250,19 +250,22 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
     """Where the time of plan_batch goes, (2,4,2) generic, in units of one copy of the output.
 
     Each stage is timed on its own (best of a few, interleaved with the copy): the kernels
-    writing into output arrays allocated before the timer starts (``plan_certified`` chunk by
+    writing into output arrays allocated before the timer starts (the backend's ``plan`` chunk by
     chunk, validating, as ``plan_batch`` calls it), the whole call, which also allocates the
     output (the operating system zeroes new pages on first touch), the call with ``out=`` (the
     arrays of an earlier batch: no new memory), the whole call and the call with ``out=`` with
     one thread per core, and for comparison a separate validation pass (``check_query``), which
     ``plan_batch`` skips for this planner because its kernel validates the queries itself.
     """
-    from pmplan.api import CHUNK, choose_planner
+    from pmplan.backends import select
+    from pmplan.checks import choose_planner
+    from pmplan.running import CHUNK
     from pmplan.configuration import check_query
 
     rows = []
     d, n, m = 2, 4, 2
     p = choose_planner(d, n, m)
+    be = select(None)
     for b in [batch] if batch else [100_000] if quick else [100_000, 1_000_000]:
         o, s, g = _queries(rng, "generic", b, d, n, m)
         reps = 3 if quick or b >= 1_000_000 else 5
@@ -274,7 +277,7 @@ def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
             for lo in range(0, b, CHUNK):
                 hi = min(b, lo + CHUNK)
                 part = {k: (v if k == "times" else v[lo:hi]) for k, v in out.items()}
-                p.plan_certified(o[lo:hi], [s[lo:hi], g[lo:hi]], 1.0, part, validate=True)
+                be.plan(p, o[lo:hi], [s[lo:hi], g[lo:hi]], 1.0, part, True)
 
         src = out["waypoints"]
         dst = np.empty_like(src)

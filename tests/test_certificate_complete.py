@@ -28,7 +28,7 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import api, running
+from pmplan import running, single
 from pmplan.certify import CLAUSES, certificate, check_paths, check_times, describe
 from pmplan.errors import CertificationError
 from pmplan.kernels import planar as kernels_planar
@@ -208,11 +208,8 @@ class _Corrupting(Planner):
         out["times"] = np.empty((b, out["times"].shape[0]))
         return out
 
-    def plan(self, obstacles, start, goal, *, lift=1.0, backend=None):
-        return self.plan_sequence(obstacles, [start, goal], lift=lift)
-
-    def plan_sequence(self, obstacles, configs, *, lift=1.0, backend=None):
-        raw = obstacle_line.OBSTACLE_LINE.plan_sequence(obstacles, configs, lift=lift, backend="numpy")
+    def reference(self, obstacles, configs, lift):
+        raw = obstacle_line.OBSTACLE_LINE.reference(obstacles, configs, lift)
         b, k = raw.path.waypoints.shape[:2]
         t = np.broadcast_to(raw.path.times, (b, k)).copy()
         w = raw.path.waypoints.copy()
@@ -234,8 +231,8 @@ def _generic_entry_points():
 @pytest.fixture
 def fresh_fast_paths(monkeypatch):
     """Empty caches of the fast paths, restored afterwards."""
-    monkeypatch.setattr(api, "_FAST", {})
-    monkeypatch.setattr(api, "_FAST_SEQUENCE", {})
+    monkeypatch.setattr(single, "_FAST", {})
+    monkeypatch.setattr(single, "_FAST_SEQUENCE", {})
 
 
 @pytest.mark.parametrize("entry", sorted(_generic_entry_points()))
@@ -283,7 +280,8 @@ def _corrupt_reference(monkeypatch, planner_cls, method, fn, m):
 
 @pytest.mark.parametrize("clause", WAYPOINT_CLAUSES)
 def test_obstacle_line_reference_never_returns_a_broken_path(monkeypatch, clause):
-    _corrupt_reference(monkeypatch, obstacle_line.ObstacleLinePlanner, "plan_sequence", CORRUPT[clause], 2)
+    _corrupt_reference(monkeypatch, obstacle_line.ObstacleLinePlanner, "reference", CORRUPT[clause],
+                       2)
     b2 = (O2[None], S2[None], G2[None])
     _raises_clause(clause, pmplan.plan, O2, S2, G2, backend="numpy")
     _raises_clause(clause, pmplan.plan_batch, *b2, backend="numpy")
@@ -294,7 +292,8 @@ def test_obstacle_line_reference_never_returns_a_broken_path(monkeypatch, clause
 
 @pytest.mark.parametrize("clause", sorted(CORRUPT))
 def test_planar_reference_never_returns_a_broken_path(monkeypatch, clause):
-    _corrupt_reference(monkeypatch, planar_three.PlanarThreePlanner, "plan", CORRUPT[clause], 3)
+    _corrupt_reference(monkeypatch, planar_three.PlanarThreePlanner, "reference", CORRUPT[clause],
+                       3)
     _raises_clause(clause, pmplan.plan, O3, S3, G3, backend="numpy")
     batch = pmplan.plan_batch  # PlanBatch[i] only exists if the batch was returned
     _raises_clause(clause, batch, O3[None], S3[None], G3[None], backend="numpy")

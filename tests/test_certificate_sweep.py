@@ -57,7 +57,7 @@ def _check(w, kk, p, m, d):
     full, _ = _unpruned(w, kk, p, m, d, -np.inf)
     best, suspect = _sweep(w, kk, p, m, d, -np.inf)
     assert best == full and not suspect
-    for cap in (full, 4.0 * full + 1e-300, (kernels_line._SURE * amax) ** 2):
+    for cap in (full, 4.0 * full + 1e-300, (kernels_line.SURE * amax) ** 2):
         assert _sweep(w, kk, p, m, d, cap) == _unpruned(w, kk, p, m, d, cap)
 
 

@@ -1,8 +1,8 @@
 """The single-query fast paths of :func:`pmplan.plan` and :func:`pmplan.plan_sequence`.
 
-Both functions first try a lean path (``pmplan.api._plan_fast`` / ``_plan_sequence_fast``: one
+Both functions first try a lean path (``pmplan.single._plan_fast`` / ``_plan_sequence_fast``: one
 validating kernel call, no re-validation of the arrays the kernel wrote) and fall back to the
-general path (validation of :mod:`pmplan.configuration`, :func:`pmplan.api._run`, exact
+general path (validation of :mod:`pmplan.configuration`, :func:`pmplan.running.run_loop`, exact
 re-decision of flagged queries) whenever the lean path returns None. The contract tested here:
 
 * whenever the lean path answers, its :class:`pmplan.Plan` is the general path's, field by
@@ -26,7 +26,7 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import api
+from pmplan import single
 from pmplan.errors import (
     CertificationError,
     CollisionError,
@@ -44,8 +44,8 @@ from pmplan.path import PiecewiseLinearPath
 def _general(fn, *args, **kwargs):
     """``fn(*args, **kwargs)`` with both lean paths disabled (the general path decides)."""
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(api, "_plan_fast", lambda *a, **k: None)
-        mp.setattr(api, "_plan_sequence_fast", lambda *a, **k: None)
+        mp.setattr(single, "_plan_fast", lambda *a, **k: None)
+        mp.setattr(single, "_plan_sequence_fast", lambda *a, **k: None)
         return fn(*args, **kwargs)
 
 
@@ -54,14 +54,14 @@ def _lean(fn, *args, **kwargs):
     answered = []
     with pytest.MonkeyPatch.context() as mp:
         for name in ("_plan_fast", "_plan_sequence_fast"):
-            inner = getattr(api, name)
+            inner = getattr(single, name)
 
             def spy(*a, _inner=inner, **k):
                 out = _inner(*a, **k)
                 answered.append(out is not None)
                 return out
 
-            mp.setattr(api, name, spy)
+            mp.setattr(single, name, spy)
         plan = fn(*args, **kwargs)
     return plan, any(answered)
 
@@ -430,9 +430,9 @@ def test_input_forms_compile_no_new_specialisation():
     o, s, g = rng.normal(size=(3, 3)), rng.normal(size=(2, 3)), rng.normal(size=(2, 3))
     pmplan.plan(o, s, g)
     pmplan.plan_sequence(o, [s, g, s, g])
-    before = len(kernels_line.plan_one.signatures), len(kernels_line._plan.signatures)
+    before = len(kernels_line.plan_one.signatures), len(kernels_line.plan_queries.signatures)
     for form in FORMS.values():
         pmplan.plan(form(o), form(s), form(g), lift=2)
         for r in (2, 3, 5):
             pmplan.plan_sequence(form(o), [form(c) for c in (s, g, s, g, s)[:r]])
-    assert (len(kernels_line.plan_one.signatures), len(kernels_line._plan.signatures)) == before
+    assert (len(kernels_line.plan_one.signatures), len(kernels_line.plan_queries.signatures)) == before

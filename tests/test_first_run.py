@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 import pmplan
-from pmplan import api
+from pmplan import running
 from pmplan._compiling import COMPILING, announce_compile
 from pmplan.cli import main
 
@@ -160,7 +160,7 @@ def test_announce_compile_once_until_rearmed():
 
 def test_progress_announces_a_compile_after_the_bar_started_once_more(capsys):
     """A kernel that only a later chunk needs is announced again, above the running bar."""
-    with api._Progress(True, 6) as progress:
+    with running._Progress(True, 6) as progress:
         _pmplan_function("a")(1)
         progress.update()  # the first chunk is done: the bar starts here, at 1/6
         _pmplan_function("b")(1)

@@ -32,7 +32,7 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import api
+from pmplan import single
 from pmplan.configuration import as_lift, as_real
 from pmplan.errors import InputError
 from pmplan.io import parse_query, read_query
@@ -196,9 +196,9 @@ def test_integer_queries_in_other_forms_same_plan(q, form):
 def test_float64_arrays_pass_through_without_a_copy():
     a = np.array([[0.0, 1.0], [2.0, 3.0]])
     assert as_real(a, "x") is a
-    assert api._fast_array(a) is a
+    assert single._fast_array(a) is a
     f32 = np.array([[0.5, 1.0]], dtype=np.float32)
-    assert api._fast_array(f32).dtype == np.float64
+    assert single._fast_array(f32).dtype == np.float64
 
 
 # --- lift ------------------------------------------------------------------------------------
@@ -230,7 +230,7 @@ def test_bad_lift_refused_everywhere(lift, message):
     with pytest.raises(InputError, match=message):
         pmplan.plan([[0, 0], [4, 0], [5, 1.5]], [[1.5, -3]], [[7, -1.5]], lift=lift)
     # the fast paths' rule is the general one's
-    assert api._fast_lift(lift) is None
+    assert single._fast_lift(lift) is None
     obj = {"obstacles": O, "start": S, "goal": G, "lift": lift}
     if isinstance(lift, (bool, int, float, str)) or lift is None:  # what JSON can hold
         with pytest.raises(InputError, match=message):
@@ -241,7 +241,7 @@ def test_bad_lift_refused_everywhere(lift, message):
                                   np.int64(3), np.uint8(2), 2**60])
 def test_real_lift_forms_accepted(lift):
     assert as_lift(lift) == float(lift)
-    assert api._fast_lift(lift) == float(lift)
+    assert single._fast_lift(lift) == float(lift)
     for call in _entry_points(O, S, G, lift=lift).values():
         got = call()
         want = pmplan.plan(O, S, G, lift=float(lift))

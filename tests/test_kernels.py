@@ -35,7 +35,7 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import api, configuration, running
+from pmplan import configuration, running
 from pmplan.configuration import coincident_pairs
 from pmplan.errors import CertificationError, InputError, PmplanError
 from pmplan.kernels import common as kernels_common
@@ -479,7 +479,7 @@ def _run_chunk(o, cs, lift, scalar_only):
     tab = kernels_line.tables(r, m, n, d)
     with np.errstate(all="ignore"):
         if scalar_only:
-            kernels_line._plan(o, cs[0], cs[-1], middle, lift, True, *out, tab, np.arange(b), b)
+            kernels_line.plan_queries(o, cs[0], cs[-1], middle, lift, True, *out, tab, np.arange(b), b)
         else:
             kernels_line.plan_chunk(o, cs[0], cs[-1], middle, lift, True, *out, tab)
     return out
@@ -531,10 +531,10 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
 @given(st.integers(0, 2**32 - 1), st.sampled_from([8, 16, 32, 64]), st.integers(1, 200),
        st.integers(0, 3))
 def test_write_lanes_is_the_transpose(seed, lanes, size, block):
-    """``kernels.common._write_lanes`` (8 x 8 blocks transposed in registers, the rest element
+    """``kernels.common.write_lanes`` (8 x 8 blocks transposed in registers, the rest element
     by element) writes ``S.T`` into rows ``b0 .. b0 + L`` of the output, bit for bit (NaN
     payloads, signed zeros, subnormals included), and touches no other row or element;
-    ``_read_lanes`` reads them back the other way."""
+    ``read_lanes`` reads them back the other way."""
     rng = np.random.default_rng(seed)
     S = rng.standard_normal((size, lanes))
     special = np.array([np.nan, -0.0, np.inf, -np.inf, 5e-324, -1.7976931348623157e308])
@@ -542,14 +542,14 @@ def test_write_lanes_is_the_transpose(seed, lanes, size, block):
     S.view(np.uint64).flat[0] ^= np.uint64(1)  # (an odd bit pattern: a NaN payload or ulp)
     b0 = block * lanes
     out = np.full((b0 + 2 * lanes, size), 7.0)
-    kernels_common._write_lanes(S, out, b0, lanes, size)
+    kernels_common.write_lanes(S, out, b0, lanes, size)
     want = np.full_like(out, 7.0)
     want[b0:b0 + lanes] = S.T
     assert np.array_equal(out.view(np.uint64), want.view(np.uint64))
-    # and back: _read_lanes reads those rows into rows y0 .. y0 + size of lanes-innermost rows
+    # and back: read_lanes reads those rows into rows y0 .. y0 + size of lanes-innermost rows
     y0 = block + 1
     back = np.full((y0 + size + 3, lanes), 7.0)
-    kernels_common._read_lanes(out, b0, lanes, size, back, y0)
+    kernels_common.read_lanes(out, b0, lanes, size, back, y0)
     want = np.full_like(back, 7.0)
     want[y0:y0 + size] = S
     assert np.array_equal(back.view(np.uint64), want.view(np.uint64))
@@ -653,7 +653,7 @@ def test_one_specialisation():
     assert_same_batch(pmplan.plan_batch(np.asfortranarray(o), s[:, ::-1][:, ::-1], g.tolist()),
                       want)
     pmplan.plan_batch(o.astype(np.float32), s, g)  # (other values: planned, not compared)
-    for kernel in (kernels_line._plan, kernels_validation.valid_queries, kernels_line._plan_lanes):
+    for kernel in (kernels_line.plan_queries, kernels_validation.valid_queries, kernels_line._plan_lanes):
         assert len(kernel.signatures) == 1, kernel
     # compiled with _plan_lanes only on a cold cache (else loaded with it): never twice
     assert len(kernels_line._pair_plane.signatures) <= 1

@@ -16,7 +16,7 @@ why it can fail:
 * each re-decision route is taken where it must be: an exact tie only fractions can see
   (``FALLBACK``), a clearance ~1e-10 of the scene (``SUSPECT``), an overflowing ``o2 - o1``;
 * the same queries fail their certificate, with the same indices (``CertificationError``);
-* the single-query fast path (:meth:`PlanarThreePlanner.single_query`) gives the reference
+* the single-query fast path (the numba backend's ``single_query``) gives the reference
   :class:`pmplan.Plan` and the reference errors; chunked planning equals unchunked planning;
 * the SIMD path (:func:`pmplan.kernels.planar._plan_lanes`, generic queries LANES at a time)
   gives bit for bit what the scalar kernel gives (waypoints, breakpoints, domains, strata,
@@ -35,7 +35,7 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import running
+from pmplan import backends, planar_strata, running
 from pmplan.errors import CertificationError, PmplanError
 from pmplan.generators import near_degenerate_queries, random_queries
 from pmplan.generators import planar_stratum_queries as stratum_queries
@@ -61,7 +61,7 @@ def _kernel(o, s, g, lift=1.0, validate=False, path="chunk"):
     out = {k: np.full_like(v, np.nan if v.dtype.kind == "f" else -1)
            for k, v in PLANAR_THREE.allocate(b, 2, 3, 1, 2).items()}
     flags = np.full(b, 255, np.uint8)
-    args = (o, s, g, planar_three._EVEN, lift, validate, out["times"], out["waypoints"], out["domain"],
+    args = (o, s, g, planar_strata.EVEN, lift, validate, out["times"], out["waypoints"], out["domain"],
             out["strata"], out["clearance"], flags)
     if path == "chunk":
         kernels_planar.plan_chunk(*args)
@@ -116,11 +116,11 @@ def _mixed(rng, names, count, exponent=0, noise=0.0):
 def test_tables_agree_with_the_planner():
     """The kernel's stratum codes and domains are the planner's (paper (w2)-(w4))."""
     assert kernels_planar.WAYPOINTS is planar_three.WAYPOINTS is WAYPOINTS == 6  # one source
-    assert np.array_equal(kernels_planar.CODE_LUT, planar_three._LUT)
+    assert np.array_equal(kernels_planar.CODE_LUT, planar_strata.LUT)
     assert np.array_equal(kernels_planar._DOMAIN, [DOMAIN_OF[name] for name in STRATA])
-    assert planar_three._EVEN.shape == (WAYPOINTS + 1, WAYPOINTS)
+    assert planar_strata.EVEN.shape == (WAYPOINTS + 1, WAYPOINTS)
     for k in range(2, WAYPOINTS + 1):
-        assert np.array_equal(planar_three._EVEN[k, :k], np.linspace(0.0, 1.0, k))
+        assert np.array_equal(planar_strata.EVEN[k, :k], np.linspace(0.0, 1.0, k))
 
 
 @pytest.mark.parametrize("name", STRATA)
@@ -256,7 +256,7 @@ def test_single_plan_equals_reference(q):
 def test_single_plan_of_every_stratum_uses_the_kernel(name):
     o, s, g = stratum_queries(np.random.default_rng(3), name, 4)
     for q in zip(o, s, g):
-        res = PLANAR_THREE.single_query(3, 1, 2)(*q, 1.0)
+        res = backends.select("numba").single_query(PLANAR_THREE, 3, 1, 2)(*q, 1.0)
         assert res is not None  # decided and certified by the kernel
         times, wp, domain, row, clearance = res
         ref = pmplan.plan(*q, backend="numpy")
@@ -406,7 +406,7 @@ def test_simd_path_decides_the_generic_queries():
         out = PLANAR_THREE.allocate(b, 2, 3, 1, 2)
         flags = np.empty(b, np.uint8)
         todo = np.empty(b, np.int64)
-        nt = kernels_planar._plan_lanes(o, s, g, planar_three._EVEN, 1.0, out["times"], out["waypoints"],
+        nt = kernels_planar._plan_lanes(o, s, g, planar_strata.EVEN, 1.0, out["times"], out["waypoints"],
                                         out["domain"], out["strata"], out["clearance"], flags,
                                         todo)
         assert nt == 0
@@ -423,7 +423,7 @@ def test_simd_path_decides_the_generic_queries():
     out = PLANAR_THREE.allocate(L, 2, 3, 1, 2)
     flags = np.zeros(L, np.uint8)
     todo = np.empty(L, np.int64)
-    nt = kernels_planar._plan_lanes(o, s, g, planar_three._EVEN, 1.0, out["times"], out["waypoints"],
+    nt = kernels_planar._plan_lanes(o, s, g, planar_strata.EVEN, 1.0, out["times"], out["waypoints"],
                                     out["domain"], out["strata"], out["clearance"], flags, todo)
     assert todo[:nt].tolist() == [5, 9, 17]
     with np.errstate(all="ignore"):
@@ -447,7 +447,7 @@ def test_poor_blocks_are_skipped_and_planned_the_same():
     out = PLANAR_THREE.allocate(12 * L, 2, 3, 1, 2)
     flags = np.empty(12 * L, np.uint8)
     todo = np.empty(12 * L, np.int64)
-    nt = kernels_planar._plan_lanes(o, s, g, planar_three._EVEN, 1.0, out["times"], out["waypoints"],
+    nt = kernels_planar._plan_lanes(o, s, g, planar_strata.EVEN, 1.0, out["times"], out["waypoints"],
                                     out["domain"], out["strata"], out["clearance"], flags, todo)
     blocks = sorted(set((todo[:nt] // L).tolist()))
     assert blocks == [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]

@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import api, running
+from pmplan import running
 from pmplan.errors import CollisionError, InputError, NonFiniteError
 from pmplan.generators import random_queries
 

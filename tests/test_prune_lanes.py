@@ -69,7 +69,7 @@ def _prune(ws: np.ndarray, m: int, gaps, norms) -> np.ndarray:
     amax = np.abs(wf).max(axis=1)
     t[MX] = amax
     with np.errstate(over="ignore"):
-        t[THR2] = np.where((amax > 1e-130) & (amax < 1e130), (kernels_line._SURE * amax) ** 2,
+        t[THR2] = np.where((amax > 1e-130) & (amax < 1e130), (kernels_line.SURE * amax) ** 2,
                            np.inf)
     t[GAP] = gaps
     t[NORM] = norms
@@ -186,7 +186,7 @@ def test_prune_prunes():
         s = np.ascontiguousarray(wf.T)
         t = np.zeros((17, lanes))
         t[MX] = np.abs(wf).max(axis=1)
-        t[THR2] = (kernels_line._SURE * t[MX]) ** 2
+        t[THR2] = (kernels_line.SURE * t[MX]) ** 2
         t[GAP] = gaps
         t[NORM] = norms
         row = plane(s, t, wf, 0, 2, m, n + m, 2 * (n + m), 8, MX, MN, BAD, THR2, GAP, NORM)

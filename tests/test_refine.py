@@ -14,10 +14,11 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan.certify import _exact_segment_dist2, certificate
+from pmplan.certify import exact_segment_dist2, certificate
 from pmplan.errors import CollisionError, InputError
 from pmplan.kernels.refine import refine_batch
 from pmplan.planners.base import REGISTRY
+from pmplan.strata import spec_for
 from pmplan.refine import (
     DEFAULT_STEPS,
     DEFAULT_WAYPOINTS,
@@ -43,7 +44,7 @@ def _exact_min2(wp: np.ndarray, pa, pb) -> Fraction | None:
     best = None
     for j in range(wp.shape[0] - 1):
         for a, b in zip(pa, pb):
-            v = _exact_segment_dist2(wp[j, a], wp[j, b], wp[j + 1, a], wp[j + 1, b])
+            v = exact_segment_dist2(wp[j, a], wp[j, b], wp[j + 1, a], wp[j + 1, b])
             best = v if best is None or v < best else best
     return best
 
@@ -187,7 +188,7 @@ def test_respects_radius_truthful_integer_queries(data, radius, obstacle_radius)
         names = [f"o{k + 1}" for k in range(2)] + ["x1", "x2"]
         i, j = names.index(e.pair[0]), names.index(e.pair[1])
         need = 2 * Fraction(radius) if i >= 2 else Fraction(radius) + Fraction(obstacle_radius)
-        assert _exact_segment_dist2(full[i], full[j], full[i], full[j]) < need**2
+        assert exact_segment_dist2(full[i], full[j], full[i], full[j]) < need**2
         assert "move them apart or use smaller radii" in str(e)
         return
     _check_refined(raw, ref, [s, g], radius, obstacle_radius)
@@ -267,7 +268,7 @@ def test_continuity_within_stratum(dims):
     done = 0
     for _ in range(40):
         q = (rng.normal(size=(m, d)), rng.normal(size=(n, d)), rng.normal(size=(n, d)))
-        moved = p.perturb_within_stratum(rng, q, 1e-7)
+        moved = spec_for(p).perturb_within_stratum(rng, q, 1e-7)
         if moved is None:
             continue
         a, b = pmplan.plan(*q), pmplan.plan(*moved)
@@ -483,7 +484,7 @@ def _pieces_exact(wp: np.ndarray, a, b) -> np.ndarray:
     for i in range(wp.shape[0]):
         for j in range(wp.shape[1] - 1):
             for q, (pa, pb) in enumerate(zip(a, b)):
-                out[i, j, q] = float(_exact_segment_dist2(wp[i, j, pa], wp[i, j, pb],
+                out[i, j, q] = float(exact_segment_dist2(wp[i, j, pa], wp[i, j, pb],
                                                           wp[i, j + 1, pa], wp[i, j + 1, pb]))
     return out
 

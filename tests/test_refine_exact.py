@@ -13,24 +13,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from strategies import queries
+from test_refine import _exact_min2
 
 import pmplan
-from pmplan.certify import _exact_segment_dist2, check_times, radius_report
+from pmplan.certify import check_times, exact_segment_dist2, radius_report
 from pmplan.errors import CollisionError, PmplanError
 from pmplan.kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
 from pmplan.refine import pairs
 
 R = sys.modules["pmplan.refine"]
-
-
-def _exact_min2(wp: np.ndarray, pa, pb) -> Fraction | None:
-    """The exact squared minimum over the pieces of a path (K, P, d) and the pairs (pa, pb)."""
-    best = None
-    for j in range(wp.shape[0] - 1):
-        for a, b in zip(pa, pb):
-            v = _exact_segment_dist2(wp[j, a], wp[j, b], wp[j + 1, a], wp[j + 1, b])
-            best = v if best is None or v < best else best
-    return best
 
 
 def _truth(wp: np.ndarray, m: int, radius: float, obstacle_radius: float) -> bool:
@@ -183,7 +174,7 @@ def test_shortening_moves_within_exact_caps_and_keeps_floors(data, integer, d, r
     x = x.reshape(1, w, p, d)
     x[:, :, :m] = x[:, :1, :m]
     a, b, c = pairs(p, m)
-    ex = np.array([[float(_exact_segment_dist2(x[0, j, pa], x[0, j, pb], x[0, j + 1, pa],
+    ex = np.array([[float(exact_segment_dist2(x[0, j, pa], x[0, j, pb], x[0, j + 1, pa],
                                                x[0, j + 1, pb])) ** 0.5
                     for pa, pb in zip(a, b)] for j in range(w - 1)])
     if not (ex > 1e-6).all():
@@ -211,7 +202,7 @@ def test_shortening_moves_within_exact_caps_and_keeps_floors(data, integer, d, r
                     lim = min(lim, free[jp, mine].min())
             move = np.linalg.norm(x[0, j, i] - before[0, j, i])
             assert move <= lim * (1 + 1e-9) + 1e-15
-    after = [[_exact_segment_dist2(x[0, j, pa], x[0, j, pb], x[0, j + 1, pa], x[0, j + 1, pb])
+    after = [[exact_segment_dist2(x[0, j, pa], x[0, j, pb], x[0, j + 1, pa], x[0, j + 1, pb])
               for pa, pb in zip(a, b)] for j in range(w - 1)]
     for j in range(w - 1):  # exactly: not one ulp below
         for q in range(a.size):
@@ -377,11 +368,11 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
     assert np.array_equal(yk, y[0])
     for j in range(w - 1):
         for q, (pa, pb) in enumerate(zip(a, b)):
-            ex0 = _exact_segment_dist2(before[0, j, pa], before[0, j, pb], before[0, j + 1, pa],
+            ex0 = exact_segment_dist2(before[0, j, pa], before[0, j, pb], before[0, j + 1, pa],
                                        before[0, j + 1, pb])
             if ex0 == 0:
                 return  # the drawn "path" collides: not an input of the refinement
-            ex = _exact_segment_dist2(y[0, j, pa], y[0, j, pb], y[0, j + 1, pa], y[0, j + 1, pb])
+            ex = exact_segment_dist2(y[0, j, pa], y[0, j, pb], y[0, j + 1, pa], y[0, j + 1, pb])
             assert ex >= min(Fraction(floor[0, j, q]) ** 2, ex0)
             assert ex >= min(Fraction(hold[0, q]) ** 2, ex0)  # (the floor is above hold)
 
@@ -406,9 +397,9 @@ def test_no_pair_is_squeezed(backend, data, dims, degenerate, radius):
     wr, wf = raw.path.waypoints, ref.path.waypoints
     A = float(np.abs(wf).max())
     for pa, pb in zip(a, b):
-        draw = min(_exact_segment_dist2(wr[j, pa], wr[j, pb], wr[j + 1, pa], wr[j + 1, pb])
+        draw = min(exact_segment_dist2(wr[j, pa], wr[j, pb], wr[j + 1, pa], wr[j + 1, pb])
                    for j in range(len(wr) - 1))
-        got = min(_exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
+        got = min(exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
                   for j in range(len(wf) - 1))
         t = (2 * radius if pa >= m else radius) or R.KAPPA * raw.clearance
         need = R.HOLD * min(float(t), float(draw) ** 0.5) - 4 * np.spacing(A)
@@ -437,9 +428,9 @@ def test_the_squeezed_query_is_held(backend):
     a, b, _ = pairs(10, 6)
     wr, wf = raw.path.waypoints, ref.path.waypoints
     for pa, pb in zip(a, b):
-        draw = min(_exact_segment_dist2(wr[j, pa], wr[j, pb], wr[j + 1, pa], wr[j + 1, pb])
+        draw = min(exact_segment_dist2(wr[j, pa], wr[j, pb], wr[j + 1, pa], wr[j + 1, pb])
                    for j in range(len(wr) - 1))
-        got = min(_exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
+        got = min(exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
                   for j in range(len(wf) - 1))
         t = 0.05 if pa >= 6 else 0.025
         # (the documented kappa = 1/2, not R.HOLD: a planted HOLD = 0 must fail here)

@@ -229,6 +229,8 @@ def test_zarr_to_zarr_equals_numpy(tmp_path, capsys):
     assert attrs["complete"] is True and attrs["chunk"] == 200 and attrs["B"] == 950
     assert grp["waypoints"].chunks == (200, 8, 5, 2) and grp["done"].shape == (5,)
     assert np.asarray(grp["done"][:]).all()
+    assert attrs["compress"] is True and attrs["format"] == scale.FORMAT
+    assert grp["waypoints"].compressors == (zarr.codecs.ZstdCodec(level=scale.ZSTD_LEVEL),)
 
 
 def test_npz_to_zarr_planar_three_with_chunk_option(tmp_path, capsys):
@@ -238,6 +240,8 @@ def test_npz_to_zarr_planar_three_with_chunk_option(tmp_path, capsys):
                          "--chunk", 64, "--no-progress", "--no-compress")
     assert status == 0 and "in 5 of 5 chunks with planar_three" in out
     assert_same(read_store(tmp_path / "p.zarr"), pmplan.plan_batch(o, s, g, lift=0.5))
+    grp = zarr.open_group(str(tmp_path / "p.zarr"), mode="r")
+    assert grp["waypoints"].compressors == () and grp.attrs["compress"] is False
 
 
 def test_sequence_store_with_via(tmp_path, capsys):

@@ -33,7 +33,8 @@ from hypothesis import strategies as st
 from strategies import queries
 
 import pmplan
-from pmplan import api
+from pmplan import planar_strata
+from pmplan import single
 from pmplan.generators import planar_stratum_queries as stratum_queries
 from pmplan.planners import planar_three
 from pmplan.planners.base import SCENE_CODE, scene_unit
@@ -65,7 +66,7 @@ def _planar_kernel(o, s, g, lift):
     b = o.shape[0]
     out = planar_three.PLANAR_THREE.allocate(b, 2, 3, 1, 2)
     flags = np.empty(b, np.uint8)
-    kernels_planar.plan_chunk(o, s, g, planar_three._EVEN, float(lift), False, out["times"],
+    kernels_planar.plan_chunk(o, s, g, planar_strata.EVEN, float(lift), False, out["times"],
                               out["waypoints"], out["domain"], out["strata"], out["clearance"],
                               flags)
     return flags, out
@@ -261,10 +262,10 @@ def test_fast_paths_take_scene():
     rng = np.random.default_rng(3)
     for o, s, g in ((rng.normal(size=(2, 2)), rng.normal(size=(3, 2)), rng.normal(size=(3, 2))),
                     (rng.normal(size=(3, 2)), rng.normal(size=(1, 2)), rng.normal(size=(1, 2)))):
-        assert api._plan_fast(o, s, g, None, "scene") is not None
-        assert api._plan_sequence_fast(o, [s, g], "scene") is not None
-        assert api._fast_lift("scene") == SCENE_CODE
-    assert api._plan_fast(o, s, g, None, 0.0) is None  # a zero lift is an error, not "scene"
+        assert single._plan_fast(o, s, g, None, "scene") is not None
+        assert single._plan_sequence_fast(o, [s, g], "scene") is not None
+        assert single._fast_lift("scene") == SCENE_CODE
+    assert single._plan_fast(o, s, g, None, 0.0) is None  # a zero lift is an error, not "scene"
 
 
 # --- the measurement --------------------------------------------------------------------

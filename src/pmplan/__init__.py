@@ -33,11 +33,11 @@ from .errors import (
     ObstacleMismatchError,
     PmplanError,
     ShapeError,
+    StoreError,
     UnsupportedError,
 )
 from .path import PiecewiseLinearPath
-
-__version__ = "0.1.0"
+from .version import __version__  # noqa: F401  (pmplan.__version__)
 
 __all__ = [
     "Plan",
@@ -63,4 +63,5 @@ __all__ = [
     "ObstacleMismatchError",
     "UnsupportedError",
     "CertificationError",
+    "StoreError",
 ]

@@ -11,26 +11,16 @@ is a batch of one; :func:`plan` and
 
 from __future__ import annotations
 
-import math
-import sys
-
 import numpy as np
 
-from . import backend as _backend
-from . import magnitude
-from . import planners as _planners  # noqa: F401  (registers the planners)
-from .certify import check_times
-from .configuration import _plain, as_lift, as_points, as_real, check_query, check_same_obstacles
-from .errors import InputError, PmplanError, ShapeError, UnsupportedError
-from .path import PiecewiseLinearPath, _unchecked_path
-from .planners.base import (REGISTRY, SCENE_CODE, Planner, default_planner, lift_code,
-                            out_of_scope)
-from .refine import (_MSG_PLAN, _MSG_REFINE_DASK, _MSG_REFINE_OUT, _MSG_REFINED, RefineStage,
-                     check_parameters, check_radii)
-from .refine import check_refine_flag
+from .checks import check_sequential, choose_planner, is_dask, planner_names
+from .configuration import as_config_list, as_points, check_same_obstacles
+from .errors import InputError, ShapeError, UnsupportedError
+from .planners.base import REGISTRY, default_planner, out_of_scope
+from .refine import asks_refine
 from .results import Plan, PlanBatch, PlannerInfo
-from .running import CHUNK, _check_workers, _output_arrays, _Progress, _run, _single  # noqa: F401
-from .running import run_stage
+from .running import plan_arrays, refine_plans
+from .single import plan_one, plan_one_sequence
 
 __all__ = [
     "Plan",
@@ -48,39 +38,6 @@ __all__ = [
     "parametrised_tc",
     "choose_planner",
 ]
-
-def planner_names() -> list[str]:
-    """Return the documented planner names: ``obstacle_line`` and ``planar_three``."""
-    return sorted(REGISTRY)
-
-
-def choose_planner(d: int, n: int, m: int, planner: str | None = None) -> Planner:
-    """Return the planner for (d, n, m): the named one, or the default.
-
-    The default is ``planar_three`` (paper Section 4) for (d, n, m) = (2, 1, 3) and
-    ``obstacle_line`` (paper Section 3 and SPEC 4) for every other m >= 2.
-    """
-    if planner is None:
-        planner = default_planner(d, n, m)
-    if planner not in REGISTRY:
-        raise UnsupportedError(
-            f"unknown planner {planner!r}; choose one of {', '.join(planner_names())}"
-        )
-    p = REGISTRY[planner]
-    why = p.supports(d, n, m)
-    if why is not None:
-        raise UnsupportedError(f"planner {planner!r} does not apply to (d, n, m) = ({d}, {n}, {m}): {why}")
-    return p
-
-
-def _check_lift(lift) -> float:
-    """``lift`` checked (:func:`pmplan.configuration.as_lift`: a positive real number or
-    ``"scene"``) as the float the planners take (:func:`pmplan.planners.base.lift_code`)."""
-    return lift_code(as_lift(lift))
-
-
-_check_backend = _backend.check
-
 
 def plan_batch(
     obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
@@ -153,45 +110,19 @@ def plan_batch(
     >>> batch.domain.shape, batch.waypoints.shape, batch.times.shape
     ((5,), (5, 8, 5, 2), (8,))
     """
-    refining = _asks_refine(refine, radius, obstacle_radius, out)
-    if _is_dask(obstacles, start, goal):  # lazy plans of dask arrays (the optional extra)
+    refining = asks_refine(refine, radius, obstacle_radius, out)
+    if is_dask(obstacles, start, goal):  # lazy plans of dask arrays (the optional extra)
         from . import scale
 
         return scale.plan_batch(obstacles, start, goal, planner=planner, lift=lift,
                                 progress=progress, backend=backend, workers=workers, out=out,
                                 refine=_radii(refining, radius, obstacle_radius))
+    batch = plan_arrays(obstacles, [start, goal], planner=planner, lift=lift, backend=backend,
+                        workers=workers, progress=progress, out=out)
     if refining:
-        raw = plan_batch(obstacles, start, goal, planner=planner, lift=lift, progress=progress,
-                         backend=backend, workers=workers)
-        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
+        return refine_plans(batch, radius=radius, obstacle_radius=obstacle_radius,
                             progress=progress, workers=workers, backend=backend)
-    lift = _check_lift(lift)
-    workers = _check_workers(workers)
-    # types and shapes here; the validity of every query (finite, no two equal points) is
-    # checked by the planner's kernel in its own pass where it can, else here
-    obstacles, start, goal = check_query(obstacles, start, goal, batched=True, deep=False)
-    _, m, d = obstacles.shape
-    n = start.shape[1]
-    try:
-        p = choose_planner(d, n, m, planner)
-        _check_backend(backend)
-    except PmplanError:  # an invalid query is reported first, as always
-        check_query(obstacles, start, goal, batched=True)
-        raise
-    deferred = p.validates(d, backend)
-    if not deferred:
-        check_query(obstacles, start, goal, batched=True)
-    into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], 2, (obstacles, start, goal))
-    res = _run(p, obstacles, [start, goal], lift, batched=True,
-               progress=progress, backend=backend, workers=workers, validate=deferred, into=into)
-    return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
-
-
-def _is_dask(*arrays) -> bool:
-    """Whether any argument is a dask array (then :mod:`pmplan.scale` plans it lazily); dask
-    is never imported here: an array of it exists only if the caller imported it."""
-    da = sys.modules.get("dask.array")
-    return da is not None and any(isinstance(a, da.Array) for a in arrays)
+    return batch
 
 
 def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
@@ -233,150 +164,11 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     >>> p.path(0.0)[2], p.path(1.0)[2]
     (array([0., 1.]), array([ 1., -1.]))
     """
-    if _asks_refine(refine, radius, obstacle_radius):
+    if asks_refine(refine, radius, obstacle_radius):
         raw = plan(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             backend=backend)
-    if _backend.uses_kernels(backend):
-        fast = _plan_fast(obstacles, start, goal, planner, lift)
-        if fast is not None:
-            return fast
-    lift = _check_lift(lift)
-    obstacles, start, goal = check_query(obstacles, start, goal, batched=False)
-    _, m, d = obstacles.shape
-    n = start.shape[1]
-    p = choose_planner(d, n, m, planner)
-    _check_backend(backend)
-    out = _run(p, obstacles, [start, goal], lift, batched=False,
-               backend=backend)
-    return _single(p, (d, n, m), out)
-
-
-def _plan_fast(obstacles, start, goal, planner, lift) -> Plan | None:
-    """The lean path of :func:`plan` for planners with a single-query kernel (one call, see
-    :meth:`pmplan.planners.base.Planner.single_query`).
-
-    Returns None -- and :func:`plan` then takes the general path, which raises the proper error
-    or re-decides exactly -- for anything but a plain valid query whose kernel result needs no
-    exact re-decision. The kernel function, the planner's name, the dims and the stratum names
-    are looked up once per (planner, shapes) (:func:`_fast_entry`); inputs that already are C-contiguous float64 arrays are not copied
-    (:func:`_fast_array`); the :class:`Plan` and its path are built without re-checking arrays
-    the kernel wrote.
-    """
-    if type(lift) is not float or not 0.0 < lift < math.inf:  # (False for NaN)
-        lift = _fast_lift(lift)
-        if lift is None:
-            return None
-    if lift != SCENE_CODE and not _LIFT_LOW <= lift < _LIFT_HIGH:  # extreme: the general path
-        return None
-    o = _fast_array(obstacles)
-    s = _fast_array(start)
-    g = _fast_array(goal)
-    if o is None or s is None or g is None or (planner is not None and type(planner) is not str):
-        return None
-    key = (planner, o.shape, s.shape, g.shape)
-    entry = _FAST.get(key, _UNSEEN)
-    if entry is _UNSEEN:
-        entry = _fast_entry(key)
-    if entry is None:
-        return None
-    run, p, dims, names = entry
-    return _fast_answer(run(o, s, g, lift), p, dims, names)
-
-
-def _fast_answer(res, p: Planner, dims: tuple[int, int, int], names: dict) -> Plan | None:
-    """The :class:`Plan` of a fast-path kernel result ``(times, waypoints, domain, row,
-    clearance)``, or None when the kernel declined (``res`` is None).
-
-    The kernel certified the path: every clause of :data:`pmplan.certify.CLAUSES`, read back
-    from its outputs (a failing one is flagged, and the kernel declines); the obstacle-line
-    breakpoints are the constant :func:`~pmplan.planners.obstacle_line.path_times`, checked
-    once (:func:`_fast_entry`)."""
-    if res is None:
-        return None
-    times, wp, domain, row, clearance = res
-    stratum = names.get(row)
-    if stratum is None:
-        stratum = _stratum_name(p, row, dims, names)
-    return Plan(domain, stratum, clearance, _unchecked_path(times, wp), p.name, dims)
-
-
-def _fast_lift(lift) -> float | None:
-    """``lift`` as the float :func:`_check_lift` makes of it (the same rule), or None when it
-    is invalid (the general path raises the error)."""
-    try:
-        return _check_lift(lift)
-    except InputError:
-        return None
-
-
-def _fast_array(a) -> np.ndarray | None:
-    """``a`` itself if it already is a writeable C-contiguous float64 ndarray, else ``a`` as a
-    new one (converted by :func:`pmplan.configuration.as_real`, the rule of
-    :func:`~pmplan.configuration.as_points`), or None if it does not convert (the general path
-    raises the error)."""
-    if type(a) is np.ndarray and a.dtype is _F64 and a.flags.carray:
-        return a
-    if type(a) is list and _plain(a):  # floats and ints a double holds: as_real's first case
-        try:
-            return np.array(a, dtype=np.float64)
-        except ValueError:
-            return None
-    try:
-        a = as_real(a, "array")
-    except InputError:
-        return None
-    return a if a.flags.carray else np.array(a, order="C")
-
-
-def _fast_entry(key: tuple):
-    """``(run, planner, dims, stratum names)`` of the single-query fast path for ``key =
-    (planner name or None, obstacles shape, start shape, goal shape)``, or None if that shape
-    never takes it; cached in :data:`_FAST`."""
-    planner, oshape, sshape, gshape = key
-    entry = None
-    if len(oshape) == 2 and len(sshape) == 2 and sshape == gshape and oshape[1] == sshape[1]:
-        (m, d), n = oshape, sshape[0]
-        if planner is None:
-            planner = default_planner(d, n, m)
-        p = REGISTRY.get(planner)
-        if p is not None and p.supports(d, n, m) is None:
-            run = p.single_query(m, n, d)
-            if run is not None and _times_certified(p, 2):
-                entry = (run, p, (d, n, m), {})
-    if len(_FAST) < 1024:
-        _FAST[key] = entry
-    return entry
-
-
-def _times_certified(p: Planner, r: int) -> bool:
-    """Whether the planner's shared breakpoints for r configurations (if it has them) pass
-    clauses 1-4 of the certificate -- checked once per fast-path entry, not per call. A
-    planner with per-query breakpoints checks them in its kernel (flag ``BROKEN``)."""
-    times = p.path_times(r)
-    return times is None or check_times(times) == 0
-
-
-def _stratum_name(p: Planner, row: tuple, dims: tuple[int, int, int], names: dict) -> str:
-    """``p.stratum_name(row, d, n, m)``, remembered in ``names`` (by row)."""
-    d, n, m = dims
-    name = p.stratum_name(row, d, n, m)
-    if len(names) < 4096:
-        names[row] = name
-    return name
-
-
-_F64 = np.dtype(np.float64)
-#: the single-query fast paths plan only lifts in this range (and, as the kernels check,
-#: coordinates below 2**LIMIT): the other queries may need scaling (:mod:`pmplan.magnitude`)
-_LIFT_LOW = 2.0**-magnitude.LIMIT
-_LIFT_HIGH = 2.0**magnitude.LIMIT
-_UNSEEN = object()
-#: the single-query fast paths by (planner, shapes) (see :func:`_fast_entry`); None: never
-_FAST: dict = {}
-#: the sequential fast path by (r, obstacles shape, configuration shape) (see
-#: :func:`_sequence_entry`); None: never
-_FAST_SEQUENCE: dict = {}
+    return plan_one(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
 
 
 def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
@@ -402,32 +194,6 @@ def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
     return plan(c_start[:m], c_start[m:], c_goal[m:], **kwargs)
 
 
-def _check_sequence(obstacles, configs, batched: bool):
-    try:
-        if isinstance(configs, (str, bytes)):
-            raise TypeError
-        configs = list(configs)
-    except TypeError:
-        raise InputError(f"`configs` must be a list of r >= 2 arrays of real numbers, got "
-                         f"{type(configs).__name__}") from None
-    configs = [as_real(c, f"configs[{k}]") for k, c in enumerate(configs)]
-    if len(configs) < 2:
-        raise ShapeError(f"Expected at least r = 2 configurations, got {len(configs)}.")
-    r = len(configs)
-    obstacles_b, first, _ = check_query(
-        obstacles, configs[0], configs[-1], batched=batched,
-        names=("configuration 1 (start)", f"configuration {r} (goal)"),
-    )
-    out = [first]
-    for k, c in enumerate(configs[1:], start=2):
-        _, ck, _ = check_query(obstacles, c, c, batched=batched,
-                               names=(f"configuration {k}", f"configuration {k}"))
-        if ck.shape != first.shape:
-            raise ShapeError(f"configuration {k} has shape {ck.shape[1:]}, expected {first.shape[1:]}")
-        out.append(ck)
-    return obstacles_b, out
-
-
 def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
                         backend: str | None = None, progress: bool = False,
                         workers: int = 1, out: PlanBatch | None = None, refine: bool = False,
@@ -439,30 +205,19 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     e == N in odd d). ``lift``, ``backend``, ``progress``, ``workers``, ``out``: see
     :func:`plan_batch`.
     """
-    refining = _asks_refine(refine, radius, obstacle_radius, out)
-    if isinstance(configs, (list, tuple)) and _is_dask(obstacles, *configs):
+    refining = asks_refine(refine, radius, obstacle_radius, out)
+    if isinstance(configs, (list, tuple)) and is_dask(obstacles, *configs):
         from . import scale
 
         return scale.plan_sequence_batch(obstacles, configs, lift=lift, progress=progress,
                                          backend=backend, workers=workers, out=out,
                                          refine=_radii(refining, radius, obstacle_radius))
+    batch = plan_arrays(obstacles, as_config_list(configs), lift=lift, backend=backend,
+                        workers=workers, progress=progress, out=out, sequential=True)
     if refining:
-        raw = plan_sequence_batch(obstacles, configs, lift=lift, backend=backend,
-                                  progress=progress, workers=workers)
-        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
+        return refine_plans(batch, radius=radius, obstacle_radius=obstacle_radius,
                             progress=progress, workers=workers, backend=backend)
-    lift = _check_lift(lift)
-    workers = _check_workers(workers)
-    obstacles, configs = _check_sequence(obstacles, configs, batched=True)
-    _, m, d = obstacles.shape
-    n = configs[0].shape[1]
-    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True))
-    _check_backend(backend)
-    into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], len(configs),
-                          (obstacles, *configs))
-    res = _run(p, obstacles, configs, lift, batched=True, progress=progress,
-               backend=backend, workers=workers, into=into)
-    return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
+    return batch
 
 
 def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
@@ -488,83 +243,11 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
     >>> p.path(0.5)[2]
     array([ 1., -1.])
     """
-    if _asks_refine(refine, radius, obstacle_radius):
+    if asks_refine(refine, radius, obstacle_radius):
         raw = plan_sequence(obstacles, configs, lift=lift, backend=backend)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             backend=backend)
-    if _backend.uses_kernels(backend):
-        fast = _plan_sequence_fast(obstacles, configs, lift)
-        if fast is not None:
-            return fast
-    lift = _check_lift(lift)
-    obstacles, configs = _check_sequence(obstacles, configs, batched=False)
-    _, m, d = obstacles.shape
-    n = configs[0].shape[1]
-    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True))
-    _check_backend(backend)
-    out = _run(p, obstacles, configs, lift, batched=False, backend=backend)
-    return _single(p, (d, n, m), out)
-
-
-def _plan_sequence_fast(obstacles, configs, lift) -> Plan | None:
-    """The lean path of :func:`plan_sequence`: one validating kernel call
-    (:meth:`pmplan.planners.base.Planner.sequence_query`), as :func:`_plan_fast` for :func:`plan`.
-
-    Returns None -- and :func:`plan_sequence` then takes the general path, which raises the
-    proper error or re-decides exactly -- for anything but a plain valid query (a list, tuple or
-    array of r >= 2 configurations of one shape (n, d), obstacles (m, d), d <= MAX_D) whose
-    kernel result needs no exact re-decision.
-    """
-    if type(lift) is not float or not 0.0 < lift < math.inf:  # (False for NaN)
-        lift = _fast_lift(lift)
-        if lift is None:
-            return None
-    if lift != SCENE_CODE and not _LIFT_LOW <= lift < _LIFT_HIGH or not (
-        type(configs) in (list, tuple) or type(configs) is np.ndarray and configs.ndim == 3
-    ):
-        return None
-    o = _fast_array(obstacles)
-    if o is None or len(configs) < 2:
-        return None
-    cs = [_fast_array(c) for c in configs]
-    shape = None if cs[0] is None else cs[0].shape
-    for c in cs:
-        if c is None or c.shape != shape:
-            return None
-    key = (len(cs), o.shape, shape)
-    entry = _FAST_SEQUENCE.get(key, _UNSEEN)
-    if entry is _UNSEEN:
-        entry = _sequence_entry(key)
-    if entry is None:
-        return None
-    run, p, dims, names = entry
-    return _fast_answer(run(o, cs, lift), p, dims, names)
-
-
-def _sequence_entry(key: tuple):
-    """``(run, planner, dims, stratum names)`` of the sequential fast path for ``key = (r,
-    obstacles shape, configuration shape)``, or None; cached in :data:`_FAST_SEQUENCE`."""
-    r, oshape, cshape = key
-    entry = None
-    if len(oshape) == 2 and len(cshape) == 2 and oshape[1] == cshape[1]:
-        (m, d), n = oshape, cshape[0]
-        p = REGISTRY[default_planner(d, n, m, sequential=True)]
-        if p.supports(d, n, m) is None:
-            run = p.sequence_query(r, m, n, d)
-            if run is not None and _times_certified(p, r):
-                entry = (run, p, (d, n, m), {})
-    if len(_FAST_SEQUENCE) < 1024:
-        _FAST_SEQUENCE[key] = entry
-    return entry
-
-
-def _check_sequential(planner: str | None) -> None:
-    """Raise :class:`~pmplan.errors.UnsupportedError` if the named planner does not plan
-    through intermediate configurations (a query with ``via``)."""
-    if planner is not None and not (planner in REGISTRY and REGISTRY[planner].sequential):
-        names = [p.name for p in REGISTRY.values() if p.sequential]
-        raise UnsupportedError(f"a query with 'via' is planned by the {' or '.join(names)} "
-                               "planner")
+    return plan_one_sequence(obstacles, configs, lift=lift, backend=backend)
 
 
 def parametrised_tc(d: int, n: int, m: int, r: int = 2) -> int:
@@ -621,7 +304,7 @@ def plan_query(query: dict, planner: str | None = None) -> Plan:
     planner = planner or query.get("planner")
     lift = query.get("lift", 1.0)
     if "via" in query:
-        _check_sequential(planner)
+        check_sequential(planner)
         configs = [query["start"], *query["via"], query["goal"]]
         return plan_sequence(query["obstacles"], configs, lift=lift)
     return plan(query["obstacles"], query["start"], query["goal"], planner=planner, lift=lift)
@@ -685,65 +368,9 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
     >>> bool(q.path.length() < p.path.length())
     True
     """
-    radius, obstacle_radius, s, steps = check_parameters(radius, obstacle_radius, waypoints,
-                                                         steps)
-    workers = _check_workers(workers)
-    if progress is None:
-        progress = False
-    if not isinstance(progress, (bool, np.bool_)):
-        raise InputError(f"`progress` must be True, False or None, got {progress!r}")
-    _check_backend(backend)
-    single = isinstance(plan_or_batch, Plan)
-    if single:
-        batch = plan_or_batch
-        times = batch.path.times
-        wp = batch.path.waypoints[None]
-        clearance = np.array([batch.clearance])
-        refined = batch.refined
-    elif isinstance(plan_or_batch, PlanBatch):
-        batch = plan_or_batch
-        times, wp, clearance = batch.times, batch.waypoints, batch.clearance
-        if _is_dask(wp):
-            raise InputError(_MSG_REFINE_DASK)
-        refined = bool(batch.refined.any())
-    else:
-        raise InputError(_MSG_PLAN.format(value=type(plan_or_batch).__name__))
-    if refined:
-        raise InputError(_MSG_REFINED.format(radius=f"{float(np.max(batch.radius)):g}"))
-    p = REGISTRY[batch.planner]
-    m = batch.dims[2]
-    fixed = p.fixed_waypoints(np.asarray(times))  # start, intermediate configurations, goal
-    stage = RefineStage(times, wp, clearance, m, fixed, radius, obstacle_radius, s, steps, backend)
-    check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in fixed], radius, obstacle_radius,
-                batched=not single, kernel=stage.kernel)
-    run_stage(stage, progress=progress, workers=workers)
-    extra = stage.extra()
-    if single:
-        path = PiecewiseLinearPath(stage.times, stage.waypoints[0])
-        return Plan(batch.domain, batch.stratum, float(stage.clearance[0]), path.compact(),
-                    batch.planner, batch.dims, **{k: v[0].item() for k, v in extra.items()})
-    return PlanBatch(domain=batch.domain.copy(), strata=batch.strata.copy(),
-                     clearance=stage.clearance, times=stage.times, waypoints=stage.waypoints,
-                     planner=batch.planner, dims=batch.dims, _names=batch._names, _extra=extra)
-
-
-#: :func:`refine` under a name the planning functions' ``refine=`` flag does not hide
-refine_plans = refine
-
-
-def _asks_refine(refine, radius, obstacle_radius, out=None) -> bool:
-    """Whether a planning function was asked ``refine=True`` (the flag and the radii checked:
-    :func:`pmplan.refine.check_refine_flag`; radii without the flag are refused, and so is
-    ``out=`` with it: a refined batch has other shapes)."""
-    if refine is False and type(radius) is float and type(obstacle_radius) is float \
-            and radius == 0.0 and obstacle_radius == 0.0:
-        return False
-    if check_refine_flag(refine, radius, obstacle_radius):
-        check_parameters(radius, obstacle_radius, None, None)
-        if out is not None:
-            raise InputError(_MSG_REFINE_OUT)
-        return True
-    return False
+    return refine_plans(plan_or_batch, radius=radius, obstacle_radius=obstacle_radius,
+                        waypoints=waypoints, steps=steps, workers=workers, progress=progress,
+                        backend=backend)
 
 
 def _radii(refining: bool, radius, obstacle_radius) -> dict | None:

@@ -34,26 +34,26 @@ import numpy as np
 
 __all__ = [
     "CLAUSES",
-    "describe",
-    "check_times",
-    "check_paths",
-    "segment_clearance",
-    "clearance",
     "certificate",
     "certify",
+    "check_paths",
+    "check_times",
+    "clearance",
+    "describe",
     "radius_report",
+    "segment_clearance",
 ]
 
-# a float minimum below _REL * (scale of the pair on that piece) is re-decided exactly
-_REL = 1e-9
-# (for the kernels) _REL * max(scale, 1e-6 absval) <= 2.0000001e-9 * (the largest absolute
-# coordinate of the pair's points): a float distance above _SURE times that is certainly above
-# the threshold of _REL
-_SURE = 2.1e-9
-_MAXF = 1.7976931348623157e308  # the largest finite float
+# a float minimum below REL * (scale of the pair on that piece) is re-decided exactly
+REL = 1e-9
+# (for the kernels) REL * max(scale, 1e-6 absval) <= 2.0000001e-9 * (the largest absolute
+# coordinate of the pair's points): a float distance above SURE times that is certainly above
+# the threshold of REL
+SURE = 2.1e-9
+MAXF = 1.7976931348623157e308  # the largest finite float
 # an obstacle pair whose squared distance is below this (it may have underflowed), or not finite
 # (it overflowed), is measured exactly (the kernels flag it SUSPECT)
-_OBSTACLE_TINY2 = 2.0**-1000
+OBSTACLE_TINY2 = 2.0**-1000
 # paths with waypoints outside [2**-_RANGE, 2**_RANGE) are measured scaled by a power of two
 _RANGE = 500
 # from this many points on, clearance() evaluates only the pairs _swept cannot exclude
@@ -189,7 +189,7 @@ def check_paths(times, waypoints, start, goal, m: int, via=()) -> np.ndarray:
     return codes
 
 
-def _pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray]:
+def point_pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray]:
     """Index pairs (i < j) with at least one moving point (index >= m)."""
     i, j = np.triu_indices(p, k=1)
     keep = j >= m
@@ -208,7 +208,7 @@ def segment_clearance(r0: np.ndarray, r1: np.ndarray) -> np.ndarray:
         return np.sqrt((q * q).sum(-1))
 
 
-def _exact_segment_dist2(a0, b0, a1, b1) -> Fraction:
+def exact_segment_dist2(a0, b0, a1, b1) -> Fraction:
     """Exact squared min distance between points moving linearly a0->a1 and b0->b1."""
     r0 = [Fraction(x) - Fraction(y) for x, y in zip(a0.tolist(), b0.tolist())]
     r1 = [Fraction(x) - Fraction(y) for x, y in zip(a1.tolist(), b1.tolist())]
@@ -221,9 +221,9 @@ def _exact_segment_dist2(a0, b0, a1, b1) -> Fraction:
     return sum((p + t * q) ** 2 for p, q in zip(r0, v))
 
 
-def _exact_segment_clearance(a0, b0, a1, b1) -> float:
+def exact_segment_clearance(a0, b0, a1, b1) -> float:
     """Exact min distance between points moving linearly a0->a1 and b0->b1 (rational)."""
-    sq = _exact_segment_dist2(a0, b0, a1, b1)
+    sq = exact_segment_dist2(a0, b0, a1, b1)
     if sq == 0:
         return 0.0
     try:
@@ -240,7 +240,7 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
         try:
             val = math.ldexp(root, -j)
         except OverflowError:
-            val = _MAXF
+            val = MAXF
     if val == 0.0:
         val = 5e-324
     return val
@@ -248,7 +248,7 @@ def _exact_segment_clearance(a0, b0, a1, b1) -> float:
 
 def _decided(a0, b0, a1, b1) -> np.ndarray:
     """The decided minimum distance of every pair on its piece: points a0 -> a1 and b0 -> b1
-    (arrays (..., d)); the float closed form, exact (:func:`_exact_segment_clearance`) where it
+    (arrays (..., d)); the float closed form, exact (:func:`exact_segment_clearance`) where it
     is small against the pair's scale or not finite (a relative position or a square that
     overflows), NaN where a waypoint is not finite."""
     with np.errstate(over="ignore", invalid="ignore"):  # re-decided exactly below
@@ -261,11 +261,11 @@ def _decided(a0, b0, a1, b1) -> np.ndarray:
     finite = np.isfinite(a0).all(-1) & np.isfinite(b0).all(-1) & np.isfinite(a1).all(-1) \
         & np.isfinite(b1).all(-1)
     with np.errstate(invalid="ignore", over="ignore"):
-        suspect = (~(dist > _REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(dist)) \
+        suspect = (~(dist > REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(dist)) \
             & finite
     dist[~finite] = np.nan
     for idx in zip(*np.nonzero(suspect)):
-        dist[idx] = _exact_segment_clearance(a0[idx], b0[idx], a1[idx], b1[idx])
+        dist[idx] = exact_segment_clearance(a0[idx], b0[idx], a1[idx], b1[idx])
     return dist
 
 
@@ -373,9 +373,9 @@ def _scaled_rows(wp: np.ndarray, m: int):
         with np.errstate(over="ignore", under="ignore"):
             v = float(np.ldexp(c, e)) if np.isfinite(c) else c
         if c > 0 and v == 0.0:
-            v = 5e-324  # positive below the float range (as _exact_segment_clearance)
+            v = 5e-324  # positive below the float range (as exact_segment_clearance)
         if np.isfinite(c) and v == np.inf:
-            v = _MAXF  # above the float range: the largest double, a lower bound
+            v = MAXF  # above the float range: the largest double, a lower bound
         rows.append(i)
         values.append(v)
     if not rows:
@@ -419,7 +419,7 @@ def clearance(waypoints: np.ndarray, m: int, *, sweep: bool = True) -> np.ndarra
         if rest.any():
             out[rest] = clearance(wp[rest], m, sweep=False)
         return out
-    pi, pj = _pairs(p, m)
+    pi, pj = point_pairs(p, m)
     out = np.full(b, np.inf)
     if pi.size == 0:
         return out
@@ -449,11 +449,11 @@ def _obstacle_clearance(wp: np.ndarray, m: int) -> np.ndarray:
         od = wp[:, 0, oi] - wp[:, 0, oj]
         od2 = (od * od).sum(-1)  # (B, pairs), summed as the kernels sum it
         odist = np.sqrt(od2)
-        bad = ~(od2 >= _OBSTACLE_TINY2) & np.isfinite(wp[:, 0, oi]).all(-1) \
+        bad = ~(od2 >= OBSTACLE_TINY2) & np.isfinite(wp[:, 0, oi]).all(-1) \
             & np.isfinite(wp[:, 0, oj]).all(-1)
     for bi, qi in zip(*np.nonzero(bad)):  # the square overflowed or may have underflowed
         a, c = wp[bi, 0, oi[qi]], wp[bi, 0, oj[qi]]
-        odist[bi, qi] = _exact_segment_clearance(a, c, a, c)
+        odist[bi, qi] = exact_segment_clearance(a, c, a, c)
     return odist.min(axis=1)
 
 
@@ -511,15 +511,15 @@ def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, 
 # --- the radii: exact minimum distances against exact bounds ----------------------------------
 
 #: the band of the radius decision, in the path's power-of-two frame (largest |coordinate| in
-#: [1/2, 1)): a float piece minimum is within ``_BAND_REL (need + A) + _BAND_ABS`` of the exact
+#: [1/2, 1)): a float piece minimum is within ``BAND_REL (need + A) + BAND_ABS`` of the exact
 #: one (A the largest |coordinate| of the pair's points on the piece: the rounding of the
 #: relative positions and of the closed form is below 1e-14 A, an underflowed square below
 #: 2**-530), with a wide margin; inside the band the exact minimum decides
-_BAND_REL = 1e-9
-_BAND_ABS = 2.0**-500
+BAND_REL = 1e-9
+BAND_ABS = 2.0**-500
 #: a piece minimum below this may hold an underflowed square: measured exactly (the kernels
 #: flag it SUSPECT)
-_TINY_DIST = 2.0**-480
+TINY_DIST = 2.0**-480
 
 
 def _frame(wp: np.ndarray):
@@ -546,7 +546,7 @@ def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius:
     two robots is >= ``2 radius`` and between a robot and an obstacle >= ``radius +
     obstacle_radius`` (B,). Each path is measured in its power-of-two frame (:func:`_frame`,
     exact: no square underflows or overflows there); a float piece minimum decides where it is
-    farther than the band of :data:`_BAND_REL` and :data:`_BAND_ABS` from the bound (it is
+    farther than the band of :data:`BAND_REL` and :data:`BAND_ABS` from the bound (it is
     then on the right side exactly), rational arithmetic on the waypoint floats otherwise.
 
     The distances are the minima over the pieces of the closed-form piece minima in that frame,
@@ -569,7 +569,7 @@ def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius:
     bsz, _, p, _ = wp.shape
     if bsz == 0:
         return np.empty(0), np.empty(0), np.ones(0, dtype=bool)
-    pa, pb = _pairs(p, m)
+    pa, pb = point_pairs(p, m)
     ws, e, exact = _frame(wp)
     with np.errstate(all="ignore"):
         d = _decided(ws[:, :-1, pa], ws[:, :-1, pb], ws[:, 1:, pa], ws[:, 1:, pb])
@@ -577,9 +577,9 @@ def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius:
         A = np.maximum(A, np.maximum(np.abs(ws[:, 1:, pa]).max(-1), np.abs(ws[:, 1:, pb]).max(-1)))
     # a pair far smaller than its path (a scene of size 1e-160 lifted to 1): its squares may
     # underflow even in the frame, measured exactly
-    for idx in zip(*np.nonzero(d < _TINY_DIST)):
+    for idx in zip(*np.nonzero(d < TINY_DIST)):
         bi, ki, qi = idx
-        d[idx] = _exact_segment_clearance(ws[bi, ki, pa[qi]], ws[bi, ki, pb[qi]],
+        d[idx] = exact_segment_clearance(ws[bi, ki, pa[qi]], ws[bi, ki, pb[qi]],
                                           ws[bi, ki + 1, pa[qi]], ws[bi, ki + 1, pb[qi]])
     rr = pa >= m
     out = []
@@ -603,7 +603,7 @@ def _at_least(wp, ws, e, exact, d, A, pa, pb, need: Fraction) -> np.ndarray:
     bsz = wp.shape[0]
     with np.errstate(over="ignore", under="ignore"):
         nf = np.ldexp(float(need), -e)[:, None, None]  # (inf: far above the scene)
-    band = _BAND_REL * (nf + A) + _BAND_ABS
+    band = BAND_REL * (nf + A) + BAND_ABS
     with np.errstate(invalid="ignore"):
         sure = d > nf + band
         # (a waypoint that is not finite: not a path, it keeps no radius)
@@ -616,7 +616,7 @@ def _at_least(wp, ws, e, exact, d, A, pa, pb, need: Fraction) -> np.ndarray:
             w, bound = ws[bi], need / (Fraction(2) ** int(e[bi]))
         else:
             w, bound = wp[bi], need
-        if _exact_segment_dist2(w[ki, pa[qi]], w[ki, pb[qi]], w[ki + 1, pa[qi]],
+        if exact_segment_dist2(w[ki, pa[qi]], w[ki, pb[qi]], w[ki + 1, pa[qi]],
                                 w[ki + 1, pb[qi]]) < bound * bound:
             ok[bi] = False
     return ok

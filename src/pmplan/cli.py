@@ -150,17 +150,14 @@ def _version() -> str:
     try:
         return version("pmplan")
     except PackageNotFoundError:
-        from . import __version__
+        from .version import __version__
 
         return __version__
 
 
 def build_parser() -> argparse.ArgumentParser:
     """Return the argument parser of ``pmplan``."""
-    from .animation import MAX_FPS, MAX_FRAMES
-    from .api import planner_names
-    from .io import MAX_POINTS, MAX_SAMPLES
-    from .verify import MAX_QUERIES, MIN_QUERIES
+    from .checks import planner_names
 
     parser = _Parser(
         prog="pmplan",
@@ -176,6 +173,21 @@ def build_parser() -> argparse.ArgumentParser:
     planner_help = ("planner name (default: chosen from d, n, m: planar_three for one robot "
                     "among three obstacles in the plane, obstacle_line otherwise)")
 
+    _parser_plan(sub, names, planner_help)
+    _parser_batch(sub, names, planner_help)
+    _parser_demo(sub, names, planner_help)
+    _parser_info(sub, names, planner_help)
+    _parser_figures(sub, names, planner_help)
+    _parser_animate(sub, names, planner_help)
+    _parser_verify(sub, names, planner_help)
+    _parser_explore(sub, names, planner_help)
+    return parser
+
+
+def _parser_plan(sub, names: list[str], planner_help: str) -> None:
+    """The parser of ``pmplan plan``."""
+    from .io import MAX_SAMPLES
+
     p = sub.add_parser("plan", help="plan one query from a JSON (or npz) file",
                        description="Plan one query. Example: pmplan plan query.json --samples 20")
     p.add_argument("query", help="query JSON file ('-' for standard input), or an npz with "
@@ -189,6 +201,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="indent the JSON output by N spaces (default: one line)")
     _add_refine_options(p)
 
+
+def _parser_batch(sub, names: list[str], planner_help: str) -> None:
+    """The parser of ``pmplan batch``."""
     p = sub.add_parser("batch", help="plan a batch of queries (npz, JSON list or Zarr store) "
                        "into an npz or a Zarr store",
                        description="Example: pmplan batch queries.npz --out plans.npz; "
@@ -221,6 +236,9 @@ def build_parser() -> argparse.ArgumentParser:
                            "(needs pmplan[dask] and a Zarr --out)")
     _add_refine_options(p)
 
+
+def _parser_demo(sub, names: list[str], planner_help: str) -> None:
+    """The parser of ``pmplan demo``."""
     p = sub.add_parser("demo", help="the main job: one query per domain, raw and refined, "
                        "table and picture",
                        description="Example: pmplan demo --out demo.png")
@@ -235,6 +253,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--obstacle-radius", type=_number, default=None, metavar="R",
                    help="radius of the obstacles of the refined motions (default 0)")
 
+
+def _parser_info(sub, names: list[str], planner_help: str) -> None:
+    """The parser of ``pmplan info``."""
+    from .io import MAX_POINTS
+
     p = sub.add_parser("info", help="which planner applies to (d, n, m, r) and its optimality",
                        description="Example: pmplan info --d 3 --n 2 --m 4 --r 3")
     p.add_argument("--d", type=_int_in(0, MAX_POINTS), required=True,
@@ -248,10 +271,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--planner", default=None, choices=names, help=planner_help)
     p.add_argument("--json", action="store_true", help="print the record as JSON")
 
+
+def _parser_figures(sub, names: list[str], planner_help: str) -> None:
+    """The parser of ``pmplan figures``."""
     p = sub.add_parser("figures", help="draw the paper's Section 4 figures from the planner",
                        description="Example: pmplan figures --out docs/figures")
     p.add_argument("--out", default="docs/figures", metavar="DIR",
                    help="directory for the 13 PNGs (created if missing; default docs/figures)")
+
+
+def _parser_animate(sub, names: list[str], planner_help: str) -> None:
+    """The parser of ``pmplan animate``."""
+    from .animation import MAX_FPS, MAX_FRAMES
 
     p = sub.add_parser("animate", help="animate a planned motion",
                        description="Example: pmplan animate query.json --out motion.gif")
@@ -266,6 +297,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--planner", default=None, choices=names, help=planner_help)
     p.add_argument("--lift", type=_lift, default=None, metavar="LIFT", help=LIFT_HELP)
     _add_refine_options(p)
+
+
+def _parser_verify(sub, names: list[str], planner_help: str) -> None:
+    """The parser of ``pmplan verify``."""
+    from .io import MAX_POINTS
+    from .verify import MAX_QUERIES, MIN_QUERIES
 
     p = sub.add_parser("verify", help="check certificates and continuity, domain by domain",
                        description="Example: pmplan verify --d 2 --n 3 --m 2 --queries 500")
@@ -288,6 +325,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="also check the refined planner (pmplan.refine, radius 0): its "
                    "certificates, labels and continuity moduli per domain, beside the raw ones")
 
+
+def _parser_explore(sub, names: list[str], planner_help: str) -> None:
+    """The parser of ``pmplan explore``."""
     p = sub.add_parser("explore", help="the domains of continuity, live, in a browser",
                        description="Serve an interactive page on this machine (needs the "
                        "extra pmplan[explore]). Example: pmplan explore --port 8765")
@@ -298,7 +338,6 @@ def build_parser() -> argparse.ArgumentParser:
                    help="TCP port, 0 to 65535 (default 8765; 0: any free port)")
     p.add_argument("--no-browser", action="store_true",
                    help="only print the address; do not open it in the default browser")
-    return parser
 
 
 def _read_query_arg(path: str) -> dict:
@@ -352,6 +391,7 @@ def cmd_plan(args) -> int:
 
 def cmd_batch(args) -> int:
     from . import api
+    from .checks import check_sequential
     from .io import read_queries, write_plans
 
     options = _refine_options(args)
@@ -361,7 +401,7 @@ def cmd_batch(args) -> int:
     lift = q.get("lift", 1.0)
     common = dict(lift=lift, progress=not args.no_progress, workers=args.workers)
     if "via" in q:
-        api._check_sequential(q.get("planner"))
+        check_sequential(q.get("planner"))
         configs = [q["start"], *np.moveaxis(q["via"], 1, 0), q["goal"]]
         batch = api.plan_sequence_batch(q["obstacles"], configs, **common)
     else:
@@ -389,6 +429,23 @@ def _streams(args) -> bool:
             or args.dask_workers is not None)
 
 
+def _quiet_dask() -> None:
+    """Silence dask.distributed's own log lines in this process: a failed run ends in one line,
+    pmplan's, which names the store and what finishes it."""
+    import logging
+
+    try:
+        import distributed  # noqa: F401 - its import sets up its loggers: quiet them after it
+    except ImportError:
+        return  # plan_store says how to install it
+    tops = ("distributed", "tornado", "asyncio")
+    names = [k for k in logging.root.manager.loggerDict if k.split(".")[0] in tops]
+    for name in set(names) | set(tops):
+        log = logging.getLogger(name)
+        log.handlers[:] = [logging.NullHandler()] if name in tops else []
+        log.propagate = name not in tops
+
+
 def _cmd_batch_store(args, options: dict | None) -> int:
     """``pmplan batch`` into a Zarr store, chunk by chunk (:func:`pmplan.scale.plan_store`),
     every chunk refined with ``options`` (``--refine``) when given."""
@@ -405,6 +462,8 @@ def _cmd_batch_store(args, options: dict | None) -> int:
     else:
         source = _with_options(read_queries(args.queries), args, args.queries)
         lift = planner = None
+    if args.scheduler is not None or args.dask_workers is not None:
+        _quiet_dask()
     try:
         rep = plan_store(source, args.out, planner=planner, lift=lift, chunk=args.chunk,
                          resume=args.resume, scheduler=args.scheduler,

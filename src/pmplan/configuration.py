@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from .backend import kernel_array, validation_kernels
+from .backends import kernel_array, validation_kernels
 from .errors import CollisionError, InputError, NonFiniteError, ObstacleMismatchError, ShapeError
 
 __all__ = [
     "SCENE", "as_lift", "as_points", "as_real", "check_query", "coincident_pairs",
-    "check_same_obstacles", "kernel_array"]
+    "check_same_obstacles", "check_sequence", "as_config_list", "kernel_array"]
 
 #: the value of ``lift`` that makes the unit of every query its obstacles' radius
 #: ``u(O) = max_{k >= 2} |o_k - o_1|`` (see :func:`pmplan.planners.base.unit`)
@@ -82,7 +82,7 @@ def _type_name(v) -> str:
 _EXACT_INT = 2**53  # every integer of at most this magnitude is a double
 
 
-def _plain(v) -> bool:
+def is_plain(v) -> bool:
     """True when every leaf of nested lists (tuples) is a float or an int of magnitude at most
     2**53 -- the common case, which then converts with one ``np.array(v, dtype=float)``."""
     for r in v:
@@ -92,7 +92,7 @@ def _plain(v) -> bool:
                 tx = type(x)
                 if tx is float or (tx is int and -_EXACT_INT <= x <= _EXACT_INT):
                     continue
-                if (tx is list or tx is tuple) and _plain(x):
+                if (tx is list or tx is tuple) and is_plain(x):
                     continue
                 return False
         elif not (t is float or (t is int and -_EXACT_INT <= r <= _EXACT_INT)):
@@ -122,7 +122,7 @@ def as_real(value, name: str, fix: str | None = None) -> np.ndarray:
     pmplan.errors.InputError: `start[0][0]` must hold real numbers, got str; pass real \
 numbers, e.g. np.asarray(x, dtype=float)
     """
-    if type(value) in (list, tuple) and _plain(value):
+    if type(value) in (list, tuple) and is_plain(value):
         try:
             return np.array(value, dtype=np.float64)
         except ValueError:  # ragged: worded below
@@ -421,3 +421,37 @@ def check_same_obstacles(c_start: np.ndarray, c_goal: np.ndarray, m: int, batche
             f"the obstacles of the start and goal configurations differ: "
             f"{c_start[:m].tolist()} != {c_goal[:m].tolist()} (obstacles are fixed along a motion)"
         )
+
+
+def check_sequence(obstacles, configs, batched: bool):
+    """``obstacles`` and the r >= 2 configurations ``configs`` of a query through intermediate
+    configurations, checked (:func:`check_query` for each, one shape for all) and converted."""
+    configs = as_config_list(configs)
+    configs = [as_real(c, f"configs[{k}]") for k, c in enumerate(configs)]
+    if len(configs) < 2:
+        raise ShapeError(f"Expected at least r = 2 configurations, got {len(configs)}.")
+    r = len(configs)
+    obstacles_b, first, _ = check_query(
+        obstacles, configs[0], configs[-1], batched=batched,
+        names=("configuration 1 (start)", f"configuration {r} (goal)"),
+    )
+    out = [first]
+    for k, c in enumerate(configs[1:], start=2):
+        _, ck, _ = check_query(obstacles, c, c, batched=batched,
+                               names=(f"configuration {k}", f"configuration {k}"))
+        if ck.shape != first.shape:
+            raise ShapeError(f"configuration {k} has shape {ck.shape[1:]}, expected {first.shape[1:]}")
+        out.append(ck)
+    return obstacles_b, out
+
+
+def as_config_list(configs) -> list:
+    """``configs`` (the configurations of a sequential query) as a list, or the InputError
+    saying what it must be."""
+    try:
+        if isinstance(configs, (str, bytes)):
+            raise TypeError
+        return list(configs)
+    except TypeError:
+        raise InputError(f"`configs` must be a list of r >= 2 arrays of real numbers, got "
+                         f"{type(configs).__name__}") from None

@@ -16,6 +16,7 @@ __all__ = [
     "ObstacleMismatchError",
     "UnsupportedError",
     "CertificationError",
+    "StoreError",
 ]
 
 
@@ -78,3 +79,24 @@ class CertificationError(PmplanError, ArithmeticError):
     def __init__(self, message: str, *, indices=None):
         super().__init__(message)
         self.indices = indices
+
+
+class StoreError(PmplanError):
+    """A run into an output store failed for a reason outside the queries: the disk (full,
+    read-only), the dask cluster (scheduler lost, workers killed), or the store itself.
+
+    The message names the store and says whether ``--resume`` (``resume=True``) will finish it.
+
+    Attributes
+    ----------
+    path : str
+        The output store.
+    resumable : bool
+        True when the store holds a run that ``--resume`` can finish once the cause is fixed;
+        False when nothing was written (or nothing that a resume can use).
+    """
+
+    def __init__(self, message: str, *, path=None, resumable: bool = False):
+        super().__init__(" ".join(message.split()))  # one line, whatever the cause printed
+        self.path = None if path is None else str(path)
+        self.resumable = resumable

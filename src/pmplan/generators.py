@@ -29,7 +29,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .planners.planar_three import _split_name, parse_stratum
+from .planar_strata import split_name
+from .planners.planar_three import classify, parse_stratum
 from .predicates import projection_classes
 
 __all__ = [
@@ -530,35 +531,56 @@ def perturb_within_stratum(rng: np.random.Generator, query, delta: float):
     (True, True)
     """
     obstacles, configs = _split(query)
-    m, d = obstacles.shape
-    target = piece_of(query)
+    move = _PieceMoves(rng, query, obstacles, configs, delta / 6.0)
     pts = [obstacles.copy(), *[c.copy() for c in configs]]
-    budget = delta / 6.0
-    pole = target[0]
-    # --- all random choices first (independent of delta) ---
-    pair = rng.choice(d - 1 if pole else d, size=2, replace=False)
-    trans = rng.normal(size=d)
-    sign = 1.0 if rng.random() < 0.5 else -1.0
-    rob_dirs = [rng.normal(size=c.shape) for c in configs]
-    rob_gen = [rng.integers(0, 1 << 30, size=c.shape[0]) for c in configs]
-    rob_coef = [rng.choice([-1.0, 1.0], size=c.shape[0]) for c in configs]
-    obs_gen = rng.integers(0, 1 << 30, size=m)
-    obs_coef = rng.choice([-1.0, 1.0], size=m)
+    for make in (move.rotate, move.translate, move.scale, move.robots_alone,
+                 move.robots_in_column, move.obstacles_in_column):
+        cand = make(pts)
+        if cand is not None and move.accept(cand):
+            pts = cand
+    if len(pts) == 3:
+        return Query(*pts)
+    return tuple(pts)
 
-    def accept(candidate) -> bool:
+
+class _PieceMoves:
+    """The six elementary moves of :func:`perturb_within_stratum`, each of size at most
+    ``budget`` per point, and the exact test that a move stayed in the piece. Every random
+    choice is drawn here, first, so that it does not depend on the size of the move."""
+
+    def __init__(self, rng: np.random.Generator, query, obstacles, configs, budget: float):
+        self.m, self.d = obstacles.shape
+        self.target = piece_of(query)
+        self.budget = budget
+        self.pole = self.target[0]
+        d, m = self.d, self.m
+        self.pair = rng.choice(d - 1 if self.pole else d, size=2, replace=False)
+        self.trans = rng.normal(size=d)
+        self.sign = 1.0 if rng.random() < 0.5 else -1.0
+        self.rob_dirs = [rng.normal(size=c.shape) for c in configs]
+        self.rob_gen = [rng.integers(0, 1 << 30, size=c.shape[0]) for c in configs]
+        self.rob_coef = [rng.choice([-1.0, 1.0], size=c.shape[0]) for c in configs]
+        self.obs_gen = rng.integers(0, 1 << 30, size=m)
+        self.obs_coef = rng.choice([-1.0, 1.0], size=m)
+
+    def accept(self, candidate) -> bool:
+        """Finite, distinct points, and the same piece, decided exactly."""
         if not all(np.isfinite(a).all() for a in candidate):
             return False
         for c in candidate[1:]:
             allp = np.concatenate([candidate[0], c])
             if len({tuple(p) for p in allp.tolist()}) != allp.shape[0]:
                 return False
-        return piece_of(candidate) == target
+        return piece_of(candidate) == self.target
 
+    @staticmethod
     def radius(cur) -> float:
         o1 = cur[0][0]
         return max(1e-300, max(float(np.abs(a - o1).max()) for a in cur))
 
-    def perp(w: np.ndarray, k: int) -> np.ndarray:
+    def perp(self, w: np.ndarray, k: int) -> np.ndarray:
+        """A vector orthogonal to ``w`` with entries from ``w`` (exact), the k-th of them."""
+        d = self.d
         gens = [(i, j) for i in range(d) for j in range(i + 1, d) if w[i] != 0 or w[j] != 0]
         if not gens:
             return np.zeros(d)
@@ -567,80 +589,81 @@ def perturb_within_stratum(rng: np.random.Generator, query, delta: float):
         v[i], v[j] = w[j], -w[i]
         return v
 
-    def attempt(cur, make):
-        cand = make(cur)
-        return cand if cand is not None and accept(cand) else cur
-
-    def rotate(cur):
+    def rotate(self, cur):
+        """1. A near-rotation about o1 (see :func:`perturb_within_stratum`)."""
+        d = self.d
         o1, w = cur[0][0], cur[0][1] - cur[0][0]
-        if pole:
+        if self.pole:
             s = np.zeros((d, d))
-            i, j = pair
+            i, j = self.pair
             s[i, j], s[j, i] = -1.0, 1.0
         else:
-            v = perp(w, int(pair[0] * d + pair[1]))
+            v = self.perp(w, int(self.pair[0] * d + self.pair[1]))
             s = np.outer(v, w) - np.outer(w, v)
         norm = np.linalg.norm(s, 2)
-        q = sign * _pow2_at_most(budget / (norm * radius(cur))) if norm > 0 else 0.0
+        q = self.sign * _pow2_at_most(self.budget / (norm * self.radius(cur))) \
+            if norm > 0 else 0.0
         if q == 0.0:
             return None
         return [a + q * ((a - o1) @ s.T) for a in cur]
 
-    def translate(cur):
-        t = _round_dyadic(trans / np.linalg.norm(trans) * budget * 0.5, budget)
+    def translate(self, cur):
+        """2. A translation by a dyadic vector."""
+        t = _round_dyadic(self.trans / np.linalg.norm(self.trans) * self.budget * 0.5,
+                          self.budget)
         return [a + t for a in cur]
 
-    def scale(cur):
+    def scale(self, cur):
+        """3. A scaling about o1 by ``1 + q``."""
         o1 = cur[0][0]
-        q = sign * _pow2_at_most(budget / radius(cur))
+        q = self.sign * _pow2_at_most(self.budget / self.radius(cur))
         return [o1 + (1.0 + q) * (a - o1) for a in cur]
 
-    def robots_alone(cur):
+    def robots_alone(self, cur):
+        """4. Every robot alone in its column moved by a small dyadic vector."""
         out = [cur[0]]
         for k, c in enumerate(cur[1:]):
-            part = target[1 + k]
+            part = self.target[1 + k]
             c = c.copy()
             for i in range(c.shape[0]):
-                if part.count(part[m + i]) == 1:
-                    dvec = rob_dirs[k][i] / np.linalg.norm(rob_dirs[k][i]) * budget * 0.5
-                    c[i] = c[i] + _round_dyadic(dvec, budget)
+                if part.count(part[self.m + i]) == 1:
+                    dvec = self.rob_dirs[k][i] / np.linalg.norm(self.rob_dirs[k][i]) \
+                        * self.budget * 0.5
+                    c[i] = c[i] + _round_dyadic(dvec, self.budget)
             out.append(c)
         return out
 
-    def within_column(points, gen, coef, w):
+    def _within_column(self, points, gen, coef, w):
         points = points.copy()
         for i in range(points.shape[0]):
-            v = perp(w, int(gen[i]))
+            v = self.perp(w, int(gen[i]))
             nv = np.linalg.norm(v)
             if nv > 0:
-                points[i] = points[i] + coef[i] * _pow2_at_most(budget / nv) * v
+                points[i] = points[i] + coef[i] * _pow2_at_most(self.budget / nv) * v
         return points
 
-    def robots_in_column(cur):
+    def robots_in_column(self, cur):
+        """5. Every other robot moved within its column, ``x -> x + q v``, ``v`` orthogonal to
+        ``w``."""
         w = cur[0][1] - cur[0][0]
         out = [cur[0]]
         for k, c in enumerate(cur[1:]):
-            part = target[1 + k]
-            shared = [i for i in range(c.shape[0]) if part.count(part[m + i]) > 1]
-            moved = within_column(c, rob_gen[k], rob_coef[k], w)
+            part = self.target[1 + k]
+            shared = [i for i in range(c.shape[0]) if part.count(part[self.m + i]) > 1]
+            moved = self._within_column(c, self.rob_gen[k], self.rob_coef[k], w)
             c = c.copy()
             c[shared] = moved[shared]
             out.append(c)
         return out
 
-    def obstacles_in_column(cur):
-        if m < 3:
+    def obstacles_in_column(self, cur):
+        """6. Every obstacle o_k (k >= 3) moved within its column."""
+        if self.m < 3:
             return None
         w = cur[0][1] - cur[0][0]
         obs = cur[0].copy()
-        obs[2:] = within_column(obs, obs_gen, obs_coef, w)[2:]
+        obs[2:] = self._within_column(obs, self.obs_gen, self.obs_coef, w)[2:]
         return [obs, *cur[1:]]
-
-    for make in (rotate, translate, scale, robots_alone, robots_in_column, obstacles_in_column):
-        pts = attempt(pts, make)
-    if len(pts) == 3:
-        return Query(*pts)
-    return tuple(pts)
 
 
 # --------------------------------------------------------------------------------------------
@@ -695,7 +718,7 @@ def planar_stratum_queries(
     [23, 23, 23, 23, 23]
     """
     name = parse_stratum(stratum)
-    fam, i, j = _split_name(name)
+    fam, i, j = split_name(name)
     n = int(count)
 
     def half_u(k):  # U on the half-integer grid in [-4, 8]
@@ -766,8 +789,6 @@ def perturb_planar_stratum(rng: np.random.Generator, q, delta: float):
     with :func:`pmplan.planners.planar_three.classify` and for distinct points; None if it left
     the stratum (which does not happen for the dyadic queries of ``planar_stratum_queries``).
     """
-    from .planners.planar_three import classify  # the planners import this module
-
     o, s, g = (np.array(a, dtype=float) for a in q)
     before = classify(o[None], s[None], g[None])
     budget = delta / 3.0

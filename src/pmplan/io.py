@@ -90,7 +90,7 @@ def _numeric(value, name: str, ndim: int) -> np.ndarray:
     return as_real(value, name, fix=_JSON_FIX)
 
 
-def _json_int(text: str) -> int:
+def json_int(text: str) -> int:
     """``parse_int`` of :func:`json.loads`: the integer, or for one of more than 4000 digits
     (which Python will not convert) an integer of more than 4000 digits of the same sign, so
     that :func:`_numeric` refuses it as too large for a double, naming the coordinate."""
@@ -176,7 +176,7 @@ def read_query(path: str | Path) -> dict:
     except OSError as exc:
         raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None
     try:
-        obj = json.loads(text, parse_int=_json_int)
+        obj = json.loads(text, parse_int=json_int)
     except json.JSONDecodeError as exc:
         raise InputError(f"{path} is not valid JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
     return parse_query(obj)

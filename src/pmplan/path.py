@@ -247,7 +247,7 @@ def _scaled_lengths(waypoints: np.ndarray) -> np.ndarray:
         return per_point.sum(-1)
 
 
-def _unchecked_path(times: np.ndarray, waypoints: np.ndarray) -> PiecewiseLinearPath:
+def unchecked_path(times: np.ndarray, waypoints: np.ndarray) -> PiecewiseLinearPath:
     """A :class:`PiecewiseLinearPath` of arrays already known to be valid, without the checks.
 
     For the single-query fast paths of :mod:`pmplan.api` only: ``times`` (K,) and ``waypoints``

@@ -34,8 +34,8 @@ __all__ = [
     "projection_classes",
 ]
 
-_U = 2.0**-53  # unit roundoff of IEEE double
-_TINY = 2.0**-1070  # bound on absolute error from gradual underflow of one product
+U = 2.0**-53  # unit roundoff of IEEE double
+TINY = 2.0**-1070  # bound on absolute error from gradual underflow of one product
 
 
 def _direction(o1: np.ndarray, o2: np.ndarray, perpendicular: bool) -> np.ndarray:
@@ -82,12 +82,12 @@ def projection_values(points, o1, o2, *, perpendicular: bool = False):
     values = terms.sum(axis=-1)
     d = points.shape[-1]
     absum = np.abs(terms).sum(axis=-1).max(axis=-1, initial=0.0)
-    bound = (d + 2) * 1.01 * _U * absum + (d + 1) * _TINY
+    bound = (d + 2) * 1.01 * U * absum + (d + 1) * TINY
     bound = np.where(np.isfinite(bound) & np.isfinite(values).all(axis=-1), bound, np.inf)
     return values, bound
 
 
-def _two_sum(a, b):
+def two_sum(a, b):
     s = a + b
     bb = s - a
     return s, (a - (s - bb)) + (b - bb)
@@ -99,7 +99,7 @@ def _split(a):
     return hi, a - hi
 
 
-def _two_prod(a, b):
+def two_prod(a, b):
     p = a * b
     ah, al = _split(a)
     bh, bl = _split(b)
@@ -139,16 +139,16 @@ def exact_projection_difference_sign(ya, yb, o1, o2, *, perpendicular: bool = Fa
     if q == 0:
         return out
     with np.errstate(over="ignore", invalid="ignore"):
-        t, et = _two_sum(ya, -yb)
-        w, ew = _two_sum(o2, -o1)
+        t, et = two_sum(ya, -yb)
+        w, ew = two_sum(o2, -o1)
         if perpendicular:
             w = np.stack([-w[:, 1], w[:, 0]], axis=-1)
             ew = np.stack([-ew[:, 1], ew[:, 0]], axis=-1)
-        p, ep = _two_prod(t, w)
+        p, ep = two_prod(t, w)
         ok = (et == 0).all(-1) & (ew == 0).all(-1) & (ep == 0).all(-1)
         s = p[:, 0]
         for k in range(1, p.shape[1]):
-            s, es = _two_sum(s, p[:, k])
+            s, es = two_sum(s, p[:, k])
             ok &= es == 0
         ok &= np.isfinite(p).all(-1) & np.isfinite(s)
         # the split in TwoProduct overflows for |x| > 2**996: require moderate magnitudes
@@ -219,7 +219,7 @@ def projection_classes(points, o1, o2, *, perpendicular: bool = False):
         order = np.argsort(values, axis=1, kind="stable")
         sv = np.take_along_axis(values, order, axis=1)
         diff = sv[:, 1:] - sv[:, :-1]
-        certain = diff > 2.0 * (2.0 * bound[:, None]) * (1 + 4 * _U)
+        certain = diff > 2.0 * (2.0 * bound[:, None]) * (1 + 4 * U)
     uncertain = ~certain
     equal_adj = np.zeros_like(certain)
     bi, ki = np.nonzero(uncertain)

@@ -71,11 +71,11 @@ import numpy as np
 
 from .certify import (
     CLEARANCE,
-    _exact_segment_clearance,
-    _exact_segment_dist2,
     check_paths,
     clearance,
     describe,
+    exact_segment_clearance,
+    exact_segment_dist2,
     radius_report,
 )
 from .errors import CertificationError, CollisionError, InputError
@@ -88,8 +88,8 @@ from .refine_grid import (  # noqa: F401 (the grid, its constants and the closed
     HOLD,
     MARGIN,
     MOBILITY,
-    _dot,
     chord_fraction,
+    dot,
     final_steps,
     hold_levels,
     mobility,
@@ -184,12 +184,12 @@ _MSG_WAYPOINTS = ("`waypoints` must be a power of two from 1 to {max} (sub-piece
                   "the raw path), got {value!r}")
 _MSG_STEPS = "`steps` must be an int from 1 to {max} (refinement steps), got {value!r}"
 _MSG_REFINE = "`refine` must be True or False, got {value!r}"
-_MSG_PLAN = "refine() takes a Plan or a PlanBatch returned by pmplan, got {value}"
-_MSG_REFINED = ("this plan is already refined (radius {radius}); refine the unrefined plan "
+MSG_PLAN = "refine() takes a Plan or a PlanBatch returned by pmplan, got {value}"
+MSG_REFINED = ("this plan is already refined (radius {radius}); refine the unrefined plan "
                 "(plan(..., refine=False)) with the radii you want")
-_MSG_REFINE_OUT = ("`out=` cannot be combined with refine=True (a refined batch has more "
+MSG_REFINE_OUT = ("`out=` cannot be combined with refine=True (a refined batch has more "
                    "breakpoints): plan into `out`, then call pmplan.refine on it")
-_MSG_REFINE_DASK = ("refine() takes a computed batch, and this PlanBatch holds dask arrays: "
+MSG_REFINE_DASK = ("refine() takes a computed batch, and this PlanBatch holds dask arrays: "
                     "plan it with refine=True (plan_batch on dask arrays then refines every "
                     "block lazily), or compute it first (pmplan.scale.compute)")
 _MSG_RADII_UNREFINED = ("`radius` and `obstacle_radius` apply to refined motions: pass "
@@ -270,7 +270,7 @@ def _caps(x, a, b, c, free) -> np.ndarray:
 def _apply(x, delta, cap, m, j=slice(None)) -> None:
     """Move the robots at the waypoints ``j`` by ``delta`` clipped to ``cap`` (both of those
     waypoints): ``x += delta min(1, cap/|delta|)``."""
-    nrm = np.sqrt(_dot(delta, delta))
+    nrm = np.sqrt(dot(delta, delta))
     with np.errstate(invalid="ignore", divide="ignore"):
         scale = np.where(nrm > cap, cap / nrm, 1.0)
     x[:, j, m:] = x[:, j, m:] + delta[:, :, m:] * scale[:, :, m:, None]
@@ -312,9 +312,9 @@ def _budget(r0, v, f2, nterms: float, al, be, start: bool, err=0.0):
     else:  # t (al + t be)
         g0, g1, g2 = np.zeros_like(al), al, be
     den = 2.0 * nterms
-    h0 = (_dot(r0, r0) - f2 * f2 - err) / den
-    h1 = (2.0 * _dot(r0, v)) / den
-    h2 = _dot(v, v) / den
+    h0 = (dot(r0, r0) - f2 * f2 - err) / den
+    h1 = (2.0 * dot(r0, v)) / den
+    h2 = dot(v, v) / den
     qa = h2 * g1 - h1 * g2
     qb = h2 * g0 - h0 * g2
     qc = h1 * g0 - h0 * g1
@@ -330,7 +330,7 @@ def _budget(r0, v, f2, nterms: float, al, be, start: bool, err=0.0):
         t = np.clip(np.where(np.isnan(t), 0.0, t), 0.0, 1.0)
         g = ((1.0 - t) if start else t) * (al + t * be)
         rt = r0 + t[..., None] * v
-        h = np.maximum((_dot(rt, rt) - f2 * f2 - err) / den, 0.0)
+        h = np.maximum((dot(rt, rt) - f2 * f2 - err) / den, 0.0)
         with np.errstate(invalid="ignore", divide="ignore"):
             s = np.where(g > 0, np.minimum(s, h / np.where(g > 0, g, 1.0)), s)
     return s
@@ -346,14 +346,14 @@ def _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl=None) -> np.ndarray:
     t and the isotropic ones take at most ``SHARE (D - F)`` more; with ``SHARE = 1/2`` the pair
     stays above ``F``."""
     bsz, w, p = x.shape[:3]
-    nrm = np.sqrt(_dot(delta, delta))
+    nrm = np.sqrt(dot(delta, delta))
     s = np.ones((bsz, w, p))
     sl = _slack(x) if sl is None else sl
     for q in range(a.shape[0]):
         pa, pb = a[q], b[q]
         r = x[:, :, pa] - x[:, :, pb]
         r0, v = r[:, :-1], r[:, 1:] - r[:, :-1]
-        ext = (1.0 + sl[:, None] / SLACK) + (np.sqrt(_dot(r0, r0)) + np.sqrt(_dot(v, v)))
+        ext = (1.0 + sl[:, None] / SLACK) + (np.sqrt(dot(r0, r0)) + np.sqrt(dot(v, v)))
         gq = gap[:, :, q]
         f2 = d[:, :, q] - SHARE * gq
         nterms = 4.0 if pa >= m else 2.0
@@ -368,8 +368,8 @@ def _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl=None) -> np.ndarray:
                 # (the inward part raised by its rounding bound, so that a move the floats see
                 # as outward where the pair nearly touches is not taken as free)
                 err = (4.0 * SLACK) * (e * e)
-                sd = _budget(r0, v, f2, nterms, -sign * _dot(r0, dl) + (SLACK * e) * nm,
-                             -sign * _dot(v, dl), start, err)
+                sd = _budget(r0, v, f2, nterms, -sign * dot(r0, dl) + (SLACK * e) * nm,
+                             -sign * dot(v, dl), start, err)
                 # no directional allowance where the room above F' is within the rounding
                 # anywhere on the piece (its budget would be empty there)
                 dq = d[:, :, q]
@@ -417,11 +417,11 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None) -> None:
         r0, r1 = rel[:, :-1], rel[:, 1:]
         v = r1 - r0
         if at_waypoints:
-            dist = np.sqrt(_dot(rel, rel))
+            dist = np.sqrt(dot(rel, rel))
             # the push direction at an interior waypoint: the relative position plus GAMMA
             # times the turn of the relative path there (continuous; it does not turn with
             # r / |r| where the pair nearly touches at the end of a piece)
-            vn = np.sqrt(_dot(v, v))
+            vn = np.sqrt(dot(v, v))
             nin, nout = vn[:, :-1], vn[:, 1:]
             eps = GAMMA * np.minimum(nin, nout)
             with np.errstate(invalid="ignore", divide="ignore"):
@@ -429,7 +429,7 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None) -> None:
                 eout = np.where(nout > 0, eps / np.where(nout > 0, nout, 1.0), 0.0)
             u = rel.copy()
             u[:, 1:-1] = rel[:, 1:-1] + eout[..., None] * v[:, 1:] - ein[..., None] * v[:, :-1]
-            den = np.maximum(np.sqrt(_dot(u, u)), dist)
+            den = np.maximum(np.sqrt(dot(u, u)), dist)
             with np.errstate(invalid="ignore", divide="ignore"):
                 fac = np.where(den > 0, (OMEGA * cq) * np.maximum(sq - dist, 0.0) / den, 0.0)
             fw = fac[..., None] * u
@@ -438,10 +438,10 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None) -> None:
                 push[:, :, pa] = push[:, :, pa] + fw
             continue
         # the soft closest point of the piece: continuous even where v -> 0
-        soft = np.clip(-_dot(r0, v) / (_dot(v, v) + LAMBDA * (_dot(r0, r0) + _dot(r1, r1))),
+        soft = np.clip(-dot(r0, v) / (dot(v, v) + LAMBDA * (dot(r0, r0) + dot(r1, r1))),
                        0.0, 1.0)
         relm = r0 + soft[..., None] * v
-        distm = np.sqrt(_dot(relm, relm))
+        distm = np.sqrt(dot(relm, relm))
         with np.errstate(invalid="ignore", divide="ignore"):
             facm = np.where(distm > 0, cq * np.maximum(sq - distm, 0.0) / distm, 0.0)
         # no push on a piece whose every point is at least sq apart (d: its exact minimum)
@@ -600,9 +600,9 @@ def _raise_too_close(conf, m, radius, obstacle_radius, name, index) -> None:
     for pa, pb in zip(a, b):  # (check_radii's decision is exact: one pair is too close)
         need, value = (("2 * radius", 2 * Fraction(radius)) if pa >= m else
                        ("radius + obstacle_radius", Fraction(radius) + Fraction(obstacle_radius)))
-        if _exact_segment_dist2(conf[pa], conf[pb], conf[pa], conf[pb]) < value * value:
+        if exact_segment_dist2(conf[pa], conf[pb], conf[pa], conf[pb]) < value * value:
             break
-    dist = _exact_segment_clearance(conf[pa], conf[pb], conf[pa], conf[pb])
+    dist = exact_segment_clearance(conf[pa], conf[pb], conf[pa], conf[pb])
     pa, pb, value = label[pa], label[pb], float(value)
     where = f" in query {index}" if index is not None else ""
     raise CollisionError(
@@ -650,7 +650,7 @@ class RefineStage(Stage):
 
     def __init__(self, times, waypoints, clearance, m: int, fixed, radius: float,
                  obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None):
-        from .backend import NUMBA, resolve
+        from .backends import NUMBA, select  # (the backends import the refinement lazily)
 
         self.raw_times = np.asarray(times, dtype=float)
         self.raw = waypoints
@@ -659,7 +659,8 @@ class RefineStage(Stage):
         self.m, self.r = m, len(self.fixed)
         self.radius, self.obstacle_radius = radius, obstacle_radius
         self.s, self.steps = waypoints_per_piece, steps
-        self.kernel = resolve(backend) == NUMBA
+        self.backend = select(backend)
+        self.kernel = self.backend.NAME == NUMBA
         self.target = targets(radius, obstacle_radius, clearance)
         k = self.raw_times.shape[-1]
         w = (k - 1) * self.s + 1
@@ -673,11 +674,8 @@ class RefineStage(Stage):
         self.clause = np.zeros(b, np.uint8)
 
     def _refine(self, times, wp, target):
-        if self.kernel:
-            from .kernels.refine import refine_batch
-
-            return refine_batch(times, wp, self.m, self.r, target, self.s, self.steps)
-        return refine_paths(times, wp, self.m, self.r, target, self.s, self.steps)
+        """The map in the frame, by the backend (:func:`pmplan.backends.select`)."""
+        return self.backend.refine(times, wp, self.m, self.r, target, self.s, self.steps)
 
     def run(self, lo: int, hi: int) -> np.ndarray:
         raw = self.raw[lo:hi]
@@ -745,3 +743,18 @@ class RefineStage(Stage):
         return {"radius": np.full(b, self.radius), "obstacle_radius": np.full(b, self.obstacle_radius),
                     "refined": np.ones(b, dtype=bool), "robot_distance": self.robot_distance,
                     "obstacle_distance": self.obstacle_distance, "respects_radius": self.respects}
+
+
+def asks_refine(refine, radius, obstacle_radius, out=None) -> bool:
+    """Whether a planning function was asked ``refine=True`` (the flag and the radii checked:
+    :func:`pmplan.refine.check_refine_flag`; radii without the flag are refused, and so is
+    ``out=`` with it: a refined batch has other shapes)."""
+    if refine is False and type(radius) is float and type(obstacle_radius) is float \
+            and radius == 0.0 and obstacle_radius == 0.0:
+        return False
+    if check_refine_flag(refine, radius, obstacle_radius):
+        check_parameters(radius, obstacle_radius, None, None)
+        if out is not None:
+            raise InputError(MSG_REFINE_OUT)
+        return True
+    return False

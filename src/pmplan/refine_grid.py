@@ -11,7 +11,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .certify import _pairs
+from .certify import point_pairs
 
 __all__ = [
     "chord_fraction",
@@ -83,7 +83,7 @@ def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The pairs (a < b) with a moving point b (index >= m): ``a``, ``b`` (int64) and ``c``
     (1/2 for two robots, 1 for an obstacle and a robot), in the kernel's order (read-only,
     cached)."""
-    a, b = (v.astype(np.int64) for v in _pairs(p, m))  # the certificate's pairs, its order
+    a, b = (v.astype(np.int64) for v in point_pairs(p, m))  # the certificate's pairs, its order
     c = np.where(a >= m, 0.5, 1.0)
     for arr in (a, b, c):
         arr.flags.writeable = False
@@ -137,7 +137,7 @@ def chord_fraction(times: np.ndarray) -> np.ndarray:
 
 # --- the closed-form piece minima and the no-squeezing levels ---------------------------------
 
-def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+def dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Sum over the last axis in the kernel's order: ``(0 + x0 y0) + x1 y1 + ..``."""
     s = 0.0 + x[..., 0] * y[..., 0]
     for k in range(1, x.shape[-1]):
@@ -151,15 +151,15 @@ def piece_minima(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     rel = x[:, :, a, :] - x[:, :, b, :]
     r0, r1 = rel[:, :-1], rel[:, 1:]
     v = r1 - r0
-    vv = _dot(v, v)
-    num = -_dot(r0, v)
+    vv = dot(v, v)
+    num = -dot(r0, v)
     with np.errstate(invalid="ignore", divide="ignore"):
         q = num / vv
     q = np.where(num >= vv, 1.0, q)
     q = np.where(num <= 0, 0.0, q)
     q = np.where(vv > 0, q, 0.0)
     qx = r0 + q[..., None] * v
-    return np.sqrt(_dot(qx, qx))
+    return np.sqrt(dot(qx, qx))
 
 
 def hold_levels(x, a, b, tgt) -> np.ndarray:

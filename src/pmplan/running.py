@@ -1,9 +1,9 @@
 """The run loop: plan a batch chunk by chunk into the output arrays, certified, and raise the
 certificate's error; the progress display; the checks of ``workers`` and ``out=``.
 
-:func:`_run` is the one loop of every entry point of :mod:`pmplan.api` (a single query is a
+:func:`run_loop` is the one loop of every entry point of :mod:`pmplan.api` (a single query is a
 batch of one): per chunk (:func:`chunk_size`, at most :data:`CHUNK` queries) it asks the planner
-(:meth:`pmplan.planners.base.Planner.plan_certified`: kernel -> flagged rows -> exact
+(the backend's ``plan``, :mod:`pmplan.backends`: kernel -> flagged rows -> exact
 re-decision -> certificate), or -- for queries at extreme magnitudes -- plans them scaled by a
 power of two and certifies what it scales back (:mod:`pmplan.magnitude`). Threads
 (``workers``) plan separate chunks. A path that fails its certificate is never returned: a
@@ -13,17 +13,32 @@ cause, what to do.
 
 from __future__ import annotations
 
-import os
 import sys
 
 import numpy as np
 
-from . import magnitude
+from . import backends, magnitude
 from .certify import CLEARANCE, certificate, check_times, describe
-from .configuration import check_query
-from .errors import CertificationError, InputError
+from .checks import (
+    check_backend,
+    check_lift,
+    check_sequential,
+    check_workers,
+    choose_planner,
+    is_dask,
+)
+from .configuration import check_query, check_sequence
+from .errors import CertificationError, InputError, PmplanError
 from .path import PiecewiseLinearPath
-from .planners.base import SCENE_CODE, Planner, Stage, scene_unit
+from .planners.base import REGISTRY, SCENE_CODE, Planner, Stage, default_planner, scene_unit
+from .refine import (
+    MSG_PLAN,
+    MSG_REFINE_DASK,
+    MSG_REFINED,
+    RefineStage,
+    check_parameters,
+    check_radii,
+)
 from .results import Plan, PlanBatch
 
 #: the most queries planned per chunk inside plan_batch: bounds the temporaries (memory) of a
@@ -162,7 +177,7 @@ def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
         yield idx, arrays, ok & (clause == 0)
 
 
-def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
+def run_loop(planner: Planner, obstacles, configs, lift: float, batched: bool,
          progress: bool = False, backend: str | None = None, workers: int = 1,
          validate: bool = False, into: dict | None = None):
     """Plan and certify in chunks; return the arrays of a PlanBatch.
@@ -170,16 +185,18 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
     The planner (:class:`pmplan.planners.base.Planner`) allocates the output arrays
     (:meth:`~pmplan.planners.base.Planner.allocate`; ``into``, from :func:`_output_arrays`, are
     existing ones) and fills them chunk by chunk, certified
-    (:meth:`~pmplan.planners.base.Planner.plan_certified`: kernel -> flagged rows -> exact
-    re-decision -> certificate), so no temporary is larger than a chunk. With ``workers > 1``
+    by the backend ``backend`` (:func:`pmplan.backends.select`: its ``plan``, for the numba
+    kernels kernel -> flagged rows -> exact re-decision -> certificate), so no temporary is
+    larger than a chunk. With ``workers > 1``
     the chunks are planned by that many threads (the numba kernels release the GIL; every chunk
     writes its own rows). With ``validate`` the planner's kernel also validates the queries
-    (see :meth:`~pmplan.planners.base.Planner.validates`): before a certificate error is raised, the
+    (where the backend's ``validates`` says it can): before a certificate error is raised, the
     queries are checked (:func:`pmplan.configuration.check_query`), which raises the input
     error if one of them is invalid -- the error the caller would have got from checking first.
     """
     b, m, d = obstacles.shape
     n = configs[0].shape[1]
+    be = backends.select(backend)
     out = planner.allocate(b, len(configs), m, n, d) if into is None else into
     per_query_times = out["times"].ndim == 2
 
@@ -205,10 +222,10 @@ def _run(planner: Planner, obstacles, configs, lift: float, batched: bool,
         if k is None:
             rows = {"domain": out["domain"][lo:hi], "strata": out["strata"][lo:hi],
                     "clearance": out["clearance"][lo:hi], "times": times, "waypoints": wp}
-            ok = planner.plan_certified(obs, cfg, lift, rows, backend=backend, validate=validate)
+            ok = be.plan(planner, obs, cfg, lift, rows, validate)
         else:
             ok = np.empty(hi - lo, dtype=bool)
-            call = _fused_call(planner, r, m, n, d, per_query_times, validate, backend)
+            call = _fused_call(planner, r, m, n, d, per_query_times, validate, be)
             for idx, arrays, ok_g in _scaled_call(planner, obs, cfg, lift_c, k, call):
                 wp[idx] = arrays["waypoints"]
                 out["domain"][lo + idx] = arrays["domain"]
@@ -263,7 +280,7 @@ def _each_chunk(chunk, starts: range, progress: bool, workers: int, check,
 
 def run_stage(stage: Stage, progress: bool = False, workers: int = 1) -> None:
     """Run a stage (:class:`pmplan.planners.base.Stage`, e.g. the refinement) over its rows
-    chunk by chunk, as :func:`_run` runs a planner: ``workers`` threads plan separate chunks
+    chunk by chunk, as :func:`run_loop` runs a planner: ``workers`` threads plan separate chunks
     (the numba kernels release the GIL), ``progress`` shows the bar; the first chunk whose
     certificate fails raises the stage's error (:meth:`~pmplan.planners.base.Stage.fail`)."""
     b = stage.size
@@ -298,14 +315,13 @@ def _failed_clauses(out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarra
 
 
 def _fused_call(planner, r: int, m: int, n: int, d: int, per_query_times: bool, validate: bool,
-                backend):
+                be):
     """``call(idx, obstacles, configs, lift) -> (arrays, ok)`` for :func:`_scaled_call`: the
-    fused planner planning rows into new arrays (:meth:`allocate`, :meth:`plan_certified`)."""
+    backend ``be`` planning rows into new arrays (:meth:`allocate`, the backend's ``plan``)."""
 
     def call(idx, obstacles, configs, lift):
         arrays = planner.allocate(idx.size, r, m, n, d)
-        ok = planner.plan_certified(obstacles, configs, lift, arrays, backend=backend,
-                                    validate=validate)
+        ok = be.plan(planner, obstacles, configs, lift, arrays, validate)
         return arrays, ok
 
     return call
@@ -371,15 +387,6 @@ class _Progress:
             self.notice = None
 
 
-def _check_workers(workers) -> int:
-    """``workers`` as a thread count: a positive int, or -1 for every CPU of the machine."""
-    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or not (
-        workers >= 1 or workers == -1
-    ):
-        raise InputError(f"`workers` must be a positive integer or -1 (all CPUs), got {workers!r}")
-    return (os.cpu_count() or 1) if workers == -1 else int(workers)
-
-
 def _output_arrays(out, planner: Planner, dims: tuple[int, int, int], b: int, r: int,
                    inputs: tuple) -> dict | None:
     """The arrays of ``out`` (the ``out=`` argument of the batch functions) to plan into.
@@ -420,7 +427,7 @@ def _output_arrays(out, planner: Planner, dims: tuple[int, int, int], b: int, r:
     return arrays
 
 
-def _single(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
+def single_plan(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
     """The :class:`Plan` of a batch of one (no PlanBatch in between)."""
     d, n, m = dims
     times = out["times"]
@@ -433,3 +440,99 @@ def _single(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
         planner=planner.name,
         dims=dims,
     )
+
+
+def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.0,
+                backend: str | None = None, workers: int = 1, progress: bool = False,
+                out: PlanBatch | None = None, sequential: bool = False) -> PlanBatch:
+    """The one entry below the facade: plan a batch of queries through the configurations
+    ``configs`` (r >= 2 arrays (B, n, d): start, intermediate ones, goal) among ``obstacles``
+    (B, m, d): the arguments checked, the input validated, the planner chosen, the run loop.
+
+    :func:`pmplan.plan_batch` (r = 2), :func:`pmplan.plan_sequence_batch` and every chunk of
+    :mod:`pmplan.scale` call it; the keywords are theirs. ``sequential`` (implied by r > 2):
+    a query through configurations (the planner must plan through intermediate ones; the
+    default is the sequential planner of (d, n, m)).
+    """
+    lift = check_lift(lift)
+    workers = check_workers(workers)
+    if not sequential and len(configs) == 2:
+        # types and shapes here; the validity of every query (finite, no two equal points) is
+        # checked by the planner's kernel in its own pass where it can, else here
+        obstacles, start, goal = check_query(obstacles, configs[0], configs[1], batched=True,
+                                             deep=False)
+        configs = [start, goal]
+        _, m, d = obstacles.shape
+        n = start.shape[1]
+        try:
+            p = choose_planner(d, n, m, planner)
+            check_backend(backend)
+        except PmplanError:  # an invalid query is reported first, as always
+            check_query(obstacles, start, goal, batched=True)
+            raise
+        deferred = backends.select(backend).validates(p, d)
+        if not deferred:
+            check_query(obstacles, start, goal, batched=True)
+    else:
+        check_sequential(planner)
+        obstacles, configs = check_sequence(obstacles, configs, batched=True)
+        _, m, d = obstacles.shape
+        n = configs[0].shape[1]
+        p = choose_planner(d, n, m, planner if planner is not None else
+                           default_planner(d, n, m, sequential=True))
+        check_backend(backend)
+        deferred = False
+    into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], len(configs),
+                          (obstacles, *configs))
+    res = run_loop(p, obstacles, configs, lift, batched=True, progress=progress, backend=backend,
+               workers=workers, validate=deferred, into=into)
+    return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
+
+
+def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float = 0.0,
+                 waypoints: int | None = None, steps: int | None = None, workers: int = 1,
+                 progress: bool | None = None, backend: str | None = None):
+    """:func:`pmplan.refine`: the plans refined by :class:`~pmplan.refine.RefineStage` in the
+    run loop (:func:`run_stage`), the start, intermediate and goal configurations
+    checked against the radii first; a :class:`~pmplan.results.Plan` or a
+    :class:`~pmplan.results.PlanBatch` as given."""
+    radius, obstacle_radius, s, steps = check_parameters(radius, obstacle_radius, waypoints,
+                                                         steps)
+    workers = check_workers(workers)
+    if progress is None:
+        progress = False
+    if not isinstance(progress, (bool, np.bool_)):
+        raise InputError(f"`progress` must be True, False or None, got {progress!r}")
+    check_backend(backend)
+    single = isinstance(plan_or_batch, Plan)
+    if single:
+        batch = plan_or_batch
+        times = batch.path.times
+        wp = batch.path.waypoints[None]
+        clearance = np.array([batch.clearance])
+        refined = batch.refined
+    elif isinstance(plan_or_batch, PlanBatch):
+        batch = plan_or_batch
+        times, wp, clearance = batch.times, batch.waypoints, batch.clearance
+        if is_dask(wp):
+            raise InputError(MSG_REFINE_DASK)
+        refined = bool(batch.refined.any())
+    else:
+        raise InputError(MSG_PLAN.format(value=type(plan_or_batch).__name__))
+    if refined:
+        raise InputError(MSG_REFINED.format(radius=f"{float(np.max(batch.radius)):g}"))
+    p = REGISTRY[batch.planner]
+    m = batch.dims[2]
+    fixed = p.fixed_waypoints(np.asarray(times))  # start, intermediate configurations, goal
+    stage = RefineStage(times, wp, clearance, m, fixed, radius, obstacle_radius, s, steps, backend)
+    check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in fixed], radius, obstacle_radius,
+                batched=not single, kernel=stage.kernel)
+    run_stage(stage, progress=progress, workers=workers)
+    extra = stage.extra()
+    if single:
+        path = PiecewiseLinearPath(stage.times, stage.waypoints[0])
+        return Plan(batch.domain, batch.stratum, float(stage.clearance[0]), path.compact(),
+                    batch.planner, batch.dims, **{k: v[0].item() for k, v in extra.items()})
+    return PlanBatch(domain=batch.domain.copy(), strata=batch.strata.copy(),
+                     clearance=stage.clearance, times=stage.times, waypoints=stage.waypoints,
+                     planner=batch.planner, dims=batch.dims, _names=batch._names, _extra=extra)

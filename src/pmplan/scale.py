@@ -17,11 +17,17 @@ chunking or the scheduler. Two faces:
 The output store (:data:`FORMAT`): a Zarr group with arrays ``domain`` (B,) int64, ``strata``
 (B, S) int64, ``clearance`` (B,) float64, ``waypoints`` (B, K, m+n, d) float64, ``times``
 (K,) float64 (shared breakpoints, obstacle-line planner) or (B, K) (per query, planar_three),
-all chunked along the batch axis only by ``chunk`` queries, and ``done`` (number of chunks,)
-bool, one entry per chunk, written only after every array of that chunk is written. Group
-attributes: ``format``, ``planner``, ``lift`` (a number or ``"scene"``), ``pmplan_version``,
-``dims`` [d, n, m], ``r`` (configurations per query), ``B``, ``chunk`` and ``complete``
-(True only once every chunk is done). :func:`open_plans` refuses an incomplete store.
+all chunked along the batch axis only by ``chunk`` queries; ``inputs`` (number of chunks, 32)
+uint8, the SHA-256 fingerprint of each chunk's input (its shapes and float64 bytes); and
+``done`` (number of chunks,) bool. A chunk is written in the order outputs, fingerprint,
+``done``: a chunk marked done holds the plans of the input its fingerprint names, and a resume
+refuses an input that differs in a chunk already done. Group attributes: ``format``,
+``planner``, ``lift`` (a number or ``"scene"``), ``pmplan_version``, ``dims`` [d, n, m], ``r``
+(configurations per query), ``B``, ``chunk``, ``compress`` and ``complete`` (True only once
+every chunk is done). :func:`open_plans` refuses an incomplete store. A store is created in a
+hidden sibling directory and renamed into place once whole, so a crash while creating it
+leaves none; a run stopped by the disk or the cluster says, in one line
+(:class:`~pmplan.errors.StoreError`), which store it left and that ``resume`` finishes it.
 
 Refined motions (:func:`pmplan.refine`, ``refine=`` here, ``pmplan batch --refine``) go the same
 way: every chunk is planned and then refined, as :func:`pmplan.plan_batch` with
@@ -36,6 +42,12 @@ extra ``pip install "pmplan[dask]"`` (dask[array], distributed, zarr).
 
 from __future__ import annotations
 
+import errno
+import hashlib
+import logging
+import os
+import re
+import shutil
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -43,7 +55,11 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import CertificationError, CollisionError, InputError, PmplanError
+from .checks import check_backend, check_lift, check_sequential, check_workers, choose_planner
+from .errors import CertificationError, CollisionError, InputError, PmplanError, StoreError
+from .planners.base import default_planner
+from .results import PlanBatch
+from .running import plan_arrays, refine_plans
 
 __all__ = [
     "FORMAT",
@@ -59,7 +75,9 @@ __all__ = [
 ]
 
 #: the ``format`` attribute of an output store
-FORMAT = "pmplan-plans-1"
+FORMAT = "pmplan-plans-2"
+#: the formats :func:`open_plans` reads (1: before the input fingerprints)
+READABLE_FORMATS = ("pmplan-plans-1", FORMAT)
 #: how to get the optional dependencies of this module
 INSTALL = 'pip install "pmplan[dask]"'
 #: queries per chunk when streaming an input that has no chunking of its own (npz)
@@ -69,6 +87,9 @@ OUTPUTS = ("domain", "strata", "clearance", "times", "waypoints")
 #: the arrays a store of refined motions has besides :data:`OUTPUTS` (written before ``done``)
 REFINED_OUTPUTS = ("robot_distance", "obstacle_distance", "respects_radius")
 _RECHUNK = "x.rechunk({1: -1, 2: -1})"
+#: zstd's level in a compressed store: on plans it gives the ratio of Zarr's default (level 3),
+#: about 1.9-2, two to three times as fast (``benchmarks/store_breakdown.py``)
+ZSTD_LEVEL = 1
 
 
 def _need(module: str):
@@ -190,6 +211,15 @@ def _extra(refine: dict, measured: dict) -> dict:
             "refined": da.ones(rd.shape, dtype=bool, chunks=rd.chunks), **measured}
 
 
+_ROWS = re.compile(r"(at index \(|query |`\w+\[)(\d+)")
+
+
+def _shift_rows(msg: str, lo: int) -> str:
+    """``msg`` with the rows it names (``at index (37, ...``, ``query 37``, ```start[37]``)
+    counted in the whole batch: the chunk's rows shifted by its first row ``lo``."""
+    return _ROWS.sub(lambda mo: f"{mo.group(1)}{int(mo.group(2)) + lo}", msg)
+
+
 def _context(exc: PmplanError, lo: int, hi: int, where: str):
     """``exc`` again (same class) about rows of the whole batch: the query indices of a chunk's
     error are shifted by the chunk's first row ``lo``, and the chunk is named."""
@@ -208,6 +238,7 @@ def _context(exc: PmplanError, lo: int, hi: int, where: str):
         if idx is not None:
             msg = msg.replace(f"query {exc.index}", f"query {idx}", 1)
         return CollisionError(msg + tail, index=idx, which=exc.which, pair=exc.pair)
+    msg = _shift_rows(msg, lo)
     try:
         return type(exc)(msg + tail)
     except TypeError:  # pragma: no cover - every pmplan error takes a message
@@ -217,17 +248,11 @@ def _context(exc: PmplanError, lo: int, hi: int, where: str):
 def _plan_chunk_arrays(obstacles, configs, planner, lift, backend, workers, refine=None):
     """``plan_batch`` (r = 2) or ``plan_sequence_batch`` on one chunk of numpy arrays, then
     :func:`pmplan.refine` with the options ``refine`` (None: raw plans)."""
-    from . import api
-
-    if len(configs) == 2:
-        batch = api.plan_batch(obstacles, configs[0], configs[1], planner=planner, lift=lift,
-                               backend=backend, workers=workers)
-    else:
-        batch = api.plan_sequence_batch(obstacles, configs, lift=lift, backend=backend,
-                                        workers=workers)
+    batch = plan_arrays(obstacles, configs, planner=planner, lift=lift, backend=backend,
+                        workers=workers, sequential=len(configs) > 2)
     if refine is None:
         return batch
-    return api.refine(batch, **refine, workers=workers, backend=backend)
+    return refine_plans(batch, **refine, workers=workers, backend=backend)
 
 
 def _plan_block(obstacles, *configs, planner, lift, backend, workers, record, refine=None,
@@ -251,21 +276,19 @@ def _field(block: np.ndarray, name: str) -> np.ndarray:
 
 
 def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential, refine=None):
-    from . import api
-
     refine = _refine_options(refine)
     da, arrays = _dask_inputs([obstacles, *configs], names)
     obstacles, configs = arrays[0], arrays[1:]
-    api._check_lift(lift)  # checked now, not at compute time
-    workers = api._check_workers(workers)
-    api._check_backend(backend)
+    check_lift(lift)  # checked now, not at compute time
+    workers = check_workers(workers)
+    check_backend(backend)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
     for c, name in zip(configs, names[1:]):
         if c.shape[1:] != configs[0].shape[1:] or c.shape[2] != d:
             raise InputError(f"`{name}` has shape {c.shape}; expected (B, n, d) = "
                              f"({c.shape[0]}, {n}, {d})")
-    p = api.choose_planner(d, n, m, api.default_planner(d, n, m, sequential=True)
+    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True)
                            if sequential else planner)
     template = _template(p, len(configs), m, n, d, refine)
     per_query_times = template["times"].ndim == 2
@@ -290,7 +313,7 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
     extra = {}
     if refine is not None:
         extra = _extra(refine, {k: out.pop(k) for k in REFINED_OUTPUTS})
-    return api.PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
+    return PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
 
 
 def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
@@ -349,14 +372,12 @@ def compute(batch, **kwargs):
     PlanBatch of numpy arrays; ``kwargs`` go to :func:`dask.compute` (e.g. ``scheduler=``)."""
     import dask
 
-    from . import api
-
     names = ["domain", "strata", "clearance", "waypoints", "times"]
     extra = sorted(batch._extra)
     values = dask.compute(*(getattr(batch, k) for k in names),
                           *(batch._extra[k] for k in extra), **kwargs)
     values = [np.asarray(v) for v in values]
-    return api.PlanBatch(planner=batch.planner, dims=tuple(batch.dims),
+    return PlanBatch(planner=batch.planner, dims=tuple(batch.dims),
                          _extra=dict(zip(extra, values[len(names):])),
                          **dict(zip(names, values)))
 
@@ -467,14 +488,53 @@ def _read_rows(arrays: dict, lo: int, hi: int):
     return o, configs
 
 
+def _fingerprint(rows) -> np.ndarray:
+    """SHA-256 of one chunk's input, (32,) uint8: the shapes and the float64 bytes of the
+    obstacles and of every configuration (start, vias, goal), in that order. Two inputs with the
+    same fingerprint give the same plans; the store keeps one per chunk (``inputs``) so that a
+    resume can refuse an input that differs from the one a done chunk was planned from."""
+    obstacles, configs = rows
+    h = hashlib.sha256()
+    for a in (obstacles, *configs):
+        a = np.ascontiguousarray(a, dtype=np.float64)
+        h.update(repr(a.shape).encode())
+        h.update(a.tobytes())
+    return np.frombuffer(h.digest(), dtype=np.uint8)
+
+
+def _chunk_stats(i: int, domain, clearance, respects) -> tuple:
+    labels, counts = np.unique(np.asarray(domain), return_counts=True)
+    clearance = np.asarray(clearance)
+    clr = float(clearance.min()) if clearance.size else float("inf")
+    kept = None if respects is None else int(np.asarray(respects).sum())
+    return i, clearance.size, dict(zip(labels.tolist(), counts.tolist())), clr, kept
+
+
 def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
-    """Plan chunk ``i`` and write it; ``done[i]`` is written last. Returns (i, rows planned,
-    domain counts, min clearance, plans keeping the radii or None when not refined). Runs
-    in-process or as a dask.distributed task."""
+    """Plan chunk ``i`` and write it: the outputs, then the input's fingerprint, then
+    ``done[i]``. Returns (i, rows, domain counts, min clearance, plans keeping the radii or None
+    when not refined). Runs in-process or as a dask.distributed task.
+
+    A chunk already marked done with the same input (a task run again because the worker that
+    held its result died) is not planned again: its summary is read back from the store.
+    """
     zarr = _need("zarr")
     lo, hi = i * spec.chunk, min(spec.b, (i + 1) * spec.chunk)
-    if rows is None:
-        rows = _read_rows(_open_input(Path(spec.source)), lo, hi)
+    try:
+        if rows is None:
+            rows = _read_rows(_open_input(Path(spec.source)), lo, hi)
+        if group is None:
+            group = zarr.open_group(spec.out, mode="r+")
+    except (InputError, OSError, FileNotFoundError) as exc:
+        import socket
+
+        raise StoreError(_MSG_UNREACHABLE.format(host=socket.gethostname(), i=i, cause=exc),
+                         path=spec.out, resumable=True) from None
+    fingerprint = _fingerprint(rows)
+    refined = spec.refine is not None
+    if bool(group["done"][i]) and np.array_equal(group["inputs"][i], fingerprint):
+        return _chunk_stats(i, group["domain"][lo:hi], group["clearance"][lo:hi],
+                            group["respects_radius"][lo:hi] if refined else None)
     obstacles, configs = rows
     planner = spec.planner if len(configs) == 2 else None
     try:
@@ -482,28 +542,29 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
                                    spec.workers, spec.refine)
     except PmplanError as exc:
         raise _context(exc, lo, hi, f"chunk {i}") from None
-    if group is None:
-        group = zarr.open_group(spec.out, mode="r+")
-    for name in OUTPUTS + (REFINED_OUTPUTS if spec.refine is not None else ()):
+    for name in OUTPUTS + (REFINED_OUTPUTS if refined else ()):
         a = getattr(batch, name)
         if name == "times" and a.ndim == 1:
             continue  # shared breakpoints, written once when the store was created
         group[name][lo:hi] = a
+    group["inputs"][i] = fingerprint
     group["done"][i] = True
-    labels, counts = np.unique(batch.domain, return_counts=True)
-    clr = float(batch.clearance.min()) if hi > lo else float("inf")
-    kept = int(batch.respects_radius.sum()) if spec.refine is not None else None
-    return i, hi - lo, dict(zip(labels.tolist(), counts.tolist())), clr, kept
+    return _chunk_stats(i, batch.domain, batch.clearance,
+                        batch.respects_radius if refined else None)
 
 
-def _create_output(path: Path, attrs: dict, template: dict, b: int, chunk: int, nchunks: int,
-                   compress: bool = True):
+def compressors(compress: bool = True):
+    """The codecs of a store's arrays: zstd at level :data:`ZSTD_LEVEL`, or none."""
     zarr = _need("zarr")
-    group = zarr.open_group(str(path), mode="w-")
+    return (zarr.codecs.ZstdCodec(level=ZSTD_LEVEL),) if compress else None
+
+
+def _create_arrays(group, template: dict, b: int, chunk: int, nchunks: int, compress: bool,
+                   refined: bool) -> None:
     c = max(1, min(chunk, b))
-    comp = "auto" if compress else None
+    comp = compressors(compress)
     names = ["domain", "strata", "clearance", "waypoints"]
-    if attrs.get("refine") is not None:
+    if refined:
         template = {**template, "robot_distance": np.empty(0), "obstacle_distance": np.empty(0),
                     "respects_radius": np.empty(0, dtype=bool)}
         names += list(REFINED_OUTPUTS)
@@ -518,17 +579,215 @@ def _create_output(path: Path, attrs: dict, template: dict, b: int, chunk: int, 
     else:
         group.create_array("times", shape=(b, *t.shape[1:]), chunks=(c, *t.shape[1:]),
                            dtype=t.dtype, fill_value=0, compressors=comp)
-    # one Zarr chunk per entry: workers marking different chunks never write the same file
+    # one Zarr chunk per entry: workers finishing different chunks never write the same file
+    group.create_array("inputs", shape=(nchunks, 32), chunks=(1, 32), dtype=np.uint8,
+                       fill_value=0)
     group.create_array("done", shape=(nchunks,), chunks=(1,), dtype=bool, fill_value=False)
-    group.attrs.update({**attrs, "complete": False})
+
+
+def _creating(out: Path) -> str:
+    """The prefix of the hidden sibling directories in which ``out`` is created."""
+    return f".{out.name}.creating-"
+
+
+def _remove_stale(out: Path) -> None:
+    """Remove the hidden creation directories of ``out`` left by a process that died (SIGKILL,
+    power loss) while it created the store; those of a live process are left alone."""
+    for tmp in out.parent.glob(_creating(out) + "*"):
+        try:
+            os.kill(int(tmp.name.rsplit("-", 1)[1]), 0)
+        except (ValueError, ProcessLookupError):
+            shutil.rmtree(tmp, ignore_errors=True)
+        except PermissionError:  # pragma: no cover - another user's live process
+            pass
+
+
+def _create_output(out: Path, attrs: dict, template: dict, b: int, chunk: int, nchunks: int,
+                   compress: bool = True):
+    """Create the output store whole or not at all: it is built in a hidden sibling directory
+    and renamed to ``out`` once every array and attribute is written, so a crash while creating
+    it leaves no ``out`` (and the next run removes the hidden directory)."""
+    zarr = _need("zarr")
+    _remove_stale(out)
+    tmp = out.with_name(f"{_creating(out)}{os.getpid()}")
+    shutil.rmtree(tmp, ignore_errors=True)  # this process's own, from an attempt cut short
+    try:
+        group = zarr.open_group(str(tmp), mode="w-")
+        _create_arrays(group, template, b, chunk, nchunks, compress,
+                       attrs.get("refine") is not None)
+        group.attrs.update({**attrs, "complete": False})
+        os.rename(tmp, out)
+    except OSError as exc:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise StoreError(_MSG_CREATE.format(out=out, cause=_os_text(exc), fix=_os_fix(exc)),
+                         path=out) from None
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return zarr.open_group(str(out), mode="r+")
+
+
+def _attrs(planner, lift, dims, r, b, chunk, refine=None, compress=True) -> dict:
+    from .version import __version__
+
+    return {"format": FORMAT, "planner": planner, "lift": lift, "pmplan_version": __version__,
+            "dims": list(dims), "r": r, "B": b, "chunk": chunk, "refine": refine,
+            "compress": bool(compress)}
+
+
+# ----------------------------------------------------------------------------------------------
+# what a failed run says: the store, and whether --resume finishes it
+
+#: the option of ``pmplan batch`` (and the keyword of :func:`plan_store`) behind each attribute
+_OPTIONS = {"planner": "--planner (planner=)", "lift": "--lift (lift=)",
+            "chunk": "--chunk (chunk=)", "compress": "--no-compress (compress=)",
+            "refine": "--refine, --radius, --obstacle-radius, --waypoints, --steps (refine=)",
+            "B": "the number of queries in the input", "dims": "the input's (d, n, m)",
+            "r": "the input's configurations per query (via)", "format": "the store's format"}
+_MSG_CREATE = "cannot create the output store {out}: {cause}; nothing was written: {fix}"
+_MSG_INCOMPLETE = "{out} is incomplete ({done} of {total} chunks written): {fix}"
+_MSG_UNREACHABLE = ("chunk {i} could not open its stores on host {host} ({cause}); every worker "
+                    "must see the input and output stores at the same absolute paths")
+_MSG_DIFFERENT_INPUT = (
+    "cannot resume {out}: the input differs from the one it was planned from in {count} done "
+    "chunk(s) {chunks}{more} (queries {rows}); resuming would mix the plans of two inputs in "
+    "one store: resume with the original input, or plan this one into another --out")
+_MSG_OTHER_RUN = ("cannot resume {out}: it was written with other options ({diff}); rerun with "
+                  "the options it was written with, or choose another --out")
+_MSG_NOT_A_STORE = ("cannot resume {out}: it is not a pmplan output store of this version "
+                    "({why}); remove it (or choose another --out) and run again")
+
+
+def _os_text(exc: OSError) -> str:
+    where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+    return f"{exc.strerror or exc}{where}"
+
+
+def _os_fix(exc: OSError) -> str:
+    if exc.errno == errno.ENOSPC:
+        return "free disk space"
+    if exc.errno in (errno.EROFS, errno.EACCES, errno.EPERM):
+        return "make the directory writable or choose another --out"
+    return "fix the cause"
+
+
+def _done_count(group) -> int | str:
+    try:
+        return int(np.asarray(group["done"][:]).sum())
+    except Exception:  # noqa: BLE001 - the store may be unreadable now; say so, not crash
+        return "?"
+
+
+def _is_cluster_error(exc: BaseException) -> bool:
+    """A failure of the dask cluster (scheduler lost, workers killed, cancelled tasks), told
+    apart from the queries' errors and the disk's by where its class comes from."""
+    import concurrent.futures
+
+    return isinstance(exc, (concurrent.futures.CancelledError, TimeoutError)) or \
+        type(exc).__module__.split(".")[0] in ("distributed", "tornado")
+
+
+def _failure(exc: BaseException, out: Path, group, nchunks: int) -> BaseException | None:
+    """The one-line error of a run stopped by ``exc``, naming the store and what finishes it;
+    None for an exception passed on as it is (Ctrl-C, a bug)."""
+    done = _done_count(group)
+    if isinstance(exc, StoreError):
+        if not exc.resumable or " is incomplete (" in str(exc):
+            return exc
+        return StoreError(f"{exc}; " + _MSG_INCOMPLETE.format(
+            out=out, done=done, total=nchunks, fix="fix that, then rerun with --resume"),
+            path=out, resumable=True)
+    if isinstance(exc, PmplanError):  # a query: its rows are in the message
+        text = _MSG_INCOMPLETE.format(out=out, done=done, total=nchunks,
+                                      fix="fix the input and rerun with --resume")
+        exc.args = (f"{exc}; {text}",)
+        return exc
+    if _is_cluster_error(exc):
+        cause = f"the dask cluster failed ({type(exc).__name__}: {exc})"
+        fix = ("rerun with --resume (the chunks written are kept; a running scheduler, or no "
+               "--scheduler to plan in this process)")
+    elif isinstance(exc, OSError):
+        cause = f"writing {out} failed: {_os_text(exc)}"
+        fix = f"{_os_fix(exc)}, then rerun with --resume"
+    else:
+        return None
+    return StoreError(f"{cause}; " + _MSG_INCOMPLETE.format(out=out, done=done, total=nchunks,
+                                                           fix=fix), path=out, resumable=True)
+
+
+# ----------------------------------------------------------------------------------------------
+# plan_store
+
+
+def _source_arrays(source, out: Path, lift, planner):
+    """(arrays, path of the input store or None, its name, lift, planner) of ``source``."""
+    if isinstance(source, dict):
+        arrays = {k: np.asarray(source[k]) for k in ("obstacles", "start", "goal", "via")
+                  if k in source}
+        for k in ("lift", "planner"):
+            if source.get(k) is not None:
+                mine = lift if k == "lift" else planner
+                if mine is not None and mine != source[k]:
+                    raise InputError(f"{k} {mine!r} contradicts {k} {source[k]!r} in the input")
+        return (arrays, None, "the input", source.get("lift", lift),
+                source.get("planner", planner))
+    src_path = Path(source).resolve()  # absolute: workers may run in another directory
+    if src_path == out:
+        raise InputError(f"the input and the output are the same store {out}")
+    return _open_input(src_path), src_path, str(source), lift, planner
+
+
+def _open_for_resume(out: Path, attrs: dict, resume: bool):
+    """The existing output store ``out`` to resume (checked against this run's ``attrs``), or
+    None when there is none."""
+    zarr = _need("zarr")
+    if not out.exists():
+        return None
+    if not resume:
+        raise InputError(f"the output {out} already exists; pass --resume to finish an "
+                         "interrupted run into it, or remove it / choose another --out")
+    try:
+        group = zarr.open_group(str(out), mode="r+")
+        old = dict(group.attrs)
+        keys = set(group.array_keys())
+    except Exception as exc:  # noqa: BLE001 - zarr raises several kinds for "not a store"
+        raise InputError(_MSG_NOT_A_STORE.format(out=out, why=" ".join(str(exc).split()))) \
+            from None
+    if old.get("format") != FORMAT or not {"done", "inputs"} <= keys:
+        why = (f"format {old.get('format')!r}, expected {FORMAT!r}" if old.get("format")
+               else "it has no pmplan attributes")
+        if old.get("format") == "pmplan-plans-1":
+            why += ": an older pmplan wrote it without the fingerprints of its inputs, so a " \
+                   "resume could not check them"
+        raise InputError(_MSG_NOT_A_STORE.format(out=out, why=why))
+    diff = [f"{_OPTIONS.get(k, k)}: stored {old.get(k)!r}, now {v!r}"
+            for k, v in attrs.items() if k != "pmplan_version" and old.get(k) != v]
+    if diff:
+        raise InputError(_MSG_OTHER_RUN.format(out=out, diff="; ".join(diff)))
+    try:
+        for partial in out.rglob("*.partial"):  # writes cut short (Zarr writes, then renames)
+            partial.unlink(missing_ok=True)
+    except OSError as exc:
+        raise StoreError(f"cannot resume {out}: {_os_text(exc)}; " + _MSG_INCOMPLETE.format(
+            out=out, done=_done_count(group), total=group["done"].shape[0],
+            fix=f"{_os_fix(exc)}, then rerun with --resume"), path=out, resumable=True) \
+            from None
     return group
 
 
-def _attrs(planner, lift, dims, r, b, chunk, refine=None) -> dict:
-    from . import __version__
-
-    return {"format": FORMAT, "planner": planner, "lift": lift, "pmplan_version": __version__,
-            "dims": list(dims), "r": r, "B": b, "chunk": chunk, "refine": refine}
+def _check_fingerprints(group, arrays: dict, b: int, chunk: int, out: Path) -> None:
+    """Refuse a resume whose input differs, in any chunk already done, from the input that
+    chunk was planned from."""
+    done = np.flatnonzero(np.asarray(group["done"][:]))
+    stored = np.asarray(group["inputs"][:])
+    bad = [int(i) for i in done
+           if not np.array_equal(
+               stored[i], _fingerprint(_read_rows(arrays, i * chunk, min(b, (i + 1) * chunk))))]
+    if bad:
+        rows = ", ".join(f"{i * chunk}..{min(b, (i + 1) * chunk) - 1}" for i in bad[:10])
+        raise InputError(_MSG_DIFFERENT_INPUT.format(
+            out=out, count=len(bad), chunks=bad[:10], more="..." if len(bad) > 10 else "",
+            rows=rows + (", ..." if len(bad) > 10 else "")))
 
 
 def plan_store(source, out, *, planner: str | None = None, lift: float | str | None = None,
@@ -552,17 +811,22 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         then be the same for every array), or 65536 for in-memory input.
     resume : bool
         Continue an existing output: plan only the chunks not marked done. Without it an
-        existing ``out`` is an error (and is left untouched).
+        existing ``out`` is an error (and is left untouched). The options must be those the
+        store was written with, and the input of every chunk already done must be the one it
+        was planned from (its fingerprint, :func:`_fingerprint`); rows of chunks not yet done
+        may differ (the fixed input of an interrupted run).
     scheduler, dask_workers : optional
         Plan the chunks as tasks on the dask.distributed scheduler at this address, or on a
         LocalCluster of this many worker processes (one thread each). The workers read the
-        input store and write the output store themselves, so they must see the same files
-        (one machine, or a shared filesystem). Default: in this process.
+        input store and write the output store themselves (both sent as absolute paths), so
+        they must see the same files (one machine, or a shared filesystem). Default: in this
+        process.
     workers : int
         Threads per chunk (as in :func:`pmplan.plan_batch`).
     compress : bool
-        Compress the output chunks (Zarr's default codec, zstd): about half the disk for
-        about a seventh of the write speed; False writes them raw.
+        Compress the output chunks (zstd at level :data:`ZSTD_LEVEL`: about half the disk);
+        False writes them raw. A compressed run is bound by the compression, an uncompressed
+        one by the disk (``benchmarks/store_breakdown.py`` times plan, compress and write).
     on_chunk : callable, optional
         Called as ``on_chunk(i, done, total)`` after chunk ``i`` is written and marked done.
     refine : dict, optional
@@ -579,136 +843,113 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     ------
     InputError
         For a missing or malformed input (missing arrays, wrong dtype, mismatched chunks),
-        an existing output without ``resume``, or one that does not match this run; nothing is
-        written then. An invalid query or a failed certificate stops the run with the rows
-        named; the chunks already written stay marked done, the output stays incomplete.
+        an existing output without ``resume``, or one that does not match this run (options,
+        or the input of a chunk already done); nothing is written then. An invalid query or a
+        failed certificate stops the run with the rows of the batch named; the chunks already
+        written stay marked done, the output stays incomplete, and the message says so.
+    StoreError
+        The disk (full, read-only) or the dask cluster (scheduler lost, workers killed)
+        stopped the run: the message names the store, how many chunks it holds, and whether
+        ``resume`` finishes it. A store is created whole or not at all.
     """
-    from . import api
-
-    zarr = _need("zarr")
-    out = Path(out)
-    if isinstance(source, dict):
-        arrays = {k: np.asarray(source[k]) for k in ("obstacles", "start", "goal", "via")
-                  if k in source}
-        for k in ("lift", "planner"):
-            if source.get(k) is not None:
-                mine = lift if k == "lift" else planner
-                if mine is not None and mine != source[k]:
-                    raise InputError(f"{k} {mine!r} contradicts {k} {source[k]!r} in the input")
-        lift = source.get("lift", lift)
-        planner = source.get("planner", planner)
-        src_name, src_path = "the input", None
-    else:
-        src_path = Path(source)
-        if src_path.resolve() == out.resolve():
-            raise InputError(f"the input and the output are the same store {out}")
-        arrays = _open_input(src_path)
-        src_name = str(src_path)
+    out = Path(out).resolve()
+    arrays, src_path, src_name, lift, planner = _source_arrays(source, out, lift, planner)
     if chunk is not None and (isinstance(chunk, bool) or int(chunk) < 1):
         raise InputError(f"`chunk` must be a positive number of queries, got {chunk!r}")
     b, m, n, d, k, chunk = _check_inputs(arrays, src_name, chunk)
     refine = _refine_options(refine)
     lift = 1.0 if lift is None else lift
-    api._check_lift(lift)
-    workers = api._check_workers(workers)
-    api._check_backend(backend)
+    check_lift(lift)
+    workers = check_workers(workers)
+    check_backend(backend)
     r = k + 2
     if r > 2:
-        api._check_sequential(planner)
-    p = api.choose_planner(d, n, m, api.default_planner(d, n, m, sequential=True)
+        check_sequential(planner)
+    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True)
                            if r > 2 else planner)
     nchunks = -(-b // chunk)
-    lift_attr = lift if isinstance(lift, str) else float(lift)
-    attrs = _attrs(p.name, lift_attr, (d, n, m), r, b, chunk, refine)
+    attrs = _attrs(p.name, lift if isinstance(lift, str) else float(lift), (d, n, m), r, b,
+                   chunk, refine, compress)
     if out.suffix != ".zarr":
         raise InputError(f"the output {out} must be a Zarr store: give it the suffix .zarr")
-    if out.exists():
-        if not resume:
-            raise InputError(f"the output {out} already exists; pass --resume to finish an "
-                             "interrupted run into it, or remove it / choose another --out")
-        try:
-            group = zarr.open_group(str(out), mode="r+")
-            old = dict(group.attrs)
-        except Exception as exc:
-            raise InputError(f"cannot resume {out}: it is not a pmplan output store ({exc})") \
-                from None
-        diff = {key: (old.get(key), v) for key, v in attrs.items()
-                if key != "pmplan_version" and old.get(key) != v}
-        if diff or "done" not in set(group.array_keys()):
-            raise InputError(f"cannot resume {out}: it was written for another run (stored vs "
-                             f"now: {diff}); remove it or choose another --out")
-    else:
-        group = None
+    group = _open_for_resume(out, attrs, resume)
+    if group is not None:
+        _check_fingerprints(group, arrays, b, chunk, out)
+    spec = _Spec(source=None if src_path is None else str(src_path), out=str(out),
+                 names=tuple(arrays), b=b, chunk=chunk, planner=p.name, lift=lift,
+                 backend=backend, workers=workers, refine=refine)
     # connect before anything is written: an unreachable scheduler leaves no output behind
     client, cluster, owned = (None, None, False) if scheduler is None and dask_workers is None \
         else _connect(scheduler, dask_workers)
+    stopped = None
     try:
         if group is None:
-            template = _template(p, r, m, n, d, refine)
-            group = _create_output(out, attrs, template, b, chunk, nchunks, compress)
-        done = np.asarray(group["done"][:])
-        todo = np.flatnonzero(~done).tolist()
-        spec = _Spec(source=None if src_path is None else str(src_path), out=str(out),
-                     names=tuple(arrays), b=b, chunk=chunk, planner=p.name, lift=lift,
-                     backend=backend, workers=workers, refine=refine)
-        state = {"done": nchunks - len(todo), "queries": 0, "clearance": float("inf"),
-                 "kept": 0 if refine is not None else None}
-        domains: dict = {}
-        bar = None
-        if progress and todo:
-            from tqdm import tqdm
-
-            bar = tqdm(total=nchunks, initial=nchunks - len(todo), desc="planning",
-                       unit="chunk", file=sys.stderr)
-
-        def record(result):
-            i, q, counts, clr, kept = result
-            if kept is not None:
-                state["kept"] += kept
-            state["done"] += 1
-            state["queries"] += q
-            state["clearance"] = min(state["clearance"], clr)
-            for label, c in counts.items():
-                domains[label] = domains.get(label, 0) + c
-            if bar is not None:
-                bar.update()
-            if on_chunk is not None:
-                on_chunk(i, state["done"], nchunks)
-
-        def rows_of(i):
-            if src_path is not None:
-                return None  # the task reads its rows from the input store
-            lo, hi = i * chunk, min(b, (i + 1) * chunk)
-            return _read_rows(arrays, lo, hi)
-
-        try:
-            if client is None:
-                for i in todo:
-                    record(_run_chunk(spec, i, rows_of(i), group))
-            else:
-                _distributed(client, spec, todo, rows_of, record)
-        except PmplanError as exc:
-            exc.args = (f"{exc}; {out} is incomplete ({state['done']} of {nchunks} chunks "
-                        "written): fix the input and rerun with --resume",)
-            raise
-        finally:
-            if bar is not None:
-                bar.close()
+            group = _create_output(out, attrs, _template(p, r, m, n, d, refine), b, chunk,
+                                   nchunks, compress)
+        rows_of = None if src_path is not None else \
+            (lambda i: _read_rows(arrays, i * chunk, min(b, (i + 1) * chunk)))
+        summary = _run(spec, group, client, rows_of, nchunks, progress, on_chunk)
+    except Exception as exc:  # told once the cluster is closed: the count of chunks is final
+        stopped = exc
     finally:
-        if owned:
-            client.close()
-        if cluster is not None:
-            cluster.close()
+        _disconnect(client, cluster, owned)
+    if stopped is not None:
+        failure = _failure(stopped, out, group, nchunks)
+        if failure is None:
+            raise stopped
+        raise failure from None
     if bool(np.asarray(group["done"][:]).all()):
         group.attrs["complete"] = True
-    return StoreReport(out, len(todo), nchunks - len(todo), nchunks, state["queries"], domains,
-                       state["clearance"], p.name, state["kept"])
+    return StoreReport(out, summary["planned"], nchunks - summary["planned"], nchunks,
+                       summary["queries"], summary["domains"], summary["clearance"], p.name,
+                       summary["kept"])
+
+
+def _run(spec: _Spec, group, client, rows_of, nchunks: int, progress: bool, on_chunk) -> dict:
+    """Plan the chunks not yet done, in this process or on ``client``'s cluster; the summary
+    of this run (chunks and queries planned, domain counts, min clearance, radii kept)."""
+    todo = np.flatnonzero(~np.asarray(group["done"][:])).tolist()
+    state = {"planned": len(todo), "done": nchunks - len(todo), "queries": 0,
+             "clearance": float("inf"), "kept": 0 if spec.refine is not None else None,
+             "domains": {}}
+    bar = None
+    if progress and todo:
+        from tqdm import tqdm
+
+        bar = tqdm(total=nchunks, initial=nchunks - len(todo), desc="planning", unit="chunk",
+                   file=sys.stderr)
+
+    def record(result):
+        i, q, counts, clr, kept = result
+        if kept is not None:
+            state["kept"] += kept
+        state["done"] += 1
+        state["queries"] += q
+        state["clearance"] = min(state["clearance"], clr)
+        for label, c in counts.items():
+            state["domains"][label] = state["domains"].get(label, 0) + c
+        if bar is not None:
+            bar.update()
+        if on_chunk is not None:
+            on_chunk(i, state["done"], nchunks)
+
+    try:
+        if client is None:
+            for i in todo:
+                record(_run_chunk(spec, i, None if rows_of is None else rows_of(i), group))
+        else:
+            _distributed(client, spec, todo, rows_of, record)
+    finally:
+        if bar is not None:
+            bar.close()
+    return state
 
 
 def _connect(scheduler: str | None, dask_workers: int | None):
     """(client, cluster, owned): this process's default client when it already talks to the
     scheduler at ``scheduler`` (not ours to close), else a new client of that scheduler, or of
-    a new LocalCluster of ``dask_workers`` worker processes (one thread each)."""
+    a new LocalCluster of ``dask_workers`` worker processes (one thread each, its logs
+    silenced: a failing chunk is reported once, by pmplan)."""
     distributed = _need("distributed")
     if scheduler is not None:
         try:
@@ -721,25 +962,48 @@ def _connect(scheduler: str | None, dask_workers: int | None):
         try:
             return distributed.Client(scheduler), None, True
         except (OSError, ValueError) as exc:
-            raise InputError(f"cannot reach the dask scheduler {scheduler}: {exc}") from None
+            raise InputError(f"cannot reach the dask scheduler {scheduler}: {exc}; nothing was "
+                             "written") from None
     cluster = distributed.LocalCluster(n_workers=dask_workers, threads_per_worker=1,
-                                       processes=True, dashboard_address=":0")
+                                       processes=True, dashboard_address=":0",
+                                       silence_logs=logging.CRITICAL)
     return distributed.Client(cluster), cluster, True
+
+
+def _disconnect(client, cluster, owned: bool) -> None:
+    """Close what :func:`_connect` opened; a client whose scheduler is gone closes quietly."""
+    import contextlib
+
+    with contextlib.suppress(Exception):
+        if owned:
+            client.close(timeout=5)
+        if cluster is not None:
+            cluster.close(timeout=5)
 
 
 def _distributed(client, spec: _Spec, todo: list, rows_of, record) -> None:
     """Run the chunk tasks on a dask.distributed cluster; ``record`` each result as it comes.
 
-    A task whose worker dies is run again by the scheduler on another worker: it rewrites its
-    chunk with the same bytes and marks it done; nothing half-written is ever marked done.
+    The future of a finished chunk is released at once, so a worker that dies later does not
+    make the scheduler compute that chunk again; a task whose worker dies before it finishes is
+    run again on another worker (and a task that finds its chunk already done with the same
+    input reads its summary back instead of planning it). Nothing half-written is ever marked
+    done.
     """
     distributed = _need("distributed")
-    futures = [client.submit(_run_chunk, spec, i, rows_of(i), pure=False) for i in todo]
+    pending = {client.submit(_run_chunk, spec, i, None if rows_of is None else rows_of(i),
+                             pure=False) for i in todo}
     try:
-        for fut in distributed.as_completed(futures):
-            record(fut.result())
+        for fut in distributed.as_completed(pending):
+            result = fut.result()
+            pending.discard(fut)
+            fut.release()
+            record(result)
     except BaseException:
-        client.cancel(futures)
+        import contextlib
+
+        with contextlib.suppress(Exception):
+            client.cancel(list(pending))
         raise
 
 
@@ -749,8 +1013,6 @@ def open_plans(path):
     Raises InputError for a store that is not a pmplan output or is incomplete (an
     interrupted run: finish it with ``pmplan batch IN --out OUT --resume``).
     """
-    from . import api
-
     zarr = _need("zarr")
     da = _need("dask.array")
     try:
@@ -758,7 +1020,7 @@ def open_plans(path):
         attrs = dict(group.attrs)
     except Exception as exc:
         raise InputError(f"cannot read {path} as a Zarr store: {exc}") from None
-    if attrs.get("format") != FORMAT:
+    if attrs.get("format") not in READABLE_FORMATS:
         raise InputError(f"{path} is not a pmplan output store (format {attrs.get('format')!r})")
     done = np.asarray(group["done"][:])
     if not attrs.get("complete") or not done.all():
@@ -772,4 +1034,4 @@ def open_plans(path):
     refine = attrs.get("refine")
     if refine is not None:
         extra = _extra(refine, {k: da.from_zarr(group[k]) for k in REFINED_OUTPUTS})
-    return api.PlanBatch(planner=attrs["planner"], dims=(d, n, m), _extra=extra, **arrays)
+    return PlanBatch(planner=attrs["planner"], dims=(d, n, m), _extra=extra, **arrays)

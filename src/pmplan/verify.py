@@ -82,6 +82,7 @@ from .path import PiecewiseLinearPath
 from .planners.base import REGISTRY
 from .planners.obstacle_line import POLE_NOTE as OBSTACLE_LINE_POLE_NOTE
 from .predicates import projection_classes
+from .strata import spec_for
 
 __all__ = [
     "RHO_MIN",
@@ -541,7 +542,7 @@ def _moved_copies(p, rng, base, size: float):
     moved = []
     for i in range(base[0].shape[0]):
         one = (base[0][i], base[1][i], base[2][i])
-        mv = p.perturb_within_stratum(rng, one, size)
+        mv = spec_for(p).perturb_within_stratum(rng, one, size)
         moved.append(one if mv is None else mv)
     mq = tuple(np.stack([mv[k] for mv in moved]) for k in range(3))
     return mq, query_distance(base, mq)
@@ -577,7 +578,7 @@ def _refined_probe(name, lift, b0, k0, r0, k0r, moved, dist):
 def _stratum_name(p, d: int, n: int, m: int, q, i: int) -> str:
     """Return the stratum of query i of a batch, decided exactly (for failure reports)."""
     one = tuple(np.asarray(a, dtype=float)[i] for a in q)
-    return p.stratum_name(np.asarray(p.stratum_row(*one)), d, n, m)
+    return p.stratum_name(np.asarray(spec_for(p).stratum_row(*one)), d, n, m)
 
 
 def _take(q, idx):
@@ -667,14 +668,14 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     bar = tqdm(total=7 if refine else 6, desc=f"verify {name} ({d},{n},{m})", unit="step", file=sys.stderr,
                disable=not progress, leave=False)
     families = {
-        "exact": p.exact_queries(rng, d, n, m, n_exact),
+        "exact": spec_for(p).exact_queries(rng, d, n, m, n_exact),
     }
-    n_strata = p.stratum_count(d, n, m)
+    n_strata = spec_for(p).stratum_count(d, n, m)
     families = {
         **families,
         "random": tuple(gen.random_queries(rng, d, n, m, n_random)),
     }
-    near = [p.near_degenerate_queries(rng, d, n, m, k, s)
+    near = [spec_for(p).near_degenerate_queries(rng, d, n, m, k, s)
             for k, s in zip((n_near // 2, n_near - n_near // 2), NEAR_SCALES)]
     families["near-degenerate"] = tuple(np.concatenate(parts) for parts in zip(*near))
     bar.update(1)
@@ -759,7 +760,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
         # a share of the family (the exact family is built round robin over the strata, so its
         # first queries cover every stratum)
         for i in range(min(kept.size, max(n_strata, kept.size // share))):
-            moved = p.perturb_within_stratum(rng, (q[0][i], q[1][i], q[2][i]), DELTA)
+            moved = spec_for(p).perturb_within_stratum(rng, (q[0][i], q[1][i], q[2][i]), DELTA)
             if moved is None:
                 continue
             base_o.append(q[0][i])
@@ -889,7 +890,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
         families=fam_stats,
         failures=failures,
         problems=problems,
-        notes=p.notes(d, n, m),
+        notes=spec_for(p).notes(d, n, m),
         lift=lift,
         refine=bool(refine),
     )

@@ -5,10 +5,10 @@ One source for each: the flag bits a kernel returns for every query (:data:`FALL
 :data:`SUSPECT`, :data:`NONFINITE`, :data:`BROKEN`, :data:`INVALID`; what the caller does with
 each: :func:`pmplan.planners.base.redecide`), the constants of the float filter and of the
 certificate (read from :mod:`pmplan.predicates` and :mod:`pmplan.certify`, whose values numba
-compiles in as constants), the compile options (:data:`_OPTS`), TwoSum / TwoProduct
-(:func:`_two_sum`, :func:`_two_prod`), the closed-form squared distance of a piece in the
-plane (:func:`_segment_dist2_plane`) and the write of a block of lanes into the caller's rows
-(:func:`_write_lanes`, :func:`_read_lanes`). Without numba, :data:`AVAILABLE` is False, ``njit`` leaves
+compiles in as constants), the compile options (:data:`OPTS`), TwoSum / TwoProduct
+(:func:`two_sum`, :func:`two_prod`), the closed-form squared distance of a piece in the
+plane (:func:`segment_dist2_plane`) and the write of a block of lanes into the caller's rows
+(:func:`write_lanes`, :func:`read_lanes`). Without numba, :data:`AVAILABLE` is False, ``njit`` leaves
 the functions as Python, and the numpy references plan everything (:mod:`pmplan.backend`).
 """
 
@@ -17,15 +17,15 @@ from __future__ import annotations
 # one source: the unit roundoff and the underflow bound of pmplan.predicates' filter, and the
 # thresholds of pmplan.certify (numba reads these module globals as compile-time constants)
 from ..certify import (  # noqa: F401 (the kernels import them here)
-    _BAND_ABS,
-    _BAND_REL,
-    _MAXF,
-    _OBSTACLE_TINY2,
-    _REL,
-    _SURE,
-    _TINY_DIST,
+    BAND_ABS,
+    BAND_REL,
+    MAXF,
+    OBSTACLE_TINY2,
+    REL,
+    SURE,
+    TINY_DIST,
 )
-from ..predicates import _TINY, _U  # noqa: F401
+from ..predicates import TINY, U  # noqa: F401
 
 try:
     from llvmlite import ir as _ir
@@ -33,7 +33,7 @@ try:
     from numba import types as _nbt
     from numba.core.extending import intrinsic, overload
 
-    _NoneType = _nbt.NoneType
+    NoneType = _nbt.NoneType
     AVAILABLE = True
 except ImportError:  # pragma: no cover - numba is a dependency; keep the numpy path usable
     AVAILABLE = False
@@ -47,7 +47,7 @@ except ImportError:  # pragma: no cover - numba is a dependency; keep the numpy 
     def overload(f):
         return lambda impl: impl
 
-    _NoneType = type(None)
+    NoneType = type(None)
 
 __all__ = ["AVAILABLE", "BROKEN", "FALLBACK", "INVALID", "NONFINITE", "SUSPECT"]
 
@@ -57,28 +57,28 @@ NONFINITE = 4
 BROKEN = 8
 INVALID = 16
 
-_BIG = 2.0**900  # TwoProduct's split overflows beyond this (as in pmplan.predicates)
-_SMALL = 2.0**-900  # below this TwoProduct's error term may underflow (as in pmplan.predicates)
-# an obstacle pair whose squared distance is below _OBSTACLE_TINY2 (pmplan.certify's) is
+BIG = 2.0**900  # TwoProduct's split overflows beyond this (as in pmplan.predicates)
+SMALL = 2.0**-900  # below this TwoProduct's error term may underflow (as in pmplan.predicates)
+# an obstacle pair whose squared distance is below OBSTACLE_TINY2 (pmplan.certify's) is
 # SUSPECT: the square may have underflowed; pmplan.certify.clearance decides it exactly
 
-_OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
+OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
 #: the small helpers: compiled once each and inlined by LLVM where it pays. Not numba's
 #: ``inline="always"``, which copies them into every caller before typing and cost about three
 #: seconds of every first run's compilation, with the same machine code speed (README, "first
 #: run"; the floating-point operations are the same either way: no fast-math, no contraction)
-_INLINE = _OPTS
+INLINE = OPTS
 
 
-@njit(**_INLINE)
-def _two_sum(a, b):  # pragma: no cover - compiled
+@njit(**INLINE)
+def two_sum(a, b):  # pragma: no cover - compiled
     s = a + b
     bb = s - a
     return s, (a - (s - bb)) + (b - bb)
 
 
-@njit(**_INLINE)
-def _two_prod(a, b):  # pragma: no cover - compiled
+@njit(**INLINE)
+def two_prod(a, b):  # pragma: no cover - compiled
     p = a * b
     c = 134217729.0 * a
     ah = c - (c - a)
@@ -90,8 +90,8 @@ def _two_prod(a, b):  # pragma: no cover - compiled
 
 
 
-@njit(**_INLINE)
-def _segment_param(num, vv):  # pragma: no cover - compiled
+@njit(**INLINE)
+def segment_param(num, vv):  # pragma: no cover - compiled
     """The parameter of the point of a piece closest to the origin, as
     :func:`pmplan.certify.segment_clearance` computes it: ``num / vv`` (``num = -r0.v``,
     ``vv = |v|^2``) clipped to [0, 1], and 0 when ``vv`` is not positive. Branch-free (selects),
@@ -102,14 +102,14 @@ def _segment_param(num, vv):  # pragma: no cover - compiled
     return q if vv > 0 else 0.0
 
 
-@njit(**_INLINE)
-def _segment_dist2_plane(rx, ry, r1x, r1y):  # pragma: no cover - compiled
+@njit(**INLINE)
+def segment_dist2_plane(rx, ry, r1x, r1y):  # pragma: no cover - compiled
     """Squared minimum distance to the origin of the plane piece r0 -> r1 (relative
     positions), in :func:`pmplan.certify.segment_clearance`'s arithmetic and order."""
     vx = r1x - rx
     vy = r1y - ry
     vv = (0.0 + vx * vx) + vy * vy
-    q = _segment_param(-((0.0 + rx * vx) + ry * vy), vv)
+    q = segment_param(-((0.0 + rx * vx) + ry * vy), vv)
     qx = rx + q * vx
     qy = ry + q * vy
     return (0.0 + qx * qx) + qy * qy
@@ -203,8 +203,8 @@ def _prefetch_write(typingctx, A, i, j):  # pragma: no cover - compiled
     return sig, codegen
 
 
-@njit(**_OPTS)
-def _write_lanes(S, out, b0, L, size):  # pragma: no cover - compiled
+@njit(**OPTS)
+def write_lanes(S, out, b0, L, size):  # pragma: no cover - compiled
     """``out[b0 + l, x] = S[x, l]`` for every lane ``l < L`` (a multiple of 8) and ``x < size``:
     a block of lanes-innermost rows written query after query, 8 x 8 blocks transposed in
     registers (:func:`_transpose8`; element by element, the strided reads cost twice as much:
@@ -226,11 +226,11 @@ def _write_lanes(S, out, b0, L, size):  # pragma: no cover - compiled
                 out[b0 + lane, x] = S[x, lane]
 
 
-@njit(**_OPTS)
-def _read_lanes(A, b0, L, n, Y, y0):  # pragma: no cover - compiled
+@njit(**OPTS)
+def read_lanes(A, b0, L, n, Y, y0):  # pragma: no cover - compiled
     """``Y[y0 + x, l] = A[b0 + l, x]`` for every lane ``l < L`` (a multiple of 8) and
     ``x < n``: rows of queries (``A`` 2-D, C-contiguous) read into lanes-innermost rows,
-    :func:`_write_lanes` the other way (8 x 8 blocks transposed in registers, the last
+    :func:`write_lanes` the other way (8 x 8 blocks transposed in registers, the last
     ``n mod 8`` columns element by element)."""
     q = n - n % 8
     for l0 in range(0, L, 8):

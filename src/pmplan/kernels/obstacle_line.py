@@ -26,7 +26,7 @@ How the kernel is laid out for speed (every shortcut is exact, see the tests):
   with the lanes innermost, so that every loop is a vectorised loop over queries (AVX2: four
   at once) whatever (d, n, m, r) are. It decides the *generic* query -- every configuration in
   the top stratum, no pole, every minimum distance clearly positive: all of a random batch --
-  with exactly the operations of the scalar kernel :func:`_plan`, and hands every other query
+  with exactly the operations of the scalar kernel :func:`plan_queries`, and hands every other query
   to it (the scalar kernel also validates). Two layout rules matter for speed under numba: no
   array views in inner loops (each costs a reference count), and running minima kept in two
   alternating rows (a select written back into the row it reads becomes a masked store);
@@ -88,29 +88,29 @@ import numpy as np
 
 # the numba import, the flag bits, the thresholds and the shared primitives: one source
 from .common import (
-    _BIG,
-    _INLINE,
-    _MAXF,
-    _OBSTACLE_TINY2,
-    _OPTS,
-    _REL,
-    _SMALL,
-    _SURE,
-    _TINY,
-    _U,
+    BIG,
+    INLINE,
+    MAXF,
+    OBSTACLE_TINY2,
+    OPTS,
+    REL,
+    SMALL,
+    SURE,
+    TINY,
+    U,
     AVAILABLE,
     BROKEN,
     FALLBACK,
     INVALID,
     NONFINITE,
     SUSPECT,
-    _NoneType,
-    _read_lanes,
-    _segment_dist2_plane,
-    _segment_param,
-    _two_prod,
-    _two_sum,
-    _write_lanes,
+    NoneType,
+    read_lanes,
+    segment_dist2_plane,
+    segment_param,
+    two_prod,
+    two_sum,
+    write_lanes,
     njit,
     overload,
 )
@@ -139,7 +139,7 @@ MAX_D = 7
 _EXTREME = 2.0**430
 
 
-#: chunks smaller than this are planned query by query (:func:`_plan`), larger ones mostly
+#: chunks smaller than this are planned query by query (:func:`plan_queries`), larger ones mostly
 #: ``lanes(...)`` queries at a time (:func:`_plan_lanes`)
 LANES_MIN = 16
 
@@ -172,7 +172,7 @@ _PRUNE_P = 1e-15
 _PRUNE_REL = 1e-9
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _unit(w, n, out):  # pragma: no cover - compiled
     """``pmplan.frame.unit`` on ``w[:n]`` into ``out[:n]``."""
     scale = 0.0
@@ -190,28 +190,28 @@ def _unit(w, n, out):  # pragma: no cover - compiled
         out[c] = out[c] / nn if nn > 0 else 0.0
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _exact_sign(y, k, ia, ib, d):  # pragma: no cover - compiled
     """Stage 2 of ``predicates.exact_projection_difference_sign`` for points ia, ib of
     configuration ``y[k]`` (rows 0, 1 are o1, o2): returns (decided, sign of (y_a - y_b).w)."""
     ok = True
     s = 0.0
     for c in range(d):
-        t, et = _two_sum(y[k, ia, c], -y[k, ib, c])
-        w, ew = _two_sum(y[k, 1, c], -y[k, 0, c])
-        p, ep = _two_prod(t, w)
+        t, et = two_sum(y[k, ia, c], -y[k, ib, c])
+        w, ew = two_sum(y[k, 1, c], -y[k, 0, c])
+        p, ep = two_prod(t, w)
         if et != 0.0 or ew != 0.0 or ep != 0.0:
             ok = False
-        if not (abs(t) < _BIG and abs(w) < _BIG and math.isfinite(p)):
+        if not (abs(t) < BIG and abs(w) < BIG and math.isfinite(p)):
             ok = False
         # TwoProduct is error-free only without underflow: an exact zero (a zero factor) or a
         # product whose error term is a normal number
-        if not ((p == 0 and (t == 0 or w == 0)) or abs(p) >= _SMALL):
+        if not ((p == 0 and (t == 0 or w == 0)) or abs(p) >= SMALL):
             ok = False
         if c == 0:
             s = p
         else:
-            s, es = _two_sum(s, p)
+            s, es = two_sum(s, p)
             if es != 0.0:
                 ok = False
     if not math.isfinite(s):
@@ -219,7 +219,7 @@ def _exact_sign(y, k, ia, ib, d):  # pragma: no cover - compiled
     return ok, (s > 0) - (s < 0)
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
     """Exact column classes of configuration ``y[k]`` (p points, obstacles first).
 
@@ -243,10 +243,10 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
             finite = False
         if not a <= absum:
             absum = a
-    bound = (d + 2) * 1.01 * _U * absum + (d + 1) * _TINY
+    bound = (d + 2) * 1.01 * U * absum + (d + 1) * TINY
     if not (finite and math.isfinite(bound)):
         return False, 0, 0, 0.0
-    thr = 2.0 * (2.0 * bound) * (1 + 4 * _U)
+    thr = 2.0 * (2.0 * bound) * (1 + 4 * U)
     # all projections pairwise farther apart than thr (the generic case): every point is its
     # own column, and the smallest gap between neighbours in the sorted order is the smallest
     # |vals[i] - vals[j]| (rounding is monotone, so no non-neighbour difference is smaller)
@@ -303,7 +303,7 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
     return True, label + 1, cp_o, gap
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _row_min(best, npairs):  # pragma: no cover - compiled
     """The minimum of ``best[:npairs]`` (NaN is never selected)."""
     out = np.inf
@@ -313,7 +313,7 @@ def _row_min(best, npairs):  # pragma: no cover - compiled
     return out
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _clearance_plane(dd, kk, npairs, best):  # pragma: no cover - compiled
     """Squared clearance in the plane (d = 2), branch-free over the pairs (vectorised).
 
@@ -324,13 +324,13 @@ def _clearance_plane(dd, kk, npairs, best):  # pragma: no cover - compiled
     best[:npairs] = np.inf
     for t in range(kk - 1):
         for k in range(npairs):
-            dist2 = _segment_dist2_plane(dd[t, 0, k], dd[t, 1, k], dd[t + 1, 0, k],
+            dist2 = segment_dist2_plane(dd[t, 0, k], dd[t, 1, k], dd[t + 1, 0, k],
                                          dd[t + 1, 1, k])
             best[k] = dist2 if dist2 < best[k] else best[k]  # noqa: FURB136
     return _row_min(best, npairs)
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _clearance_any(dd, kk, npairs, d, best, vv, rv, tt, d2):  # pragma: no cover - compiled
     """:func:`_clearance_plane` for any d (coordinate loops outside the pair loops)."""
     best[:npairs] = np.inf
@@ -345,7 +345,7 @@ def _clearance_any(dd, kk, npairs, d, best, vv, rv, tt, d2):  # pragma: no cover
                 vv[k] += vc * vc
                 rv[k] += r0 * vc
         for k in range(npairs):
-            tt[k] = _segment_param(-rv[k], vv[k])
+            tt[k] = segment_param(-rv[k], vv[k])
             d2[k] = 0.0
         for c in range(d):
             for k in range(npairs):
@@ -358,11 +358,11 @@ def _clearance_any(dd, kk, npairs, d, best, vv, rv, tt, d2):  # pragma: no cover
     return _row_min(best, npairs)
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _piece_dist2(w, t0, a, b, row, d):  # pragma: no cover - compiled
     """Float squared minimum distance of the points at offsets ``a`` < ``b`` of waypoint
     block ``t0`` of ``w`` over the piece to the next waypoint (``t0 + row``): the arithmetic of
-    :func:`_clearance_any` (and of :func:`_segment_dist2_plane` for d = 2) on the relative
+    :func:`_clearance_any` (and of :func:`segment_dist2_plane` for d = 2) on the relative
     position ``w[t0 + a + c] - w[t0 + b + c]``, sums over c sequential."""
     vv = 0.0
     rv = 0.0
@@ -371,7 +371,7 @@ def _piece_dist2(w, t0, a, b, row, d):  # pragma: no cover - compiled
         vc = (w[t0 + row + a + c] - w[t0 + row + b + c]) - r0
         vv += vc * vc
         rv += r0 * vc
-    q = _segment_param(-rv, vv)
+    q = segment_param(-rv, vv)
     dist2 = 0.0
     for c in range(d):
         r0 = w[t0 + a + c] - w[t0 + b + c]
@@ -380,7 +380,7 @@ def _piece_dist2(w, t0, a, b, row, d):  # pragma: no cover - compiled
     return dist2
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _directions(w, p, m, d, amax, aux):  # pragma: no cover - compiled
     """The two sweep directions of :func:`_sweep_min` and their pruning margins, into ``aux``.
 
@@ -400,7 +400,7 @@ def _directions(w, p, m, d, amax, aux):  # pragma: no cover - compiled
         for c in range(d):
             a = abs(aux[k * d + c])
             big = a if a > big else big  # noqa: FURB136
-        ok = big > 0 and big <= _MAXF
+        ok = big > 0 and big <= MAXF
         w1 = 0.0
         w2 = 0.0
         for c in range(d):
@@ -413,7 +413,7 @@ def _directions(w, p, m, d, amax, aux):  # pragma: no cover - compiled
         aux[2 * d + 2 + k] = _PRUNE_Q * amax * w2 + 2.0 * _PRUNE_P * d * amax * w1 + 1e-300
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _sort_by(key, order, p):  # pragma: no cover - compiled
     """Insertion sort of ``order[:p]`` by ``key`` (ascending; fast when nearly sorted)."""
     for x in range(1, p):
@@ -426,7 +426,7 @@ def _sort_by(key, order, p):  # pragma: no cover - compiled
         order[y + 1] = v
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _bucket_sort(key, order, p, bk, cnt):  # pragma: no cover - compiled
     """``order[:p]`` = the indices sorted by ``key`` (finite), in O(p) for spread keys: a
     counting sort into p buckets of equal width, then :func:`_sort_by` (which alone makes it
@@ -453,7 +453,7 @@ def _bucket_sort(key, order, p, bk, cnt):  # pragma: no cover - compiled
     _sort_by(key, order, p)
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cover - compiled
     """The clearance's minimum over the pieces and pairs, pruned exactly: a sweep per group.
 
@@ -526,7 +526,7 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
         mg = aux[2 * d + 2 + int(u)]
         ok = True
         for i in range(p):
-            ok &= abs(lo[i]) + abs(hi[i]) <= _MAXF  # (False for NaN: never with amax in range)
+            ok &= abs(lo[i]) + abs(hi[i]) <= MAXF  # (False for NaN: never with amax in range)
         if not ok:
             mg = np.inf  # every pair of the group is visited
         if g == 0:  # the seed
@@ -568,7 +568,7 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
     return best, suspect
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _suspect(w, t0, a, b, row, d, dist2):  # pragma: no cover - compiled
     """Whether the float minimum ``dist2`` of the pair at offsets a, b on the piece from
     waypoint block ``t0`` is not above certify's threshold ``1e-9 max(scale, 1e-6 absval)``
@@ -581,10 +581,10 @@ def _suspect(w, t0, a, b, row, d, dist2):  # pragma: no cover - compiled
         scale = max(scale, abs(r0), abs(r1))
         absval = max(absval, abs(w[t0 + a + c]), abs(w[t0 + b + c]),
                      abs(w[t0 + row + a + c]), abs(w[t0 + row + b + c]))
-    return not math.sqrt(dist2) > _REL * max(scale, absval * 1e-6)
+    return not math.sqrt(dist2) > REL * max(scale, absval * 1e-6)
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _clearance_exact(wf, b, kk, p, m, d, thr2):  # pragma: no cover - compiled
     """The clearance loop deciding small minima as :func:`pmplan.certify.clearance` does.
 
@@ -608,10 +608,10 @@ def _clearance_exact(wf, b, kk, p, m, d, thr2):  # pragma: no cover - compiled
     return best, suspect
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, amax, best_k, vv, rv, tt,
                  d2):  # pragma: no cover - compiled
-    """The clearance of query ``b`` of :func:`_plan` from its waypoints ``wf[b]`` (SPEC 5).
+    """The clearance of query ``b`` of :func:`plan_queries` from its waypoints ``wf[b]`` (SPEC 5).
 
     ``amax`` is the largest |coordinate| of the waypoints (finite); ``ddf``/``dd`` and
     ``best_k``, ``vv``, ``rv``, ``tt``, ``d2`` are scratch, ``ia``, ``ja`` the index tables
@@ -626,7 +626,7 @@ def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, amax, best_k, vv, 
     best = 0.0
     thr2 = np.inf
     if 1e-130 < amax < 1e130:
-        thr2 = (_SURE * amax) * (_SURE * amax)
+        thr2 = (SURE * amax) * (SURE * amax)
         # a fast pass; if some minimum is small, the exact loop decides as certify
         if _sweeps(p, d):
             lo = np.empty(p)
@@ -655,20 +655,20 @@ def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, amax, best_k, vv, 
             for c in range(d):
                 dc = wf[b, i * d + c] - wf[b, j * d + c]
                 dist2 += dc * dc
-            if not dist2 >= _OBSTACLE_TINY2:  # the square may have underflowed
+            if not dist2 >= OBSTACLE_TINY2:  # the square may have underflowed
                 fl |= SUSPECT
             if dist2 < best:  # noqa: PLR1730 (explicit compare: NaN is never selected)
                 best = dist2
     return math.sqrt(best), fl
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _sweeps(p, d):  # pragma: no cover - compiled
     """Whether the clearance of p points in dimension d is the sweep (:data:`SWEEP_MIN`)."""
     return p >= (SWEEP_MIN[0] if d == 2 else SWEEP_MIN[1])
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _brute_pairs(p, m, d):  # pragma: no cover - compiled
     """The number of pairs with a moving point that the tables list for the brute-force
     passes over the pairs (0 where the sweep needs none, :func:`_sweeps`)."""
@@ -676,7 +676,7 @@ def _brute_pairs(p, m, d):  # pragma: no cover - compiled
 
 
 def _build_tables(r, m, n, d):
-    """The index tables of :func:`_plan` for queries through r configurations of (d, n, m).
+    """The index tables of :func:`plan_queries` for queries through r configurations of (d, n, m).
 
     One int64 vector: ``g1, g2, add`` (size ``K (m + n) d`` each: waypoint element x is
     ``src[g1[x]]``, plus ``src[g2[x]]`` where ``add[x]``), the pairs ``pi, pj`` with a moving
@@ -749,7 +749,7 @@ def _build_tables(r, m, n, d):
     return np.concatenate((g1, g2, add, pi, pj, ia, ja))
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def lanes(r, m, n, d):  # pragma: no cover - compiled
     """How many queries :func:`_plan_lanes` plans at once: 64, fewer when its scratch (the
     waypoints and configurations of every lane) would exceed 1 MiB."""
@@ -760,17 +760,17 @@ def lanes(r, m, n, d):  # pragma: no cover - compiled
     return L
 
 
-# _plan and _plan_lanes stay one function each (issue 13 item 3: over 150 lines, because
+# plan_queries and _plan_lanes stay one function each (issue 13 item 3: over 150 lines, because
 # splitting costs more than 5 %). Split into named helpers (frame, column classes, lift,
 # waypoints...: commit 924b6d3), measured in one process, the variants alternating, CPU time
 # (time.thread_time, immune to the other jobs of this shared machine), 16,384 / 32,768 generic
 # queries per call, best of 30-60 (benchmarks/kernel_ab.py):
-#   _plan (every query scalar): (2,1,2) +17 % (7.85 -> 9.27 ms), (2,4,2) +10 %, (3,4,2) +8 %;
+#   plan_queries (every query scalar): (2,1,2) +17 % (7.85 -> 9.27 ms), (2,4,2) +10 %, (3,4,2) +8 %;
 #     with numba's inline="always" on the helpers still +7 to +9 %;
 #   _plan_lanes: (2,1,2) +14 to +19 % (3.02 -> 3.55 ms), (2,4,2), (3,4,2), (2,16,2) unchanged;
 #     with inline="always" +4 to +8 % on (2,1,2).
-@njit(**_OPTS)
-def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
+@njit(**OPTS)
+def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
           tab, sel, nsel):  # pragma: no cover - compiled
     """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c).
 
@@ -985,7 +985,7 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
             v = v2 if add[x] else v1
             wf[b, x] = v
             a = abs(v)
-            finite &= a <= _MAXF  # False for inf and NaN
+            finite &= a <= MAXF  # False for inf and NaN
             amax = a if a > amax else amax  # noqa: FURB136 (NaN is caught by `finite`)
         if not finite:
             fl |= NONFINITE
@@ -1015,7 +1015,7 @@ def _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, cl
         flags[b] = fl | fl_c
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _unit_rows(w, n, out, t):  # pragma: no cover - compiled
     """``_unit`` lane by lane on rows: ``w[:n]`` into ``out[:n]`` (rows of L lanes);
     ``t`` is scratch (>= 3 rows)."""
@@ -1047,7 +1047,7 @@ def _unit_rows(w, n, out, t):  # pragma: no cover - compiled
             out[c, l] = x if s > 0 else 0.0
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _fold_min(T, a, src, dst):  # pragma: no cover - compiled
     """Row ``dst`` of T = min(row ``src``, row ``a``), every lane, as a select (NaN is never
     chosen); the caller then swaps ``src`` and ``dst`` (running minima in alternating rows)."""
@@ -1057,23 +1057,23 @@ def _fold_min(T, a, src, dst):  # pragma: no cover - compiled
         T[dst, l] = v if v < z else z  # noqa: FURB136
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _dist2_lanes(rx, ry, r1x, r1y):  # pragma: no cover - compiled
-    """:func:`_segment_dist2_plane` for :func:`_plan_lanes`, without its three ``0.0 +``.
+    """:func:`segment_dist2_plane` for :func:`_plan_lanes`, without its three ``0.0 +``.
 
     The value is the same: a sum of squares never is -0, so ``0.0 + x * x`` is ``x * x``;
     ``num = -(rx vx + ry vy)`` may differ only in the sign of a zero, and both signs of zero give
-    the parameter 0 (:func:`_segment_param`)."""
+    the parameter 0 (:func:`segment_param`)."""
     vx = r1x - rx
     vy = r1y - ry
     vv = vx * vx + vy * vy
-    q = _segment_param(-(rx * vx + ry * vy), vv)
+    q = segment_param(-(rx * vx + ry * vy), vv)
     qx = rx + q * vx
     qy = ry + q * vy
     return qx * qx + qy * qy
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _pair_lane(S, w0, a, b, row, l, z):  # pragma: no cover - compiled
     """One pair over one segment of the path in the plane, lane l: min(``z``, the squared
     distance at waypoint w0 -- the piece w0 -> w0 + 1 does not move -- and the squared
@@ -1103,7 +1103,7 @@ def _pair_lane(S, w0, a, b, row, l, z):  # pragma: no cover - compiled
     return best
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
     """One pair over one segment of the path in the plane, every lane.
 
@@ -1132,7 +1132,7 @@ def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
         T[dst, l] = best
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _lane_thresholds(D, EW, T32, nseg, l):  # pragma: no cover - compiled
     """Lane l's float32 thresholds of :func:`_prune_pass` (rows of ``T32``, one per segment and
     group) from its ``s = sqrt(min(best, guess))`` (rows BEST, GUESS of ``D``; ``-inf``: the
@@ -1149,7 +1149,7 @@ def _lane_thresholds(D, EW, T32, nseg, l):  # pragma: no cover - compiled
         T32[x, l] = np.float32((t + EW[x, l]) * _UP32)
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk):  # pragma: no cover - compiled
     """One pass of :func:`_prune_plane` over every pair with a moving point: a pair is
     evaluated (:func:`_pair_lane` over the segment, and at the last configuration) in a lane
@@ -1208,7 +1208,7 @@ _OUT = 10
 _UP32 = 1.0 + 2.0**-21
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
                  NORM):  # pragma: no cover - compiled
     """Row ``mn`` of T = every lane's minimum over the pairs with a moving point of the plane
@@ -1314,7 +1314,7 @@ def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
     return mn
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _rel4(S, w, a, b, a3, b3, l):  # pragma: no cover - compiled
     """The relative position of a pair at waypoint block ``w``, lane l (see :func:`_pair_space`):
     coordinates 0-2 at rows ``a``, ``b`` (+ 0, 1, 2), and with ``a3`` not None (d = 4) the
@@ -1331,12 +1331,12 @@ def _fourth(S, w, a3, b3, l):  # pragma: no cover - only its compiled overload r
 
 @overload(_fourth)
 def _fourth_typed(S, w, a3, b3, l):  # pragma: no cover - compiled
-    if isinstance(a3, _NoneType):
+    if isinstance(a3, NoneType):
         return lambda S, w, a3, b3, l: ()
     return lambda S, w, a3, b3, l: (S[w + a3, l] - S[w + b3, l],)
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _norm2(r):  # pragma: no cover - compiled
     """The squared norm of the tuple ``r``, summed in order (``r[0]**2`` first, no ``0.0 +``:
     a sum of squares is never -0, so the value is that of certify's sum)."""
@@ -1346,7 +1346,7 @@ def _norm2(r):  # pragma: no cover - compiled
     return s
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _dist2_space(r1, r2):  # pragma: no cover - compiled
     """:func:`_dist2_lanes` for 3 or 4 coordinates (the tuples ``r1`` -> ``r2``): the sums
     sequential; without the ``0.0 +`` (no value changes, see :func:`_dist2_lanes`). The loops
@@ -1358,7 +1358,7 @@ def _dist2_space(r1, r2):  # pragma: no cover - compiled
         v = r2[c] - r1[c]
         vv += v * v
         num += r1[c] * v
-    q = _segment_param(-num, vv)
+    q = segment_param(-num, vv)
     qc = r1[0] + q * (r2[0] - r1[0])
     s = qc * qc
     for c in range(1, len(r1)):
@@ -1367,7 +1367,7 @@ def _dist2_space(r1, r2):  # pragma: no cover - compiled
     return s
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _step_space(S, w, a, b, a3, b3, l, r1, best):  # pragma: no cover - compiled
     """One piece of :func:`_pair_space`: the relative position ``r2`` at waypoint block ``w``,
     and ``(r2, min(best, the squared minimum distance of the piece r1 -> r2))``."""
@@ -1376,7 +1376,7 @@ def _step_space(S, w, a, b, a3, b3, l, r1, best):  # pragma: no cover - compiled
     return r2, (x if x < best else best)  # noqa: FURB136 (a select: NaN never chosen)
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - compiled
     """:func:`_pair_plane` in space, d = 3 or 4: one pair over one segment, every lane.
 
@@ -1401,7 +1401,7 @@ def _pair_space(S, w0, a, b, a3, b3, row, T, src, dst):  # pragma: no cover - co
         T[dst, l] = best
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover - compiled
     """Row ``mn`` of T = :func:`_sweep_min` of every lane whose waypoints (already written,
     ``wf[b0 + l]``: read there, contiguous, not gathered from the lanes' rows) are finite
@@ -1419,7 +1419,7 @@ def _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover
                                   -np.inf)[0]
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _max_finite(S, T, x0, x1, mx, mx2, BAD):  # pragma: no cover - compiled
     """Rows ``x0 .. x1`` of ``S`` into the running maximum of |value| of every lane (row ``mx``
     of T, alternating with ``mx2``: returns the new pair) and the finiteness test (adds to row
@@ -1454,7 +1454,7 @@ def _max_finite(S, T, x0, x1, mx, mx2, BAD):  # pragma: no cover - compiled
     return mx, mx2
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2, wf,
                    b0, GAP, NORM):  # pragma: no cover - compiled
     """The certificate of :func:`_plan_lanes` for one block of L queries (SPEC section 5).
@@ -1491,7 +1491,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
     mn = np.int64(13)  # not the literal 13: numba would compile _pair_plane for it too
     mn2 = np.int64(14)
     for l in range(L):
-        z = _SURE * T[mx, l]
+        z = SURE * T[mx, l]
         T[THR2, l] = z * z if (T[mx, l] > 1e-130) & (T[mx, l] < 1e130) else np.inf
         T[mn, l] = np.inf
     if d == 2 and PRUNE_LANES[0] <= p < PRUNE_LANES[1]:
@@ -1564,7 +1564,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
                             T[ACC, l] += vc * vc
                             T[ACC2, l] += rc * vc
                     for l in range(L):
-                        T[Q, l] = _segment_param(-T[ACC2, l], T[ACC, l])
+                        T[Q, l] = segment_param(-T[ACC2, l], T[ACC, l])
                         T[ACC, l] = 0.0
                     for c in range(d):
                         for l in range(L):
@@ -1583,7 +1583,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
                     dc = S[i * d + c, l] - S[j * d + c, l]
                     T[ACC, l] += dc * dc
             for l in range(L):  # a square that may have underflowed: the scalar path
-                T[BAD, l] += 0.0 if T[ACC, l] >= _OBSTACLE_TINY2 else 1.0
+                T[BAD, l] += 0.0 if T[ACC, l] >= OBSTACLE_TINY2 else 1.0
             _fold_min(T, ACC, mn, mn2)
             mn, mn2 = mn2, mn
     return mn
@@ -1595,24 +1595,24 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
 #   at 2e4589d, the waypoints written to the output element by element: 43 % of (2,4,2),
 #     43 % of (3,4,2), 47 % of (4,4,2); the certificate 26 / 33 / 30 %, its pair minima
 #     21 / 22 / 23 %. The strided reads of the lanes' rows made the write cost twice a copy.
-#   then (the write in 8 x 8 blocks transposed in registers, common._write_lanes; d = 3
-#     pairs with three coordinates; before the blocked read, _read_lanes): the write
+#   then (the write in 8 x 8 blocks transposed in registers, common.write_lanes; d = 3
+#     pairs with three coordinates; before the blocked read, read_lanes): the write
 #     36 / 35 / 35 % -- about one copy of the output: memory-bound --, the certificate
 #     30 / 34 / 35 % (pair minima 23 / 25 / 25 %: arithmetic, one division per piece and
 #     lane), reading the queries 11 / 15 / 10 %, building the waypoint rows 5 / 2 / 7 %, the
 #     rest (frame, column classes, projection, lift) about 15 %. Per output float (3,4,2)
 #     costs what (2,4,2) does.
-#   since: the queries read in blocks too (_read_lanes), the next block's output rows
-#     prefetched (_write_lanes), the scale and finiteness from 84 of (3,4,2)'s 144 rows
+#   since: the queries read in blocks too (read_lanes), the next block's output rows
+#     prefetched (write_lanes), the scale and finiteness from 84 of (3,4,2)'s 144 rows
 #     (_max_finite: every row was 7-9 %). Kernel against 2e4589d, CPU time, one process,
 #     best of 30 (benchmarks/kernel_ab.py): (2,4,2) 0.84, (3,4,2) 0.81, (4,4,2) 0.84; against
 #     8632269: 0.85, 0.66, 0.68.
-@njit(**_OPTS)
+@njit(**OPTS)
 def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance, flags, todo,
                L):  # pragma: no cover - compiled
     """Plan and certify the *generic* queries of a chunk, ``L`` queries at a time (SIMD).
 
-    The same computation as :func:`_plan`, operation for operation (so the results are bitwise
+    The same computation as :func:`plan_queries`, operation for operation (so the results are bitwise
     the same), restricted to the case every query of a random batch is in: every configuration
     in the top stratum (all projections pairwise farther apart than the filter bound, so
     ``cp(C_k) = m + n``, ``cp_o = m`` and the desingularization ``(desin)`` moves nothing), not
@@ -1624,9 +1624,9 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     finite). The waypoints are then written query after query into ``wp``.
 
     Queries that are not generic -- and the last ``B mod L`` -- are listed in ``todo`` (their
-    count is returned) for :func:`_plan`, which decides them exactly (and validates them:
+    count is returned) for :func:`plan_queries`, which decides them exactly (and validates them:
     a query with a non-finite coordinate or two equal points is never generic). Arguments as
-    :func:`_plan` (without ``validate``, ``tab``) plus ``todo`` int64 (B,) and ``L``.
+    :func:`plan_queries` (without ``validate``, ``tab``) plus ``todo`` int64 (B,) and ``L``.
     """
     nb, m, d = obstacles.shape
     n = first.shape[1]
@@ -1672,11 +1672,11 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         # --- the configurations, lanes innermost (8 x 8 blocks transposed in registers; read
         # element by element, this was 10-15 % of the kernel's time: blocked, (4,4,2) is 4 %
         # faster, (2,4,2) 2 %; (3,4,2), whose rows are 6 and 12 long, unchanged) ------------
-        _read_lanes(of, b0, L, md, Y, 0)
-        _read_lanes(ff, b0, L, nd, Y, md)
-        _read_lanes(lf, b0, L, nd, Y, (r - 1) * row + md)
+        read_lanes(of, b0, L, md, Y, 0)
+        read_lanes(ff, b0, L, nd, Y, md)
+        read_lanes(lf, b0, L, nd, Y, (r - 1) * row + md)
         for k in range(1, r - 1):
-            _read_lanes(mf[k - 1], b0, L, nd, Y, k * row + md)
+            read_lanes(mf[k - 1], b0, L, nd, Y, k * row + md)
         for k in range(1, r):
             for x in range(md):
                 for l in range(L):
@@ -1747,9 +1747,9 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
             mn = 13
             mn2 = 14
             for l in range(L):
-                bound = (d + 2) * 1.01 * _U * T[mx, l] + (d + 1) * _TINY
+                bound = (d + 2) * 1.01 * U * T[mx, l] + (d + 1) * TINY
                 T[BAD, l] += bound - bound
-                T[THR, l] = 2.0 * (2.0 * bound) * (1 + 4 * _U)
+                T[THR, l] = 2.0 * (2.0 * bound) * (1 + 4 * U)
                 T[mn, l] = np.inf
             for i in range(1, p):
                 for j in range(i):
@@ -1809,7 +1809,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                 z = T[mx, l]
                 T[mx2, l] = qq if (qq > z) | (i == 2) | math.isnan(qq) else z
             mx, mx2 = mx2, mx
-        # the unit: lift, or the obstacles' radius u(O) of every lane (lift="scene", see _plan)
+        # the unit: lift, or the obstacles' radius u(O) of every lane (lift="scene", see plan_queries)
         UNIT = 15
         if lift > 0:
             for l in range(L):
@@ -1870,12 +1870,12 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
             for l in range(L):
                 S[(kk - 1) * row + x, l] = Y[(r - 1) * row + x, l]
         # --- write the waypoints (query after query), before the certificate: the lane sweeps
-        # read them there. 8 x 8 blocks transposed in registers (common._write_lanes): element
+        # read them there. 8 x 8 blocks transposed in registers (common.write_lanes): element
         # by element, this write was 43-47 % of the kernel's time for (2,4,2), (3,4,2),
         # (4,4,2); blocked, the kernel is 10-13 % faster. (Eight lanes at a time element by
         # element, from 256 values per query, had made (2,16,2) 8-15 % and (2,64,2) 13 %
         # faster than lane by lane, (2,1,2) 26-34 % and (2,4,2) 8 % slower.)
-        _write_lanes(S, wf, b0, L, size)
+        write_lanes(S, wf, b0, L, size)
         # --- certificate: finite, clearance (:func:`_certify_lanes`) -------------------------
         mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2,
                             wf, b0, GAP, NORM)
@@ -1904,13 +1904,13 @@ def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strat
     """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c), with
     the index tables ``tab`` of :func:`tables`.
 
-    Parameters and outputs as :func:`_plan`. The generic queries are planned by
-    :func:`_plan_lanes`, many at a time; :func:`_plan` decides the others, and every query of a
+    Parameters and outputs as :func:`plan_queries`. The generic queries are planned by
+    :func:`_plan_lanes`, many at a time; :func:`plan_queries` decides the others, and every query of a
     chunk smaller than ``LANES_MIN``. Both compute the same floating-point operations, so which
     one plans a query never shows in the result.
 
     Plain Python on purpose, as :func:`_build_tables`: a jitted
-    caller would have numba link :func:`_plan_lanes` and :func:`_plan` into its own module and
+    caller would have numba link :func:`_plan_lanes` and :func:`plan_queries` into its own module and
     optimise and generate their machine code a second time -- about a quarter of the first
     run's compile time -- for a saving of a few microseconds per chunk (see the README, "first
     run").
@@ -1926,8 +1926,8 @@ def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strat
     else:
         for b in range(nb):
             todo[b] = b
-    if nt:  # (so that a run whose every query is generic never compiles _plan)
-        _plan(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
+    if nt:  # (so that a run whose every query is generic never compiles plan_queries)
+        plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
               flags, tab, todo, nt)
 
 
@@ -1935,7 +1935,7 @@ _TABLES: dict = {}
 
 
 def tables(r: int, m: int, n: int, d: int) -> np.ndarray:
-    """The index tables of :func:`_plan` for (r, m, n, d), cached (never to be written)."""
+    """The index tables of :func:`plan_queries` for (r, m, n, d), cached (never to be written)."""
     key = (r, m, n, d)
     tab = _TABLES.get(key)
     if tab is None:
@@ -1945,13 +1945,13 @@ def tables(r: int, m: int, n: int, d: int) -> np.ndarray:
     return tab
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def plan_one(obstacles, start, goal, lift, tab):  # pragma: no cover - compiled
     """One query, validated, planned and certified: the lean path of ``pmplan.plan``.
 
     ``obstacles`` (m, d), ``start``, ``goal`` (n, d), C-contiguous float64; ``tab`` is
     :func:`tables` ``(2, m, n, d)``. Returns ``(waypoints (8, m+n, d), domain, cp(C), cp(C'),
-    cp_o, [e == N], clearance, flags)`` (see :func:`_plan`, called with ``validate=True``).
+    cp_o, [e == N], clearance, flags)`` (see :func:`plan_queries`, called with ``validate=True``).
     """
     m, d = obstacles.shape
     n = start.shape[0]
@@ -1962,7 +1962,7 @@ def plan_one(obstacles, start, goal, lift, tab):  # pragma: no cover - compiled
     flags = np.empty(1, np.uint8)
     validate = m >= 0  # a run-time True: the batch kernel's own specialisation is reused
     sel = np.zeros(1, np.int64)  # (and a run-time count, not the literal 1, for the same reason)
-    _plan(obstacles.reshape((1, m, d)), start.reshape((1, n, d)), goal.reshape((1, n, d)),
+    plan_queries(obstacles.reshape((1, m, d)), start.reshape((1, n, d)), goal.reshape((1, n, d)),
           np.empty((0, 1, n, d)), lift, validate, wp, domain, strata, clearance, flags, tab,
           sel, sel.shape[0])
     return (wp[0], domain[0], strata[0, 0], strata[0, 1], strata[0, 2], strata[0, 3],

@@ -69,30 +69,30 @@ import math
 
 import numpy as np
 
-from ..planners.planar_three import _DOMAIN_BY_CODE, _FAMILIES, _LUT, WAYPOINTS
+from ..planar_strata import DOMAIN_BY_CODE, FAMILIES, LUT, WAYPOINTS
 
 # shared with the obstacle-line kernel: the error-free transformations, the numba import (with
 # its no-numba fallback), the flag bits, the constants of the filter and the certificate, and
 # the closed-form distance of a piece
 from .common import (
-    _BIG,
-    _INLINE,
-    _MAXF,
-    _OBSTACLE_TINY2,
-    _OPTS,
-    _REL,
-    _SMALL,
-    _SURE,
-    _TINY,
-    _U,
+    BIG,
+    INLINE,
+    MAXF,
+    OBSTACLE_TINY2,
+    OPTS,
+    REL,
+    SMALL,
+    SURE,
+    TINY,
+    U,
     AVAILABLE,
     BROKEN,
     FALLBACK,
     INVALID,
     SUSPECT,
-    _segment_dist2_plane,
-    _two_prod,
-    _two_sum,
+    segment_dist2_plane,
+    two_prod,
+    two_sum,
     njit,
 )
 
@@ -116,53 +116,53 @@ __all__ = [
 #: stratum code (index in planar_three.STRATA) of (family index, i, j); -1: no stratum.
 #: Family index 0, 1, 2 = T1, T22, T23. One source: the planner's table (the kernel's branches
 #: use the codes of planar_three.STRATA: 0 T1_11, ..., 11 T23_44).
-CODE_LUT = _LUT
+CODE_LUT = LUT
 #: the larger helpers :func:`plan_planar` and :func:`_lanes_generic` are split into (and every
 #: one that takes an array): inlined by numba before typing (``inline="always"``), so that no
 #: call passes an array (numba counts the references of every array argument of a call it does
 #: not inline, atomic operations: measured 5-25 % of the scalar kernel) and the vector loop of
 #: :func:`_lanes_generic` has no call left (LLVM does not inline the larger ones, and then does
-#: not vectorise). The small ones are left to LLVM (:data:`_INLINE`): inlining them here too
+#: not vectorise). The small ones are left to LLVM (:data:`INLINE`): inlining them here too
 #: made the first compilation of :func:`plan_planar_one` (CPU time) about 60 % longer than the
 #: one-function kernel's instead of about 25 %, for no speed (benchmarks/planar_bench.py
 #: measures that compilation, old against new).
-_INLINE_IR = {**_OPTS, "inline": "always"}
+_INLINE_IR = {**OPTS, "inline": "always"}
 #: rows of the scalar kernel's one scratch array W (WAYPOINTS columns): the polyline in the
 #: frame (u, h), the robot's waypoints (x, y) and the breakpoints, before the reversal
 _PU, _PH, _QX, _QY, _TM = range(5)
 #: the domain W_a of every stratum code (paper (w2)-(w4)), the planner's
-_DOMAIN = _DOMAIN_BY_CODE
-_FAMILY = np.array(_FAMILIES, dtype=np.int64)
+_DOMAIN = DOMAIN_BY_CODE
+_FAMILY = np.array(FAMILIES, dtype=np.int64)
 
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _exact_product_ok(t, r, p, ep):  # pragma: no cover - compiled
     """The conditions of ``predicates.exact_projection_difference_sign`` on one product."""
     if ep != 0.0 or not math.isfinite(p):
         return False
-    if not (abs(t) < _BIG and abs(r) < _BIG):
+    if not (abs(t) < BIG and abs(r) < BIG):
         return False
     # TwoProduct is error-free only without underflow: an exact zero or a large enough product
-    return (p == 0 and (t == 0 or r == 0)) or abs(p) >= _SMALL
+    return (p == 0 and (t == 0 or r == 0)) or abs(p) >= SMALL
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _esign(ax, ay, bx, by, rx, ry):  # pragma: no cover - compiled
     """Error-free sign of ``(a - b) . r`` for an exactly known direction ``r`` (stage 2 of
     :func:`pmplan.predicates.exact_projection_difference_sign`): ``(decided, sign)``."""
-    t0, e0 = _two_sum(ax, -bx)
-    t1, e1 = _two_sum(ay, -by)
-    p0, q0 = _two_prod(t0, rx)
-    p1, q1 = _two_prod(t1, ry)
+    t0, e0 = two_sum(ax, -bx)
+    t1, e1 = two_sum(ay, -by)
+    p0, q0 = two_prod(t0, rx)
+    p1, q1 = two_prod(t1, ry)
     ok = e0 == 0.0 and e1 == 0.0
     ok = ok and _exact_product_ok(t0, rx, p0, q0) and _exact_product_ok(t1, ry, p1, q1)
-    s, es = _two_sum(p0, p1)
+    s, es = two_sum(p0, p1)
     ok = ok and es == 0.0 and math.isfinite(s)
     return ok, (s > 0) - (s < 0)
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _compare(vi, vj, thr, ax, ay, bx, by, rx, ry, rexact):  # pragma: no cover - compiled
     """Exact sign of ``(a - b) . r`` from float projections ``vi``, ``vj`` (error <= thr/4
     each, as in :func:`pmplan.predicates.projection_classes`), else the error-free stage.
@@ -177,7 +177,7 @@ def _compare(vi, vj, thr, ax, ay, bx, by, rx, ry, rexact):  # pragma: no cover -
     return _esign(ax, ay, bx, by, rx, ry)
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _radius(o1x, o1y, o2x, o2y, o3x, o3y):  # pragma: no cover - compiled
     """``u(O) = sqrt(max(|o2 - o1|^2, |o3 - o1|^2))``, the operations of
     :func:`pmplan.planners.base.scene_unit` (NaN propagates as numpy's maximum does)."""
@@ -209,7 +209,7 @@ def _invalid(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy):  # pragma: no cover 
     return bad
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _projection(px, py, o1x, o1y, r0, r1):  # pragma: no cover - compiled
     """``((p - o1) . r, |(p_0 - o1_0) r_0| + |(p_1 - o1_1) r_1|)``: a projection and what its
     error bound grows with (:func:`pmplan.predicates.projection_values`)."""
@@ -218,19 +218,19 @@ def _projection(px, py, o1x, o1y, r0, r1):  # pragma: no cover - compiled
     return t0 + t1, abs(t0) + abs(t1)
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _larger(a, b):  # pragma: no cover - compiled
     """``max(a, b)`` as a select (b when NaN: then the projection it bounds is not finite, and
     the query falls back either way)."""
     return a if a > b else b  # noqa: FURB136
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _threshold(ab):  # pragma: no cover - compiled
     """The filter's error bound of projections whose terms are at most ``ab`` and the
     threshold two of them must differ by to be told apart (:func:`_compare`)."""
-    bound = 4 * 1.01 * _U * ab + 3 * _TINY
-    return bound, 2.0 * (2.0 * bound) * (1 + 4 * _U)
+    bound = 4 * 1.01 * U * ab + 3 * TINY
+    return bound, 2.0 * (2.0 * bound) * (1 + 4 * U)
 
 
 @njit(**_INLINE_IR)
@@ -259,7 +259,7 @@ def _columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0, w1):  # pragma: n
     return c2v, c3v, cxv, cgv, bound, thr
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _rank(s1, s2, s3, order):  # pragma: no cover - compiled
     """The rank (Figure ``grid``) of the obstacle column a point lies on, -1 for none: ``s1``,
     ``s2``, ``s3`` are the exact signs of its column against those of o1, o2, o3, ``order``
@@ -318,8 +318,8 @@ def _classify(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0,
     Returns ``(decided, family index, i, j, rank of x, rank of x', order)`` (see
     :func:`_classify_columns`); not decided: the exact rational stage is needed (``FALLBACK``)."""
     # w = o2 - o1 is exact (TwoSum errors zero): then the error-free stage applies
-    _, ew0 = _two_sum(o2x, -o1x)
-    _, ew1 = _two_sum(o2y, -o1y)
+    _, ew0 = two_sum(o2x, -o1x)
+    _, ew1 = two_sum(o2y, -o1y)
     wexact = ew0 == 0.0 and ew1 == 0.0
     h3v, hxv, hgv, bound, hthr = _heights(o1x, o1y, o3x, o3y, xx, xy, gx, gy, w0, w1)
     if not (math.isfinite(bound) and math.isfinite(h3v) and math.isfinite(hxv)
@@ -338,7 +338,7 @@ def _classify(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0,
     return True, 0, 1 if sx == 0 else 2, 1 if sg == 0 else 2, -1, -1, 0
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _frame(w0, w1):  # pragma: no cover - compiled
     """``e = w / |w|`` (scaled first, as :class:`pmplan.frame.Frame`), ``|w| = w . e`` and
     ``nu(e) = rot90(e)``: ``(e0, e1, norm, nu0, nu1)``; ``w`` finite and nonzero."""
@@ -353,7 +353,7 @@ def _frame(w0, w1):  # pragma: no cover - compiled
     return e0, e1, w0 * e0 + w1 * e1, -e1 + 0.0, e0 + 0.0
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _coordinates(px, py, o1x, o1y, e0, e1, nu0, nu1):  # pragma: no cover - compiled
     """The frame coordinates ``(u, h) = ((p - o1) . e, (p - o1) . nu)`` of a point p."""
     r0 = px - o1x
@@ -361,7 +361,7 @@ def _coordinates(px, py, o1x, o1y, e0, e1, nu0, nu1):  # pragma: no cover - comp
     return r0 * e0 + r1 * e1, r0 * nu0 + r1 * nu1
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _vertical(r, order, norm, u3, unit):  # pragma: no cover - compiled
     """The column ``s_r`` of the vertical leg past the obstacle column of rank ``r`` (Figure
     ``grid``): ``s1 = (c1 + c2) / 2``, ``s2 = (c2 + c3) / 2``, ``s3 = c3 + unit`` for the
@@ -433,19 +433,19 @@ def _polyline(code, unit, ua, ha, ub, hb, ra, rb, u3, h3, norm, d13, order,
     return kk
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _displaced(px, py, du, dh, e0, e1, nu0, nu1):  # pragma: no cover - compiled
     """The point p moved by ``du e + dh nu`` (``planar_three._to_world``'s order)."""
     return (px + du * e0) + dh * nu0, (py + du * e1) + dh * nu1
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _select(cond, ax, ay, bx, by):  # pragma: no cover - compiled
     """(ax, ay) where ``cond``, else (bx, by)."""
     return (ax if cond else bx), (ay if cond else by)
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _length(x0, y0, x1, y1):  # pragma: no cover - compiled
     """The length of the piece (x0, y0) -> (x1, y1), as the reference computes it."""
     dx = x1 - x0
@@ -539,7 +539,7 @@ def _clearance(kk, W, o1x, o1y, o2x, o2y, o3x, o3y):  # pragma: no cover - compi
         amax = max(amax, abs(W[_QX, t]), abs(W[_QY, t]))
     thr2 = np.inf
     if 1e-130 < amax < 1e130:
-        thr2 = (_SURE * amax) * (_SURE * amax)
+        thr2 = (SURE * amax) * (SURE * amax)
     fl = 0
     best = np.inf
     for t in range(kk if kk < WAYPOINTS else kk - 1):
@@ -554,22 +554,22 @@ def _clearance(kk, W, o1x, o1y, o2x, o2y, o3x, o3y):  # pragma: no cover - compi
             ry = oy - y0
             r1x = ox - x1
             r1y = oy - y1
-            dist2 = _segment_dist2_plane(rx, ry, r1x, r1y)
+            dist2 = segment_dist2_plane(rx, ry, r1x, r1y)
             if not dist2 > thr2:
                 sc = max(abs(rx), abs(ry), abs(r1x), abs(r1y))
                 av = max(abs(ox), abs(oy), abs(x0), abs(y0), abs(x1), abs(y1))
-                if not math.sqrt(dist2) > _REL * max(sc, av * 1e-6):
+                if not math.sqrt(dist2) > REL * max(sc, av * 1e-6):
                     fl |= SUSPECT
             best = dist2 if dist2 < best else best  # noqa: FURB136
     for dx, dy in ((o1x - o2x, o1y - o2y), (o1x - o3x, o1y - o3y), (o2x - o3x, o2y - o3y)):
         dist2 = dx * dx + dy * dy
-        if not dist2 >= _OBSTACLE_TINY2:  # the square may have underflowed
+        if not dist2 >= OBSTACLE_TINY2:  # the square may have underflowed
             fl |= SUSPECT
         best = dist2 if dist2 < best else best  # noqa: FURB136
     return math.sqrt(best), fl
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain, strata,
                 clearance, flags, sel, nsel):  # pragma: no cover - compiled
     """Plan and certify the queries ``sel[:nsel]`` of a chunk, one at a time (the scalar
@@ -681,7 +681,7 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
             wp[b, t, 3, 1] = W[_QY, src]
         brk = not (times[b, 0] == 0.0 and times[b, WAYPOINTS - 1] == 1.0)
         for t in range(WAYPOINTS):
-            brk |= not abs(times[b, t]) <= _MAXF
+            brk |= not abs(times[b, t]) <= MAXF
             if t > 0:
                 brk |= not times[b, t] >= times[b, t - 1]
         brk |= not (wp[b, 0, 3, 0] == xx and wp[b, 0, 3, 1] == xy
@@ -707,7 +707,7 @@ _O1X, _O1Y, _O2X, _O2Y, _O3X, _O3Y, _XX, _XY, _GX, _GY = range(10)
 _Q1X, _Q1Y, _Q2X, _Q2Y, _T1, _T2, _CLR, _BAD = range(10, 18)
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _decided(v, thr):  # pragma: no cover - compiled
     """1.0 unless the float filter of :func:`_compare` decides ``v`` (a difference of two
     projections) to be nonzero (``v > thr`` or ``-v > thr``), else 0.0; NaN gives 1.0."""
@@ -740,11 +740,11 @@ def _lane_classes(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy):  # pragma: no c
 def _lane_dist2(ox, oy, x0, y0, x1, y1, best, thr2):  # pragma: no cover - compiled
     """``(min(best, d2), 0.0 if d2 > thr2 else 1.0)`` for the squared distance d2 of obstacle
     (ox, oy) to the piece (x0, y0) -> (x1, y1), as :func:`_clearance` computes it."""
-    d2 = _segment_dist2_plane(ox - x0, oy - y0, ox - x1, oy - y1)
+    d2 = segment_dist2_plane(ox - x0, oy - y0, ox - x1, oy - y1)
     return (d2 if d2 < best else best), (0.0 if d2 > thr2 else 1.0)  # noqa: FURB136
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _lanes_generic(S, even, lift):  # pragma: no cover - compiled
     """The vector loop of :func:`_plan_lanes`: every lane (column) of the scratch ``S`` from
     its ten input rows to its waypoints 1 and 2, breakpoints 1 and 2, clearance and the row
@@ -794,7 +794,7 @@ def _lanes_generic(S, even, lift):  # pragma: no cover - compiled
         for v in (o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, q1x, q1y, q2x, q2y, gx, gy):
             a = abs(v)
             amax = a if a > amax else amax  # noqa: FURB136 (finite when accepted)
-        z = _SURE * amax
+        z = SURE * amax
         thr2 = z * z if (amax > 1e-130) & (amax < 1e130) else np.inf
         best = np.inf
         for ox, oy in ((o1x, o1y), (o2x, o2y), (o3x, o3y)):
@@ -808,7 +808,7 @@ def _lanes_generic(S, even, lift):  # pragma: no cover - compiled
             bad += f
         for dx, dy in ((o1x - o2x, o1y - o2y), (o1x - o3x, o1y - o3y), (o2x - o3x, o2y - o3y)):
             d2 = dx * dx + dy * dy
-            bad += 0.0 if d2 >= _OBSTACLE_TINY2 else 1.0  # (may have underflowed)
+            bad += 0.0 if d2 >= OBSTACLE_TINY2 else 1.0  # (may have underflowed)
             best = d2 if d2 < best else best  # noqa: FURB136
         S[_Q1X, l] = q1x
         S[_Q1Y, l] = q1y
@@ -820,7 +820,7 @@ def _lanes_generic(S, even, lift):  # pragma: no cover - compiled
         S[_BAD, l] = bad
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _plan_lanes(obstacles, start, goal, even, lift, times, wp, domain, strata, clearance, flags,
                 todo):  # pragma: no cover - compiled
     """Plan and certify the *generic* queries of a chunk, :data:`LANES` at a time (SIMD).
@@ -935,7 +935,7 @@ def plan_chunk(obstacles, start, goal, even, lift, validate, times, wp, domain, 
                     clearance, flags, todo, nt)
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def plan_planar_one(obstacles, start, goal, even, lift):  # pragma: no cover - compiled
     """One query, validated, planned and certified: the lean path of ``pmplan.plan``.
 

@@ -27,7 +27,7 @@ from ..refine_grid import (
     subdivide,
     subdivide_times,
 )
-from .common import _BAND_ABS, _BAND_REL, _OBSTACLE_TINY2, _OPTS, _REL, _TINY_DIST, njit
+from .common import BAND_ABS, BAND_REL, OBSTACLE_TINY2, OPTS, REL, TINY_DIST, njit
 
 __all__ = ["measure_batch", "refine_batch"]
 
@@ -37,7 +37,7 @@ __all__ = ["measure_batch", "refine_batch"]
 # pmplan.refine would not reach the kernel)
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _pair_rel(x, pa, pb, rel):  # pragma: no cover - compiled
     """The relative position ``x_pa - x_pb`` at every waypoint into ``rel`` (W, d)."""
     w, _, dd = x.shape
@@ -46,7 +46,7 @@ def _pair_rel(x, pa, pb, rel):  # pragma: no cover - compiled
             rel[j, k] = x[j, pa, k] - x[j, pb, k]
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _minima(x, a, b, dmin, rel_t):  # pragma: no cover - compiled
     """The closed-form minimum distance of every pair on every piece into ``dmin`` (W-1,
     pairs), in :func:`pmplan.refine.piece_minima`'s (and :func:`pmplan.certify.clearance`'s)
@@ -94,7 +94,7 @@ def _minima(x, a, b, dmin, rel_t):  # pragma: no cover - compiled
                 dmin[j, q] = math.sqrt(sq)
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _caps(a, b, free, cap):  # pragma: no cover - compiled
     """Every point's cap at every waypoint (W, P): the minimum of ``free`` (W-1, pairs) over
     its pairs and the two adjacent pieces."""
@@ -108,7 +108,7 @@ def _caps(a, b, free, cap):  # pragma: no cover - compiled
                 cap[j + 1, pt] = min(cap[j + 1, pt], g)
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _slack(x, slack):  # pragma: no cover - compiled
     """:func:`pmplan.refine._slack` of one path: ``SLACK (1 + max |x|)``."""
     amax = 0.0
@@ -120,7 +120,7 @@ def _slack(x, slack):  # pragma: no cover - compiled
     return slack * (1.0 + amax)
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel_t, kp):  # pragma: no cover
     w, p, dd = x.shape
     _minima(x, a, b, dmin, rel_t)
@@ -151,7 +151,7 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel_t, kp): 
                     x[j, i, k] = x[j, i, k] + delta[j, i, k] * scale
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _budget_at(r0, v, f2, den, al, be, start, err, t):  # pragma: no cover - compiled
     """``h(t) / g(t)`` of :func:`pmplan.refine._budget` at one candidate t (inf where g <= 0)."""
     t = 0.0 if math.isnan(t) else min(max(t, 0.0), 1.0)
@@ -165,7 +165,7 @@ def _budget_at(r0, v, f2, den, al, be, start, err, t):  # pragma: no cover - com
     return max((s - f2 * f2 - err) / den, 0.0) / g
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _budget(r0, v, f2, nterms, al, be, start, err=0.0):  # pragma: no cover - compiled
     """:func:`pmplan.refine._budget` of one term, same arithmetic."""
     if start:
@@ -207,7 +207,7 @@ def _budget(r0, v, f2, nterms, al, be, start, err=0.0):  # pragma: no cover - co
     return s
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl):  # pragma: no cover
     """The scale of point ``pt``'s clearing move at waypoint ``j`` beyond its isotropic cap
     (:func:`pmplan.refine._clear_scale`, same arithmetic); ``r0``, ``v``: (d,) scratch."""
@@ -253,7 +253,7 @@ def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl):  # pr
     return s
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _turned(rel, j, k, ein, eout):  # pragma: no cover - compiled
     """Coordinate k of the waypoint push direction ``u`` at waypoint j of
     :func:`pmplan.refine._clear`: the relative position plus the turn of the relative path
@@ -263,7 +263,7 @@ def _turned(rel, j, k, ein, eout):  # pragma: no cover - compiled
     return rel[j, k]
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta,
            at_waypoints):  # pragma: no cover - compiled
     """One clearing pass of :func:`pmplan.refine._clear` (same arithmetic, same order)."""
@@ -385,7 +385,7 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
                 x[j, i, k] = x[j, i, k] + delta[j, i, k] * sc
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
            waypoint_pass):  # pragma: no cover - compiled
     """``steps`` steps (clear, shorten) then ``clear_only`` clearing steps on every query of
@@ -424,7 +424,7 @@ CLOSE = 2
 SHORT = 4
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
     """Per path of ``x`` (B, W, P, d): ``out[i] = (clearance, robot distance, obstacle
     distance)`` in :func:`pmplan.certify.clearance`'s arithmetic (d < 8: its sums are
@@ -453,8 +453,8 @@ def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
                         scale = max(scale, abs(rel[jj, k]))
                         absval = max(absval, abs(xi[jj, pa, k]), abs(xi[jj, pb, k]))
                 # (a distance below 2**-480 may hold an underflowed square: measured exactly)
-                if not (dq > _REL * max(scale, absval * 1e-6)) or not math.isfinite(dq) \
-                        or not math.isfinite(absval) or not dq > _TINY_DIST:
+                if not (dq > REL * max(scale, absval * 1e-6)) or not math.isfinite(dq) \
+                        or not math.isfinite(absval) or not dq > TINY_DIST:
                     fl |= SUSPECT
                 clr = min(clr, dq)
                 if pa >= m:
@@ -462,7 +462,7 @@ def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
                 else:
                     obs = min(obs, dq)
                 if nd > 0:  # the band of pmplan.certify.radius_report
-                    band = _BAND_REL * (nd + absval) + _BAND_ABS
+                    band = BAND_REL * (nd + absval) + BAND_ABS
                     if dq < nd - band:
                         fl |= SHORT
                     elif not dq > nd + band:
@@ -473,7 +473,7 @@ def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
                 for k in range(dd):
                     dk = xi[0, k1, k] - xi[0, k2, k]
                     s = s + dk * dk
-                if not s >= _OBSTACLE_TINY2 or not math.isfinite(s):
+                if not s >= OBSTACLE_TINY2 or not math.isfinite(s):
                     fl |= SUSPECT
                 clr = min(clr, math.sqrt(s))
         out[i, 0] = clr

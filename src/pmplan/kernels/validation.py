@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 
 from .common import (
-    _INLINE,
-    _MAXF,
-    _OPTS,
+    INLINE,
+    MAXF,
+    OPTS,
     AVAILABLE,
     njit,
 )
@@ -20,7 +20,7 @@ from .common import (
 __all__ = ["AVAILABLE", "first_coincident", "valid_queries"]
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def first_coincident(obstacles, robots):  # pragma: no cover - compiled
     """Return the first query b whose configuration ``obstacles[b] u robots[b]`` has two equal
     points (compared with ``==``), or -1; shapes (B, m, d) and (B, n, d), C-contiguous."""
@@ -42,7 +42,7 @@ def first_coincident(obstacles, robots):  # pragma: no cover - compiled
     return -1
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _coincide(x, b, i, y, j, d):  # pragma: no cover - compiled
     """Point i of ``x[b]`` equals point j of ``y[b]`` (flat rows of d coordinates)."""
     eq = True
@@ -51,7 +51,7 @@ def _coincide(x, b, i, y, j, d):  # pragma: no cover - compiled
     return eq
 
 
-@njit(**_OPTS)
+@njit(**OPTS)
 def valid_queries(obstacles, start, goal):  # pragma: no cover - compiled
     """True when every coordinate is finite and no two points of ``obstacles[b] u start[b]``
     or of ``obstacles[b] u goal[b]`` are equal (``==``), for every query b.
@@ -76,10 +76,10 @@ def valid_queries(obstacles, start, goal):  # pragma: no cover - compiled
     for b in range(nb):
         ok = True
         for x in range(m * d):
-            ok &= abs(o[b, x]) <= _MAXF  # False for inf and NaN
+            ok &= abs(o[b, x]) <= MAXF  # False for inf and NaN
         for x in range(n * d):
-            ok &= abs(s[b, x]) <= _MAXF
-            ok &= abs(g[b, x]) <= _MAXF
+            ok &= abs(s[b, x]) <= MAXF
+            ok &= abs(g[b, x]) <= MAXF
         if not ok:
             return False
         for i in range(m):

@@ -6,29 +6,26 @@ stratum, and the batch of piecewise-linear paths. It does not validate, draw, pr
 files; :mod:`pmplan.api` validates, runs the chunks (:mod:`pmplan.running`) and returns the plans
 (:mod:`pmplan.results`).
 
-The loop every planner shares is written once here (:meth:`Planner.plan_certified`): its
-optional numba kernel (:meth:`Planner.kernel`) plans a chunk into the output arrays and flags
-the queries it cannot decide in floating point; the flagged rows are re-decided exactly by the
-numpy reference (:func:`store_reference`) and every row gets its certificate
-(:func:`redecide`). Adding a planner is one module in ``planners/`` that subclasses
-:class:`Planner` and calls :func:`register` (and, for speed, a kernel module plus
-:meth:`Planner.kernel` / :meth:`Planner.single_query`).
+A planner is its mathematics (:meth:`Planner.reference`, exact, in numpy) and what it covers;
+how a batch is computed -- the numpy reference or fused kernels -- is a backend's business
+(:mod:`pmplan.backends`: :meth:`Planner.plan` asks the backend selected). Adding a planner is
+one module in ``planners/`` that subclasses :class:`Planner` and calls :func:`register` (and,
+for speed, a kernel module plus its glue in :mod:`pmplan.backends.numba`); what ``pmplan
+verify`` needs of it lives in :mod:`pmplan.strata`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
-from ..backend import NUMBA, NUMPY, resolve, shared_kernels
-from ..certify import certificate
-from ..certify import clearance as exact_clearance
+from .. import backends
 from ..path import PiecewiseLinearPath
 
-__all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "default_planner", "lift_code", "redecide",
-           "out_of_scope", "register", "scene_unit", "store_reference", "unit"]
+__all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "default_planner", "lift_code",
+           "out_of_scope", "register", "scene_unit", "unit"]
 
 #: how the planners and their kernels receive ``lift="scene"``: a ``lift`` that is not > 0.
 #: A positive lift is the unit itself; SCENE_CODE (0.0) asks for the unit u(O) of every query
@@ -133,21 +130,44 @@ class Planner:
         """Human-readable stratum name in the paper's notation."""
         raise NotImplementedError
 
-    # --- the reference ---------------------------------------------------------------------
+    # --- the mathematics ------------------------------------------------------------------
+    def reference(self, obstacles, configs, lift) -> RawPlan:
+        """Plan a batch of queries through the configurations ``configs`` (r arrays (B, n, d);
+        r = 2 unless :attr:`sequential`) among ``obstacles`` (B, m, d) with the unit ``lift``
+        (a positive float, or :data:`SCENE_CODE` for the unit :func:`scene_unit` of every
+        query): the planner's mathematics in numpy, exact, the reference every backend is held
+        to. The input is not validated here (see :mod:`pmplan.configuration`)."""
+        raise NotImplementedError
+
     def plan(self, obstacles, start, goal, *, lift: float = 1.0,
              backend: str | None = None) -> RawPlan:
-        """Plan a batch of queries with the unit ``lift`` (a positive float, or
-        :data:`SCENE_CODE` for the unit :func:`scene_unit` of every query); ``backend="numpy"``
-        is the reference. The input is not validated here (see :mod:`pmplan.configuration`)."""
-        raise NotImplementedError
+        """Plan a batch of queries from ``start`` to ``goal`` (B, n, d) among ``obstacles``
+        (B, m, d) with the backend ``backend`` (:func:`pmplan.backends.select`; ``"numpy"``:
+        :meth:`reference`). The input is not validated here."""
+        return self.planned(obstacles, [start, goal], lift, backend)
 
     def plan_sequence(self, obstacles, configs, *, lift: float = 1.0,
                       backend: str | None = None) -> RawPlan:
         """Plan through ``len(configs)`` configurations (only when :attr:`sequential`; else
         r = 2 only, which is :meth:`plan`)."""
-        if len(configs) == 2:
-            return self.plan(obstacles, configs[0], configs[1], lift=lift, backend=backend)
-        raise NotImplementedError(f"the {self.name} planner plans r = 2 configurations only")
+        if len(configs) != 2 and not self.sequential:
+            raise NotImplementedError(f"the {self.name} planner plans r = 2 configurations only")
+        return self.planned(obstacles, configs, lift, backend)
+
+    def planned(self, obstacles, configs, lift, backend: str | None) -> RawPlan:
+        """:meth:`plan_sequence` with the backend ``backend``: its :func:`plan` into new arrays
+        when it takes these arrays (``arrays``), else :meth:`reference`."""
+        be = backends.select(backend)
+        lift = lift_code(lift)
+        arrays = be.arrays(self, obstacles, configs)
+        if arrays is None:
+            return self.reference(obstacles, configs, lift)
+        obstacles, configs = arrays
+        b, m, d = obstacles.shape
+        out = self.allocate(b, len(configs), m, configs[0].shape[1], d)
+        be.plan(self, obstacles, configs, lift, out, False)
+        return RawPlan(domain=out["domain"], strata=out["strata"],
+                       path=PiecewiseLinearPath(out["times"], out["waypoints"]))
 
     # --- planning into output arrays, certified: the run loop's entry ------------------------
     def allocate(self, b: int, r: int, m: int, n: int, d: int) -> dict:
@@ -192,115 +212,6 @@ class Planner:
                 if shared.shape[0] == k and np.array_equal(shared, times):
                     return np.searchsorted(times, np.arange(r) / (r - 1)).astype(np.int64)
         return np.array([0, k - 1], dtype=np.int64)
-
-    def kernel(self, obstacles, configs, lift: float, out: dict,
-               validate: bool) -> np.ndarray | None:
-        """Plan a chunk with the numba kernel into ``out`` (the rows of :meth:`allocate`) and
-        return its flags (B,) uint8 (:mod:`pmplan.kernels.common`: ``FALLBACK``, ``SUSPECT``,
-        ``NONFINITE``, ``BROKEN``, ``INVALID``), or None when no kernel plans this chunk
-        (then the reference plans it). Default: no kernel."""
-        return None
-
-    def validates(self, d: int, backend: str | None = None) -> bool:
-        """Whether :meth:`kernel` checks the queries itself (``validate=True``): an invalid
-        query then fails the certificate, and the caller raises the input error."""
-        return False
-
-    def plan_certified(self, obstacles, configs, lift, out: dict, *,
-                       backend: str | None = None, validate: bool = False) -> np.ndarray:
-        """Plan and certify a chunk into ``out`` (arrays as :meth:`allocate`, the chunk's rows;
-        shared ``times`` as they are); return the certificate (B,).
-
-        The one loop: the kernel (:meth:`kernel`, for ``backend`` numba) -> the flagged rows
-        re-decided exactly by the reference -> the certificate (:func:`redecide`); without a
-        kernel, the reference plans and :func:`pmplan.certify.certificate` certifies every row
-        (:func:`store_reference`).
-        """
-        lift = lift_code(lift)
-        if resolve(backend) == NUMBA:
-            flags = self.kernel(obstacles, configs, lift, out, validate)
-            if flags is not None:
-                return redecide(self, flags, obstacles, configs, lift, out)
-        obstacles = np.asarray(obstacles, dtype=float)
-        configs = [np.asarray(c, dtype=float) for c in configs]
-        return store_reference(self, obstacles, configs, lift, np.arange(obstacles.shape[0]),
-                               out)
-
-    # --- what pmplan.verify asks: the planner's strata, exact queries in them, moves inside them ---
-    # Defaults: the column strata of the query space (SPEC 4b, paper Section 3;
-    # :func:`pmplan.generators.strata`), for a planner that decides on columns as the obstacle-line
-    # planner does. A planner with its own strata overrides all five.
-    def stratum_count(self, d: int, n: int, m: int) -> int:
-        """The number of strata :meth:`exact_queries` cycles through for (d, n, m)."""
-        from .. import generators as gen
-
-        return len(gen.strata(d, n, m))
-
-    def exact_queries(self, rng: np.random.Generator, d: int, n: int, m: int, count: int
-                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """At least ``count`` exact degenerate queries covering every stratum, round robin (the
-        first :meth:`stratum_count` queries meet every stratum): obstacles (B, m, d), starts and
-        goals (B, n, d). Default: :func:`pmplan.generators.column_query` on every stratum of
-        :func:`pmplan.generators.strata`, integer coordinates every other query."""
-        from .. import generators as gen
-
-        obs, st, go = [], [], []
-        table = gen.strata(d, n, m)
-        for k in range(max(count, len(table))):
-            s = table[k % len(table)]
-            q = gen.column_query(rng, d, n, m, s.cp_start, s.cp_goal, cp_o=s.cp_o, pole=s.pole,
-                                 integer=k % 2 == 0)
-            obs.append(q.obstacles)
-            st.append(q.start)
-            go.append(q.goal)
-        return np.stack(obs), np.stack(st), np.stack(go)
-
-    def near_degenerate_queries(self, rng: np.random.Generator, d: int, n: int, m: int,
-                                count: int, scale: float
-                                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``count`` exact degenerate queries whose ties are broken by about ``scale`` of the
-        scene. Default: :func:`pmplan.generators.near_degenerate_queries`."""
-        from .. import generators as gen
-
-        return tuple(gen.near_degenerate_queries(rng, d, n, m, count, scale))
-
-    def perturb_within_stratum(self, rng: np.random.Generator, query, delta: float):
-        """Move one query (obstacles, start, goal) inside its stratum by about ``delta``; return
-        the moved query, or None when the move left the stratum. Default:
-        :func:`pmplan.generators.perturb_within_stratum`."""
-        from .. import generators as gen
-
-        return tuple(gen.perturb_within_stratum(rng, query, delta))
-
-    def stratum_row(self, obstacles, start, goal) -> np.ndarray:
-        """The record of the stratum of one query, decided exactly (what
-        :meth:`stratum_name` reads). Default: :func:`pmplan.generators.stratum_of`."""
-        from .. import generators as gen
-
-        return np.asarray(gen.stratum_of((obstacles, start, goal)).record())
-
-    def notes(self, d: int, n: int, m: int) -> list[str]:
-        """Facts to read a check of (d, n, m) by (``pmplan verify`` prints them as notes)."""
-        return []
-
-    # --- the single-query fast paths ---------------------------------------------------------
-    def single_query(self, m: int, n: int, d: int) -> Callable | None:
-        """``run(obstacles, start, goal, lift) -> (times, waypoints, domain, row, clearance) |
-        None`` planning and certifying one query of shape (m, n, d) in one kernel call, or None
-        when no kernel plans that shape.
-
-        The caller guarantees C-contiguous, aligned, writeable float64 arrays (m, d), (n, d),
-        (n, d) and a float ``lift`` (positive, or :data:`SCENE_CODE`); ``run`` returns None
-        whenever anything is unusual (an invalid query, a flag, a failed certificate) so that
-        the caller takes the general path; the path it returns is compact (no zero-duration
-        piece), the breakpoints either checked by the kernel or :meth:`path_times`.
-        """
-        return None
-
-    def sequence_query(self, r: int, m: int, n: int, d: int) -> Callable | None:
-        """As :meth:`single_query` for one query through r configurations: ``run(obstacles,
-        configs, lift)``."""
-        return None
 
 
 class Stage:
@@ -363,58 +274,3 @@ def default_planner(d: int, n: int, m: int, sequential: bool = False) -> str:
     if fit:
         return max(fit, key=lambda p: p.priority).name
     return min(pool, key=lambda p: p.priority).name
-
-
-def store_reference(planner: Planner, obstacles, configs, lift, idx, out: dict) -> np.ndarray:
-    """Plan rows ``idx`` of a chunk with the numpy reference, write them into ``out`` and
-    certify them (:func:`pmplan.certify.certificate`, intermediate configurations included);
-    return the certificate of those rows (bool, (len(idx),))."""
-    obs = obstacles[idx]
-    cfg = [c[idx] for c in configs]
-    r = len(cfg)
-    with np.errstate(all="ignore"):  # what overflows (coordinates ~1e308) fails the certificate
-        if r == 2:
-            raw = planner.plan(obs, cfg[0], cfg[1], lift=lift, backend=NUMPY)
-        else:
-            raw = planner.plan_sequence(obs, cfg, lift=lift, backend=NUMPY)
-    pw = raw.path.waypoints
-    out["waypoints"][idx] = pw
-    out["domain"][idx] = raw.domain
-    out["strata"][idx] = raw.strata
-    if out["times"].ndim == 2:
-        out["times"][idx] = raw.path.times
-    full = [np.concatenate([obs, c], axis=1) for c in cfg]
-    via = [(k / (r - 1), full[k]) for k in range(1, r - 1)]
-    with np.errstate(all="ignore"):  # a non-finite path: NaN clearance, a failed clause
-        clr, codes = certificate(pw, full[0], full[-1], obs.shape[1], times=raw.path.times,
-                                 via=via)
-    out["clearance"][idx] = clr
-    return codes == 0
-
-
-def redecide(planner: Planner, flags: np.ndarray, obstacles, configs, lift, out: dict
-             ) -> np.ndarray:
-    """After a kernel: the certificate (B,) of a chunk whose kernel wrote ``out`` and ``flags``.
-
-    ``FALLBACK`` rows are planned again whole by the numpy reference and certified
-    (:func:`store_reference`); ``SUSPECT`` rows (a clearance near the certificate's threshold)
-    get their clearance from :func:`pmplan.certify.clearance`, exact on the suspect pairs;
-    ``NONFINITE``, ``BROKEN`` and ``INVALID`` rows fail (the kernel read every clause of the
-    certificate back from its outputs).
-    """
-    kern = shared_kernels()
-    clearance = out["clearance"]
-    failed = kern.NONFINITE | kern.BROKEN | kern.INVALID
-    ok = (flags & failed) == 0
-    if not flags.any():
-        return ok & (clearance > 0)
-    sus = np.flatnonzero((flags & (kern.SUSPECT | kern.FALLBACK | failed)) == kern.SUSPECT)
-    if sus.size:
-        clearance[sus] = exact_clearance(out["waypoints"][sus], obstacles.shape[1])
-    ok &= clearance > 0
-    idx = np.flatnonzero(flags & kern.FALLBACK)
-    if idx.size:
-        obstacles = np.asarray(obstacles, dtype=float)
-        configs = [np.asarray(c, dtype=float) for c in configs]
-        ok[idx] = store_reference(planner, obstacles, configs, lift, idx, out)
-    return ok

@@ -47,11 +47,10 @@ from functools import cache
 
 import numpy as np
 
-from ..backend import NUMBA, kernel_array, kernels, resolve
 from ..frame import Frame
 from ..path import PiecewiseLinearPath, compose_via_deformations, join, linear
 from ..predicates import projection_classes
-from .base import Planner, RawPlan, out_of_scope, register, unit
+from .base import Planner, RawPlan, lift_code, out_of_scope, register, unit
 
 __all__ = [
     "ColumnStructure",
@@ -167,7 +166,7 @@ def path_times(r: int) -> np.ndarray:
     return out
 
 
-#: what ``pmplan verify`` says for odd d (:meth:`ObstacleLinePlanner.notes`) (measured by ``benchmarks/odd_d_pole.py``; README, "Odd d")
+#: what ``pmplan verify`` says for odd d (:meth:`pmplan.strata.ObstacleLineStrata.notes`) (measured by ``benchmarks/odd_d_pole.py``; README, "Odd d")
 POLE_NOTE = (
     "odd d: near the pole N = e_d the modulus of continuity grows like 1/angle, about "
     "2 n lambda / angle (lambda = lift + max_k |r(o_k)|); measured for d = 3, n = 2, lift 1: a "
@@ -176,7 +175,6 @@ POLE_NOTE = (
     "from queries away from N."
 )
 
-_TIMES2 = path_times(2)  # the breakpoints of every two-configuration path (read-only)
 
 
 class ObstacleLinePlanner(Planner):
@@ -203,10 +201,6 @@ class ObstacleLinePlanner(Planner):
         ("projection reversed", "robots lift back off the line to F(C', 1)"),
         ("desingularization reversed", "robots step back along e to C', (desin) reversed"),
     )
-
-    def notes(self, d: int, n: int, m: int) -> list[str]:
-        """For odd d, :data:`POLE_NOTE` (the modulus of continuity near the pole, SPEC 4a)."""
-        return [POLE_NOTE] if d % 2 == 1 else []
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         """None for every d >= 2, n >= 1, m >= 2 (:func:`~pmplan.planners.base.out_of_scope`)."""
@@ -245,16 +239,12 @@ class ObstacleLinePlanner(Planner):
         fused kernel of :mod:`pmplan.kernels.obstacle_line`, whose waypoints and labels are identical.
         The input is not validated here (see :mod:`pmplan.configuration`).
         """
-        if resolve(backend) == NUMBA:
-            configs = [kernel_array(c) for c in configs]
-            obstacles = kernel_array(obstacles)
-            b, m, d = obstacles.shape
-            r = len(configs)
-            n = configs[0].shape[1]
-            out = self.allocate(b, r, m, n, d)
-            self.plan_certified(obstacles, configs, lift, out, backend=NUMBA)
-            return RawPlan(domain=out["domain"], strata=out["strata"],
-                           path=PiecewiseLinearPath(out["times"], out["waypoints"]))
+        return self.planned(obstacles, configs, lift, backend)
+
+    def reference(self, obstacles, configs, lift) -> RawPlan:
+        """The mathematics of :meth:`plan_sequence`, in numpy with the exact predicates of
+        :mod:`pmplan.predicates` (the numpy backend's plan)."""
+        lift = lift_code(lift)
         obstacles = np.asarray(obstacles, dtype=float)
         configs = [np.asarray(c, dtype=float) for c in configs]
         r = len(configs)
@@ -269,94 +259,6 @@ class ObstacleLinePlanner(Planner):
         domain = sum(c.cp for c in cols) - (r - 1) * cp_o + 2 - pole
         strata = np.stack([c.cp for c in cols] + [cp_o, pole], axis=1).astype(np.int64)
         return RawPlan(domain=domain.astype(np.int64), strata=strata, path=path)
-
-    def single_query(self, m: int, n: int, d: int):
-        """The single-query kernel call of :func:`pmplan.plan` for queries of shape (m, n, d)
-        (:meth:`pmplan.planners.base.Planner.single_query`).
-
-        Returns ``run(obstacles, start, goal, lift) -> (times, waypoints, domain, row,
-        clearance) | None`` -- the caller guarantees C-contiguous, aligned, writeable float64
-        arrays of shapes (m, d), (n, d), (n, d) and a float ``lift`` (positive, or
-        :data:`~pmplan.planners.base.SCENE_CODE` for ``"scene"``) -- or None when no kernel
-        plans that shape (numba missing, d > MAX_D, m < 2, n < 1). The index tables are looked
-        up once here, not per query.
-        """
-        kern = kernels()
-        if not kern.AVAILABLE or not 2 <= d <= kern.MAX_D or m < 2 or n < 1:
-            return None
-        tab = kern.tables(2, m, n, d)
-        kernel = kern.plan_one
-        times = _TIMES2
-
-        def run(obstacles, start, goal, lift):
-            wp, domain, cp1, cp2, cp_o, pole, clr, flags = kernel(obstacles, start, goal, lift,
-                                                                  tab)
-            if flags or not clr > 0:
-                return None
-            return times.copy(), wp, domain, (cp1, cp2, cp_o, pole), clr
-
-        return run
-
-    def sequence_query(self, r: int, m: int, n: int, d: int):
-        """The single-query kernel call of :func:`pmplan.plan_sequence` for shape (r, m, n, d).
-
-        Returns ``run(obstacles, configs, lift) -> (times, waypoints, domain, row, clearance)
-        | None`` for one query through ``r >= 2`` configurations -- the caller guarantees
-        C-contiguous, aligned, writeable float64 arrays ``obstacles`` (m, d) and ``configs``
-        (a sequence of r arrays (n, d)), and a float ``lift`` (positive, or
-        :data:`~pmplan.planners.base.SCENE_CODE`) -- or None when no kernel plans
-        that shape (numba missing, d > MAX_D, m < 2, n < 1, r < 2). ``run`` returns None
-        whenever the kernel (:func:`pmplan.kernels.obstacle_line._plan`, asked to validate, with the
-        index tables looked up once here) flags the query or the clearance is not positive:
-        the general path then raises the proper error or re-decides exactly. The breakpoints
-        are :func:`path_times` ``(r)`` (strictly increasing, so the path is already compact),
-        the waypoints those of paper Remark
-        ``constructing-sections-via-deformations-higher-case`` on every leg (SPEC 4c).
-        """
-        kern = kernels()
-        if not kern.AVAILABLE or not 2 <= d <= kern.MAX_D or m < 2 or n < 1 or r < 2:
-            return None
-        times = path_times(r)
-        if not (np.diff(times) > 0).all():  # pragma: no cover - never: path_times is strict
-            return None
-        kernel = kern._plan  # one query: the scalar kernel, as plan_chunk would call it
-        tab = kern.tables(r, m, n, d)
-        sel = np.zeros(1, np.int64)  # (read only)
-        oshape, rshape, mshape = (1, m, d), (1, n, d), (1, 1, n, d)
-        wshape, sshape = (1, times.shape[0], m + n, d), (1, r + 2)
-        mfull, mflat = (r - 2, 1, n, d), ((r - 2) * n, d)
-        no_middle = np.empty((0, 1, n, d))
-        empty, concatenate, i64, u8 = np.empty, np.concatenate, np.int64, np.uint8
-
-        def run(obstacles, configs, lift):
-            if r == 2:
-                middle = no_middle
-            elif r == 3:
-                middle = configs[1].reshape(mshape)
-            else:
-                middle = empty(mfull)
-                concatenate(configs[1:-1], out=middle.reshape(mflat))
-            wp = empty(wshape)
-            domain = empty(1, i64)
-            strata = empty(sshape, i64)
-            clearance = empty(1)
-            flags = empty(1, u8)
-            kernel(obstacles.reshape(oshape), configs[0].reshape(rshape),
-                   configs[-1].reshape(rshape), middle, lift, True, wp, domain, strata,
-                   clearance, flags, tab, sel, 1)
-            clr = clearance.item()
-            if flags.item() or not clr > 0:
-                return None
-            return times.copy(), wp[0], domain.item(), tuple(strata.tolist()[0]), clr
-
-        return run
-
-    def validates(self, d: int, backend: str | None = None) -> bool:
-        """Whether :meth:`plan_certified` can validate the queries itself (``validate=True``):
-        with the numba kernel, for d <= MAX_D."""
-        if resolve(backend) != NUMBA:
-            return False
-        return d <= kernels().MAX_D
 
     def path_times(self, r: int) -> np.ndarray:
         """Breakpoints of every path through r configurations (see :func:`path_times`)."""
@@ -373,28 +275,6 @@ class ObstacleLinePlanner(Planner):
             waypoints=np.empty((b, times.shape[0], m + n, d)),
         )
 
-    def kernel(self, obstacles, configs, lift: float, out: dict,
-               validate: bool) -> np.ndarray | None:
-        """Plan a chunk with :func:`pmplan.kernels.obstacle_line.plan_chunk` into ``out``; return its flags.
-
-        None for d > MAX_D: the kernel reproduces numpy's summation order for d <= MAX_D only,
-        and the reference plans the chunk. With ``validate`` the kernel also checks every query
-        (finite, no two equal points): an invalid one gets the flag ``INVALID``.
-        """
-        kern = kernels()
-        obstacles = kernel_array(obstacles)
-        configs = [kernel_array(c) for c in configs]
-        b, m, d = obstacles.shape
-        if d > kern.MAX_D:
-            return None
-        r = len(configs)
-        n = configs[0].shape[1]
-        middle = np.stack(configs[1:-1]) if r > 2 else np.empty((0, b, n, d))
-        flags = np.empty(b, np.uint8)
-        kern.plan_chunk(obstacles, configs[0], configs[-1], middle, lift, validate,
-                        out["waypoints"], out["domain"], out["strata"], out["clearance"], flags,
-                        kern.tables(r, m, n, d))
-        return flags
 
 
 OBSTACLE_LINE = register(ObstacleLinePlanner())

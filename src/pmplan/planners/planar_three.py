@@ -75,10 +75,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..backend import NUMBA, kernel_array, planar_kernels, resolve
 from ..frame import Frame
 from ..path import PiecewiseLinearPath
 from ..predicates import projection_classes
+from ..planar_strata import DOMAIN_BY_CODE, DOMAIN_OF, LUT, PAPER_SUPER, STRATA, WAYPOINTS
 from .base import Planner, RawPlan, lift_code, register, unit
 
 __all__ = [
@@ -93,42 +93,6 @@ __all__ = [
     "parse_stratum",
     "stratum_short_name",
 ]
-
-#: the names of the 12 strata of paper Section 4 in SPEC notation, in a fixed order: the stratum
-#: code of :class:`StratumClassification` is the index here (0..11)
-STRATA: tuple[str, ...] = (
-    "T1_11", "T1_12", "T1_21", "T1_22",
-    "T22_22", "T22_23", "T22_32", "T22_33",
-    "T23_33", "T23_34", "T23_43", "T23_44",
-)
-
-#: the domain W_a (a in 1..4) of every stratum, paper ``(w2)``-``(w4)``
-DOMAIN_OF: dict[str, int] = {
-    "T1_11": 1, "T22_33": 1, "T23_44": 1,
-    "T1_22": 2, "T22_22": 2,
-    "T1_12": 3, "T1_21": 3, "T22_23": 3, "T22_32": 3, "T23_33": 3,
-    "T23_34": 4, "T23_43": 4,
-}
-
-#: common number of waypoints of a batch (the longest polyline, T23_33, has 5 legs)
-WAYPOINTS = 6
-
-_FAMILIES = (1, 22, 23)
-_PAPER_SUPER = {1: "1", 22: "2,2", 23: "2,3"}
-
-
-def _split_name(name: str) -> tuple[int, int, int]:
-    fam, ij = name[1:].split("_")
-    return int(fam), int(ij[0]), int(ij[1])
-
-
-_CODE = {_split_name(s): c for c, s in enumerate(STRATA)}
-# code lookup: _LUT[family index, i, j] -> stratum code (or -1)
-_LUT = np.full((3, 5, 5), -1, dtype=np.int64)
-for (_f, _i, _j), _c in _CODE.items():
-    _LUT[_FAMILIES.index(_f), _i, _j] = _c
-_DOMAIN_BY_CODE = np.array([DOMAIN_OF[s] for s in STRATA], dtype=np.int64)
-
 
 def stratum_short_name(row) -> str:
     """Return the SPEC name (e.g. ``"T22_23"``) of a strata record ``(family, i, j)``."""
@@ -227,12 +191,12 @@ def classify(obstacles, start, goal) -> StratumClassification:
     i = np.where(t1, _ndistinct(hl[:, start_cols]), _ndistinct(cl[:, start_cols]))
     j = np.where(t1, _ndistinct(hl[:, goal_cols]), _ndistinct(cl[:, goal_cols]))
     fidx = np.where(t1, 0, np.where(family == 22, 1, 2))
-    code = _LUT[fidx, np.clip(i, 0, 4), np.clip(j, 0, 4)]
+    code = LUT[fidx, np.clip(i, 0, 4), np.clip(j, 0, 4)]
     if np.any(code < 0):  # impossible for configurations in F(R^2, 4) (Corollary lapart)
         bad = int(np.flatnonzero(code < 0)[0])
         raise ValueError(f"query {bad} is in no stratum of paper Section 4: are its points distinct?")
     record = np.stack([family, i, j], axis=1).astype(np.int64)
-    return StratumClassification(record=record, code=code, domain=_DOMAIN_BY_CODE[code], col_labels=cl,
+    return StratumClassification(record=record, code=code, domain=DOMAIN_BY_CODE[code], col_labels=cl,
                   height_labels=hl)
 
 
@@ -477,45 +441,7 @@ class PlanarThreePlanner(Planner):
     def stratum_name(self, row, d: int, n: int, m: int) -> str:
         """Paper notation of a strata record ``(family, i, j)``, e.g. ``"T^{2,2}_{2,3}"``."""
         f, i, j = (int(v) for v in row)
-        return f"T^{{{_PAPER_SUPER[f]}}}_{{{i},{j}}}"
-
-    # --- what pmplan.verify asks: the 12 strata of paper Section 4 ---------------------------
-    def stratum_count(self, d: int, n: int, m: int) -> int:
-        """The 12 strata of paper Section 4 (:data:`STRATA`)."""
-        return len(STRATA)
-
-    def exact_queries(self, rng, d: int, n: int, m: int, count: int):
-        """At least ``count`` exact queries, the same number in every stratum of :data:`STRATA`
-        (:func:`pmplan.generators.planar_stratum_queries`), round robin."""
-        from .. import generators as gen
-
-        obs, st, go = [], [], []
-        per = max(1, -(-count // len(STRATA)))
-        for name in STRATA:
-            o, s, g = gen.planar_stratum_queries(rng, name, per)
-            obs.append(o)
-            st.append(s)
-            go.append(g)
-        order = np.arange(per * len(STRATA)).reshape(len(STRATA), per).T.ravel()  # round robin
-        return tuple(np.concatenate(a)[order] for a in (obs, st, go))
-
-    def near_degenerate_queries(self, rng, d: int, n: int, m: int, count: int, scale: float):
-        """The noise of :func:`pmplan.generators.near_degenerate_queries` on the exact queries
-        of :meth:`exact_queries` (the strata of paper Section 4)."""
-        q = self.exact_queries(rng, d, n, m, count)
-        idx = rng.permutation(q[0].shape[0])[:count]
-        return tuple(a[idx] + scale * (1 + np.abs(a[idx])) * rng.normal(size=a[idx].shape)
-                     for a in q)
-
-    def perturb_within_stratum(self, rng, query, delta: float):
-        """An exact move inside the stratum, :func:`pmplan.generators.perturb_planar_stratum`."""
-        from .. import generators as gen
-
-        return gen.perturb_planar_stratum(rng, query, delta)
-
-    def stratum_row(self, obstacles, start, goal) -> np.ndarray:
-        """The record ``(family, i, j)`` of one query, :func:`classify`."""
-        return classify(obstacles[None], start[None], goal[None]).record[0]
+        return f"T^{{{PAPER_SUPER[f]}}}_{{{i},{j}}}"
 
     def plan(self, obstacles, start, goal, *, lift: float = 1.0,
              backend: str | None = None) -> RawPlan:
@@ -554,15 +480,19 @@ class PlanarThreePlanner(Planner):
         certificate also fails when a gap of the scene (e.g. ``h3`` or ``u(x') - u(o1)``) is
         below the resolution of its coordinates.
         """
+        return self.planned(obstacles, [start, goal], lift, backend)
+
+    def reference(self, obstacles, configs, lift) -> RawPlan:
+        """The mathematics of :meth:`plan` (paper Section 4), in numpy: the strata decided
+        exactly, every stratum's construction built with array operations (the numpy
+        backend's plan)."""
+        if len(configs) != 2:
+            raise ValueError(f"the planar_three planner plans r = 2 configurations, got "
+                             f"{len(configs)}")
         lift = lift_code(lift)
-        if resolve(backend) == NUMBA and _fusable(obstacles, start, goal) is not None:
-            out = self.allocate(np.shape(obstacles)[0], 2, 3, 1, 2)
-            self.plan_certified(obstacles, [start, goal], lift, out, backend=NUMBA)
-            return RawPlan(domain=out["domain"], strata=out["strata"],
-                           path=PiecewiseLinearPath(out["times"], out["waypoints"]))
         obstacles = np.asarray(obstacles, dtype=float)
-        start = np.asarray(start, dtype=float)
-        goal = np.asarray(goal, dtype=float)
+        start = np.asarray(configs[0], dtype=float)
+        goal = np.asarray(configs[1], dtype=float)
         b = obstacles.shape[0]
         st = classify(obstacles, start, goal)
         sc = _scene(obstacles, start, goal, st, lift)
@@ -595,69 +525,6 @@ class PlanarThreePlanner(Planner):
             "waypoints": np.empty((b, WAYPOINTS, 4, 2)),
         }
 
-    def kernel(self, obstacles, configs, lift: float, out: dict,
-               validate: bool) -> np.ndarray | None:
-        """Plan a chunk with :func:`pmplan.kernels.planar.plan_chunk` into ``out`` (per-query
-        breakpoints); return its flags, or None for arrays the kernel does not take (the
-        reference then decides, and raises its own errors)."""
-        if len(configs) != 2:
-            raise ValueError(f"the planar_three planner plans r = 2 configurations, got {len(configs)}")
-        args = _fusable(obstacles, configs[0], configs[1])
-        if args is None:
-            return None
-        flags = np.empty(args[0].shape[0], np.uint8)
-        planar_kernels().plan_chunk(*args, _EVEN, lift, validate, out["times"], out["waypoints"],
-                                    out["domain"], out["strata"], out["clearance"], flags)
-        return flags
-
-    def validates(self, d: int, backend: str | None = None) -> bool:
-        """Whether :meth:`kernel` validates the queries itself (``validate=True``): with the
-        numba kernel (flag ``INVALID``), so :func:`pmplan.plan_batch` needs no separate pass."""
-        return resolve(backend) == NUMBA and planar_kernels().AVAILABLE
-
-    def single_query(self, m: int, n: int, d: int):
-        """The single-query kernel call of :func:`pmplan.plan` for (m, n, d) = (3, 1, 2)
-        (:meth:`pmplan.planners.base.Planner.single_query`): ``run(obstacles, start, goal,
-        lift)`` returns ``(times (k,), waypoints (k, 4, 2), domain, strata row (tuple),
-        clearance)`` -- the path already compacted, as :func:`pmplan.plan` returns it -- or
-        None whenever the kernel flags the query or its certificate fails."""
-        kern = planar_kernels()
-        if not kern.AVAILABLE or (m, n, d) != (3, 1, 2):  # pragma: no cover
-            return None
-        kernel = kern.plan_planar_one
-
-        def run(obstacles, start, goal, lift):
-            t, wp, dom, f, i, j, clr, flags = kernel(obstacles, start, goal, _EVEN, lift)
-            if flags or not clr > 0:
-                return None
-            return t, wp, int(dom), (f, i, j), float(clr)
-
-        return run
-
-
-# the breakpoints of a path of length 0 with k waypoints: _EVEN[k, :k] = linspace(0, 1, k)
-# (PiecewiseLinearPath.arc_length_reparametrised), for the kernel
-_EVEN = np.zeros((WAYPOINTS + 1, WAYPOINTS))
-for _k in range(2, WAYPOINTS + 1):
-    _EVEN[_k, :_k] = np.linspace(0.0, 1.0, _k)
-
-
-def _fusable(obstacles, start, goal):
-    """C-contiguous float64 arrays (B, 3, 2), (B, 1, 2), (B, 1, 2) for the kernel, or None
-    (numba missing, other shapes: the reference decides, and raises its own errors)."""
-    kern = planar_kernels()
-    if not kern.AVAILABLE:  # pragma: no cover
-        return None
-    try:
-        obstacles = kernel_array(obstacles)
-        start = kernel_array(start)
-        goal = kernel_array(goal)
-    except (TypeError, ValueError):
-        return None
-    b = obstacles.shape[0] if obstacles.ndim == 3 else -1
-    if obstacles.shape != (b, 3, 2) or start.shape != (b, 1, 2) or goal.shape != (b, 1, 2):
-        return None
-    return obstacles, start, goal
 
 
 PLANAR_THREE = register(PlanarThreePlanner())

@@ -46,7 +46,7 @@ import numpy as np
 from .. import api
 from ..configuration import as_real
 from ..errors import CertificationError, InputError, PmplanError
-from ..io import _json_int, parse_query, plan_to_dict
+from ..io import json_int, parse_query, plan_to_dict
 from ..magnitude import LIMIT, needs_scaling
 from ..refine import check_radius, check_refine_flag
 from . import require_extra
@@ -290,7 +290,7 @@ def _load_static() -> dict[str, tuple[bytes, str]]:
 
 def _decode(body: bytes):
     try:
-        return json.loads(body, parse_int=_json_int)
+        return json.loads(body, parse_int=json_int)
     except RecursionError:
         raise _HTTPError(400, "the request body is nested too deeply to be a query",
                          "JSONDecodeError") from None

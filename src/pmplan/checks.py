@@ -1,0 +1,85 @@
+"""The checks every entry point shares -- the API, :mod:`pmplan.scale`, the command line and
+the web page --, one rule and one message each, and the choice of the planner.
+
+Below the facade (:mod:`pmplan.api`) and above the planners: importing this module registers
+the planners (:mod:`pmplan.planners`).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import numpy as np
+
+from . import backends as _backend
+from . import planners as _planners  # noqa: F401  (registers the planners)
+from .configuration import as_lift
+from .errors import InputError, UnsupportedError
+from .planners.base import REGISTRY, Planner, default_planner, lift_code
+
+__all__ = ["check_backend", "check_lift", "check_sequential", "check_workers", "choose_planner",
+           "is_dask", "planner_names"]
+
+_MSG_WORKERS = "`workers` must be a positive integer or -1 (all CPUs), got {value!r}"
+
+
+def check_lift(lift) -> float:
+    """``lift`` checked (:func:`pmplan.configuration.as_lift`: a positive real number or
+    ``"scene"``) as the float the planners take (:func:`pmplan.planners.base.lift_code`)."""
+    return lift_code(as_lift(lift))
+
+
+def check_workers(workers) -> int:
+    """``workers`` as a thread count: a positive int, or -1 for every CPU of the machine."""
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or not (
+        workers >= 1 or workers == -1
+    ):
+        raise InputError(_MSG_WORKERS.format(value=workers))
+    return (os.cpu_count() or 1) if workers == -1 else int(workers)
+
+
+def check_backend(backend) -> None:
+    """Raise :class:`~pmplan.errors.InputError` unless ``backend`` is None or a backend name
+    (:data:`pmplan.backend.BACKENDS`)."""
+    _backend.check(backend)
+
+
+def check_sequential(planner: str | None) -> None:
+    """Raise :class:`~pmplan.errors.UnsupportedError` if the named planner does not plan
+    through intermediate configurations (a query with ``via``)."""
+    if planner is not None and not (planner in REGISTRY and REGISTRY[planner].sequential):
+        names = [p.name for p in REGISTRY.values() if p.sequential]
+        raise UnsupportedError(f"a query with 'via' is planned by the {' or '.join(names)} "
+                               "planner")
+
+
+def planner_names() -> list[str]:
+    """Return the documented planner names: ``obstacle_line`` and ``planar_three``."""
+    return sorted(REGISTRY)
+
+
+def choose_planner(d: int, n: int, m: int, planner: str | None = None) -> Planner:
+    """Return the planner for (d, n, m): the named one, or the default.
+
+    The default is ``planar_three`` (paper Section 4) for (d, n, m) = (2, 1, 3) and
+    ``obstacle_line`` (paper Section 3 and SPEC 4) for every other m >= 2.
+    """
+    if planner is None:
+        planner = default_planner(d, n, m)
+    if planner not in REGISTRY:
+        raise UnsupportedError(
+            f"unknown planner {planner!r}; choose one of {', '.join(planner_names())}"
+        )
+    p = REGISTRY[planner]
+    why = p.supports(d, n, m)
+    if why is not None:
+        raise UnsupportedError(f"planner {planner!r} does not apply to (d, n, m) = ({d}, {n}, {m}): {why}")
+    return p
+
+
+def is_dask(*arrays) -> bool:
+    """Whether any argument is a dask array (then :mod:`pmplan.scale` plans it lazily); dask
+    is never imported here: an array of it exists only if the caller imported it."""
+    da = sys.modules.get("dask.array")
+    return da is not None and any(isinstance(a, da.Array) for a in arrays)
