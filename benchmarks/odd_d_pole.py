@@ -1,7 +1,7 @@
 """Odd d: how far the obstacle-line planner's path moves near the pole N (measured, not a bug).
 
 For odd d the lift direction ``nu(e)`` is a continuous unit tangent field on ``S^{d-1} \\ {N}``
-(SPEC 4a, :mod:`pmplan.frame`); no continuous tangent field exists on the whole sphere (hairy
+(Mathematics §4.1, :mod:`pmplan.frame`); no continuous tangent field exists on the whole sphere (hairy
 ball), so ``nu`` must wind once around the missing point N: on a small circle of angle theta
 about N it turns through a full turn, and its modulus of continuity there grows like 1/theta.
 Inside the domain the planner is still continuous, but near N a tiny change of the query can

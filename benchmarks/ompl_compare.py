@@ -29,7 +29,7 @@ clearance > 0, not >= r). The row *pmplan refined* (issue 14) plans the same que
 so its certified robot-robot and robot-obstacle distances are >= r, OMPL's requirement.
 
 Writes ``benchmarks/ompl_results.json`` and replaces the OMPL section of ``benchmarks/RESULTS.md``,
-``docs/benchmarks.md`` and ``README.md`` (every other section is kept). Not a test module
+which the documentation includes (every other section is kept). Not a test module
 (``benchmarks/conftest.py``).
 """
 
@@ -477,8 +477,6 @@ def _probe_note(rows: list[dict]) -> str:
 #: where the comparison is written: (file, its heading of the section)
 SECTIONS = (
     (ROOT / "benchmarks" / "RESULTS.md", "## Comparison with OMPL"),
-    (ROOT / "docs" / "benchmarks.md", "### Comparison with OMPL"),
-    (ROOT / "README.md", "### Against OMPL"),
 )
 
 
@@ -488,8 +486,7 @@ def _level(line: str) -> int:
 
 
 def write_ompl_sections(out: dict) -> None:
-    """Save ``ompl_results.json``; replace the OMPL section of RESULTS.md, docs/benchmarks.md
-    and the README.
+    """Save ``ompl_results.json``; replace the OMPL section of RESULTS.md.
 
     Only the section under the heading of :data:`SECTIONS` is rewritten, up to the next heading
     of the same or a higher level (appended when missing): every other section of the files

@@ -8,7 +8,7 @@ Usage (from the repository root)::
     python benchmarks/run.py --quick --baseline REF   # and git ref REF, same queries, same run
 
 It prints every measurement and the goal ratios, and writes ``benchmarks/RESULTS.md``,
-``benchmarks/results.json``, ``docs/benchmarks.md`` and ``docs/scaling.png``.
+``benchmarks/results.json`` and ``docs/scaling.png`` (the documentation includes RESULTS.md).
 
 What is measured (see ``benchmarks/README.md`` for how to read it):
 
@@ -96,7 +96,7 @@ def _label(d: int, n: int, m: int) -> str:
 
 
 def _queries(rng, family: str, b: int, d: int, n: int, m: int):
-    """The queries of one throughput row (see the family descriptions in the README)."""
+    """The queries of one throughput row (see the family descriptions in benchmarks/README.md)."""
     if family == "generic":
         return generic_queries(rng, b, d, n, m)
     k = min(b, MAX_DISTINCT)

@@ -1,4 +1,4 @@
-"""Take docs/explore.png and docs/explore_refined.png, the README's pictures of ``pmplan
+"""Take docs/explore.png and docs/explore_refined.png, the pictures of ``pmplan
 explore``, with the real browser.
 
 Starts the server on a free loopback port, opens the page in headless Chromium (Debian's

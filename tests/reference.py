@@ -1,6 +1,6 @@
-"""An independent, slow reference implementation of SPEC sections 2, 4a, 4b and 4c.
+"""An independent, slow reference implementation of Mathematics §3 and §4.1-§4.3.
 
-Written from SPEC.md alone (not from ``pmplan.planners.obstacle_line``) in pure Python:
+Written from docs/mathematics.md alone (not from ``pmplan.planners.obstacle_line``) in pure Python:
 
 * every *decision* (equal columns, ``cp``, ``cp_o``, ``e == N``, which pairs enter ``eps``) is
   taken in exact rational arithmetic with :class:`fractions.Fraction` on the input floats;
@@ -11,7 +11,7 @@ Written from SPEC.md alone (not from ``pmplan.planners.obstacle_line``) in pure 
 
 So the reference differs from the library by the library's own rounding errors only.
 
-Notation (SPEC 2, 4b): ``w = o2 - o1``, ``e = w/|w|``, ``s(y) = (y - o1).e`` (column),
+Notation (Mathematics §3, §4.2): ``w = o2 - o1``, ``e = w/|w|``, ``s(y) = (y - o1).e`` (column),
 ``r(y) = (y - o1) - s(y) e`` (perpendicular part), ``p(y) = o1 + s(y) e``.
 """
 
@@ -23,7 +23,7 @@ from fractions import Fraction
 
 __all__ = ["Reference", "reference_plan", "paper_plan_m2", "reference_sequence", "TIMES", "frac_sqrt", "nu_exact"]
 
-#: the 8 breakpoints of SPEC 2's path
+#: the 8 breakpoints of the path of Mathematics §3.5
 TIMES = tuple(Fraction(a, b) for a, b in
               ((0, 1), (1, 6), (1, 3), (4, 9), (5, 9), (2, 3), (5, 6), (1, 1)))
 
@@ -72,7 +72,7 @@ def _mul(c, a):
 
 
 def nu_exact(w: list[Fraction]) -> tuple[list[Fraction], bool]:
-    """Return ``(nu(e), e == N)`` for ``e = w/|w|`` (SPEC 2 for even d, SPEC 4a for odd d).
+    """Return ``(nu(e), e == N)`` for ``e = w/|w|`` (Mathematics §3.4 for even d, §4.1 for odd d).
 
     Even d = 2l: ``nu(a1, b1, ..., al, bl) = (-b1, a1, ..., -bl, al)``.
     Odd d: ``N = e_d``, ``a = e_1``; ``nu = a`` when ``w`` is a positive multiple of N (exact),
@@ -101,7 +101,7 @@ def nu_exact(w: list[Fraction]) -> tuple[list[Fraction], bool]:
 
 @dataclass
 class Reference:
-    """The reference answer to one query (SPEC 2 / 4a / 4b).
+    """The reference answer to one query (Mathematics §3, §4.1, §4.2).
 
     Attributes
     ----------
@@ -162,7 +162,7 @@ def _exact_point(p):
 def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None) -> Reference:
     """Return the reference plan for one query (obstacles (m, d), start, goal (n, d)).
 
-    Implements SPEC 2 (m = 2, d even), 4a (odd d) and 4b (any m >= 2) literally:
+    Implements Mathematics §3 (m = 2, d even), §4.1 (odd d) and §4.2 (any m >= 2) literally:
     desingularization ``x_j + j eps e`` (only when some robot shares a column), projection of the
     robots to ``L``, lift by ``i lambda nu(e)``, slide, descend, and the reverse deformation of C'.
     ``lam`` overrides lambda (to show that ``lambda = lift`` alone is not enough).
@@ -201,7 +201,7 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None) -> Re
 
 
 def reference_sequence(obstacles, configs, lift: float = 1.0):
-    """Return ``(label, record, times, waypoints)`` of SPEC 4c through r configurations.
+    """Return ``(label, record, times, waypoints)`` of Mathematics §4.3 through r configurations.
 
     The two-configuration path from C_k to C_{k+1} runs on ``[(k-1)/(r-1), k/(r-1)]``;
     label ``sum_k cp(C_k) - (r-1) cp_o + 2 - [e == N]``; record ``(cp(C_1), ..., cp(C_r), cp_o,
@@ -228,11 +228,11 @@ def reference_sequence(obstacles, configs, lift: float = 1.0):
 def paper_plan_m2(obstacles, start, goal, lift: float = 1.0):
     """Return ``(label, waypoints as Fractions)`` of the paper's Section 3 planner, literally.
 
-    SPEC 2: m = 2, d even. ``cp`` over the n+2 points; ``eps = min gap / (n+2)``; the
+    Mathematics §3: m = 2, d even. ``cp`` over the n+2 points; ``eps = min gap / (n+2)``; the
     desingularization ``x_j + t j eps e`` is the identity iff ``cp(C) = n + 2``; the linear
     deformation ``y -> y + t (p(y) - y)``; the section lifts robot i by ``i lift nu(e)``; the path
     is ``H(C, 3 tau)``, section, ``H(C', 3 - 3 tau)``; label ``cp(C) + cp(C')``.
-    Written separately from :func:`reference_plan` (which implements the m-obstacle SPEC 4b).
+    Written separately from :func:`reference_plan` (which implements the m-obstacle Mathematics §4.2).
     """
     o1, o2 = (_exact_point(p) for p in obstacles)
     w = _sub(o2, o1)

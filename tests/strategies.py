@@ -1,7 +1,7 @@
 """Shared Hypothesis strategies for pmplan tests.
 
 Every strategy returns numpy float arrays. Points of one configuration are always pairwise
-distinct (configurations lie in F(R^d, m+n), SPEC section 0).
+distinct (configurations lie in F(R^d, m+n), Mathematics §1.1).
 
 Grids (the ``grid`` argument of :func:`coords`):
 
@@ -13,7 +13,7 @@ Grids (the ``grid`` argument of :func:`coords`):
 * ``"mixed"``   one of ``"int"``, ``"dyadic"``, ``"float"``.
 
 ``degenerate=True`` configurations and queries are drawn on the integer / dyadic grids; ``o2 - o1``
-is sometimes exactly along an axis or the pole ``N = e_d`` (SPEC 4a); some obstacles o3.. and
+is sometimes exactly along an axis or the pole ``N = e_d`` (Mathematics §4.1); some obstacles o3.. and
 robots are *moved onto the column* of an earlier point exactly (``x = y + k v`` with integer ``k``
 and a vector ``v`` orthogonal to ``w = o2 - o1``) or onto its height (``x = y + k w``), and
 the whole scene is scaled by a power of two and translated by a dyadic vector -- all exact in
@@ -130,7 +130,7 @@ def _degenerate_points(draw, base: np.ndarray, k: int, grid: str, w: np.ndarray)
 @st.composite
 def _degenerate_obstacles(draw, m: int, d: int, grid: str) -> np.ndarray:
     """m distinct grid obstacles; o2 - o1 is sometimes exactly a positive multiple of e_d (the
-    pole N of SPEC 4a) or of another axis, and o3.. sometimes share columns / heights."""
+    pole N of Mathematics §4.1) or of another axis, and o3.. sometimes share columns / heights."""
     o1 = draw(coords(d, grid))
     kind = draw(st.sampled_from(["free", "pole", "axis"]))
     if kind == "free":

@@ -59,7 +59,7 @@ def test_phase_names_at_waypoint_times(d):
 
 @pytest.mark.parametrize("d,n,m,seed", [(2, 3, 2, 0), (3, 2, 3, 1), (4, 2, 4, 2), (5, 1, 2, 3)])
 def test_phase_names_describe_the_motion(d, n, m, seed):
-    """Each named phase moves the robots the way its name says (SPEC 2, paper (algorithm-gamma))."""
+    """Each named phase moves the robots the way its name says (Mathematics §3, paper (3.8))."""
     p = _plan(seed, d, n, m, cps=(2, 2))  # degenerate: the desingularization really moves
     o = p.obstacles
     fr = Frame(o[None, 0], o[None, 1])

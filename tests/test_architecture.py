@@ -17,7 +17,7 @@ FACES = {"pmplan.cli", "pmplan.io", "pmplan.plotting", "pmplan.figures", "pmplan
 #: the mathematics and the machinery under the facade
 CORE_PREFIXES = ("pmplan.predicates", "pmplan.frame", "pmplan.path", "pmplan.certify",
                  "pmplan.planners", "pmplan.kernels", "pmplan.refine", "pmplan.magnitude",
-                 "pmplan.configuration", "pmplan.backend", "pmplan.checks", "pmplan.running",
+                 "pmplan.configuration", "pmplan.backends", "pmplan.checks", "pmplan.running",
                  "pmplan.results", "pmplan.planar_strata", "pmplan.single", "pmplan.errors")
 
 

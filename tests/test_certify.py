@@ -1,4 +1,4 @@
-"""The certificate of a piecewise-linear motion (SPEC section 5)."""
+"""The certificate of a piecewise-linear motion (Mathematics §6)."""
 
 from __future__ import annotations
 

@@ -306,11 +306,11 @@ def test_plan_sequence_names_the_bad_configuration():
 
 
 # --------------------------------------------------------------------------------------------
-# SPEC section 5: a query too nearly degenerate for double precision
+# Mathematics §6: a query too nearly degenerate for double precision
 
 
-SPEC5_OBSTACLES = [[0.0, 0.0], [1.0, 2.0]]
-SPEC5_START = [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]]
+PRECISION_OBSTACLES = [[0.0, 0.0], [1.0, 2.0]]
+PRECISION_START = [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]]
 
 
 def test_spec5_case_is_nearly_degenerate():
@@ -319,21 +319,21 @@ def test_spec5_case_is_nearly_degenerate():
     from fractions import Fraction as F
 
     w = (F(1), F(2))
-    cols = [sum(F(c) * wc for c, wc in zip(x, w)) for x in SPEC5_START]
+    cols = [sum(F(c) * wc for c, wc in zip(x, w)) for x in PRECISION_START]
     assert cols[0] != cols[1] and abs(cols[1] - cols[0]) == F(2) ** -51
 
 
 @pytest.mark.parametrize("goal", [[[5.0, 5.0], [6.0, -7.0]], [[-3.0, 0.5], [2.5, 4.0]]])
 def test_spec5_precision_case_raises_certification_error(goal):
     with pytest.raises(CertificationError, match="certificate") as info:
-        pmplan.plan(SPEC5_OBSTACLES, SPEC5_START, goal)
+        pmplan.plan(PRECISION_OBSTACLES, PRECISION_START, goal)
     assert isinstance(info.value, PmplanError)
     with pytest.raises(CertificationError):
-        pmplan.plan(SPEC5_OBSTACLES, goal, SPEC5_START)
+        pmplan.plan(PRECISION_OBSTACLES, goal, PRECISION_START)
     # in a batch: the offending index is named, nothing is returned
-    obstacles = np.array([SPEC5_OBSTACLES] * 3)
-    start = np.array([goal, SPEC5_START, goal])
-    goal_b = np.array([[[7.0, 1.0], [-2.0, -2.0]], goal, SPEC5_START])
+    obstacles = np.array([PRECISION_OBSTACLES] * 3)
+    start = np.array([goal, PRECISION_START, goal])
+    goal_b = np.array([[[7.0, 1.0], [-2.0, -2.0]], goal, PRECISION_START])
     with pytest.raises(CertificationError, match=r"queries \[1, 2\]") as info:
         pmplan.plan_batch(obstacles, start, goal_b)
     np.testing.assert_array_equal(info.value.indices, [1, 2])

@@ -138,7 +138,7 @@ def test_examples_cover_every_stratum_and_every_demo_domain(base):
         assert body == _roundtrip(_library(ex["query"])[1])
         if ex["group"].startswith("Section 4"):
             name = ex["name"].split()[0]
-            assert ex["name"].endswith(f"(W{body['domain']})")
+            assert ex["name"].endswith(f"(W_{body['domain']})")
             seen_strata.add(name)
         else:
             demo.setdefault(body["planner"], set()).add(body["domain"])
@@ -428,3 +428,34 @@ def test_explore_subprocess_serves_then_ctrl_c_stops_cleanly():
             proc.kill()
     assert proc.returncode == 0, err
     assert "stopped" in out and "Traceback" not in err
+
+
+@pytest.mark.parametrize("which", ["goal", "start"])
+def test_domain_map_names_its_boundaries_and_they_are_where_the_label_changes(base, which):
+    """``boundaries``: the columns of the other points (tilted line o1o2), or the line o1o2 for
+    the Section 4 planner with o3 on it; a point exactly on a boundary gets another label than
+    points just beside it."""
+    q = {"obstacles": [[0, 0], [4, 1]], "start": [[1, 1], [2, -1]], "goal": [[3, -1], [1, 2.5]]}
+    status, body = request(base, "/api/domain-map", {
+        "query": q, "which": which, "robot": 1, "origin": [-2, -2], "step": 0.5, "size": [8, 8]})
+    assert status == 200
+    e = np.array([4.0, 1.0]) / np.hypot(4, 1)
+    others = [[0, 0], [4, 1], q[which][1]]
+    assert len(body["boundaries"]) == 3
+    for line, p in zip(body["boundaries"], others):
+        assert line["point"] == p and abs(np.dot(line["direction"], e)) < 1e-15
+        assert abs(np.hypot(*line["direction"]) - 1) < 1e-15
+    # on robot 2's column the label differs from beside it: (1, 2.5) + 4 k (-1, 4) is on it
+    # exactly (dyadic coordinates)
+    on = np.array(q[which][1]) + 0.25 * np.array([-1.0, 4.0])
+    moved = {k: [list(map(float, v)) for v in q[k]] for k in q}
+    labels = []
+    for point in (on, on + [0.25, 0.0]):
+        moved[which][0] = point.tolist()
+        labels.append(pmplan.plan_query(moved).domain)
+    assert labels[0] != labels[1]
+    status, body = request(base, "/api/domain-map", {
+        "query": {"obstacles": [[0, 0], [4, 0], [2.5, 0]], "start": [[0, -2]], "goal": [[6, 2.5]]},
+        "which": which, "robot": 1, "origin": [-2, -2], "step": 0.5, "size": [4, 4]})
+    assert status == 200 and body["planner"] == "planar_three"
+    assert body["boundaries"] == [{"point": [0.0, 0.0], "direction": [1.0, 0.0]}]

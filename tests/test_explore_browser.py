@@ -79,7 +79,10 @@ def _drag(driver, element_id, dx_units, dy_units, steps=5, state="ready"):
     """Drag a marker by (dx, dy) units with real pointer actions, in a few moves."""
     from selenium.webdriver.common.action_chains import ActionChains
 
-    scale = driver.execute_script("return pmplanExplore.state.view.scale")
+    # units -> the plane's 800 x 600 user units -> CSS pixels (the SVG is scaled to the page)
+    scale = driver.execute_script(
+        "return pmplanExplore.state.view.scale"
+        " * document.getElementById('plane').getBoundingClientRect().width / 800")
     el = driver.find_element("id", element_id)
     total = (round(dx_units * scale), round(-dy_units * scale))
     chain = ActionChains(driver).click_and_hold(el)
@@ -188,7 +191,7 @@ def test_examples_buttons_and_animation(page):
     from selenium.webdriver.support.ui import Select, WebDriverWait
 
     driver, shots = page
-    Select(driver.find_element("id", "examples")).select_by_visible_text("T23_34 (W4)")
+    Select(driver.find_element("id", "examples")).select_by_visible_text("T23_34 (W_4)")
     _wait_ready(driver)
     shown = _shown(driver)
     assert shown["planner"] == "planar_three" and shown["label"] == "4"
@@ -298,3 +301,158 @@ def test_refined_motion_toggle_keeps_the_domain_and_draws_the_radii(page):
     _wait_ready(driver)
     assert not driver.find_elements("css selector", ".raw-path, .body")
     assert _shown(driver)["label"] == raw["label"]
+
+
+# --------------------------------------------------------------------------------------------
+# the domain map: on when the page opens, its boundaries continuous lines; a phone's width
+
+
+TILTED = {"obstacles": [[0, 0], [4, 1]], "start": [[1, 1], [2, -1]], "goal": [[3, -1], [1, 2.5]]}
+
+
+def _wait_map(driver, which="goal"):
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    WebDriverWait(driver, 60).until(lambda d: d.execute_script(
+        "return document.body.dataset.map === 'ready' && !pmplanExplore.pending()"
+        " && pmplanExplore.state.map && pmplanExplore.state.map.which === arguments[0]", which))
+
+
+def _boundaries(driver) -> list[dict]:
+    return driver.execute_script("""
+        return [...document.querySelectorAll('#boundaries line')].map((l) => {
+          const s = getComputedStyle(l);
+          return {x1: +l.getAttribute('x1'), y1: +l.getAttribute('y1'),
+                  x2: +l.getAttribute('x2'), y2: +l.getAttribute('y2'),
+                  width: parseFloat(s.strokeWidth), color: s.stroke};
+        });""")
+
+
+def _grid_colours(driver) -> set:
+    return set(driver.execute_script(
+        "return [...document.querySelectorAll('#grid line')].map((l) => getComputedStyle(l).stroke)"))
+
+
+def test_domain_boundaries_are_wide_continuous_lines_when_the_line_tilts(page):
+    """With o1o2 tilted, the goal's label changes on the columns of o1, o2 and the other goal:
+    three straight lines perpendicular to o1o2 through those points, one SVG line each (not
+    scattered pixels), wider than the grid lines and in a colour the grid does not use."""
+    from selenium.webdriver.support.ui import Select
+
+    driver, shots = page
+    Select(driver.find_element("id", "map-mode")).select_by_value("goal")
+    _reset(driver, TILTED)
+    _wait_map(driver)
+    lines = _boundaries(driver)
+    assert len(lines) == 3
+    e = np.array([4.0, 1.0]) / np.hypot(4, 1)
+    through = [[0, 0], [4, 1], [1, 2.5]]  # o1, o2, robot 2's goal
+    sx = lambda p: driver.execute_script(  # noqa: E731
+        "return [pmplanExplore.sx(arguments[0]), pmplanExplore.sy(arguments[1])]", *p)
+    for line, p in zip(lines, through):
+        a, b = np.array([line["x1"], line["y1"]]), np.array([line["x2"], line["y2"]])
+        d = (b - a) / np.hypot(*(b - a))
+        # perpendicular to o1o2 (screen y points down: e becomes (e_x, -e_y))
+        assert abs(d @ np.array([e[0], -e[1]])) < 1e-3
+        # through the point, and long enough to cross the whole plane
+        q = np.array(sx(p))
+        assert abs(d[0] * (q - a)[1] - d[1] * (q - a)[0]) < 1.0
+        assert np.hypot(*(b - a)) >= 1000
+        assert line["width"] >= 2.5 and line["color"] not in _grid_colours(driver)
+    assert "domain boundaries" in driver.find_element("id", "legend").text
+    driver.save_screenshot(str(shots / "9-boundaries-tilted.png"))
+    # the paper's Section 4 planner with o3 on the line o1o2: the height decides, one boundary
+    _reset(driver, {"obstacles": [[0, 0], [4, 0], [2.5, 0]], "start": [[0, -2]],
+                    "goal": [[6, 2.5]]})
+    _wait_map(driver)
+    (line,) = _boundaries(driver)
+    assert abs(line["y1"] - line["y2"]) < 1e-6  # along L_C (horizontal here)
+    Select(driver.find_element("id", "map-mode")).select_by_value("off")
+    assert _boundaries(driver) == []
+
+
+def test_phone_width_every_control_clicks_and_the_map_is_on_by_default(page):
+    """At 360 px the plane scales to the width, the panel stacks below it, nothing overflows
+    sideways, and every control takes a real click (no element paints over another); the
+    domain map is on when the page opens; a drag moves a point by what the finger moved."""
+    from selenium.common.exceptions import ElementClickInterceptedException
+    from selenium.webdriver.support.ui import Select, WebDriverWait
+
+    driver, shots = page
+    base = driver.current_url.split("#")[0]
+    driver.set_window_size(360, 780)
+    try:
+        driver.get(base)
+        WebDriverWait(driver, 60).until(lambda d: d.execute_script(
+            "return document.body.dataset.state") == "ready")
+        # the map is on from the start, with its boundaries
+        assert driver.find_element("id", "map-mode").get_attribute("value") == "goal"
+        _wait_map(driver)
+        assert len(_boundaries(driver)) >= 1
+        box = driver.execute_script("""
+            const r = (id) => document.getElementById(id).getBoundingClientRect();
+            return {inner: window.innerWidth, scroll: document.documentElement.scrollWidth,
+                    stage: r('stage'), plane: r('plane'), aside: document.querySelector('aside')
+                    .getBoundingClientRect()};""")
+        assert box["scroll"] <= box["inner"], "the page scrolls sideways"
+        assert 300 <= box["plane"]["width"] <= box["inner"]
+        assert abs(box["plane"]["height"] / box["plane"]["width"] - 0.75) < 0.01
+        assert box["aside"]["top"] >= box["stage"]["bottom"]  # stacked below the plane
+        assert box["aside"]["right"] <= box["inner"]
+        driver.save_screenshot(str(shots / "10-phone.png"))
+
+        def click(element_id):
+            el = driver.find_element("id", element_id)
+            driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", el)
+            try:
+                el.click()
+            except ElementClickInterceptedException as exc:  # pragma: no cover - the defect
+                raise AssertionError(f"#{element_id} is covered: {exc.msg}") from None
+
+        # each button adds or removes one robot path / obstacle marker
+        for button, selector, change in (("add-robot", ".robot-path", 1),
+                                         ("remove-robot", ".robot-path", -1),
+                                         ("add-obstacle", ".obstacle", 1),
+                                         ("remove-obstacle", ".obstacle", -1)):
+            before = len(driver.find_elements("css selector", selector))
+            click(button)
+            _wait_ready(driver)
+            assert len(driver.find_elements("css selector", selector)) == before + change, button
+        click("play")
+        WebDriverWait(driver, 30).until(
+            lambda d: int(d.find_element("id", "time").get_attribute("value")) > 50)
+        click("play")
+        assert driver.find_element("id", "play").text == "play"
+        click("time")  # the slider takes a click: the time jumps to about its middle
+        assert 300 <= int(driver.find_element("id", "time").get_attribute("value")) <= 700
+        click("discs-toggle")
+        assert driver.find_elements("css selector", ".disc")
+        click("discs-toggle")
+        click("snap")
+        assert not driver.find_element("id", "snap").is_selected()
+        click("snap")
+        assert driver.find_element("id", "snap").is_selected()
+        click("radius")
+        click("refine-toggle")
+        _wait_ready(driver)
+        assert driver.find_elements("css selector", ".raw-path")
+        click("refine-toggle")
+        _wait_ready(driver)
+        click("examples")
+        Select(driver.find_element("id", "examples")).select_by_visible_text("W_5")
+        _wait_ready(driver)
+        assert _shown(driver)["label"] == "5"
+        click("map-mode")
+        Select(driver.find_element("id", "map-mode")).select_by_value("start")
+        _wait_map(driver, "start")
+        # a real drag on the scaled plane moves the point by the units the finger moved
+        _reset(driver)
+        before = _point(driver, "goal")
+        _drag(driver, "goal-1", 0.5, 0)
+        assert _point(driver, "goal") == [before[0] + 0.5, before[1]]
+        driver.save_screenshot(str(shots / "11-phone-after.png"))
+    finally:
+        driver.set_window_size(1200, 700)
+        driver.get(base)
+        WebDriverWait(driver, 60).until(lambda d: d.execute_script(
+            "return document.body.dataset.state") == "ready")

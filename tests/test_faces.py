@@ -19,7 +19,7 @@ from PIL import Image  # noqa: E402
 
 import pmplan  # noqa: E402
 from pmplan.cli import main  # noqa: E402
-from pmplan.plotting import legend_handles, plan_grid, plan_title, time_cmap  # noqa: E402
+from pmplan.plotting import legend_handles, plan_grid, plan_title, robot_colors  # noqa: E402
 
 TAB_BLUE = np.array([31, 119, 180])  # the path colour of the Section 4 figures
 
@@ -92,26 +92,25 @@ def _extent(artist, renderer):
     return artist.get_window_extent(renderer)
 
 
-def test_demo_grid_has_legend_mathtext_titles_and_time_colourbar(demo_plans):
+def test_demo_grid_has_legend_mathtext_titles_and_robot_colours(demo_plans):
     fig = plan_grid(demo_plans, ncols=4, suptitle="pmplan demo\nsecond line")
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
-    # the legend names every marker
+    # the legend names every marker, the time channel and the colour of every robot
     (legend,) = fig.legends
     labels = [t.get_text() for t in legend.get_texts()]
-    assert [lab.split()[0] for lab in labels] == ["obstacle", "start", "goal", "robot's"]
-    assert "time" in labels[3]
+    assert [lab.split()[0] for lab in labels] == ["obstacle", "start", "goal", "time:", "robot",
+                                                  "robot", "robot"]
+    assert labels[4:] == ["robot 1", "robot 2", "robot 3"]
     # titles are mathtext (dollar signs around W_l and the stratum), rendered, not raw
     panels = [ax for ax in fig.axes if ax.get_title()]
     assert len(panels) == len(demo_plans)
     for ax, p in zip(panels, demo_plans):
         assert ax.get_title() == plan_title(p) == f"{p.planner}  $W_{{{p.domain}}}$: ${p.stratum}$"
-    # a colourbar labelled "time", from 0 to 1
-    bars = [ax for ax in fig.axes if "time" in ax.get_ylabel()]
-    assert len(bars) == 1 and bars[0].get_ylim() == (0.0, 1.0)
-    # nothing overlaps: the suptitle, every panel title, the legend, the colourbar
-    boxes = [("suptitle", _extent(fig._suptitle, renderer)), ("legend", _extent(legend, renderer)),
-             ("colourbar", bars[0].get_tightbbox(renderer))]
+    # time is not a colour any more: no colourbar
+    assert not [ax for ax in fig.axes if "time" in ax.get_ylabel()]
+    # nothing overlaps: the suptitle, every panel title, the legend
+    boxes = [("suptitle", _extent(fig._suptitle, renderer)), ("legend", _extent(legend, renderer))]
     boxes += [(ax.get_title(), _extent(ax.title, renderer)) for ax in panels]
     boxes += [(f"panel {k}", ax.get_window_extent(renderer)) for k, ax in enumerate(panels)]
     for i, (na, a) in enumerate(boxes):
@@ -155,9 +154,14 @@ def test_demo_labels_do_not_collide(n):
     _assert_labels_apart_and_inside(plan_grid(plans, ncols=4), plans)
 
 
-def test_paths_are_coloured_by_time(demo_plans):
-    """Each robot's line is a LineCollection whose values are times increasing from 0 to 1."""
+def test_each_robot_has_its_colour_and_time_is_width_and_opacity(demo_plans):
+    """Robot j's line is one LineCollection in robot j's colour (its start circle and goal star
+    too); along it width and opacity grow with time from t = 0 to t = 1; a dot marks it at
+    t = 1/4, 1/2, 3/4."""
     from matplotlib.collections import LineCollection
+    from matplotlib.colors import to_rgb
+
+    from pmplan.plotting import TIME_TICKS, time_style
 
     p = demo_plans[0]
     fig = plan_grid([p], ncols=1)
@@ -165,30 +169,60 @@ def test_paths_are_coloured_by_time(demo_plans):
     lines = [c for c in ax.collections if isinstance(c, LineCollection)]
     n = p.dims[1]
     assert len(lines) == n
+    colors = robot_colors(n)
+    assert len({tuple(np.round(c, 3)) for c in colors}) == n
     for j, lc in enumerate(lines):
-        t = np.asarray(lc.get_array())
-        assert t[0] < 0.01 and t[-1] > 0.99 and np.all(np.diff(t) > 0)
+        rgba = lc.get_colors()
+        np.testing.assert_allclose(rgba[:, :3], np.tile(to_rgb(colors[j]), (len(rgba), 1)))
+        alpha, width = rgba[:, 3], np.asarray(lc.get_linewidths())
+        assert alpha[0] < 0.35 and alpha[-1] > 0.95 and np.all(np.diff(alpha) > 0)
+        assert width[0] < 1.0 and width[-1] > 3.0 and np.all(np.diff(width) > 0)
         segs = lc.get_segments()
         # the line starts at the robot's start and ends at its goal
         np.testing.assert_array_equal(segs[0][0], p.start[j])
         np.testing.assert_array_equal(segs[-1][-1], p.goal[j])
-        # its colours are the time colormap at those times
-        np.testing.assert_allclose(lc.to_rgba(t), time_cmap()(t))
-    assert len(legend_handles()) == 4
+        # start circle, goal star and the time dots are in the robot's colour
+        mine = [ln for ln in ax.lines if np.allclose(to_rgb(ln.get_color()), to_rgb(colors[j]))]
+        markers = sorted(ln.get_marker() for ln in mine)
+        assert markers == ["*", "o", "o"], markers
+        dots = next(ln for ln in mine if len(ln.get_xdata()) == len(TIME_TICKS))
+        np.testing.assert_allclose(np.c_[dots.get_xdata(), dots.get_ydata()],
+                                   p.path(np.array(TIME_TICKS))[:, p.dims[2] + j])
+    np.testing.assert_allclose(time_style([0, 0.5, 1])[0], [0.8, 2.1, 3.4])
+    assert len(legend_handles()) == 4 and len(legend_handles(3)) == 7
+
+
+def test_raw_and_refined_panels_share_their_axes(demo_plans):
+    """plan_grid(..., same_axes=2): the two panels of one query show the same ranges."""
+    pairs = [q for p in demo_plans for q in (p, pmplan.refine(p))]
+    fig = plan_grid(pairs, ncols=4, same_axes=2)
+    fig.canvas.draw()
+    panels = [ax for ax in fig.axes if ax.get_title()]
+    for left, right in zip(panels[::2], panels[1::2]):
+        assert left.get_xlim() == right.get_xlim() and left.get_ylim() == right.get_ylim()
+    # without it each panel fits its own plan: a raw staircase is wider than its refined motion
+    alone = [ax for ax in plan_grid(pairs[:2], ncols=2).axes if ax.get_title()]
+    alone[0].figure.canvas.draw()
+    assert alone[0].get_xlim() != alone[1].get_xlim() or alone[0].get_ylim() != alone[1].get_ylim()
 
 
 def test_cli_demo_picture(tmp_path, capsys):
-    """``pmplan demo`` writes the file it names; start colour (t = 0) and goal colour (t = 1)
-    both appear in it; no suffix means .png; an unknown suffix is one clear error."""
+    """``pmplan demo`` writes the file it names; the colours of robots 1, 2 and 3 appear in it;
+    no suffix means .png; an unknown suffix is one clear error."""
     assert main(["demo", "--out", str(tmp_path / "demo")]) == 0
     out = capsys.readouterr().out
     written = tmp_path / "demo.png"
     assert f"wrote {written.resolve()}" in out
     rgb = _rgb(written)
     assert rgb.shape[0] > 900 and rgb.shape[1] > 1200
-    cmap = time_cmap()
-    assert _near(rgb, np.round(np.array(cmap(0.0)[:3]) * 255), 25) > 100  # start circles, t ~ 0
-    assert _near(rgb, np.round(np.array(cmap(1.0)[:3]) * 255), 25) > 100  # goal stars, t ~ 1
+    for color in robot_colors(3):
+        assert _near(rgb, np.round(np.array(color[:3]) * 255), 25) > 100
+    # the table's headings: raw and refined motion, each a length and a clearance
+    head = [line for line in out.splitlines() if line.startswith("planner")]
+    assert head and head[0].split() == ["planner", "domain", "stratum", "length", "clearance",
+                                        "length", "clearance"]
+    above = out.splitlines()[out.splitlines().index(head[0]) - 1].split()
+    assert above == ["raw", "motion", "refined", "motion"]
     assert main(["demo", "--out", str(tmp_path / "demo.xyz")]) == 2
     out, err = capsys.readouterr()
     assert out == "" and "use a file name ending in .png, .pdf, .svg" in err

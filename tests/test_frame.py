@@ -1,4 +1,4 @@
-"""The frame of a configuration: nu(e) is a unit tangent field (paper Section 3, SPEC 4a)."""
+"""The frame of a configuration: nu(e) is a unit tangent field (paper Section 3, Mathematics §4.1)."""
 
 from __future__ import annotations
 
@@ -65,7 +65,7 @@ def test_at_pole_exactly_positive_multiples_of_N(d, c):
     np.testing.assert_array_equal(pole, [True, False, False, False])
     a = np.zeros(d)
     a[0] = 1.0
-    np.testing.assert_array_equal(v[0], a)  # nu(N) = a = e_1 (SPEC 4a)
+    np.testing.assert_array_equal(v[0], a)  # nu(N) = a = e_1 (Mathematics §4.1)
     np.testing.assert_allclose(np.linalg.norm(v, axis=-1), 1.0, atol=TOL)
     assert np.abs((v * ref_unit(w)).sum(-1)).max() <= TOL
 
@@ -95,7 +95,7 @@ def test_even_dimension_is_the_papers_field(seed, half):
 @settings(max_examples=25)
 @given(seed=st.integers(0, 2**32 - 1), d=st.sampled_from([3, 5, 7, 9]))
 def test_odd_dimension_is_normalised_xi(seed, d):
-    """nu(v) = xi(v)/|xi(v)|, xi(v) = (1 - v.N) a + (a.v)(N - v), away from N (SPEC 4a)."""
+    """nu(v) = xi(v)/|xi(v)|, xi(v) = (1 - v.N) a + (a.v)(N - v), away from N (Mathematics §4.1)."""
     rng = np.random.default_rng(seed)
     w = rng.normal(size=(10, d))
     w[:, -1] = np.where(rng.random(10) < 0.3, -np.abs(w[:, -1]) * 5, w[:, -1])  # near -N too

@@ -1,4 +1,4 @@
-"""``pmplan.info`` and ``pmplan.parametrised_tc`` against the TC values of SPEC 0 and 4c."""
+"""``pmplan.info`` and ``pmplan.parametrised_tc`` against the TC values of Mathematics §1.3 and §4.3."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from pmplan.planners.base import REGISTRY
 
 
 def tc_table(d: int, n: int, m: int, r: int = 2) -> int:
-    """SPEC 0 (Cohen-Farber-Weinberger) and 4c (Farber-Paul, unreduced), written out."""
+    """Mathematics §1.3 (Cohen-Farber-Weinberger) and §4.3 (Farber-Paul, unreduced), written out."""
     if r == 2:
         return 2 * n + m - 1 if d % 2 == 0 else 2 * n + m
     return r * n + m - 1 if d % 2 == 0 else r * n + m

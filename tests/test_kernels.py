@@ -158,7 +158,7 @@ def test_integer_grid_queries_are_decided_by_the_kernel():
 
 
 def test_odd_d_pole():
-    """e == N exactly (SPEC 4a): nu = e_1, label one lower; both backends agree."""
+    """e == N exactly (Mathematics §4.1): nu = e_1, label one lower; both backends agree."""
     o = np.array([[[1.0, 2.0, 0.0], [1.0, 2.0, 3.0]]])
     s = np.array([[[0.0, 0.0, 1.0], [2.0, 2.0, 1.0]]])  # two robots share a column
     g = np.array([[[5.0, 1.0, -1.0], [0.0, 1.0, 7.0]]])
@@ -620,7 +620,7 @@ def test_workers_change_nothing(monkeypatch, planner, dims):
         seq = pmplan.plan_sequence_batch(o, [s, h, g])
         assert_same_batch(pmplan.plan_sequence_batch(o, [s, h, g], workers=2), seq)
     if planner == "obstacle_line" and dims == (2, 3, 2):
-        # the SPEC 5 precision case (see test_configuration) in chunks 2 and 4
+        # the precision case of Mathematics §6.2 (see test_configuration) in chunks 2 and 4
         o[[150, 270]] = [[0.0, 0.0], [1.0, 2.0]]
         s[[150, 270], :2] = [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]]
         g[[150, 270], :2] = [[5.0, 5.0], [6.0, -7.0]]
@@ -683,7 +683,7 @@ def test_validation_in_the_kernel_raises_the_reference_error(monkeypatch, bad, w
     monkeypatch.setattr(running, "CHUNK", 100)
     assert _outcome(pmplan.plan_batch, o, s, g) == want
     assert _outcome(pmplan.plan_batch, o, s, g, workers=2) == want
-    # the SPEC 5 precision case (a failing certificate) in the first chunk changes nothing
+    # the precision case of Mathematics §6.2 (a failing certificate) in the first chunk changes nothing
     o[1] = [[0.0, 0.0], [1.0, 2.0]]
     s[1, :2] = [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]]
     g[1, :2] = [[5.0, 5.0], [6.0, -7.0]]

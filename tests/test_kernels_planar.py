@@ -12,7 +12,7 @@ why it can fail:
   on exactly degenerate grid queries, on near-degenerate and rescaled mixed batches (also
   those of :mod:`pmplan.generators`);
 * the exact constructions land in the stratum and domain they were built for (paper Section 4,
-  ``(w2)``-``(w4)``), start and end exactly at the query, at breakpoints 0 and 1;
+  (4.1)-(4.3)), start and end exactly at the query, at breakpoints 0 and 1;
 * each re-decision route is taken where it must be: an exact tie only fractions can see
   (``FALLBACK``), a clearance ~1e-10 of the scene (``SUSPECT``), an overflowing ``o2 - o1``;
 * the same queries fail their certificate, with the same indices (``CertificationError``);
@@ -114,7 +114,7 @@ def _mixed(rng, names, count, exponent=0, noise=0.0):
 
 
 def test_tables_agree_with_the_planner():
-    """The kernel's stratum codes and domains are the planner's (paper (w2)-(w4))."""
+    """The kernel's stratum codes and domains are the planner's (paper (4.1)-(4.3))."""
     assert kernels_planar.WAYPOINTS is planar_three.WAYPOINTS is WAYPOINTS == 6  # one source
     assert np.array_equal(kernels_planar.CODE_LUT, planar_strata.LUT)
     assert np.array_equal(kernels_planar._DOMAIN, [DOMAIN_OF[name] for name in STRATA])

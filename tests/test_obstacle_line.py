@@ -1,4 +1,4 @@
-"""The obstacle-line planner (SPEC 2, 4a, 4b) against the independent reference ``reference.py``.
+"""The obstacle-line planner (Mathematics §3, §4.1, §4.2) against the independent reference ``reference.py``.
 
 What is checked, and why it can fail:
 
@@ -8,7 +8,7 @@ What is checked, and why it can fail:
 * every stratum is realised and its label is the one the exact classification predicts; the
   set of labels has exactly TC elements (``parametrised_tc``, ``info``);
 * odd d: the pole ``e == N`` (label - 1), ``nu`` near N, -N and at N;
-* lambda = lift + max |r(o_k)| is needed (SPEC 4b's example);
+* lambda = lift + max |r(o_k)| is needed (the example of Mathematics §4.2);
 * continuity inside a piece (O(delta)) and jumps across labels (not o(1));
 * m = 2, even d: the paper's Section 3 construction, written separately;
 * certificates and batch == single everywhere.
@@ -240,7 +240,7 @@ def test_nu_near_pole(d, kind, t):
 
 
 def test_lambda_example_from_spec():
-    """SPEC 4b: O = (0,0),(1,0),(5,1), x = (2,3), x' = (10,-3), lift 1 is certified; with
+    """Mathematics §4.2: O = (0,0),(1,0),(5,1), x = (2,3), x' = (10,-3), lift 1 is certified; with
     lambda = lift alone the reference path would slide robot 1 through o3 (clearance 0)."""
     q = (np.array([[0.0, 0.0], [1.0, 0.0], [5.0, 1.0]]), np.array([[2.0, 3.0]]),
          np.array([[10.0, -3.0]]))
@@ -294,7 +294,7 @@ def test_column_queries_m_ge_3(seed, d, m, n):
 @given(d=st.sampled_from([2, 4, 6]), n=st.sampled_from([1, 2, 3, 5]),
        lift=st.sampled_from([1.0, 0.5]), degenerate=st.booleans(), data=st.data())
 def test_m2_is_the_papers_planner(d, n, lift, degenerate, data):
-    """For m = 2 the m-obstacle construction (SPEC 4b) IS the paper's (SPEC 2): the two
+    """For m = 2 the m-obstacle construction (Mathematics §4.2) IS the paper's (Mathematics §3): the two
     independent references agree exactly, and the library agrees with them up to ulps."""
     q = data.draw(queries(d, 2, n, degenerate=degenerate))
     label, exact = paper_plan_m2(*q, lift=lift)

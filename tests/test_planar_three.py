@@ -1,4 +1,4 @@
-"""Tests of the planar_three planner (paper Section 4, SPEC section 3).
+"""Tests of the planar_three planner (paper Section 4, Mathematics §5).
 
 The oracle for strata is an independent classification in exact rational arithmetic
 (``fractions.Fraction``) written here from the paper's definitions; exact degenerate queries
@@ -29,7 +29,7 @@ from pmplan.planners.planar_three import (
 #: gets the same independent checks as the default (numba) one
 BACKENDS = [None, "numpy"]
 
-# SPEC section 3 (paper (w2)-(w4)): the domains, written out again here on purpose
+# Mathematics §5 (paper (4.1)-(4.3)): the domains, written out again here on purpose
 W_TABLE = {
     1: ("T1_11", "T22_33", "T23_44"),
     2: ("T1_22", "T22_22"),
@@ -176,7 +176,7 @@ def strata_names(batch) -> list[str]:
 
 
 # ---------------------------------------------------------------------------------------------
-# frame helpers and SPEC's polylines (written from SPEC section 3)
+# frame helpers and the polylines of Mathematics §5.4 (written from that page)
 # ---------------------------------------------------------------------------------------------
 def frame_of(o):
     w = o[1] - o[0]
@@ -192,7 +192,7 @@ def to_uh(points, o):
 
 
 def spec_polyline(name, o, x, xp):
-    """SPEC section 3's polyline for a query in stratum ``name``, in (u, h) coordinates."""
+    """The polyline of Mathematics §5.4 for a query in stratum ``name``, in (u, h) coordinates."""
     _, _, _, length = frame_of(o)
     (ux, hx), (ug, hg), (u3, h3) = to_uh(np.array([x, xp, o[2]]), o)
     if DOMAIN[name] == 1:
@@ -337,7 +337,7 @@ def _near_degenerate_float_queries(rng, size):
 @settings(max_examples=15)
 @given(seed=st.integers(0, 2**32 - 1), kind=st.sampled_from(["int", "float", "near"]))
 def test_strata_partition_the_query_space(seed, kind):
-    """Corollary lapart: every query lies in exactly one of the 12 strata; the planner's exact
+    """Corollary 4.1: every query lies in exactly one of the 12 strata; the planner's exact
     classification agrees with the Fraction oracle; its domain is the one of the W table."""
     rng = np.random.default_rng(seed)
     if kind == "int":
@@ -365,7 +365,7 @@ def test_every_stratum_occurs_on_the_integer_grid():
 
 
 # ---------------------------------------------------------------------------------------------
-# paths: SPEC's construction, constant speed, reversal, zero length, batch = single
+# paths: the construction of Mathematics §5.4, constant speed, reversal, zero length, batch = single
 # ---------------------------------------------------------------------------------------------
 @pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("name", ALL_STRATA)

@@ -1,4 +1,4 @@
-"""Exact predicates on projections (SPEC section 1) against an independent Fraction oracle.
+"""Exact predicates on projections (Mathematics §2) against an independent Fraction oracle.
 
 The oracle below is written from the definition only: the column of ``y`` is
 ``(y - o1) . w`` with ``w = o2 - o1`` (``rot90(w) = (-w_2, w_1)`` for heights), evaluated in
@@ -157,7 +157,7 @@ def test_near_tie_classes_are_distinct():
 
 def test_gap_is_zero_below_float_resolution():
     """Documented: distinct classes whose float projections coincide give gap 0.0 (eps(C) = 0),
-    and such a query cannot be planned in floats: the certificate fails (SPEC section 5)."""
+    and such a query cannot be planned in floats: the certificate fails (Mathematics §6)."""
     _, count, gap = projection_classes(_NEAR_TIE, _NEAR_TIE[:, 0], _NEAR_TIE[:, 1])
     assert count[0] == 4
     assert gap[0] == 0.0

@@ -2,7 +2,7 @@
 
 Issue 12, item 4. ``lift`` is the unit of both planners: the height scale of the lift in the
 obstacle-line planner (``lambda = lift + max_k |r(o_k)|``), the 1 of ``H = 1 + max(0, h3)``
-(W1, Figure ``T111``) and ``s3 = c3 + 1`` (T23, Figure ``grid``) in the planar one.
+(W1, Figure 6) and ``s3 = c3 + 1`` (T23, Figure 10) in the planar one.
 ``lift="scene"`` makes it ``u(O) = max_{k>=2} |o_k - o_1|`` of each query. What is checked, and
 how it could fail:
 

@@ -1,4 +1,4 @@
-"""Sequential planning through r >= 2 configurations (SPEC 4c) against ``reference.py``."""
+"""Sequential planning through r >= 2 configurations (Mathematics §4.3) against ``reference.py``."""
 
 from __future__ import annotations
 

@@ -82,7 +82,7 @@ def test_strata_are_covered(reports):
     r3 = _report(reports, ("obstacle_line", 3, 1, 2))
     met3 = {s for dr in r3.domains for s in dr.strata}
     assert any("e=N" in s for s in met3) and any("e=N" not in s for s in met3)
-    for dr in r3.domains:  # at the pole e == N the label drops by one (SPEC 4a)
+    for dr in r3.domains:  # at the pole e == N the label drops by one (Mathematics §4.1)
         for s in dr.strata:
             i, j = (int(c) for c in s[s.index("{") + 1: s.index("}")].split(","))
             assert dr.label == i + j - ("e=N" in s)
@@ -315,7 +315,7 @@ def _pole_modulus(angle, eps=1e-9, lift=1.0):
 
 
 def test_odd_d_modulus_near_the_pole_grows_like_one_over_the_angle():
-    """The figures of POLE_NOTE (README, tutorial): about 2 n lambda / angle; 0.4 at 1e-8 rad."""
+    """The figures of POLE_NOTE (Mathematics §4.1, the tutorial): about 2 n lambda / angle; 0.4 at 1e-8 rad."""
     for angle in (1e-2, 1e-4, 1e-6, 1e-8):
         ratio = _pole_modulus(angle) / 1e-9
         assert 3.9 < angle * ratio < 4.1, (angle, ratio)  # 2 n lambda = 2 * 2 * 1

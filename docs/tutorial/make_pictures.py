@@ -119,7 +119,7 @@ def refined_picture(plan, out: Path) -> None:
     from pmplan.plotting import plan_grid
 
     ref = pmplan.refine(plan, radius=RADIUS)
-    fig = plan_grid([plan, ref], ncols=2, panel=4.2,
+    fig = plan_grid([plan, ref], ncols=2, panel=4.2, same_axes=2,
                     titles=[f"raw: $W_{{{plan.domain}}}$, length {plan.path.length():.3g}",
                             f"refined, radius {RADIUS:g}: $W_{{{ref.domain}}}$, length "
                             f"{ref.path.length():.3g}"])

@@ -1,7 +1,7 @@
 """pmplan: optimal parametrised motion planners for point robots among point obstacles.
 
 Implements the explicit planners of Zapata & Gonzalez, *Parametrised collision-free optimal
-motion planning algorithms in Euclidean spaces*, and their extensions (see SPEC.md).
+motion planning algorithms in Euclidean spaces*, and their extensions (see the Mathematics page of the documentation, docs/mathematics.md).
 
 >>> import pmplan
 >>> p = pmplan.plan([[0, 0], [2, 0]], [[1, 1]], [[1, -1]])

@@ -17,7 +17,7 @@ from contextlib import contextmanager
 
 __all__ = ["COMPILING", "announce_compile"]
 
-#: the notice, shown once when a kernel is compiled (figures: README, "first run")
+#: the notice, shown once when a kernel is compiled (docs/install.md, "The first run compiles the kernels")
 COMPILING = ("compiling kernels, first run only (cached on disk for later runs; "
              "it takes some 10 to 30 seconds)")
 

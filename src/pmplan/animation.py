@@ -4,23 +4,23 @@ An *animation* of a plan Gamma: [0, 1] -> F(R^d, m+n) shows the configuration Ga
 equally spaced t, with each robot's trail since t = 0, the faint full path ahead, and the phase
 of the construction the robots are in at time t:
 
-* obstacle-line planner (paper Section 3, SPEC 2/4a/4b): the path is the composition of paper
-  Remark ``constructing-sections-via-deformations-higher-case``, deformation of C, section over
+* obstacle-line planner (paper Section 3, Mathematics §3, §4.1, §4.2): the path is the composition of paper
+  Remark 2.5, deformation of C, section over
   collinear pairs, deformation of C' reversed; its 8 waypoints at
   tau = 0, 1/6, 1/3, 4/9, 5/9, 2/3, 5/6, 1 delimit seven phases (:data:`OBSTACLE_LINE_PHASES`)::
 
-      [0, 1/6]     desingularization             F(C, 6 tau), paper (desin)
-      [1/6, 1/3]   projection to the line L_C    paper (linear-transformation-obs)
-      [1/3, 4/9]   lift                          (algorithm-gamma): robot i up by i lambda nu(e)
+      [0, 1/6]     desingularization             F(C, 6 tau), paper (3.2)
+      [1/6, 1/3]   projection to the line L_C    paper (3.6)
+      [1/3, 4/9]   lift                          paper (3.8): robot i up by i lambda nu(e)
       [4/9, 5/9]   slide                         along L_C, from X to X'
       [5/9, 2/3]   descend                       back onto L_C at X'
       [2/3, 5/6]   projection reversed           lift back off the line to F(C', 1)
       [5/6, 1]     desingularization reversed    back to C'
 
-  A sequential plan through r configurations (SPEC 4c) repeats these seven phases on each of its
+  A sequential plan through r configurations (Mathematics §4.3) repeats these seven phases on each of its
   r - 1 legs; the leg number is shown too.
 * planar three-obstacle planner (paper Section 4): the path is a polyline traversed at constant
-  speed; the phase is "polyline leg k of K" (Figures ``T111``, ``porenmedio``, ``t2223``, ``grid``).
+  speed; the phase is "polyline leg k of K" (Figures 6, 8, 9, 10).
 * a refined plan (:func:`pmplan.refine`, issue 14) no longer follows the construction's phases:
   the phase is "refined path, piece k of K", and robots (and obstacles) with a radius are drawn
   as discs of that radius.
@@ -463,7 +463,7 @@ def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
     ----------
     q : dict
         A query as returned by :func:`pmplan.io.read_query`: ``obstacles``, ``start``, ``goal``,
-        optional ``via`` (sequential plan, SPEC 4c), ``lift``, ``planner``.
+        optional ``via`` (sequential plan, Mathematics §4.3), ``lift``, ``planner``.
     out : str or path-like
         ``.gif`` (frames from :func:`render_frames`, written with Pillow) or ``.mp4``
         (``FuncAnimation.save`` with matplotlib's ffmpeg writer, when ffmpeg is installed).

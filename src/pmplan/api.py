@@ -198,7 +198,7 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
                         backend: str | None = None, progress: bool = False,
                         workers: int = 1, out: PlanBatch | None = None, refine: bool = False,
                         radius: float = 0.0, obstacle_radius: float = 0.0) -> PlanBatch:
-    """Plan batches of motions through r >= 2 configurations (SPEC 4c).
+    """Plan batches of motions through r >= 2 configurations (Mathematics §4.3).
 
     ``obstacles`` (B, m, d); ``configs`` a list of r arrays (B, n, d). The path passes through
     configuration k at tau = (k-1)/(r-1); labels sum_k cp(C_k) - (r-1) cp_o + 2 (- 1 when
@@ -223,7 +223,7 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
 def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
                   backend: str | None = None, refine: bool = False, radius: float = 0.0,
                   obstacle_radius: float = 0.0) -> Plan:
-    """Plan one motion through r >= 2 robot configurations with the same obstacles (SPEC 4c).
+    """Plan one motion through r >= 2 robot configurations with the same obstacles (Mathematics §4.3).
 
     Parameters
     ----------
@@ -253,7 +253,7 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
 def parametrised_tc(d: int, n: int, m: int, r: int = 2) -> int:
     """Return the (unreduced, sequential) parametrised topological complexity.
 
-    ``2n+m-1`` (d even) / ``2n+m`` (d odd) for r = 2 (paper Theorem ``gongra``,
+    ``2n+m-1`` (d even) / ``2n+m`` (d odd) for r = 2 (paper Theorem 2.6,
     Cohen-Farber-Weinberger); ``rn+m-1`` / ``rn+m`` for r >= 2 (Farber-Paul, unreduced).
     """
     return r * n + m - 1 if d % 2 == 0 else r * n + m
@@ -280,7 +280,7 @@ def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> Plan
             raise UnsupportedError(f"sequential planning (r > 2) uses the {name} planner")
         p = REGISTRY[name]
         labels = tuple(p.domain_labels(d, n, m, r))
-        msg = f"sequential planner (SPEC 4c) on the {name} planner"
+        msg = f"sequential planner (Mathematics §4.3) on the {name} planner"
     else:
         p = choose_planner(d, n, m, planner)
         labels = tuple(p.domain_labels(d, n, m))

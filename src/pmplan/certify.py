@@ -1,7 +1,7 @@
-"""The certificate of a piecewise-linear motion (SPEC section 5).
+"""The certificate of a piecewise-linear motion (Mathematics §6).
 
 A path with waypoints ``P_0..P_K`` at times ``t_0..t_K`` is *certified* for the query
-(C, C') -- through the intermediate configurations C_k at tau_k, for a sequence (SPEC 4c) --
+(C, C') -- through the intermediate configurations C_k at tau_k, for a sequence (Mathematics §4.3) --
 when every clause of :data:`CLAUSES` holds, checked in this order:
 
 1. the times are finite, 2. ``t_0 == 0``, 3. ``t_K == 1``, 4. they never decrease;
@@ -9,7 +9,7 @@ when every clause of :data:`CLAUSES` holds, checked in this order:
 6. ``P_0 == C`` and 7. ``P_K == C'`` exactly, 8. ``path(tau_k) == C_k`` exactly;
 9. the obstacle rows are the same in every waypoint (obstacles fixed);
 10. its *clearance* -- the minimum over pieces and over pairs of points of the distance between
-    the two linearly moving points -- is > 0.
+the two linearly moving points -- is > 0.
 
 :func:`certificate` returns the clearance and the number of the first clause that fails (0: the
 path is certified); :func:`describe` names a clause. Every entry point of :mod:`pmplan.api`
@@ -459,7 +459,7 @@ def _obstacle_clearance(wp: np.ndarray, m: int) -> np.ndarray:
 
 def certificate(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, *,
                 times=None, via=()) -> tuple[np.ndarray, np.ndarray]:
-    """Check the whole certificate of SPEC section 5 for a batch of paths, clause by clause.
+    """Check the whole certificate of Mathematics §6 for a batch of paths, clause by clause.
 
     Parameters
     ----------
@@ -491,7 +491,7 @@ def certificate(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: i
 
 def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, *,
             times=None, via=()) -> tuple[np.ndarray, np.ndarray]:
-    """Check the whole certificate of SPEC section 5 for a batch of paths.
+    """Check the whole certificate of Mathematics §6 for a batch of paths.
 
     Parameters are those of :func:`certificate`.
 

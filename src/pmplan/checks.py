@@ -41,7 +41,7 @@ def check_workers(workers) -> int:
 
 def check_backend(backend) -> None:
     """Raise :class:`~pmplan.errors.InputError` unless ``backend`` is None or a backend name
-    (:data:`pmplan.backend.BACKENDS`)."""
+    (:data:`pmplan.backends.BACKENDS`)."""
     _backend.check(backend)
 
 
@@ -63,7 +63,7 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None) -> Planne
     """Return the planner for (d, n, m): the named one, or the default.
 
     The default is ``planar_three`` (paper Section 4) for (d, n, m) = (2, 1, 3) and
-    ``obstacle_line`` (paper Section 3 and SPEC 4) for every other m >= 2.
+    ``obstacle_line`` (paper Section 3 and Mathematics §4) for every other m >= 2.
     """
     if planner is None:
         planner = default_planner(d, n, m)

@@ -512,8 +512,9 @@ def cmd_demo(args) -> int:
     print("each query raw and refined (pmplan.refine"
           + "".join(f", {k} {v:g}" for k, v in radii.items())
           + "): the same domain and stratum, certified again")
+    print(f"{'':<41} {'raw motion':^20} {'refined motion':^20}")
     print(f"{'planner':<14} {'domain':<7} {'stratum':<18} {'length':>9} {'clearance':>10} "
-          f"{'refined':>9} {'clearance':>10}")
+          f"{'length':>9} {'clearance':>10}")
     for p, r in zip(plans + extra, refined):
         dom = f"{REGISTRY[p.planner].domain_prefix}{p.domain}"
         print(f"{p.planner:<14} {dom:<7} {p.stratum:<18} {p.path.length():9.3f} "
@@ -525,7 +526,8 @@ def cmd_demo(args) -> int:
     what = f"{args.n} robot{'s' if args.n > 1 else ''} among 2 obstacles (obstacle_line)" + (
         ", 1 robot among 3 obstacles (planar_three, paper Section 4)" if extra else "")
     pairs = [q for pair in zip(plans + extra, refined) for q in pair]
-    fig = plan_grid(pairs, ncols=4, suptitle="pmplan demo: one certified motion per domain of "
+    fig = plan_grid(pairs, ncols=4, same_axes=2,
+                    suptitle="pmplan demo: one certified motion per domain of "
                     f"continuity $W_l$, raw (left) and refined (right)\n{what}")
     fig.savefig(out, dpi=110)
     print(f"wrote {out.resolve()}")
@@ -581,7 +583,7 @@ def cmd_info(args) -> int:
     print(f"(d, n, m, r) = ({i.d}, {i.n}, {i.m}, {i.r})")
     print(f"planner:  {i.planner} -- {i.message}")
     print(f"domains:  {i.domains} (labels {i.labels[0]}..{i.labels[-1]})")
-    ref = "Farber-Paul, sequential, unreduced" if i.r > 2 else "paper Theorem gongra, Cohen-Farber-Weinberger"
+    ref = "Farber-Paul, sequential, unreduced" if i.r > 2 else "paper Theorem 2.6, Cohen-Farber-Weinberger"
     print(f"TC:       {i.tc} ({ref})")
     print(f"optimal:  {'yes' if i.optimal else 'no'}")
     return 0

@@ -1,6 +1,6 @@
 """Validation of queries: the configuration space F(R^d, m+n) and the fibre condition.
 
-A configuration is an array of m+n pairwise distinct points of R^d, obstacles first (SPEC 0).
+A configuration is an array of m+n pairwise distinct points of R^d, obstacles first (Mathematics §1).
 A query is a pair of configurations with the same obstacles. Everything here raises a specific
 :mod:`pmplan.errors` exception naming what was expected and what was received; nothing is
 silently fixed.
@@ -320,7 +320,7 @@ def check_query(obstacles, start, goal, *, batched: bool, names: tuple[str, str]
     A single query is returned as a batch of one. ``names`` label the two robot arrays in error
     messages (e.g. ``("configuration 1", "configuration 3")`` for sequential queries).
 
-    A valid query takes the fast path (:func:`_valid_fast`: one numba pass, no temporary); any
+    A valid query takes the fast path (``_valid_fast``: one numba pass, no temporary); any
     problem sends it through the checks below, which raise the error. ``deep=False`` checks the
     types, axes and shapes only, for a caller whose kernel validates every query itself (and
     calls this again with ``deep=True`` to raise the error when it finds an invalid one).
@@ -407,7 +407,7 @@ def _check_distinct(obstacles: np.ndarray, robots: np.ndarray, m: int, which: st
 
 
 def check_same_obstacles(c_start: np.ndarray, c_goal: np.ndarray, m: int, batched: bool) -> None:
-    """Raise :class:`ObstacleMismatchError` if the first m rows of C and C' differ."""
+    """Raise :class:`~pmplan.ObstacleMismatchError` if the first m rows of C and C' differ."""
     same = (c_start[..., :m, :] == c_goal[..., :m, :]).all(axis=(-1, -2))
     if not np.all(same):
         if batched:

@@ -65,7 +65,7 @@ class UnsupportedError(InputError):
 
 
 class CertificationError(PmplanError, ArithmeticError):
-    """A planned path failed its certificate (SPEC section 5), so it is not returned.
+    """A planned path failed its certificate (Mathematics §6), so it is not returned.
 
     This happens when the query is so nearly degenerate that double precision cannot represent a
     collision-free path of the planner (e.g. eps(C) below the resolution of the coordinates).

@@ -60,8 +60,8 @@ def planar_three_examples() -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """Return four exact queries ``(obstacles (3, 2), start (1, 2), goal (1, 2))`` of the
     ``planar_three`` planner (paper Section 4), in W1..W4.
 
-    Obstacles o1 = (0, 0), o2 = (4, 0); strata T23_44 (W1, Figure ``T111`` right),
-    T22_22 (W2, Figure ``porenmedio`` right), T23_33 (W3, Figure ``grid``), T23_34 (W4).
+    Obstacles o1 = (0, 0), o2 = (4, 0); strata T23_44 (W1, Figure 6 right),
+    T22_22 (W2, Figure 8 right), T23_33 (W3, Figure 10), T23_34 (W4).
 
     Examples
     --------

@@ -5,12 +5,12 @@ scene with the line o1o2 at a slant, it is planned with :func:`pmplan.plan` (so 
 certified output of the planner), and the picture is drawn in the frame (u, h) of C
 (``u = (y - o1).e``, ``h = (y - o1).nu(e)``), so that it looks like the paper's TikZ figures:
 
-* ``T1_11``, ``T22_33``, ``T23_44``: Figure ``T111`` (the L_C-parallel line one unit above
+* ``T1_11``, ``T22_33``, ``T23_44``: Figure 6 (the L_C-parallel line one unit above
   the highest obstacle);
-* ``T1_12``, ``T1_21``: Figure ``Tstraight``;
-* ``T1_22``, ``T22_22``: Figure ``porenmedio`` (the vertical at delta_1 / delta_2);
-* ``T22_23``, ``T22_32``: Figure ``t2223``;
-* ``T23_33``, ``T23_34``, ``T23_43``: Figure ``grid`` (dashed: obstacle columns and heights;
+* ``T1_12``, ``T1_21``: Figure 7;
+* ``T1_22``, ``T22_22``: Figure 8 (the vertical at delta_1 / delta_2);
+* ``T22_23``, ``T22_32``: Figure 9;
+* ``T23_33``, ``T23_34``, ``T23_43``: Figure 10 (dashed: obstacle columns and heights;
   solid grey: the grid lines s1, s2, s3 and h3/2 the path runs on).
 
 Dashed lines are L_C and L_C^perp (and the other obstacle columns/heights where the paper
@@ -28,13 +28,13 @@ import numpy as np
 
 __all__ = ["FIGURE_OF", "draw_stratum", "figure_queries", "make_figures", "to_frame"]
 
-#: the paper's figure label for every stratum
-FIGURE_OF: dict[str, str] = {
-    "T1_11": "T111", "T22_33": "T111", "T23_44": "T111",
-    "T1_12": "Tstraight", "T1_21": "Tstraight",
-    "T1_22": "porenmedio", "T22_22": "porenmedio",
-    "T22_23": "t2223", "T22_32": "t2223",
-    "T23_33": "grid", "T23_34": "grid", "T23_43": "grid",
+#: the paper's printed figure number for every stratum (Figures 6-10 of its Section 4)
+FIGURE_OF: dict[str, int] = {
+    "T1_11": 6, "T22_33": 6, "T23_44": 6,
+    "T1_12": 7, "T1_21": 7,
+    "T1_22": 8, "T22_22": 8,
+    "T22_23": 9, "T22_32": 9,
+    "T23_33": 10, "T23_34": 10, "T23_43": 10,
 }
 
 # (U, V) coordinates of o3, x, x' with o1 = (0, 0), o2 = (4, 0): the paper's pictures; the
@@ -43,7 +43,7 @@ _SCENES: dict[str, tuple[tuple[float, float], ...]] = {
     "T1_11": ((-1.5, 0), (2, 0), (6, 0)),
     "T1_12": ((-1.5, 0), (2, 0), (6, 1.5)),
     "T1_21": ((-1.5, 0), (2, 1.5), (6, 0)),
-    "T1_22": ((5.5, 0), (7, 1.5), (6, -2)),  # Figure porenmedio: o3 between o1 and o2 ...
+    "T1_22": ((5.5, 0), (7, 1.5), (6, -2)),  # Figure 8: o3 between o1 and o2 ...
     "T22_22": ((0, 1.5), (4, 1.5), (0, -1.5)),
     "T22_23": ((0, 2), (0, 4), (3, -2)),
     "T22_32": ((0, 2), (3, -2), (0, 4)),
@@ -53,7 +53,7 @@ _SCENES: dict[str, tuple[tuple[float, float], ...]] = {
     "T23_43": ((2.5, 2), (6, 3), (2.5, -1.5)),
     "T23_44": ((5, 1.5), (1.5, -3), (7, -1.5)),
 }
-# ... in Figure porenmedio (left) o3 lies between o1 and o2: swap the roles there
+# ... in Figure 8 (left) o3 lies between o1 and o2: swap the roles there
 _SWAP_O2_O3 = {"T1_22"}
 
 # the slanted frame of the scenes: o1 = (1, -1), w = (1, 3/4), |w| = 5/4 (all exact dyadic)
@@ -108,7 +108,7 @@ def draw_stratum(plan, name: str, ax=None):
     plan : pmplan.Plan
         A plan of the ``planar_three`` planner.
     name : str
-        Its stratum in SPEC notation (``"T22_23"``), which selects the auxiliary lines.
+        Its stratum in pmplan's notation (``"T22_23"``, Mathematics §5.2), which selects the auxiliary lines.
     ax : matplotlib Axes, optional
 
     Returns
@@ -144,7 +144,7 @@ def draw_stratum(plan, name: str, ax=None):
     fam = name.split("_")[0]
     if fam == "T22":  # the second perpendicular \bar L_C^perp through o2
         ax.axvline(o[1, 0], **dash)
-    if FIGURE_OF[name] == "grid":  # Figure grid: dashed obstacle columns and heights, solid grid lines
+    if FIGURE_OF[name] == 10:  # Figure 10: dashed obstacle columns and heights, solid grid lines
         cols = np.sort(o[:, 0])
         for c in cols:
             ax.axvline(c, **dash)
@@ -152,17 +152,17 @@ def draw_stratum(plan, name: str, ax=None):
         for s in ((cols[0] + cols[1]) / 2, (cols[1] + cols[2]) / 2, cols[2] + 1.0):
             ax.axvline(s, **grid)
         ax.axhline(h3 / 2, **grid)
-    if name in ("T22_23", "T22_32"):  # Figure t2223: the lines l2 (|w|/2) and l3 (h3/2)
+    if name in ("T22_23", "T22_32"):  # Figure 9: the lines l2 (|w|/2) and l3 (h3/2)
         ax.axhline(h3 / 2, **grid)
         ax.axvline(o[1, 0] / 2, **grid)
-    if FIGURE_OF[name] == "T111":  # the L_C-parallel line at height 1 + max(0, h3)
+    if FIGURE_OF[name] == 6:  # the L_C-parallel line at height 1 + max(0, h3)
         top = 1.0 + max(0.0, h3)
         ax.axhline(top, **grid)
         uu = umax + 0.35
         ax.annotate("", xy=(uu, top), xytext=(uu, top - 1.0),
                     arrowprops=dict(arrowstyle="<->", linestyle=":", color="0.3"))
         ax.text(uu + 0.1, top - 0.5, "1", fontsize=8, va="center")
-    if FIGURE_OF[name] == "porenmedio":  # the vertical at delta, and delta marked above
+    if FIGURE_OF[name] == 8:  # the vertical at delta, and delta marked above
         delta = wp[1, 0]
         ax.axvline(delta, **grid)
         ax.annotate("", xy=(delta, hmax - 0.3), xytext=(0, hmax - 0.3),

@@ -1,6 +1,6 @@
 """The frame of a configuration: the line L_C through o1, o2 and a unit normal field nu.
 
-For obstacles ``o1 != o2`` in R^d the paper (Section 3, Figure ``Lc``) uses the oriented line
+For obstacles ``o1 != o2`` in R^d the paper (Section 3, Figure 1) uses the oriented line
 ``L_C`` through them with direction ``e_C = (o2 - o1)/|o2 - o1|``, the orthogonal projection
 ``p_C`` onto it, and a unit tangent vector field ``nu`` on the sphere ``S^{d-1}``, so that
 ``nu(e) . e = 0`` and ``|nu(e)| = 1``. Here:
@@ -9,7 +9,7 @@ For obstacles ``o1 != o2`` in R^d the paper (Section 3, Figure ``Lc``) uses the 
 
       nu(a1, b1, ..., al, bl) = (-b1, a1, ..., -bl, al)
 
-* d odd (SPEC 4a, our extension): no continuous unit tangent field exists on ``S^{d-1}``, so with
+* d odd (Mathematics §4.1, our extension): no continuous unit tangent field exists on ``S^{d-1}``, so with
   ``N = e_d`` and ``a = e_1``::
 
       xi(v) = (1 - v.N) a + (a.v)(N - v),        nu(v) = xi(v)/|xi(v)|   for v != N,

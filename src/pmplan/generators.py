@@ -1,12 +1,12 @@
 """Query generators: exact degenerate queries per stratum, random and nearly degenerate queries.
 
-A *stratum* of the obstacle-line planner (SPEC 4b, paper Section 3 for m = 2) is fixed by the
+A *stratum* of the obstacle-line planner (Mathematics §4.2, paper Section 3 for m = 2) is fixed by the
 numbers of distinct columns ``cp(C)``, ``cp(C')``, ``cp_o`` and, for odd d, the exact flag
-``e == N`` (SPEC 4a); its label is ::
+``e == N`` (Mathematics §4.1); its label is ::
 
     l = cp(C) + cp(C') - cp_o + 2 - [e == N]
 
-A finer notion is the *piece* (SPEC 4b): the partition of ``O u X`` and of ``O u X'`` by equal
+A finer notion is the *piece* (Mathematics §4.2): the partition of ``O u X`` and of ``O u X'`` by equal
 columns, plus the flag ``e == N``. This module builds queries with prescribed strata **exactly**
 (small integer or dyadic coordinates, so every column coincidence is an exact equality of the
 floats), classifies queries exactly with :func:`pmplan.predicates.projection_classes`, and moves
@@ -67,9 +67,9 @@ class Stratum(NamedTuple):
     cp_o : int
         The number of distinct obstacle columns.
     pole : bool
-        ``e == N`` exactly (odd d only, SPEC 4a); always False for even d.
+        ``e == N`` exactly (odd d only, Mathematics §4.1); always False for even d.
     label : int
-        ``sum_k cp(C_k) - (r-1) cp_o + 2 - [e == N]`` (SPEC 4b, 4c).
+        ``sum_k cp(C_k) - (r-1) cp_o + 2 - [e == N]`` (Mathematics §4.2, §4.3).
     """
 
     cps: tuple
@@ -120,7 +120,7 @@ def _canonical(labels: np.ndarray) -> tuple:
 
 
 def piece_of(query) -> tuple:
-    """Return the *piece* of a query (SPEC 4b): column partitions of ``O u C_k`` and ``e == N``.
+    """Return the *piece* of a query (Mathematics §4.2): column partitions of ``O u C_k`` and ``e == N``.
 
     Parameters
     ----------
@@ -377,12 +377,12 @@ def column_query(rng: np.random.Generator, d: int, n: int, m: int, cp_start: int
     d, n, m : int
         Dimension, number of robots, number of obstacles (m >= 2).
     cp_start, cp_goal : int
-        ``cp(C)``, ``cp(C')``: numbers of distinct columns among the m+n points (SPEC 4b);
+        ``cp(C)``, ``cp(C')``: numbers of distinct columns among the m+n points (Mathematics §4.2);
         each in ``cp_o..cp_o+n``.
     cp_o : int, optional
         Number of distinct obstacle columns, in ``2..m``; random (compatible) by default.
     pole : bool
-        Odd d only: make ``o2 - o1`` a positive multiple of ``N = e_d`` (SPEC 4a, label - 1).
+        Odd d only: make ``o2 - o1`` a positive multiple of ``N = e_d`` (Mathematics §4.1, label - 1).
         With ``pole=False`` the direction is never ``N`` but is sometimes ``-N``.
     integer : bool
         True: integer coordinates. False: the same scene after an exact dyadic scaling and
@@ -399,7 +399,7 @@ def column_query(rng: np.random.Generator, d: int, n: int, m: int, cp_start: int
     The direction ``w`` is a random small integer vector and ``o2 = o1 + L w``; every other point
     is ``o1 + c w + q`` with an integer column index ``c`` and an integer ``q`` orthogonal to ``w``
     (so coincidences of columns are exact). Obstacles o3..om are put on L, off L, or far from L
-    (where ``lambda = lift + max |r(o_k)|`` of SPEC 4b matters), sharing columns with one another,
+    (where ``lambda = lift + max |r(o_k)|`` of Mathematics §4.2 matters), sharing columns with one another,
     with o1/o2, and with robots. The stratum is verified with :func:`stratum_of` before returning.
 
     Examples
@@ -449,7 +449,7 @@ def near_degenerate_queries(rng: np.random.Generator, d: int, n: int, m: int, co
     coordinate ``y`` becomes ``y + scale * (1 + |y|) * g`` with ``g`` standard normal (obstacles
     included): columns that coincided now differ by ``~scale`` of the scene, so ``eps(C)`` is tiny.
     For ``scale`` below ~1e-14 some queries cannot be planned in double precision and must end in
-    :class:`~pmplan.errors.CertificationError` (SPEC 5).
+    :class:`~pmplan.errors.CertificationError` (Mathematics §6).
 
     Examples
     --------
@@ -692,7 +692,7 @@ def planar_stratum_queries(
     ----------
     rng : numpy.random.Generator
     stratum : str
-        ``"T22_23"`` (SPEC) or ``"T^{2,2}_{2,3}"`` (paper) style; see :data:`pmplan.planners.planar_three.STRATA`.
+        ``"T22_23"`` (pmplan) or ``"T^{2,2}_{2,3}"`` (paper) style; see :data:`pmplan.planners.planar_three.STRATA`.
     count : int
 
     Returns

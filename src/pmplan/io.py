@@ -5,7 +5,7 @@ Query JSON (one query)::
     {"obstacles": [[x, y], ...],      # (m, d)
      "start":     [[x, y], ...],      # (n, d)
      "goal":      [[x, y], ...],      # (n, d)
-     "via":       [[[x, y], ...], ...],   # optional: intermediate configurations (SPEC 4c)
+     "via":       [[[x, y], ...], ...],   # optional: intermediate configurations (Mathematics §4.3)
      "lift":      1.0,                # optional: a positive number, or "scene"
      "planner":   "obstacle_line"}    # optional
 
@@ -183,7 +183,7 @@ def read_query(path: str | Path) -> dict:
 
 
 def plan_to_dict(plan, samples: int | None = None) -> dict:
-    """Return the JSON-ready dict of a :class:`~pmplan.api.Plan`.
+    """Return the JSON-ready dict of a :class:`~pmplan.Plan`.
 
     With ``samples=K`` the path is given as K equally spaced samples instead of its waypoints.
     """
@@ -356,7 +356,7 @@ def read_queries(path: str | Path) -> dict:
 
 
 def write_plans(path: str | Path, batch) -> Path:
-    """Write a :class:`~pmplan.api.PlanBatch` to an npz file (see the module docstring).
+    """Write a :class:`~pmplan.PlanBatch` to an npz file (see the module docstring).
 
     ``.npz`` is appended to a name without that suffix (as :func:`numpy.savez` does).
 

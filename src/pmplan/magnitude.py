@@ -2,7 +2,7 @@
 
 Multiplying by ``2**k`` changes only the exponent of a double, so as long as nothing overflows
 or underflows it is exact, and every float operation of the planners commutes with it: the
-obstacle-line planner (paper Section 3, SPEC 4) maps a query scaled by ``2**k`` with its
+obstacle-line planner (paper Section 3, Mathematics §4) maps a query scaled by ``2**k`` with its
 ``lift`` scaled by ``2**k`` to the exactly scaled path, bit for bit. A query whose coordinates
 (or lift) lie far outside the normal range -- beyond ``2**LIMIT`` ~ 2.8e129, where squared
 distances overflow, or, with a lift as small, below ``2**-LIMIT`` -- is therefore planned as
@@ -49,7 +49,7 @@ def _down(e):
 
 
 def needs_scaling(arrays, lift) -> bool:
-    """Cheap test over a whole chunk: may some query need scaling (see :func:`exponents`)?
+    """Return whether some query of a chunk may need scaling (see :func:`exponents`): a cheap test.
 
     ``arrays`` are the query arrays (B, ., d); ``lift`` a float or an array (B,), 0.0 for
     ``lift="scene"`` (:data:`pmplan.planners.base.SCENE_CODE`). Reads each

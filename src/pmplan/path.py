@@ -5,10 +5,10 @@ A *piecewise-linear path* is a map ``[0, 1] -> (R^d)^P`` given by breakpoints
 P points in R^d, obstacles first), linear between consecutive breakpoints. A batch of B paths
 stores waypoints of shape (B, K, P, d) and breakpoints of shape (K,) (shared) or (B, K).
 
-The algebra: :func:`linear` (the straight motion between two configurations), :meth:`join`
-(concatenation with time fractions), :meth:`reversed`, evaluation ``path(t)``, :meth:`sample`
-and :meth:`resample`, and :meth:`arc_length_reparametrised` (constant speed). With it, the
-generic composition of the paper's Remark ``constructing-sections-via-deformations-higher-case``
+The algebra: :func:`linear` (the straight motion between two configurations), :meth:`~PiecewiseLinearPath.join`
+(concatenation with time fractions), :meth:`~PiecewiseLinearPath.reversed`, evaluation ``path(t)``,
+:meth:`~PiecewiseLinearPath.resample`, and :meth:`~PiecewiseLinearPath.arc_length_reparametrised` (constant speed). With it, the
+generic composition of the paper's Remark 2.5
 is written once, in :func:`compose_via_deformations`.
 
 A zero-duration piece (``t_k == t_{k+1}``) is allowed in batches (it pads paths with fewer legs
@@ -306,7 +306,7 @@ def join(paths: Sequence[PiecewiseLinearPath], at: Sequence[float] | None = None
 
 
 def compose_via_deformations(h_start, section, h_goal) -> PiecewiseLinearPath:
-    """Return the path of paper Remark ``constructing-sections-via-deformations-higher-case``.
+    """Return the path of paper Remark 2.5.
 
     Given deformations ``h_start`` of C and ``h_goal`` of C' (paths from C, C' into the set U
     where a section is known) and the ``section`` path from ``h_start(1)`` to ``h_goal(1)``::

@@ -10,7 +10,7 @@ import numpy as np
 __all__ = ["DOMAIN_BY_CODE", "DOMAIN_OF", "EVEN", "FAMILIES", "LUT", "PAPER_SUPER", "STRATA",
            "WAYPOINTS", "split_name"]
 
-#: the names of the 12 strata of paper Section 4 in SPEC notation, in a fixed order: the stratum
+#: the names of the 12 strata of paper Section 4 in pmplan's notation (Mathematics §5.2), in a fixed order: the stratum
 #: code of :class:`StratumClassification` is the index here (0..11)
 STRATA: tuple[str, ...] = (
     "T1_11", "T1_12", "T1_21", "T1_22",
@@ -18,7 +18,7 @@ STRATA: tuple[str, ...] = (
     "T23_33", "T23_34", "T23_43", "T23_44",
 )
 
-#: the domain W_a (a in 1..4) of every stratum, paper ``(w2)``-``(w4)``
+#: the domain W_a (a in 1..4) of every stratum, paper (4.1)-(4.3)
 DOMAIN_OF: dict[str, int] = {
     "T1_11": 1, "T22_33": 1, "T23_44": 1,
     "T1_22": 2, "T22_22": 2,

@@ -1,11 +1,13 @@
-"""Pictures of plans: obstacles, robots' paths coloured by time, start and goal markers.
+"""Pictures of plans: obstacles, each robot's path in its own colour, time along it.
 
 A planar plan (d = 2) is drawn in the plane: obstacles are black squares (``o_1``, ``o_2``,
-...), starts white circles (``x_j``), goals stars (``x_j'``), and each robot's path a line whose
-colour is the time t in [0, 1] (:data:`TIME_CMAP`; arrows give the direction), so two paths
-that cross, or run along the same segment, are seen to do so at different times.
-:func:`plan_grid` draws several plans in panels with one legend and one "time" colourbar
-(``pmplan demo``, ``docs/demo.png``).
+...), and robot j has one colour (:func:`robot_colors`) for its start circle (``x_j``), its goal
+star (``x_j'``) and its path. Time is a second channel: the path is thin and faint at t = 0 and
+thick and solid at t = 1, with a dot at every time of :data:`TIME_TICKS` and arrows for the
+direction, so two paths that cross, or run along the same segment, are told apart by colour and
+seen to be passed at different times. :func:`plan_grid` draws several plans in panels with one
+legend (``pmplan demo``, ``docs/demo.png``); panels of one query (raw and refined) can share one
+axis range.
 
 matplotlib is imported inside the functions; :func:`draw_plan` takes ``ax=None`` and returns the
 axes it drew on (shapely's plotting style).
@@ -15,31 +17,62 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["TIME_CMAP", "robot_colors", "time_cmap", "plan_title", "draw_radii", "draw_plan",
+__all__ = ["MAX_ARROWS", "TIME_TICKS", "robot_colors", "time_style", "plan_title", "draw_radii", "draw_plan",
            "legend_handles", "plan_grid"]
 
-#: the colormap of time along the paths (plasma without its palest tenth, visible on white)
-TIME_CMAP = "plasma"
+#: the times marked by a dot on every path
+TIME_TICKS = (0.25, 0.5, 0.75)
 #: at most about this many arrows along one robot's path (every piece of a raw plan has one)
 MAX_ARROWS = 8
-_TIME_RANGE = (0.0, 0.88)
+#: line width (points) and opacity of a path at t = 0 and at t = 1 (linear in between)
+_WIDTH = (0.8, 3.4)
+_ALPHA = (0.3, 1.0)
 
 
 def robot_colors(n: int):
-    """Return n distinct colours for robots."""
+    """Return n distinct colours for robots.
+
+    Parameters
+    ----------
+    n : int
+        Number of robots.
+
+    Returns
+    -------
+    list of tuple
+        RGBA colours: matplotlib's ``tab10`` for up to 10 robots, ``turbo`` beyond.
+    """
     import matplotlib.pyplot as plt
 
     cmap = plt.get_cmap("tab10" if n <= 10 else "turbo")
     return [cmap(i if n <= 10 else i / max(n - 1, 1)) for i in range(n)]
 
 
-def time_cmap():
-    """Return the colormap of time t in [0, 1] along the paths (:data:`TIME_CMAP`, trimmed)."""
-    import matplotlib.pyplot as plt
-    from matplotlib.colors import ListedColormap
+def time_style(t) -> tuple[np.ndarray, np.ndarray]:
+    """Return the line width and opacity of a path at times ``t`` in [0, 1].
 
-    lo, hi = _TIME_RANGE
-    return ListedColormap(plt.get_cmap(TIME_CMAP)(np.linspace(lo, hi, 256)), name="pmplan_time")
+    Parameters
+    ----------
+    t : array_like
+        Times along the motion.
+
+    Returns
+    -------
+    width : numpy.ndarray
+        Line widths in points, from 0.8 at t = 0 (thin) to 3.4 at t = 1 (thick), linear in t.
+    alpha : numpy.ndarray
+        Opacities, from 0.3 at t = 0 (faint) to 1 at t = 1 (solid), linear in t.
+
+    Examples
+    --------
+    >>> w, a = time_style([0.0, 0.5, 1.0])
+    >>> w.round(2).tolist(), a.round(2).tolist()
+    ([0.8, 2.1, 3.4], [0.3, 0.65, 1.0])
+    >>> time_style(0.5)[0].shape
+    ()
+    """
+    t = np.clip(np.asarray(t, dtype=float), 0.0, 1.0)
+    return _WIDTH[0] + (_WIDTH[1] - _WIDTH[0]) * t, _ALPHA[0] + (_ALPHA[1] - _ALPHA[0]) * t
 
 
 def plan_title(plan) -> str:
@@ -90,65 +123,70 @@ def draw_radii(plan, ax, points, *, obstacles: bool = True, color="0.5", alpha: 
 
 
 def _time_segments(plan, j: int, samples: int):
-    """Segments of robot j's path and the time at the middle of each (for the colours)."""
+    """Segments of robot j's path and the time at the middle of each (for width and opacity)."""
     ts = np.union1d(np.linspace(0.0, 1.0, samples), plan.path.times)
     pts = plan.path(ts)[:, plan.dims[2] + j]
     return np.stack([pts[:-1], pts[1:]], axis=1), (ts[:-1] + ts[1:]) / 2
 
 
 def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
-              arrows: bool = True, colorbar: bool | None = None):
-    """Draw a planar plan (d = 2): obstacles, robots' paths coloured by time, starts and goals.
+              arrows: bool = True):
+    """Draw a planar plan (d = 2): obstacles, each robot's path in its colour, starts and goals.
 
     Parameters
     ----------
     plan : pmplan.Plan
         A plan with d = 2.
-    ax : matplotlib Axes, optional
+    ax : matplotlib.axes.Axes, optional
+        Where to draw (default: a new figure).
     samples : int
         Number of samples of the path used for the lines (waypoints are always included).
     title : str, optional
         Default: :func:`plan_title` and the certified clearance.
     arrows : bool
-        Arrows at the middle of every leg, in the colour of its time (of every k-th leg when
-        the path has more than :data:`MAX_ARROWS` legs, as a refined path has).
-    colorbar : bool, optional
-        Add a "time" colourbar next to ``ax`` (default: only when ``ax`` is None).
+        Arrows at the middle of every leg, in the robot's colour (of every k-th leg when the
+        path has more than :data:`MAX_ARROWS` legs, as a refined path has).
 
     Returns
     -------
-    matplotlib Axes
+    matplotlib.axes.Axes
+        The axes drawn on. Robot j's path is a ``LineCollection`` whose widths and opacities
+        grow with time (:func:`time_style`); a dot marks it at every time of :data:`TIME_TICKS`.
     """
     import matplotlib.pyplot as plt
     from matplotlib.collections import LineCollection
-    from matplotlib.colors import Normalize
+    from matplotlib.colors import to_rgba
 
     d, n, m = plan.dims
     if d != 2:
         raise ValueError(f"draw_plan draws planar plans (d = 2), got d = {d}")
-    if colorbar is None:
-        colorbar = ax is None
     if ax is None:
         _, ax = plt.subplots(figsize=(5, 5), layout="constrained")
-    cmap, norm = time_cmap(), Normalize(0.0, 1.0)
+    colors = robot_colors(n)
     obs = plan.obstacles
     ax.plot(obs[:, 0], obs[:, 1], "s", color="black", ms=9, zorder=5)
     times = plan.path.times
+    ticks = plan.path(np.asarray(TIME_TICKS))
     for j in range(n):
         segs, tmid = _time_segments(plan, j, samples)
-        ax.add_collection(LineCollection(segs, cmap=cmap, norm=norm, array=tmid, lw=2.0,
-                                         capstyle="round", zorder=3))
+        width, alpha = time_style(tmid)
+        rgba = np.tile(to_rgba(colors[j]), (len(tmid), 1))
+        rgba[:, 3] = alpha
+        ax.add_collection(LineCollection(segs, colors=rgba, linewidths=width, capstyle="round",
+                                         zorder=3, label=f"robot {j + 1}"))
         if arrows:
             wp = plan.path.waypoints[:, m + j]
             every = max(1, (len(times) - 1) // MAX_ARROWS)  # a refined path has many pieces
-            for k, (a, b, t0, t1) in enumerate(zip(wp[:-1], wp[1:], times[:-1], times[1:])):
+            for k, (a, b) in enumerate(zip(wp[:-1], wp[1:])):
                 if k % every == every // 2 and np.linalg.norm(b - a) > 0:
                     mid = (a + b) / 2
                     ax.annotate("", xy=mid + (b - a) * 0.01, xytext=mid, zorder=4,
-                                arrowprops=dict(arrowstyle="-|>", color=cmap(norm((t0 + t1) / 2)),
-                                                lw=1.2, mutation_scale=11))
-        ax.plot(*plan.start[j], "o", color=cmap(0.0), ms=8, mfc="white", mew=2, zorder=6)
-        ax.plot(*plan.goal[j], "*", color=cmap(1.0), mec="black", mew=0.6, ms=13, zorder=6)
+                                arrowprops=dict(arrowstyle="-|>", color=colors[j], lw=1.2,
+                                                mutation_scale=11))
+        ax.plot(ticks[:, m + j, 0], ticks[:, m + j, 1], "o", color=colors[j], mec="white",
+                mew=0.8, ms=5, ls="", zorder=4)
+        ax.plot(*plan.start[j], "o", color=colors[j], ms=8, mfc="white", mew=2, zorder=6)
+        ax.plot(*plan.goal[j], "*", color=colors[j], mec="black", mew=0.6, ms=13, zorder=6)
     draw_radii(plan, ax, plan.path.waypoints[0])  # robots and obstacles of a radius
     draw_radii(plan, ax, plan.path.waypoints[-1], obstacles=False)
     labels = [(f"$o_{{{k + 1}}}$", o) for k, o in enumerate(obs)]
@@ -162,8 +200,6 @@ def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
                  f"{plan_title(plan)}, clearance {plan.clearance:.3g}", fontsize=9)
     ax.grid(alpha=0.3)
     ax.tick_params(labelsize=8)
-    if colorbar:
-        _time_colorbar(ax.figure, ax)
     return ax
 
 
@@ -204,51 +240,70 @@ def _place_labels(ax, labels, points) -> None:
         ax.update_datalim([at + 2.0 * unit * np.asarray(best[0])])  # keep it inside the panel
 
 
-def _time_colorbar(fig, ax, **kw):
-    from matplotlib.cm import ScalarMappable
-    from matplotlib.colors import Normalize
+def legend_handles(n: int = 0):
+    """Return the legend's proxy artists: obstacle, start, goal, time along a path, robots.
 
-    bar = fig.colorbar(ScalarMappable(Normalize(0.0, 1.0), time_cmap()), ax=ax, **kw)
-    bar.set_label("time t along the motion (0 = start, 1 = goal)")
-    return bar
+    Parameters
+    ----------
+    n : int
+        Number of robots whose colours get an entry ("robot 1" ...); 0 for none.
 
-
-def legend_handles():
-    """Return the legend's proxy artists: obstacle, start, goal, path (coloured by time)."""
+    Returns
+    -------
+    list of matplotlib.artist.Artist
+        Four entries that explain the marks, then one per robot.
+    """
     from matplotlib.lines import Line2D
 
-    cmap = time_cmap()
-    return [
+    grey = "0.35"
+    handles = [
         Line2D([], [], ls="", marker="s", color="black", ms=8, label="obstacle $o_k$"),
-        Line2D([], [], ls="", marker="o", color=cmap(0.0), mfc="white", mew=2, ms=8,
+        Line2D([], [], ls="", marker="o", color=grey, mfc="white", mew=2, ms=8,
                label="start $x_j$ (t = 0)"),
-        Line2D([], [], ls="", marker="*", color=cmap(1.0), mec="black", mew=0.6, ms=12,
+        Line2D([], [], ls="", marker="*", color=grey, mec="black", mew=0.6, ms=12,
                label="goal $x_j'$ (t = 1)"),
-        Line2D([], [], color=cmap(0.5), lw=2, marker=">", ms=6,
-               label="robot's path, coloured by time t, arrows: direction"),
+        Line2D([], [], color=grey, lw=2, marker="o", mec="white", ms=5,
+               label="time: thin, faint (t = 0) to thick (t = 1); dots at t = 1/4, 1/2, 3/4"),
     ]
+    handles += [Line2D([], [], color=c, lw=3, label=f"robot {j + 1}")
+                for j, c in enumerate(robot_colors(n))]
+    return handles
+
+
+def _share_limits(axes) -> None:
+    """Give every axes of ``axes`` the union of their data ranges (equal aspect kept)."""
+    lo = np.min([ax.get_xlim()[0] for ax in axes]), np.min([ax.get_ylim()[0] for ax in axes])
+    hi = np.max([ax.get_xlim()[1] for ax in axes]), np.max([ax.get_ylim()[1] for ax in axes])
+    for ax in axes:
+        ax.set_aspect("equal", adjustable="box")  # the same limits in boxes of the same shape
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
 
 
 def plan_grid(plans, titles=None, *, ncols: int = 4, panel: float = 3.6,
-              suptitle: str | None = None):
-    """Draw several planar plans in a grid of panels with one legend and a time colourbar.
+              suptitle: str | None = None, same_axes: int = 1):
+    """Draw several planar plans in a grid of panels with one legend.
 
     Parameters
     ----------
     plans : sequence of pmplan.Plan
+        The plans, drawn row by row.
     titles : sequence of str, optional
         Panel titles (default :func:`plan_title`).
     ncols : int
+        Number of panels in a row.
     panel : float
         Size of one panel in inches.
     suptitle : str, optional
         Title of the figure (the legend is below the panels).
+    same_axes : int
+        Consecutive groups of this many panels share one axis range: 2 for the raw and refined
+        plans of one query side by side (``pmplan demo``); 1 (default) for none.
 
     Returns
     -------
-    matplotlib Figure
-        Laid out by matplotlib's constrained layout, so titles, legend and colourbar do not
-        overlap.
+    matplotlib.figure.Figure
+        Laid out by matplotlib's constrained layout, so titles and legend do not overlap.
     """
     import matplotlib.pyplot as plt
 
@@ -256,15 +311,21 @@ def plan_grid(plans, titles=None, *, ncols: int = 4, panel: float = 3.6,
     nrows = -(-len(plans) // ncols)
     fig, axes = plt.subplots(nrows, ncols, figsize=(panel * ncols + 0.8, panel * nrows + 1.0),
                              squeeze=False, layout="constrained")
+    drawn = []
     for k, ax in enumerate(axes.flat):
         if k < len(plans):
-            draw_plan(plans[k], ax, colorbar=False,
-                      title=plan_title(plans[k]) if titles is None else titles[k])
+            drawn.append(draw_plan(plans[k], ax,
+                                   title=plan_title(plans[k]) if titles is None else titles[k]))
         else:
             ax.axis("off")
+    for k in range(0, len(drawn), max(1, same_axes)):
+        group = drawn[k:k + max(1, same_axes)]
+        for ax in group:
+            ax.apply_aspect()  # the limits each panel shows, before they are shared
+        _share_limits(group)
     if suptitle is not None:
         fig.suptitle(suptitle, fontsize=13)
-    fig.legend(handles=legend_handles(), loc="outside lower center", ncols=4, fontsize=10,
-               frameon=False)
-    _time_colorbar(fig, axes, shrink=0.6, pad=0.01, aspect=40)
+    handles = legend_handles(max((p.dims[1] for p in plans), default=0))
+    fig.legend(handles=handles, loc="outside lower center", fontsize=10, frameon=False,
+               ncols=len(handles) if len(handles) <= 2 * ncols else ncols)
     return fig

@@ -4,10 +4,10 @@ For a configuration with obstacles ``o1, o2`` put ``w = o2 - o1``. The *column* 
 is the scalar ``(y - o1) . w`` (a positive multiple of the paper's ``p_C(y)`` coordinate along
 ``e_C = w/|w|``) and, in the plane, its *height* is ``(y - o1) . rot90(w)`` with
 ``rot90(w) = (-w_2, w_1)``. Two points share a column iff ``(y_r - y_s) . w == 0``
-(SPEC section 1). These equalities decide every stratum, so they are decided **exactly** on the
+(Mathematics §2). These equalities decide every stratum, so they are decided **exactly** on the
 input floats (which are dyadic rationals); no tolerance is used anywhere.
 
-The fast way (SPEC section 1) is a floating-point filter with a rigorous error bound, in three
+The fast way (Mathematics §2) is a floating-point filter with a rigorous error bound, in three
 stages, all vectorised over a batch:
 
 1. Float filter. Projections are computed in double precision together with a bound on their
@@ -198,7 +198,7 @@ def projection_classes(points, o1, o2, *, perpendicular: bool = False):
         The smallest difference between two distinct projections (in units of ``|w|``-scaled
         projections: divide by ``|w|`` to get a length), evaluated in floating point: it is
         ``0.0`` when two exactly distinct projections are closer than the float resolution
-        (no float path can then separate them: the certificate fails, SPEC section 5), and
+        (no float path can then separate them: the certificate fails, Mathematics §6), and
         ``inf`` when all projections coincide or when the projections overflow.
 
     Examples

@@ -1,10 +1,10 @@
 """Checking a planner: certificates, strata and labels covered, continuity inside each domain.
 
 A planner is a partition of the query space into *domains of continuity* W_l with a rule that is
-continuous on each (paper Section 2, definition of a tame planner; SPEC 0). :func:`verify`
+continuous on each (paper Section 2, definition of a tame planner; Mathematics §1). :func:`verify`
 gathers the evidence for one (d, n, m):
 
-1. **Certificates** (SPEC 5). Queries of three families are planned with
+1. **Certificates** (Mathematics §6). Queries of three families are planned with
    :func:`pmplan.plan_batch`, which certifies every path:
 
    * ``exact``: exact degenerate queries in every stratum -- :func:`pmplan.generators.column_query`
@@ -23,7 +23,7 @@ gathers the evidence for one (d, n, m):
    planner decides on -- columns ``(y - o1) . e`` (and for ``planar_three`` also heights
    ``(y - o1) . nu(e)``) among the points of C or of C' -- or the smallest distance between two
    points of C or of C', whichever is smaller, and ``R(Q) = max |y - o1|`` over the query. Below
-   ``2**-26`` the near-coincidence uses more than half of the 53 bits of a double, and SPEC 5
+   ``2**-26`` the near-coincidence uses more than half of the 53 bits of a double, and Mathematics §6
    asks the planner to refuse such a query with this clear error rather than return a colliding
    path. On every other query (in practice: every exact and random query) a certificate failure
    is a failure: ``ok`` is False and ``pmplan verify`` exits with status 1.
@@ -31,7 +31,7 @@ gathers the evidence for one (d, n, m):
 2. **Coverage**: the strata met in each domain, and whether every label of
    ``pmplan.info(d, n, m).labels`` was realised.
 
-3. **Continuity inside a domain** (SPEC 5). Each exact and random query Q is moved inside its
+3. **Continuity inside a domain** (Mathematics §6). Each exact and random query Q is moved inside its
    stratum by about ``delta`` (the planner's ``perturb_within_stratum``:
    :func:`pmplan.generators.perturb_within_stratum`; for ``planar_three`` an exact similarity,
    or moves of the robot and o3 along their column or line,
@@ -45,7 +45,7 @@ gathers the evidence for one (d, n, m):
    order of ``1/delta`` (a path at distance O(1) from a query at distance delta): the evidence
    that one continuous rule cannot serve both domains, while the modulus stays O(1) inside each.
 
-5. **Odd d near the pole** (SPEC 4a). The lift direction nu(e) is a continuous unit tangent
+5. **Odd d near the pole** (Mathematics §4.1). The lift direction nu(e) is a continuous unit tangent
    field on ``S^{d-1}`` minus N = e_d; such a field must wind around N (index 2 = the Euler
    characteristic of the sphere), so close to N the modulus inside a domain grows like
    ``2 n lambda / angle`` (measured: ``benchmarks/odd_d_pole.py``). Random and exact queries
@@ -106,8 +106,9 @@ RHO_MIN = 2.0**-26
 DELTA = 1e-6
 #: scales at which the near-degenerate family breaks exact ties
 NEAR_SCALES = (1e-9, 1e-15)
-#: bounds of ``queries`` (the size of the base families)
+#: the fewest ``queries`` (the size of the base families) :func:`verify` accepts
 MIN_QUERIES = 10
+#: the most ``queries`` :func:`verify` accepts
 MAX_QUERIES = 100_000
 #: most coordinates one family may hold in its pairwise-distance array (queries * P**2 * d)
 MAX_NUMBERS = 200_000_000
@@ -431,7 +432,7 @@ class Report:
             lines.append(
                 f"{what}: {planned} passed, {failed} failed"
                 + (f"; {excused} nearly degenerate queries (rho < 2^-26) refused with "
-                   "CertificationError, as SPEC 5 allows" if excused else "")
+                   "CertificationError, as Mathematics §6.2 allows" if excused else "")
             )
         sep = self.separation
         if sep is not None:

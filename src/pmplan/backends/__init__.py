@@ -43,7 +43,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["BACKENDS", "NUMBA", "NUMPY", "REGISTRY", "available", "check", "kernel_array",
-           "kernels", "planar_kernels", "resolve", "select", "shared_kernels",
+           "kernels", "module", "planar_kernels", "resolve", "select", "shared_kernels",
            "validation_kernels"]
 
 NUMBA = "numba"
@@ -62,6 +62,11 @@ def _load(module: str) -> ModuleType:
     if mod is None:
         mod = _MODULES[module] = importlib.import_module(module)
     return mod
+
+
+def module(name: str) -> ModuleType:
+    """The module of the registered backend ``name``, whether it can run here or not."""
+    return _load(REGISTRY[name])
 
 
 def check(backend) -> None:

@@ -1,5 +1,5 @@
 """The numba kernels: bitwise equal to the numpy references, imported lazily by
-:mod:`pmplan.backend` (importing a kernel module imports numba).
+:mod:`pmplan.backends` (importing a kernel module imports numba).
 
 * :mod:`~pmplan.kernels.common` -- what they share: the numba import, the flag bits, the
   thresholds of the filter and the certificate, TwoSum / TwoProduct, the distance of a piece;
@@ -8,5 +8,5 @@
 * :mod:`~pmplan.kernels.planar` -- the planar three-obstacle planner and its certificate;
 * :mod:`~pmplan.kernels.validation` -- finite coordinates, distinct points.
 
-A new planner's kernel is one module here, asked for through :mod:`pmplan.backend`.
+A new planner's kernel is one module here, called by its glue in :mod:`pmplan.backends.numba`.
 """

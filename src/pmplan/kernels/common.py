@@ -9,7 +9,7 @@ compiles in as constants), the compile options (:data:`OPTS`), TwoSum / TwoProdu
 (:func:`two_sum`, :func:`two_prod`), the closed-form squared distance of a piece in the
 plane (:func:`segment_dist2_plane`) and the write of a block of lanes into the caller's rows
 (:func:`write_lanes`, :func:`read_lanes`). Without numba, :data:`AVAILABLE` is False, ``njit`` leaves
-the functions as Python, and the numpy references plan everything (:mod:`pmplan.backend`).
+the functions as Python, and the numpy references plan everything (:mod:`pmplan.backends`).
 """
 
 from __future__ import annotations
@@ -65,8 +65,8 @@ SMALL = 2.0**-900  # below this TwoProduct's error term may underflow (as in pmp
 OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
 #: the small helpers: compiled once each and inlined by LLVM where it pays. Not numba's
 #: ``inline="always"``, which copies them into every caller before typing and cost about three
-#: seconds of every first run's compilation, with the same machine code speed (README, "first
-#: run"; the floating-point operations are the same either way: no fast-math, no contraction)
+#: seconds of every first run's compilation, with the same machine code speed (docs/install.md, "The first
+#: run compiles the kernels"; the floating-point operations are the same either way: no fast-math, no contraction)
 INLINE = OPTS
 
 

@@ -5,19 +5,18 @@ The numpy code of :mod:`pmplan.predicates`, :mod:`pmplan.frame`,
 implementation. The kernel :func:`plan_chunk` computes, for every query of a chunk and
 without any temporary larger than a few rows, exactly what that reference computes:
 
-* the exact column classes of every configuration (SPEC section 1): the float filter of
+* the exact column classes of every configuration (Mathematics §2): the float filter of
   :func:`pmplan.predicates.projection_classes` with the same rigorous error bound -- one bound
   per configuration (the maximum over its points), so that comparing *neighbours in the sorted
   order* suffices -- and its error-free second stage (TwoSum / TwoProduct) for the pairs the
   filter cannot decide; ``cp(C)``, ``cp_o``, ``eps(C)``;
-* the frame ``e``, ``nu(e)`` (paper Section 3 for even d, SPEC 4a for odd d with the exact
-  ``e == N`` case) and ``lambda = lift + max_k |r(o_k)|`` (SPEC 4b), where ``lift`` is the
+* the frame ``e``, ``nu(e)`` (paper Section 3 for even d, Mathematics §4.1 for odd d with the exact
+  ``e == N`` case) and ``lambda = lift + max_k |r(o_k)|`` (Mathematics §4.2), where ``lift`` is the
   unit, or for ``lift="scene"`` the obstacles' radius ``u(O) = max_k |o_k - o_1|`` of each query;
-* the ``7 (r - 1) + 1`` waypoints of paper Remark
-  ``constructing-sections-via-deformations-higher-case`` -- desingularization ``(desin)``,
-  projection ``(linear-transformation-obs)``, section ``(algorithm-gamma)`` -- written directly
-  into the caller's output array (SPEC 4c for r > 2);
-* the certificate of SPEC section 5: endpoints, obstacles fixed, finiteness, and the clearance
+* the ``7 (r - 1) + 1`` waypoints of paper Remark 2.5 -- desingularization of paper (3.2),
+  projection of paper (3.6), section of paper (3.8) -- written directly
+  into the caller's output array (Mathematics §4.3 for r > 2);
+* the certificate of Mathematics §6: endpoints, obstacles fixed, finiteness, and the clearance
   (closed-form minimum distance per piece and pair, as :func:`pmplan.certify.clearance`).
 
 How the kernel is laid out for speed (every shortcut is exact, see the tests):
@@ -611,7 +610,7 @@ def _clearance_exact(wf, b, kk, p, m, d, thr2):  # pragma: no cover - compiled
 @njit(**OPTS)
 def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, amax, best_k, vv, rv, tt,
                  d2):  # pragma: no cover - compiled
-    """The clearance of query ``b`` of :func:`plan_queries` from its waypoints ``wf[b]`` (SPEC 5).
+    """The clearance of query ``b`` of :func:`plan_queries` from its waypoints ``wf[b]`` (Mathematics §6).
 
     ``amax`` is the largest |coordinate| of the waypoints (finite); ``ddf``/``dd`` and
     ``best_k``, ``vv``, ``rv``, ``tt``, ``d2`` are scratch, ``ia``, ``ja`` the index tables
@@ -695,7 +694,7 @@ def _build_tables(r, m, n, d):
     x20 = x10 + r * n * d
     of0 = x20 + r * n * d
     # waypoint element x is src[g1[x]] (+ src[g2[x]] where add[x]): paper Remark
-    # constructing-sections-via-deformations, one leg C_k -> C_{k+1} per 7 waypoints
+    # Remark 2.5, one leg C_k -> C_{k+1} per 7 waypoints
     g1 = np.zeros(size, np.int64)
     g2 = np.zeros(size, np.int64)
     add = np.zeros(size, np.int64)
@@ -772,7 +771,7 @@ def lanes(r, m, n, d):  # pragma: no cover - compiled
 @njit(**OPTS)
 def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
           tab, sel, nsel):  # pragma: no cover - compiled
-    """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c).
+    """Plan and certify a chunk of queries of the obstacle-line planner (Mathematics §3, §4.1-§4.3).
 
     Parameters
     ----------
@@ -902,7 +901,7 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
             for c in range(0, d, 2):
                 nu[c] = -e[c + 1] + 0.0
                 nu[c + 1] = e[c] + 0.0
-        else:  # SPEC 4a
+        else:  # Mathematics §4.1
             pole = 1 if w[d - 1] > 0 else 0
             for c in range(d - 1):
                 if w[c] != 0:
@@ -919,7 +918,7 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
                 nu[d - 1] = e[0]
                 for c in range(d):
                     nu[c] = nu[c] + 0.0
-        # --- columns, desingularization (desin), projection (linear-transformation-obs) -------
+        # --- columns, desingularization of paper (3.2), projection of paper (3.6) -------
         cp_o = 0
         for k in range(r):
             ok, cp, cpo_k, gap = _classes(y, k, p, m, d, w, vals, order, lab)
@@ -955,7 +954,7 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
                 if sq > q or i == 1 or math.isnan(sq):
                     q = sq
             unit = math.sqrt(q)
-        # --- lambda (SPEC 4b) and the lift of the section (algorithm-gamma) -----------------
+        # --- lambda (Mathematics §4.2) and the lift of the section of paper (3.8) -----------------
         lam = unit
         if m > 2:
             mx = 0.0
@@ -1457,7 +1456,7 @@ def _max_finite(S, T, x0, x1, mx, mx2, BAD):  # pragma: no cover - compiled
 @njit(**OPTS)
 def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2, wf,
                    b0, GAP, NORM):  # pragma: no cover - compiled
-    """The certificate of :func:`_plan_lanes` for one block of L queries (SPEC section 5).
+    """The certificate of :func:`_plan_lanes` for one block of L queries (Mathematics §6).
 
     ``S`` holds the waypoints of the block (row x: coordinate x of every lane), ``T`` the
     lanes' scratch rows (``mx``, ``mx2``: the alternating running maximum; ``BAD``, ``ACC``,
@@ -1615,7 +1614,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     The same computation as :func:`plan_queries`, operation for operation (so the results are bitwise
     the same), restricted to the case every query of a random batch is in: every configuration
     in the top stratum (all projections pairwise farther apart than the filter bound, so
-    ``cp(C_k) = m + n``, ``cp_o = m`` and the desingularization ``(desin)`` moves nothing), not
+    ``cp(C_k) = m + n``, ``cp_o = m`` and the desingularization of paper (3.2) moves nothing), not
     at the pole ``e == N`` (odd d), finite waypoints, every float minimum distance above
     certify's suspect threshold. The data are laid out lanes-innermost -- row ``x`` of the
     scratch ``S`` holds coordinate x of the waypoints of L queries -- so that every loop over
@@ -1764,8 +1763,8 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                 for l in range(L):
                     z = T[GAP, l]
                     T[GAP, l] = T[mn, l] if T[mn, l] < z else z  # noqa: FURB136
-            # desingularization (desin) moves nothing here (cp = cp_o + n), projection
-            # (linear-transformation-obs)
+            # desingularization of paper (3.2) moves nothing here (cp = cp_o + n), projection
+            # paper (3.6)
             for j in range(n):
                 for l in range(L):
                     T[ACC, l] = 0.0
@@ -1790,7 +1789,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                 todo[nt] = b0 + l
                 nt += 1
             continue
-        # --- lambda (SPEC 4b) and the lift ---------------------------------------------------
+        # --- lambda (Mathematics §4.2) and the lift ---------------------------------------------------
         for l in range(L):
             T[mx, l] = 0.0
         for i in range(2, m):
@@ -1832,7 +1831,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
             for c in range(d):
                 for l in range(L):
                     OFF[j * d + c, l] = ((T[UNIT, l] + T[mx, l]) * float(j + 1)) * NU[c, l]
-        # --- the waypoints (Remark constructing-sections-via-deformations) ------------------
+        # --- the waypoints (Remark 2.5) ------------------
         for k in range(r - 1):
             for s in range(7):
                 t0 = (7 * k + s) * row
@@ -1901,7 +1900,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
 
 def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
                flags, tab):
-    """Plan and certify a chunk of queries of the obstacle-line planner (SPEC 2, 4a-4c), with
+    """Plan and certify a chunk of queries of the obstacle-line planner (Mathematics §3, §4.1-§4.3), with
     the index tables ``tab`` of :func:`tables`.
 
     Parameters and outputs as :func:`plan_queries`. The generic queries are planned by
@@ -1912,8 +1911,8 @@ def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strat
     Plain Python on purpose, as :func:`_build_tables`: a jitted
     caller would have numba link :func:`_plan_lanes` and :func:`plan_queries` into its own module and
     optimise and generate their machine code a second time -- about a quarter of the first
-    run's compile time -- for a saving of a few microseconds per chunk (see the README, "first
-    run").
+    run's compile time -- for a saving of a few microseconds per chunk (see docs/install.md, "The first
+    run compiles the kernels").
     """
     nb, m, d = obstacles.shape
     n = first.shape[1]

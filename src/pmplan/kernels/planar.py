@@ -1,24 +1,24 @@
-"""Fused numba kernel of the planar three-obstacle planner (paper Section 4, SPEC section 3).
+"""Fused numba kernel of the planar three-obstacle planner (paper Section 4, Mathematics §5).
 
 The numpy code of :mod:`pmplan.planners.planar_three` (with :mod:`pmplan.predicates`,
 :mod:`pmplan.frame`, :mod:`pmplan.path` and :mod:`pmplan.certify`) is the *reference*. The
 kernel computes, for every query of a chunk, in one pass and without any temporary larger than
 a few scalars, exactly what that reference computes:
 
-* the exact stratum (paper Section 4, Corollary ``lapart``): whether o3, x, x' lie on ``L_C``
+* the exact stratum (paper Section 4, Corollary 4.1): whether o3, x, x' lie on ``L_C``
   (heights ``(y - o1) . rot90(w)`` equal to 0) and which of x, x', o3 share a column with an
   obstacle (columns ``(y - o1) . w``), with the rigorous float filter of
   :func:`pmplan.predicates.projection_values` and, for what it cannot separate, the error-free
   stage (TwoSum / TwoProduct) of :func:`pmplan.predicates.exact_projection_difference_sign`;
-  the exact order of the obstacle columns (T23, Figure ``grid``);
+  the exact order of the obstacle columns (T23, Figure 10);
 * the frame ``e``, ``nu(e)`` of :class:`pmplan.frame.Frame`, the (u, h) coordinates, the
-  polyline of the stratum (Figures ``T111``, ``Tstraight``, ``porenmedio``, ``t2223``,
-  ``grid``) mapped to the plane as ``_to_world`` does (start and goal set exactly, the second
+  polyline of the stratum (Figures 6, 7, 8, 9,
+  10) mapped to the plane as ``_to_world`` does (start and goal set exactly, the second
   and second-to-last points as displacements from them, equal frame points made equal);
 * the constant-speed breakpoints of
   :meth:`pmplan.path.PiecewiseLinearPath.arc_length_reparametrised` (same sums, same order),
   the reversal of the swapped query (T22_32, T23_43) and the padding to WAYPOINTS = 6;
-* the certificate of SPEC section 5 (:func:`pmplan.certify.certify`): finite, and the
+* the certificate of Mathematics §6 (:func:`pmplan.certify.certify`): finite, and the
   clearance -- the closed-form minimum distance of the robot to each obstacle on every piece,
   and the obstacle pairs.
 
@@ -130,7 +130,7 @@ _INLINE_IR = {**OPTS, "inline": "always"}
 #: rows of the scalar kernel's one scratch array W (WAYPOINTS columns): the polyline in the
 #: frame (u, h), the robot's waypoints (x, y) and the breakpoints, before the reversal
 _PU, _PH, _QX, _QY, _TM = range(5)
-#: the domain W_a of every stratum code (paper (w2)-(w4)), the planner's
+#: the domain W_a of every stratum code (paper (4.1)-(4.3)), the planner's
 _DOMAIN = DOMAIN_BY_CODE
 _FAMILY = np.array(FAMILIES, dtype=np.int64)
 
@@ -261,7 +261,7 @@ def _columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0, w1):  # pragma: n
 
 @njit(**INLINE)
 def _rank(s1, s2, s3, order):  # pragma: no cover - compiled
-    """The rank (Figure ``grid``) of the obstacle column a point lies on, -1 for none: ``s1``,
+    """The rank (Figure 10) of the obstacle column a point lies on, -1 for none: ``s1``,
     ``s2``, ``s3`` are the exact signs of its column against those of o1, o2, o3, ``order``
     the obstacles' order (:func:`_classify_columns`)."""
     if s1 == 0:
@@ -277,7 +277,7 @@ def _rank(s1, s2, s3, order):  # pragma: no cover - compiled
 def _classify_columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0, w1,
                       wexact):  # pragma: no cover - compiled
     """Families T22, T23 (o3 off ``L_C``): the exact order of the columns ``(y - o1) . w`` of
-    o1 (0), o2, o3, x, x' (paper Section 4, Figure ``grid``). Returns ``(decided, family
+    o1 (0), o2, o3, x, x' (paper Section 4, Figure 10). Returns ``(decided, family
     index, i, j, rank of x, rank of x', order)``; ``order`` (T23) is the rank of o3 among the
     obstacle columns: 0 for o3 < o1 < o2, 1 for o1 < o3 < o2, 2 for o1 < o2 < o3."""
     c2v, c3v, cxv, cgv, bound, cthr = _columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy,
@@ -298,7 +298,7 @@ def _classify_columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0, w1,
         ci = 2 if (sx1 == 0 or sx2 == 0) else 3
         cj = 2 if (sg1 == 0 or sg2 == 0) else 3
         return True, 1, ci, cj, -1, -1, 0
-    # cp_o = 3: family T23, obstacle columns in exact order (Figure grid)
+    # cp_o = 3: family T23, obstacle columns in exact order (Figure 10)
     okx3, sx3 = _compare(cxv, c3v, cthr, xx, xy, o3x, o3y, w0, w1, wexact)
     okg3, sg3 = _compare(cgv, c3v, cthr, gx, gy, o3x, o3y, w0, w1, wexact)
     if not (okx3 and okg3):
@@ -313,7 +313,7 @@ def _classify_columns(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0, w1,
 def _classify(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy, w0,
               w1):  # pragma: no cover - compiled
     """The exact stratum of a query with ``w = o2 - o1`` finite and nonzero (paper Section 4,
-    Corollary ``lapart``; :func:`pmplan.planners.planar_three.classify`): first the heights
+    Corollary 4.1; :func:`pmplan.planners.planar_three.classify`): first the heights
     ``(y - o1) . rot90(w)`` (is o3 on ``L_C``: family T1), then :func:`_classify_columns`.
     Returns ``(decided, family index, i, j, rank of x, rank of x', order)`` (see
     :func:`_classify_columns`); not decided: the exact rational stage is needed (``FALLBACK``)."""
@@ -364,7 +364,7 @@ def _coordinates(px, py, o1x, o1y, e0, e1, nu0, nu1):  # pragma: no cover - comp
 @njit(**INLINE)
 def _vertical(r, order, norm, u3, unit):  # pragma: no cover - compiled
     """The column ``s_r`` of the vertical leg past the obstacle column of rank ``r`` (Figure
-    ``grid``): ``s1 = (c1 + c2) / 2``, ``s2 = (c2 + c3) / 2``, ``s3 = c3 + unit`` for the
+    10): ``s1 = (c1 + c2) / 2``, ``s2 = (c2 + c3) / 2``, ``s3 = c3 + unit`` for the
     obstacle columns c1 < c2 < c3 (0, ``norm``, ``u3`` in ``order``)."""
     c0 = u3 if order == 0 else 0.0
     c1 = 0.0 if order == 0 else (u3 if order == 1 else norm)
@@ -387,21 +387,21 @@ def _point(W, k, u, h):  # pragma: no cover - compiled
 def _polyline(code, unit, ua, ha, ub, hb, ra, rb, u3, h3, norm, d13, order,
               W):  # pragma: no cover - compiled
     """The polyline of stratum ``code`` in (u, h) coordinates from a = (ua, ha) to
-    b = (ub, hb) (SPEC section 3) into rows ``_PU``, ``_PH`` of ``W``; returns its number of
+    b = (ub, hb) (Mathematics §5) into rows ``_PU``, ``_PH`` of ``W``; returns its number of
     points ``kk``.
 
     ``unit`` is the paper's 1 (``H = unit + max(0, h3)``, ``s3 = c3 + unit``), ``ra``, ``rb``
     the ranks of the obstacle columns a and b lie on and ``order`` the obstacles' (T23),
     ``d13 = |o3 - o1|`` (T1_22)."""
     _point(W, 0, ua, ha)
-    if code == 0 or code == 7 or code == 11:  # W1, Figure T111
+    if code == 0 or code == 7 or code == 11:  # W1, Figure 6
         big_h = unit + (h3 if h3 > 0.0 else 0.0)  # noqa: FURB136 (np.maximum(0, h3))
         kk = 4
         _point(W, 1, ua, big_h)
         _point(W, 2, ub, big_h)
-    elif code == 1 or code == 2:  # T1_12, T1_21, Figure Tstraight
+    elif code == 1 or code == 2:  # T1_12, T1_21, Figure 7
         kk = 2
-    elif code == 3 or code == 4:  # T1_22, T22_22, Figure porenmedio
+    elif code == 3 or code == 4:  # T1_22, T22_22, Figure 8
         if code == 3:
             delta = 0.5 * (norm if norm < d13 else d13)  # noqa: FURB136 (np.minimum)
         else:
@@ -409,14 +409,14 @@ def _polyline(code, unit, ua, ha, ub, hb, ra, rb, u3, h3, norm, d13, order,
         kk = 4
         _point(W, 1, delta, ha)
         _point(W, 2, delta, hb)
-    elif code == 5 or code == 6:  # T22_23 (T22_32 swapped), Figure t2223
+    elif code == 5 or code == 6:  # T22_23 (T22_32 swapped), Figure 9
         mid = 0.5 * norm
         h_half = 0.5 * h3
         kk = 5
         _point(W, 1, mid, ha)
         _point(W, 2, mid, h_half)
         _point(W, 3, ub, h_half)
-    else:  # T23_33, T23_34 (T23_43 swapped), Figure grid
+    else:  # T23_33, T23_34 (T23_43 swapped), Figure 10
         sa = _vertical(ra, order, norm, u3, unit)
         h_half = 0.5 * h3
         _point(W, 1, sa, ha)
@@ -627,7 +627,7 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
         if validate and _invalid(o1x, o1y, o2x, o2y, o3x, o3y, xx, xy, gx, gy):
             flags[b] = INVALID
             continue
-        # --- exact classification (pmplan.predicates, SPEC section 1) ----------------------
+        # --- exact classification (pmplan.predicates, Mathematics §2) ----------------------
         w0 = o2x - o1x
         w1 = o2y - o1y
         if (w0 == 0.0 and w1 == 0.0) or not (math.isfinite(w0) and math.isfinite(w1)):
@@ -639,7 +639,7 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
             flags[b] = FALLBACK
             continue
         code = CODE_LUT[fam, ci, cj]
-        # --- frame (pmplan.frame.Frame), (u, h) coordinates, the polyline (SPEC section 3) --
+        # --- frame (pmplan.frame.Frame), (u, h) coordinates, the polyline (Mathematics §5) --
         e0, e1, norm, nu0, nu1 = _frame(w0, w1)
         u3, h3 = _coordinates(o3x, o3y, o1x, o1y, e0, e1, nu0, nu1)
         ux, hx = _coordinates(xx, xy, o1x, o1y, e0, e1, nu0, nu1)
@@ -698,7 +698,7 @@ def plan_planar(obstacles, start, goal, even, lift, validate, times, wp, domain,
 #: how many queries :func:`_plan_lanes` plans at once (the lanes of its vector loops); a
 #: chunk of fewer queries goes to the scalar kernel whole
 LANES = 64
-#: the stratum every lane of :func:`_plan_lanes` is in: T23_44 (code 11, Figure T111, domain W1)
+#: the stratum every lane of :func:`_plan_lanes` is in: T23_44 (code 11, Figure 6, domain W1)
 _GENERIC = int(CODE_LUT[2, 4, 4])
 #: at most this many blocks in a row are handed to the scalar kernel untried (_plan_lanes)
 _MAX_SKIP = 32
@@ -750,7 +750,7 @@ def _lanes_generic(S, even, lift):  # pragma: no cover - compiled
     its ten input rows to its waypoints 1 and 2, breakpoints 1 and 2, clearance and the row
     ``_BAD`` (0.0: the lane is decided here; see :func:`_plan_lanes`).
 
-    The operations of :func:`plan_planar` for stratum T23_44 (W1, Figure ``T111``: the path
+    The operations of :func:`plan_planar` for stratum T23_44 (W1, Figure 6: the path
     x -> x + (H - hx) nu -> x' + (H - hx') nu -> x', H = unit + max(0, h3)), in its order, as
     selects: :func:`_to_world`'s merging of equal frame points, :func:`_constant_speed`,
     :func:`_clearance` (every float minimum distance certainly above certify's threshold)."""

@@ -1,6 +1,6 @@
 """The planners. Importing this package registers every planner in ``base.REGISTRY``.
 
-* ``obstacle_line`` -- paper Section 3 and its extensions (SPEC 4a, 4b, 4c).
+* ``obstacle_line`` -- paper Section 3 and its extensions (Mathematics §4.1-§4.3).
 * ``planar_three`` -- paper Section 4 (d = 2, n = 1, m = 3).
 
 A new planner is one module here that subclasses :class:`~pmplan.planners.base.Planner` and

@@ -23,6 +23,7 @@ import numpy as np
 
 from .. import backends
 from ..path import PiecewiseLinearPath
+from ..predicates import projection_classes
 
 __all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "default_planner", "lift_code",
            "out_of_scope", "register", "scene_unit", "unit"]
@@ -102,7 +103,7 @@ class Planner:
     #: planning ``2**k C`` with ``lift * 2**k`` gives exactly ``2**k`` times the path of C: the
     #: run loop then plans queries at extreme magnitudes scaled (:mod:`pmplan.magnitude`)
     equivariant: ClassVar[bool] = False
-    #: plans through r > 2 configurations (:meth:`plan_sequence`, SPEC 4c)
+    #: plans through r > 2 configurations (:meth:`plan_sequence`, Mathematics §4.3)
     sequential: ClassVar[bool] = False
     #: the default planner of the (d, n, m) it supports is the one of highest priority
     priority: ClassVar[int] = 0
@@ -185,7 +186,7 @@ class Planner:
         """The indices of the waypoints where a path of this planner with breakpoints ``times``
         passes through its r configurations, in order; r is the length of the result.
 
-        A motion through r configurations (SPEC 4c, sequential planning) is at the start at
+        A motion through r configurations (Mathematics §4.3, sequential planning) is at the start at
         time 0, at the intermediate configuration C_k at time ``k / (r - 1)`` and at the goal at
         time 1, each a breakpoint of the path; the stages that must keep them fixed
         (:func:`pmplan.refine`) read them here, the one place that decides them.
@@ -212,6 +213,35 @@ class Planner:
                 if shared.shape[0] == k and np.array_equal(shared, times):
                     return np.searchsorted(times, np.arange(r) / (r - 1)).astype(np.int64)
         return np.array([0, k - 1], dtype=np.int64)
+
+    def map_boundaries(self, obstacles, others) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Return the lines of the plane on which the label of one moving point changes.
+
+        The moving point is one robot's start (or goal); ``obstacles`` (m, 2) and ``others``
+        (k, 2), the other robots of the same configuration, stay where they are. Its label
+        changes exactly where its column meets another point's column (Mathematics §3.6,
+        §4.2), so the default is the column line through every other point.
+
+        Parameters
+        ----------
+        obstacles : numpy.ndarray
+            The obstacles, shape (m, 2).
+        others : numpy.ndarray
+            The other robots' points of the mapped configuration, shape (k, 2).
+
+        Returns
+        -------
+        list of tuple
+            ``(point, direction)`` pairs of float arrays of shape (2,), one per line, with
+            ``direction`` a unit vector; points on one column give one line.
+        """
+        o = np.asarray(obstacles, dtype=float)
+        pts = np.concatenate([o, np.asarray(others, dtype=float).reshape(-1, 2)])
+        e = (o[1] - o[0]) / np.hypot(*(o[1] - o[0]))
+        nu = np.array([-e[1], e[0]])
+        labels = projection_classes(pts[None], o[0][None], o[1][None])[0][0]
+        first = [int(np.flatnonzero(labels == lab)[0]) for lab in np.unique(labels)]
+        return [(pts[k], nu) for k in sorted(first)]
 
 
 class Stage:
@@ -267,7 +297,7 @@ def default_planner(d: int, n: int, m: int, sequential: bool = False) -> str:
     """The name of the default planner for (d, n, m): among the registered planners that
     support it (and, for a sequence of configurations, are :attr:`~Planner.sequential`), the one of
     highest :attr:`~Planner.priority` -- ``planar_three`` (paper Section 4) for (2, 1, 3),
-    ``obstacle_line`` (paper Section 3 and SPEC 4) otherwise. When none does, the most general
+    ``obstacle_line`` (paper Section 3 and Mathematics §4) otherwise. When none does, the most general
     one (lowest priority), whose :meth:`~Planner.supports` then says why."""
     pool = [p for p in REGISTRY.values() if p.sequential or not sequential]
     fit = [p for p in pool if p.supports(d, n, m) is None]

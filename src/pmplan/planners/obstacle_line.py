@@ -1,38 +1,37 @@
 """The obstacle-line planner: deform to the line through o1, o2, lift, slide, descend.
 
 This is the planner of paper Section 3 (for pi_{n+2,2}: m = 2 obstacles, d even, any n >= 1,
-2n+1 domains W_4..W_{2n+4}) and, with the same code, its extensions of SPEC section 4:
-odd d >= 3 (SPEC 4a) and any number of obstacles m >= 2 (SPEC 4b). For m = 2 and even d the
+2n+1 domains W_4..W_{2n+4}) and, with the same code, its extensions of Mathematics §4:
+odd d >= 3 (Mathematics §4.1) and any number of obstacles m >= 2 (Mathematics §4.2). For m = 2 and even d the
 paths and labels are exactly the paper's; there is one implementation.
 
-Notation (paper Section 3, Figure ``Lc``): ``w = o2 - o1``, ``e = w/|w|``, the column
+Notation (paper Section 3, Figure 1): ``w = o2 - o1``, ``e = w/|w|``, the column
 ``s(y) = (y - o1).e``, the perpendicular part ``r(y) = (y - o1) - s(y) e``, and ``nu(e)`` the
 unit normal of :mod:`pmplan.frame`.
 
 * ``cp(C)``: number of distinct columns among the m+n points; ``cp_o``: among the obstacles.
 * ``eps(C) = min{|s(a) - s(b)| : s(a) != s(b)} / (n+m)`` over all m+n points.
-* Desingularization ``(desin)``, Figure ``algorithm3``: robot j (1-based) moves
+* Desingularization of paper (3.2), Figure 2: robot j (1-based) moves
   ``x_j -> x_j + t j eps(C) e``; it is the identity when no robot shares its column with another
   point (``cp(C) = cp_o + n``; for m = 2, ``cp(C) = n+2``).
-* Projection ``(linear-transformation-obs)``, Figure ``algorithm2``: robots ``x -> x - t r(x)``;
+* Projection of paper (3.6), Figure 3: robots ``x -> x - t r(x)``;
   obstacles never move.
 * ``H(C, s)``: the desingularization at 2s on [0, 1/2], then the projection at 2s - 1.
-* Section over collinear pairs ``(algorithm-gamma)``, Figure ``algorithm1``: robot i is lifted by
+* Section over collinear pairs of paper (3.8), Figure 4: robot i is lifted by
   ``i lambda nu(e)``, slides from X_i to X'_i, and descends, with
   ``lambda = lift + max_{k>=3} |r(o_k)|`` (= lift for m = 2; the paper has lift = 1), where
   the unit ``lift`` is a positive number, or with ``lift="scene"`` the obstacles' radius
   ``u(O) = max_k |o_k - o_1|`` of the query (:func:`~pmplan.planners.base.scene_unit`), which
   makes the planner equivariant under translations, rotations (d = 2) and scalings.
-* The whole path is the composition of paper Remark
-  ``constructing-sections-via-deformations-higher-case``: [0,1/3] H(C, 3 tau),
+* The whole path is the composition of paper Remark 2.5: [0,1/3] H(C, 3 tau),
   [1/3,2/3] the section, [2/3,1] H(C', 3 - 3 tau). Eight waypoints, at
   tau = 0, 1/6, 1/3, 4/9, 5/9, 2/3, 5/6, 1.
-* Domain label (paper, "Repacking regions of continuity"; SPEC 4a/4b)::
+* Domain label (paper Section 3.5, "Repacking regions of continuity"; Mathematics §4.1, §4.2)::
 
       l = cp(C) + cp(C') - cp_o + 2 - [d odd and e == N]
 
   in {4, ..., 2n+m+2} for even d (2n+m-1 domains) and {3, ..., 2n+m+2} for odd d (2n+m):
-  the parametrised topological complexity of paper Theorem ``gongra``, so the planner is optimal.
+  the parametrised topological complexity of paper Theorem 2.6, so the planner is optimal.
 
 References
 ----------
@@ -95,8 +94,8 @@ def column_structure(fr: Frame, obstacles: np.ndarray, robots: np.ndarray) -> Co
 def deformation(fr: Frame, obstacles, robots, cols: ColumnStructure) -> PiecewiseLinearPath:
     """Return ``H(C, .)``: desingularization on [0, 1/2], projection to L_C on [1/2, 1].
 
-    Waypoints C, C1 = F(C, 1) (paper ``(desin)``), C2 = phi(C1, 1) (paper
-    ``(linear-transformation-obs)``), shape (B, 3, m+n, d).
+    Waypoints C, C1 = F(C, 1) (paper (3.2)), C2 = phi(C1, 1) (paper
+    (3.6)), shape (B, 3, m+n, d).
     """
     n = robots.shape[1]
     j = np.arange(1, n + 1, dtype=float)
@@ -111,7 +110,7 @@ def deformation(fr: Frame, obstacles, robots, cols: ColumnStructure) -> Piecewis
 
 
 def lift_height(fr: Frame, obstacles: np.ndarray, lift: float) -> np.ndarray:
-    """Return ``lambda = lift + max_{k >= 3} |r(o_k)|`` (SPEC 4b), shape (B,).
+    """Return ``lambda = lift + max_{k >= 3} |r(o_k)|`` (Mathematics §4.2), shape (B,).
 
     ``lift`` is the unit: a positive float (the paper's 1 by default), or
     :data:`~pmplan.planners.base.SCENE_CODE` / ``"scene"`` for the unit
@@ -125,7 +124,7 @@ def lift_height(fr: Frame, obstacles: np.ndarray, lift: float) -> np.ndarray:
 
 
 def section(fr: Frame, x_start, x_goal, lam: np.ndarray, m: int) -> PiecewiseLinearPath:
-    """Return the section over collinear pairs, paper ``(algorithm-gamma)``, Figure ``algorithm1``.
+    """Return the section over collinear pairs, paper (3.8), Figure 4.
 
     ``x_start``, ``x_goal`` are collinear configurations (B, m+n, d) with the same obstacles.
     Robot i (1-based)::
@@ -153,8 +152,8 @@ def two_configuration_path(fr, obstacles, h_start, h_goal, lam) -> PiecewiseLine
 def path_times(r: int) -> np.ndarray:
     """Return the breakpoints of a path through r >= 2 configurations, shape (7 (r - 1) + 1,).
 
-    They are computed by the reference path algebra itself (:func:`compose_via_deformations`
-    and :func:`~pmplan.path.join` on an empty batch), so both backends share them bitwise:
+    They are computed by the reference path algebra itself (:func:`~pmplan.path.compose_via_deformations`
+    and :meth:`~pmplan.path.PiecewiseLinearPath.join` on an empty batch), so both backends share them bitwise:
     tau = 0, 1/6, 1/3, 4/9, 5/9, 2/3, 5/6, 1 for r = 2.
     """
     empty = PiecewiseLinearPath(np.array([0.0, 0.5, 1.0]), np.zeros((0, 3, 1, 1)))
@@ -166,7 +165,7 @@ def path_times(r: int) -> np.ndarray:
     return out
 
 
-#: what ``pmplan verify`` says for odd d (:meth:`pmplan.strata.ObstacleLineStrata.notes`) (measured by ``benchmarks/odd_d_pole.py``; README, "Odd d")
+#: what ``pmplan verify`` says for odd d (:meth:`pmplan.strata.ObstacleLineStrata.notes`) (measured by ``benchmarks/odd_d_pole.py``; Mathematics §4.1)
 POLE_NOTE = (
     "odd d: near the pole N = e_d the modulus of continuity grows like 1/angle, about "
     "2 n lambda / angle (lambda = lift + max_k |r(o_k)|); measured for d = 3, n = 2, lift 1: a "
@@ -178,11 +177,11 @@ POLE_NOTE = (
 
 
 class ObstacleLinePlanner(Planner):
-    """Planner of paper Section 3, extended to any m >= 2 and any d >= 2 (SPEC 4a, 4b)."""
+    """Planner of paper Section 3, extended to any m >= 2 and any d >= 2 (Mathematics §4.1, §4.2)."""
 
     name = "obstacle_line"
     summary = (
-        "paper Section 3 (m = 2, d even) and its extensions to odd d and m >= 2 (SPEC 4a/4b): "
+        "paper Section 3 (m = 2, d even) and its extensions to odd d and m >= 2 (Mathematics §4.1, §4.2): "
         "desingularize, project to the line o1o2, lift-slide-descend"
     )
     #: planning ``2**k C`` with ``lift * 2**k`` gives exactly ``2**k`` times the path of C (every
@@ -190,16 +189,16 @@ class ObstacleLinePlanner(Planner):
     #: extreme magnitudes are planned scaled (:mod:`pmplan.magnitude`)
     equivariant = True
     sequential = True
-    #: the seven phases of every leg (SPEC 2, paper Section 3), one piece each
+    #: the seven phases of every leg (Mathematics §3, paper Section 3), one piece each
     phases = (
-        ("desingularization", "robots step along e off shared columns, paper (desin)"),
+        ("desingularization", "robots step along e off shared columns, paper (3.2)"),
         ("projection to the line",
-         "robots move straight onto L_C, paper (linear-transformation-obs)"),
-        ("lift", "robot i rises by i*lambda*nu(e), section (algorithm-gamma)"),
-        ("slide", "robots slide parallel to L_C from X to X', section (algorithm-gamma)"),
-        ("descend", "robots descend onto L_C at X', section (algorithm-gamma)"),
+         "robots move straight onto L_C, paper (3.6)"),
+        ("lift", "robot i rises by i*lambda*nu(e), section of paper (3.8)"),
+        ("slide", "robots slide parallel to L_C from X to X', section of paper (3.8)"),
+        ("descend", "robots descend onto L_C at X', section of paper (3.8)"),
         ("projection reversed", "robots lift back off the line to F(C', 1)"),
-        ("desingularization reversed", "robots step back along e to C', (desin) reversed"),
+        ("desingularization reversed", "robots step back along e to C', paper (3.2) reversed"),
     )
 
     def supports(self, d: int, n: int, m: int) -> str | None:
@@ -229,7 +228,7 @@ class ObstacleLinePlanner(Planner):
 
     def plan_sequence(self, obstacles, configs, *, lift: float = 1.0,
                       backend: str | None = None) -> RawPlan:
-        """Plan through r >= 2 robot configurations (SPEC 4c); r = 2 is :meth:`plan`.
+        """Plan through r >= 2 robot configurations (Mathematics §4.3); r = 2 is :meth:`plan`.
 
         On ``[(k-1)/(r-1), k/(r-1)]`` the path is the two-configuration path from C_k to
         C_{k+1}; label ``sum_k cp(C_k) - (r-1) cp_o + 2 - [e == N]``.

@@ -2,7 +2,7 @@
 
 This is the planner of paper Section 4 (``section3`` in the source) for ``pi_{4,3}``: one point
 robot x among three point obstacles o1, o2, o3 in the plane (d = 2, n = 1, m = 3). It has four
-domains of continuity W1..W4, so it is optimal (paper Theorem ``gongra``: TC = 2n+m-1 = 4).
+domains of continuity W1..W4, so it is optimal (paper Theorem 2.6: TC = 2n+m-1 = 4).
 
 Frame (paper Section 4, first picture). With ``w = o2 - o1``, ``e = w/|w|`` and
 ``nu(e) = (-e_2, e_1)`` every point y gets the coordinates::
@@ -14,32 +14,32 @@ so that ``o1 = (0, 0)``, ``o2 = (|w|, 0)`` and ``o3 = (u3, h3)``. Counts of dist
 (paper Section 4), all decided **exactly** by :func:`pmplan.predicates.projection_classes`:
 ``cp_perp_o`` / ``cp_perp(C)`` heights of o1, o2, o3 / and x; ``cp_o`` / ``cp(C)`` columns.
 
-Strata (paper Section 4; they partition the query space, Corollary ``lapart``)::
+Strata (paper Section 4; they partition the query space, Corollary 4.1)::
 
     T1_{ij}   cp_perp_o = 1 (o3 on L_C),  cp_perp(C) = i,  cp_perp(C') = j    i, j in {1, 2}
     T22_{rs}  cp_perp_o = 2, cp_o = 2,    cp(C) = r,       cp(C') = s         r, s in {2, 3}
     T23_{kl}  cp_perp_o = 2, cp_o = 3,    cp(C) = k,       cp(C') = l         k, l in {3, 4}
 
-Domains (paper ``(w2)``-``(w4)``)::
+Domains (paper (4.1)-(4.3))::
 
     W1 = T1_11 u T22_33 u T23_44
     W2 = T1_22 u T22_22
     W3 = T1_12 u T1_21 u T22_23 u T22_32 u T23_33
     W4 = T23_34 u T23_43
 
-Paths (SPEC section 3) are polylines in the frame (u, h), traversed at constant speed:
+Paths (Mathematics §5) are polylines in the frame (u, h), traversed at constant speed:
 
-* W1, Figure ``T111``: ``x -> (u(x), H) -> (u(x'), H) -> x'`` with ``H = 1 + max(0, h3)``
+* W1, Figure 6: ``x -> (u(x), H) -> (u(x'), H) -> x'`` with ``H = 1 + max(0, h3)``
   (see the typo note in :func:`frame_polyline_W1`). The 1 here and in ``s3 = c3 + 1`` below is
   the paper's unit: the planner's ``lift`` (default 1; ``lift="scene"``: the obstacles' radius
   ``u(O) = max(|o2 - o1|, |o3 - o1|)``, which makes the paths equivariant under translations,
   rotations and scalings).
-* T1_12, T1_21, Figure ``Tstraight``: the segment ``x -> x'``.
-* T1_22, T22_22, Figure ``porenmedio``: ``x -> (delta, h(x)) -> (delta, h(x')) -> x'`` with
+* T1_12, T1_21, Figure 7: the segment ``x -> x'``.
+* T1_22, T22_22, Figure 8: ``x -> (delta, h(x)) -> (delta, h(x')) -> x'`` with
   ``delta = min(|o1o2|, |o1o3|)/2`` (T1_22) and ``delta = |o1o2|/2`` (T22_22).
-* T22_23, Figure ``t2223``: ``x -> (|w|/2, h(x)) -> (|w|/2, h3/2) -> (u(x'), h3/2) -> x'``;
+* T22_23, Figure 9: ``x -> (|w|/2, h(x)) -> (|w|/2, h3/2) -> (u(x'), h3/2) -> x'``;
   T22_32 is the reverse of the T22_23 path of the swapped query (C', C).
-* T23_33, Figure ``grid``: obstacle columns ``c1 < c2 < c3``, solid verticals
+* T23_33, Figure 10: obstacle columns ``c1 < c2 < c3``, solid verticals
   ``s1 = (c1+c2)/2, s2 = (c2+c3)/2, s3 = c3 + 1``, solid horizontal ``h3/2``; x on ``c_a``,
   x' on ``c_b``: ``x -> (s_a, h(x)) -> (s_a, h3/2) -> (s_b, h3/2) -> (s_b, h(x')) -> x'``.
 * T23_34: ``x -> (s_a, h(x)) -> (s_a, h3/2) -> (u(x'), h3/2) -> x'``; T23_43 is the reverse
@@ -49,7 +49,7 @@ Every polyline has at most 5 legs; a batch pads them to WAYPOINTS = 6 waypoints 
 waypoint at time 1 (zero-duration pieces). A polyline of length 0 is the constant path.
 
 Why every path is collision-free: each leg either runs along a column that holds no obstacle
-(u(x) or u(x') off the obstacle columns, delta, |w|/2, s_a), or along a height that holds no
+(u(x) or u(x') off the obstacle columns, delta, ``|w|/2``, s_a), or along a height that holds no
 obstacle (H, h3/2; h(x), h(x') != 0 when all obstacles lie on L_C), or leaves x (x') along its
 height towards the first solid vertical, never reaching the next obstacle column.
 
@@ -64,8 +64,8 @@ planner plugs into the run loop and the fast paths through the protocol of
 References
 ----------
 C. A. Ipanaque Zapata and J. Gonzalez, *Parametrised collision-free optimal motion planning
-algorithms in Euclidean spaces*, Section 4 (Figures ``T111``, ``Tstraight``, ``porenmedio``,
-``t2223``, ``grid``; Corollary ``lapart``; equations ``(w2)``-``(w4)``).
+algorithms in Euclidean spaces*, Section 4 (Figures 6, 7, 8,
+9, 10; Corollary 4.1; equations (4.1)-(4.3)).
 """
 
 from __future__ import annotations
@@ -95,13 +95,13 @@ __all__ = [
 ]
 
 def stratum_short_name(row) -> str:
-    """Return the SPEC name (e.g. ``"T22_23"``) of a strata record ``(family, i, j)``."""
+    """Return the pmplan name (e.g. ``"T22_23"``) of a strata record ``(family, i, j)``."""
     f, i, j = (int(v) for v in row)
     return f"T{f}_{i}{j}"
 
 
 def parse_stratum(stratum: str) -> str:
-    """Return the SPEC name of a stratum given as ``"T22_23"`` or ``"T^{2,2}_{2,3}"``.
+    """Return the pmplan name of a stratum given as ``"T22_23"`` or ``"T^{2,2}_{2,3}"``.
 
     Examples
     --------
@@ -167,7 +167,7 @@ def classify(obstacles, start, goal) -> StratumClassification:
     Examples
     --------
     o3 on the column of o1 (exactly) and x on the column of o2: T22 with cp(C) = 2;
-    x' off both columns: cp(C') = 3, so the stratum is T22_23, in W3 (Figure ``t2223``):
+    x' off both columns: cp(C') = 3, so the stratum is T22_23, in W3 (Figure 9):
 
     >>> s = classify([[[0, 0], [4, 0], [0, 2]]], [[[4, 3]]], [[[3, -2]]])
     >>> s.record, s.domain, s.record.shape
@@ -192,7 +192,7 @@ def classify(obstacles, start, goal) -> StratumClassification:
     j = np.where(t1, _ndistinct(hl[:, goal_cols]), _ndistinct(cl[:, goal_cols]))
     fidx = np.where(t1, 0, np.where(family == 22, 1, 2))
     code = LUT[fidx, np.clip(i, 0, 4), np.clip(j, 0, 4)]
-    if np.any(code < 0):  # impossible for configurations in F(R^2, 4) (Corollary lapart)
+    if np.any(code < 0):  # impossible for configurations in F(R^2, 4) (Corollary 4.1)
         bad = int(np.flatnonzero(code < 0)[0])
         raise ValueError(f"query {bad} is in no stratum of paper Section 4: are its points distinct?")
     record = np.stack([family, i, j], axis=1).astype(np.int64)
@@ -260,7 +260,7 @@ def _uh(*pairs) -> np.ndarray:
 
 
 def frame_polyline_W1(sc: _Scene) -> np.ndarray:
-    """Return the W1 polyline of Figure ``T111`` in (u, h) coordinates, shape (b, 4, 2).
+    """Return the W1 polyline of Figure 6 in (u, h) coordinates, shape (b, 4, 2).
 
     ::
 
@@ -271,51 +271,51 @@ def frame_polyline_W1(sc: _Scene) -> np.ndarray:
 
     Notes
     -----
-    The paper (Section 4, text after Figure ``T111``) describes the middle leg as "the
+    The paper (Section 4, text after Figure 6) describes the middle leg as "the
     L_C-parallel line having p_C projection 1+max{p_C(o_1), p_C(o_2), p_C(o_3)}". A line parallel
     to L_C is determined by its *height*, and every point of it has a different p_C projection,
     so this must be read with the perpendicular projection p^perp_C (heights): the line at height
-    ``1 + max{h(o1), h(o2), h(o3)} = 1 + max(0, h3)``, which is what Figure ``T111`` draws (one
+    ``1 + max{h(o1), h(o2), h(o3)} = 1 + max(0, h3)``, which is what Figure 6 draws (one
     unit above the highest obstacle, in H_{C,+}).
     """
     ux, hx, ug, hg, h3 = sc.u[:, 3], sc.h[:, 3], sc.u[:, 4], sc.h[:, 4], sc.h[:, 2]
-    # paper Section 4 after Figure T111: "p_C projection 1+max{p_C(o_i)}"
+    # paper Section 4 after Figure 6: "p_C projection 1+max{p_C(o_i)}"
     # *** TYPO IN PAPER ***: an L_C-parallel line is fixed by its height: read p^perp_C
     big_h = sc.unit + np.maximum(0.0, h3)  # the paper's 1 is the unit (lift)
     return _uh((ux, hx), (ux, big_h), (ug, big_h), (ug, hg))
 
 
 def _frame_straight(sc: _Scene) -> np.ndarray:
-    """T1_12, T1_21 (Figure ``Tstraight``): the segment x -> x'."""
+    """T1_12, T1_21 (Figure 7): the segment x -> x'."""
     return _uh((sc.u[:, 3], sc.h[:, 3]), (sc.u[:, 4], sc.h[:, 4]))
 
 
 def _frame_porenmedio(sc: _Scene, delta: np.ndarray) -> np.ndarray:
-    """T1_22, T22_22 (Figure ``porenmedio``): x -> (delta, h(x)) -> (delta, h(x')) -> x'."""
+    """T1_22, T22_22 (Figure 8): x -> (delta, h(x)) -> (delta, h(x')) -> x'."""
     ux, hx, ug, hg = sc.u[:, 3], sc.h[:, 3], sc.u[:, 4], sc.h[:, 4]
     return _uh((ux, hx), (delta, hx), (delta, hg), (ug, hg))
 
 
 def _frame_T1_22(sc: _Scene) -> np.ndarray:
-    """T1_22: ``delta_1 = min(d(o1, o2), d(o1, o3))/2`` (Figure ``porenmedio``, left)."""
+    """T1_22: ``delta_1 = min(d(o1, o2), d(o1, o3))/2`` (Figure 8, left)."""
     d13 = np.hypot(*(sc.obstacles[:, 2] - sc.obstacles[:, 0]).T)
     return _frame_porenmedio(sc, 0.5 * np.minimum(sc.length, d13))
 
 
 def _frame_T22_22(sc: _Scene) -> np.ndarray:
-    """T22_22: ``delta_2 = d(o1, o2)/2`` (Figure ``porenmedio``, right)."""
+    """T22_22: ``delta_2 = d(o1, o2)/2`` (Figure 8, right)."""
     return _frame_porenmedio(sc, 0.5 * sc.length)
 
 
 def _frame_T22_23(sc: _Scene) -> np.ndarray:
-    """T22_23 (Figure ``t2223``, left): lines l1 = h(x), l2 = |w|/2, l3 = h3/2, l4 = u(x')."""
+    """T22_23 (Figure 9, left): lines l1 = h(x), l2 = |w|/2, l3 = h3/2, l4 = u(x')."""
     ux, hx, ug, hg = sc.u[:, 3], sc.h[:, 3], sc.u[:, 4], sc.h[:, 4]
     mid, h_half = 0.5 * sc.length, 0.5 * sc.h[:, 2]
     return _uh((ux, hx), (mid, hx), (mid, h_half), (ug, h_half), (ug, hg))
 
 
 def _solid_verticals(sc: _Scene) -> np.ndarray:
-    """The solid verticals of Figure ``grid``: (c1+c2)/2, (c2+c3)/2, c3 + 1, shape (b, 3)
+    """The solid verticals of Figure 10: (c1+c2)/2, (c2+c3)/2, c3 + 1, shape (b, 3)
     (the 1 is the unit, ``lift``)."""
     c = sc.cols
     return np.stack([0.5 * (c[:, 0] + c[:, 1]), 0.5 * (c[:, 1] + c[:, 2]), c[:, 2] + sc.unit],
@@ -323,7 +323,7 @@ def _solid_verticals(sc: _Scene) -> np.ndarray:
 
 
 def _frame_T23_33(sc: _Scene) -> np.ndarray:
-    """T23_33 (Figure ``grid``): x on c_a, x' on c_b, via s_a, the line h3/2 and s_b."""
+    """T23_33 (Figure 10): x on c_a, x' on c_b, via s_a, the line h3/2 and s_b."""
     s = _solid_verticals(sc)
     sa = np.take_along_axis(s, sc.rank_x[:, None], axis=1)[:, 0]
     sb = np.take_along_axis(s, sc.rank_g[:, None], axis=1)[:, 0]
@@ -419,7 +419,7 @@ class PlanarThreePlanner(Planner):
     equivariant = True
     #: the default for (2, 1, 3), where ``obstacle_line`` applies too
     priority = 1
-    domain_prefix = "W"
+    domain_prefix = "W_"
     uses_heights = True
     phases = (
         ("polyline leg", "straight leg of the polyline of paper Section 4, at constant speed"),
@@ -443,6 +443,32 @@ class PlanarThreePlanner(Planner):
         f, i, j = (int(v) for v in row)
         return f"T^{{{PAPER_SUPER[f]}}}_{{{i},{j}}}"
 
+    def map_boundaries(self, obstacles, others) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Return the lines on which the stratum of the robot's start (goal) changes.
+
+        With o3 exactly on the line o1o2 (the family ``T1_ij``) the stratum depends on the
+        robot's height only: the boundary is that line. Otherwise (``T22_rs``, ``T23_kl``) it
+        depends on the robot's column: the boundaries are the obstacles' columns
+        (Mathematics §5.2).
+
+        Parameters
+        ----------
+        obstacles : numpy.ndarray
+            The three obstacles, shape (3, 2).
+        others : numpy.ndarray
+            The other robots' points (none: n = 1), shape (0, 2).
+
+        Returns
+        -------
+        list of tuple
+            ``(point, direction)`` pairs, ``direction`` a unit vector.
+        """
+        o = np.asarray(obstacles, dtype=float)
+        heights = projection_classes(o[None], o[0][None], o[1][None], perpendicular=True)[1]
+        if int(heights[0]) == 1:  # o3 on L_C: heights decide
+            return [(o[0], (o[1] - o[0]) / np.hypot(*(o[1] - o[0])))]
+        return super().map_boundaries(obstacles, others)
+
     def plan(self, obstacles, start, goal, *, lift: float = 1.0,
              backend: str | None = None) -> RawPlan:
         """Plan a batch of queries (paper Section 4).
@@ -453,7 +479,7 @@ class PlanarThreePlanner(Planner):
         start, goal : array_like, shape (B, 1, 2)
         lift : float or "scene"
             The unit of the paper's constructions: the 1 in ``H = 1 + max(0, h3)`` (W1, Figure
-            ``T111``) and in ``s3 = c3 + 1`` (T23, Figure ``grid``). Default 1, the paper's;
+            6) and in ``s3 = c3 + 1`` (T23, Figure 10). Default 1, the paper's;
             ``"scene"`` (or :data:`~pmplan.planners.base.SCENE_CODE`) makes it the obstacles'
             radius ``u(O) = max(|o2 - o1|, |o3 - o1|)`` of each query, so that the planner is
             equivariant under translations, rotations and scalings. Every other leg is

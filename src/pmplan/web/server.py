@@ -24,7 +24,9 @@ Endpoints
     ``y0 + j h``; ``-1`` where the point would coincide with another point of its
     configuration, ``-2`` where the path could not be certified, ``-3`` where the map ran out
     of its time budget :data:`MAP_BUDGET`), ``legend`` (per label: its
-    count and the strata, in the paper's notation, met there), ``planner``.
+    count and the strata, in the paper's notation, met there), ``boundaries`` (the lines
+    ``{"point": [x, y], "direction": [u, v]}`` on which the label changes,
+    :meth:`pmplan.planners.base.Planner.map_boundaries`), ``planner``.
 
 Errors are JSON ``{"error": message, "type": name}``: 400 for a body that is not JSON, 413 for
 a body over :data:`MAX_BODY` bytes, 422 for a query the library refuses (the message is the
@@ -101,11 +103,11 @@ def examples() -> list[dict]:
         out.append({"group": "demo: 3 robots, 2 obstacles (Section 3)", "name": f"W_{k + 4}",
                     "query": q(o, s, g)})
     for k, (o, s, g) in enumerate(planar_three_examples()):
-        out.append({"group": "demo: 1 robot, 3 obstacles (Section 4)", "name": f"W{k + 1}",
+        out.append({"group": "demo: 1 robot, 3 obstacles (Section 4)", "name": f"W_{k + 1}",
                     "query": q(o, s, g)})
     for name, (o, s, g) in figure_queries().items():
         out.append({"group": "Section 4: every stratum",
-                    "name": f"{name} (W{DOMAIN_OF[name]})", "query": q(o, s, g)})
+                    "name": f"{name} (W_{DOMAIN_OF[name]})", "query": q(o, s, g)})
     return out
 
 
@@ -265,6 +267,10 @@ def domain_map(obj) -> dict:
                     legend[p.domain]["strata"].append(p.stratum)
             part = part[:0]
         label[part] = -2
+    # the lines where the label changes, drawn by the page as continuous lines (the pixels
+    # exactly on them are too few once the line o1o2 is tilted)
+    chosen = api.choose_planner(2, n, obstacles.shape[0], planner=query.get("planner"))
+    lines = chosen.map_boundaries(obstacles, others[obstacles.shape[0]:])
     for lab, count in zip(*np.unique(label, return_counts=True)):
         if lab >= 0:
             legend[int(lab)]["count"] = int(count)
@@ -277,6 +283,7 @@ def domain_map(obj) -> dict:
         "size": [nx, ny],
         "domain": label.reshape(ny, nx).tolist(),
         "legend": [legend[k] for k in sorted(legend)],
+        "boundaries": [{"point": p.tolist(), "direction": v.tolist()} for p, v in lines],
         "invalid": int((label == -1).sum()),
         "uncertified": int((label == -2).sum()),
         "unfinished": int((label == -3).sum()),

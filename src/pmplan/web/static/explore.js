@@ -275,9 +275,26 @@
     return MAP_COLORS[label % MAP_COLORS.length];
   }
 
+  function drawBoundaries() {  // continuous lines, whatever the tilt of the line o1o2
+    const g = $("boundaries");
+    g.replaceChildren();
+    const mp = state.map;
+    if (!mp || $("map-mode").value === "off" || !mp.boundaries) return;
+    const cx = wx(W / 2), cy = wy(H / 2), reach = Math.hypot(W, H) / state.view.scale;
+    mp.boundaries.forEach((b, k) => {
+      const [px, py] = b.point, [ux, uy] = b.direction;
+      const t0 = (cx - px) * ux + (cy - py) * uy;  // the foot of the view's centre
+      const a = [px + (t0 - reach) * ux, py + (t0 - reach) * uy];
+      const c = [px + (t0 + reach) * ux, py + (t0 + reach) * uy];
+      el("line", { id: `boundary-${k + 1}`, class: "boundary", x1: sx(a[0]).toFixed(2),
+                   y1: sy(a[1]).toFixed(2), x2: sx(c[0]).toFixed(2), y2: sy(c[1]).toFixed(2) }, g);
+    });
+  }
+
   function drawMapCanvas() {
     const ctx = $("map").getContext("2d");
     ctx.clearRect(0, 0, W, H);
+    drawBoundaries();
     const mp = state.map;
     if (!mp || $("map-mode").value === "off") return;
     const h = mp.step, px = h * state.view.scale;
@@ -302,6 +319,13 @@
       d.innerHTML = `<span class="swatch" style="background:${color}"></span><span>${html}</span>`;
       lg.appendChild(d);
     };
+    if (mp.boundaries && mp.boundaries.length) {
+      const d = document.createElement("div");
+      d.className = "item";
+      d.innerHTML = '<span class="swatch boundary-swatch"></span>' +
+        `<span>domain boundaries: the label changes on these ${mp.boundaries.length} lines</span>`;
+      lg.appendChild(d);
+    }
     mp.legend.forEach((e) => item(mapColor(e.domain),
       `W<sub>${e.domain}</sub>: ${e.strata.map(tex).join(", ")} (${e.count} px)`));
     if (mp.invalid) item(mapColor(-1), `coincides with another point (${mp.invalid} px)`);
@@ -312,22 +336,28 @@
   // ---------------------------------------------------------------- dragging
   let drag = null;
   const svg = $("plane");
+  // the pointer in the plane's own 800 x 600 units: on a narrow screen the SVG is drawn
+  // smaller than that, so client pixels are scaled back
+  const local = (ev) => {
+    const r = svg.getBoundingClientRect();
+    return [(ev.clientX - r.left) * W / r.width, (ev.clientY - r.top) * H / r.height];
+  };
   svg.addEventListener("pointerdown", (ev) => {
     const h = ev.target.closest(".handle");
     if (!h) return;
     ev.preventDefault();
-    const r = svg.getBoundingClientRect();
+    const [px, py] = local(ev);
     const p = state[h.dataset.kind][Number(h.dataset.index)];
     // keep the offset between the pointer and the point: a drag by (dx, dy) pixels moves
     // the point by (dx, dy) pixels, wherever on the marker it was grabbed
     drag = { kind: h.dataset.kind, index: Number(h.dataset.index), id: ev.pointerId,
-             dx: p[0] - wx(ev.clientX - r.left), dy: p[1] - wy(ev.clientY - r.top) };
+             dx: p[0] - wx(px), dy: p[1] - wy(py) };
     svg.setPointerCapture(ev.pointerId);
   });
   svg.addEventListener("pointermove", (ev) => {
     if (!drag || ev.pointerId !== drag.id) return;
-    const r = svg.getBoundingClientRect();
-    const x = snap(wx(ev.clientX - r.left) + drag.dx), y = snap(wy(ev.clientY - r.top) + drag.dy);
+    const [px, py] = local(ev);
+    const x = snap(wx(px) + drag.dx), y = snap(wy(py) + drag.dy);
     const p = state[drag.kind][drag.index];
     if (p[0] === x && p[1] === y) return;
     state[drag.kind][drag.index] = [x, y];
