@@ -166,12 +166,14 @@ KAPPA = 0.5
 #: the kernel measures the refined paths for d below this (numpy sums fewer than 8 terms
 #: sequentially, as the kernel does; beyond, numpy's pairwise sums round differently)
 MAX_SEQUENTIAL_D = 8
-#: the rounding slack of the caps, in the frame (extent < 1): every cap is measured from ``D -
-#: SLACK (1 + A)`` (A the path's largest |coordinate| at the substep), every directional
-#: budget from ``h - 4 SLACK e**2`` against an inward part raised by ``SLACK e |move|`` (e = 2
-#: + A + |r0| + |v| + |move|): the float piece minimum, the float inward part and the rounded
-#: moves are within far less of the exact ones (about 2**-50 e), so every floor holds for the
-#: floats computed, exactly (tests/test_refine_exact.py)
+#: the rounding slack of the caps, in the frame (extent in [1/2, 1)): every cap is measured
+#: from ``D - 4 SLACK A`` (A the largest norm of a point of the path at the substep), every
+#: directional budget from ``h - 4 SLACK e**2`` against an inward part raised by ``SLACK e
+#: |move|`` (e = 4 A + |r0| + |v| + |move|), with a continuous ramp from 0 where the room above
+#: F' is within 2 to 4 of that slack: the float piece minimum, the float inward part and the
+#: rounded moves are within far less of the exact ones (about 2**-50 e), so every floor holds
+#: for the floats computed, exactly (tests/test_refine_exact.py). Only norms and no absolute
+#: term: the map commutes with rotations and scalings (to rounding)
 SLACK = 2.0**-44
 #: the largest target in the refinement's frame (:func:`to_frame`: the path's extent is below 1
 #: there)
@@ -277,8 +279,11 @@ def _apply(x, delta, cap, m, j=slice(None)) -> None:
 
 
 def _slack(x) -> np.ndarray:
-    """``SLACK (1 + A)`` per path (B,): the rounding slack of the caps (:data:`SLACK`)."""
-    return SLACK * (1.0 + np.abs(x).reshape(x.shape[0], -1).max(axis=1))
+    """``4 SLACK A`` per path (B,): the rounding slack of the caps (:data:`SLACK`), A the
+    largest norm of a point of the path in the frame (1/2 <= A < 1 for the raw path; a norm,
+    not the largest |coordinate|, and no absolute term: the map must commute with rotations
+    and scalings, A sets where the directional allowance turns off)."""
+    return (4.0 * SLACK) * np.sqrt(dot(x, x)).reshape(x.shape[0], -1).max(axis=1)
 
 
 def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
@@ -353,7 +358,7 @@ def _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl=None) -> np.ndarray:
         pa, pb = a[q], b[q]
         r = x[:, :, pa] - x[:, :, pb]
         r0, v = r[:, :-1], r[:, 1:] - r[:, :-1]
-        ext = (1.0 + sl[:, None] / SLACK) + (np.sqrt(dot(r0, r0)) + np.sqrt(dot(v, v)))
+        ext = sl[:, None] / SLACK + (np.sqrt(dot(r0, r0)) + np.sqrt(dot(v, v)))
         gq = gap[:, :, q]
         f2 = d[:, :, q] - SHARE * gq
         nterms = 4.0 if pa >= m else 2.0
@@ -371,9 +376,13 @@ def _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl=None) -> np.ndarray:
                 sd = _budget(r0, v, f2, nterms, -sign * dot(r0, dl) + (SLACK * e) * nm,
                              -sign * dot(v, dl), start, err)
                 # no directional allowance where the room above F' is within the rounding
-                # anywhere on the piece (its budget would be empty there)
+                # anywhere on the piece (its budget would be empty there), and a continuous
+                # ramp up to it (a switch would make the map jump there)
                 dq = d[:, :, q]
-                sd = np.where(dq * dq - f2 * f2 > 2.0 * err, sd, 0.0)
+                room = dq * dq - f2 * f2
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    ramp = np.minimum((room - 2.0 * err) / (2.0 * err), 1.0)
+                sd = np.where(room > 2.0 * err, sd * ramp, 0.0)
                 with np.errstate(invalid="ignore", divide="ignore"):
                     si = np.where(nm > iso, iso / np.where(nm > 0, nm, 1.0), 1.0)
                 s[:, sl_, pt] = np.where(big, np.minimum(s[:, sl_, pt], np.maximum(sd, si)),
@@ -518,8 +527,9 @@ def to_frame(raw: np.ndarray, target: np.ndarray):
        bits, subnormals included);
     2. ``u = z - c``, c the first point at the start (an obstacle: it never moves), so that a
        small scene far from the origin is not lost in its offset;
-    3. ``y = u 2**-e2``, e2 the exponent of the largest |u|: the whole path (start, goal, every
-       configuration and lift) lies in the unit box of one frame, its extent in [1/2, 1).
+    3. ``y = u 2**-e2``, e2 the exponent of the largest norm of a point of u (a norm: the frame
+       commutes with rotations): the whole path (start, goal, every configuration and lift)
+       lies in the unit ball of one frame, its extent in [1/2, 1).
 
     In the frame the refinement's arithmetic neither overflows nor underflows (squares of
     coordinates below 1, of distances above 2**-480; see docs/refinement.md), so it is the
@@ -535,7 +545,7 @@ def to_frame(raw: np.ndarray, target: np.ndarray):
         z = np.ldexp(raw, -e1[:, None, None, None])
     c = z[:, :1, :1, :].copy()
     u = z - c
-    umax = np.abs(u).reshape(b, -1).max(axis=1, initial=0.0)
+    umax = np.sqrt(dot(u, u)).reshape(b, -1).max(axis=1, initial=0.0)
     e2 = np.where(umax > 0, np.frexp(np.where(umax > 0, umax, 1.0))[1], 0)
     with np.errstate(under="ignore"):
         y = np.ldexp(u, -e2[:, None, None, None])

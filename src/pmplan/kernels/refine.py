@@ -110,14 +110,17 @@ def _caps(a, b, free, cap):  # pragma: no cover - compiled
 
 @njit(**OPTS)
 def _slack(x, slack):  # pragma: no cover - compiled
-    """:func:`pmplan.refine._slack` of one path: ``SLACK (1 + max |x|)``."""
+    """:func:`pmplan.refine._slack` of one path: ``4 SLACK A``, A the largest norm of a point
+    (summed as the reference's ``dot``)."""
     amax = 0.0
     w, p, dd = x.shape
     for j in range(w):
         for i in range(p):
+            s = 0.0
             for k in range(dd):
-                amax = max(amax, abs(x[j, i, k]))
-    return slack * (1.0 + amax)
+                s = s + x[j, i, k] * x[j, i, k]
+            amax = max(amax, math.sqrt(s))
+    return (4.0 * slack) * amax
 
 
 @njit(**OPTS)
@@ -240,12 +243,13 @@ def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl):  # pr
                 vd = vd + v[k] * delta[j, pt, k]
                 rr = rr + r0[k] * r0[k]
                 vv = vv + v[k] * v[k]
-            e = ((1.0 + sl / kp[10]) + (math.sqrt(rr) + math.sqrt(vv))) + nm
+            e = (sl / kp[10] + (math.sqrt(rr) + math.sqrt(vv))) + nm
             err = (4.0 * kp[10]) * (e * e)
             dq = dmin[jp, q]
-            if dq * dq - f2 * f2 > 2.0 * err:
+            room = dq * dq - f2 * f2
+            if room > 2.0 * err:  # (and the reference's continuous ramp above it)
                 sd = _budget(r0, v, f2, nterms, -sign * r0d + (kp[10] * e) * nm, -sign * vd,
-                             jp == j, err)
+                             jp == j, err) * min((room - 2.0 * err) / (2.0 * err), 1.0)
             else:
                 sd = 0.0  # (the reference's: no room above F' beyond the rounding)
             si = iso / nm if nm > iso else 1.0
