@@ -139,3 +139,23 @@ def test_no_module_imports_another_modules_private_names():
                     and not node.attr.startswith("__") and node.value.id != "self":
                 bad.append((k, node.value.id, node.attr, node.lineno))
     assert bad == []
+
+
+#: the core modules whose tests are not named after them, and where they are
+TESTED_IN = {"pmplan.planners.base": "test_contract.py",  # the protocol every planner keeps
+             "pmplan.backends.numpy": "test_backends.py",
+             "pmplan.backends.numba": "test_backends.py",
+             "pmplan.kernels.refine": "test_refine.py",  # the kernel == the reference, bitwise
+             "pmplan.version": "test_io_cli.py"}  # pmplan --version and the store attribute
+
+
+@pytest.mark.parametrize("module", sorted(m for m in MODULES if m.startswith(CORE_PREFIXES)
+                                          and m not in ("pmplan.planners", "pmplan.kernels")))
+def test_every_core_module_has_its_test_module(module):
+    """A maintainer finds a module's tests in ``tests/test_<name>.py`` (kernels:
+    ``test_kernels_<name>.py``), or where :data:`TESTED_IN` says."""
+    parts = module.split(".")[1:]
+    if parts[0] == "planners":
+        parts = parts[1:]
+    want = TESTED_IN.get(module, "test_" + "_".join(parts) + ".py")
+    assert (Path(__file__).parent / want).exists(), want

@@ -15,13 +15,12 @@ import zlib
 
 import numpy as np
 import pytest
+from test_contract import _queries
 
 from pmplan import backends
 from pmplan.errors import InputError
 from pmplan.planners.base import REGISTRY
 from pmplan.refine import refine_paths, targets
-
-from test_contract import _queries
 
 #: the functions (and constants) of the protocol, in every backend module
 PROTOCOL = ("NAME", "available", "arrays", "plan", "validates", "certify", "single_query",

@@ -10,6 +10,7 @@ from pmplan import generators as gen
 from pmplan.cli import main
 from pmplan.path import PiecewiseLinearPath
 from pmplan.planners.base import REGISTRY, Planner
+from pmplan.strata import ColumnStrata
 from pmplan.verify import (
     DELTA,
     RHO_MIN,
@@ -144,8 +145,8 @@ class _BrokenLine(Planner):
     def allocate(self, b, r, m, n, d):
         return self.base.allocate(b, r, m, n, d)
 
-    def plan(self, obstacles, start, goal, *, lift=1.0, **kwargs):
-        raw = self.base.plan(obstacles, start, goal, lift=lift)
+    def reference(self, obstacles, configs, lift):
+        raw = self.base.reference(obstacles, configs, lift)
         wp = raw.path.waypoints.copy()
         m = np.asarray(obstacles).shape[1]
         bad = raw.domain % 2 == 0
@@ -243,7 +244,7 @@ def _leave_the_stratum(planner, rng, q, delta):
 def test_a_label_change_under_perturbation_is_a_problem(monkeypatch):
     """Perturbations that leave the stratum change the label of degenerate queries: verify must
     say so (and not count them in the continuity modulus)."""
-    monkeypatch.setattr(Planner, "perturb_within_stratum", _leave_the_stratum)
+    monkeypatch.setattr(ColumnStrata, "perturb_within_stratum", _leave_the_stratum)
     r = verify(d=2, n=2, m=2, queries=40, seed=0, progress=False)
     assert not r.ok
     (problem,) = [p for p in r.problems if "changed the label" in p]
@@ -258,7 +259,7 @@ def test_refused_perturbations_that_double_precision_can_represent_are_failures(
                                                                                 monkeypatch):
     """The broken planner refuses even domains; moved off their strata, queries of odd domains
     land in the even domain 8 (generic), so the perturbed family is refused: failures."""
-    monkeypatch.setattr(Planner, "perturb_within_stratum", _leave_the_stratum)
+    monkeypatch.setattr(ColumnStrata, "perturb_within_stratum", _leave_the_stratum)
     r = verify(planner=broken, d=2, n=2, m=2, queries=40, seed=0, progress=False)
     perturbed = [f for f in r.failures if f["family"] == "perturbed"]
     assert perturbed and all(f["rho"] >= RHO_MIN for f in perturbed)
@@ -278,7 +279,7 @@ def test_refused_nearly_degenerate_perturbations_are_excused(monkeypatch):
     assert degeneracy_ratio(*(a[None] for a in near))[0] < RHO_MIN
     with pytest.raises(pmplan.CertificationError):
         pmplan.plan(*near)
-    monkeypatch.setattr(Planner, "perturb_within_stratum", lambda planner, rng, q, delta: near)
+    monkeypatch.setattr(ColumnStrata, "perturb_within_stratum", lambda planner, rng, q, delta: near)
     r = verify(d=2, n=2, m=2, queries=40, seed=0, progress=False)
     assert r.ok, r.problems
     assert not [f for f in r.failures if f["family"] in ("perturbed", "exact+random")]

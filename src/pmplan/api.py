@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .checks import check_sequential, choose_planner, is_dask, planner_names
+from .checks import (check_sequential, choose_planner, is_dask, parametrised_tc, planner_info,
+                     planner_names)
 from .configuration import as_config_list, as_points, check_same_obstacles
 from .errors import InputError, ShapeError, UnsupportedError
-from .planners.base import REGISTRY, default_planner, out_of_scope
+from .planners.base import out_of_scope
 from .refine import asks_refine
 from .results import Plan, PlanBatch, PlannerInfo
 from .running import plan_arrays, refine_plans
@@ -168,7 +169,7 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
         raw = plan(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             backend=backend)
-    return plan_one(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
+    return plan_one(obstacles, start, goal, planner, lift, backend)
 
 
 def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
@@ -247,16 +248,7 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
         raw = plan_sequence(obstacles, configs, lift=lift, backend=backend)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             backend=backend)
-    return plan_one_sequence(obstacles, configs, lift=lift, backend=backend)
-
-
-def parametrised_tc(d: int, n: int, m: int, r: int = 2) -> int:
-    """Return the (unreduced, sequential) parametrised topological complexity.
-
-    ``2n+m-1`` (d even) / ``2n+m`` (d odd) for r = 2 (paper Theorem 2.6,
-    Cohen-Farber-Weinberger); ``rn+m-1`` / ``rn+m`` for r >= 2 (Farber-Paul, unreduced).
-    """
-    return r * n + m - 1 if d % 2 == 0 else r * n + m
+    return plan_one_sequence(obstacles, configs, lift, backend)
 
 
 def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> PlannerInfo:
@@ -270,23 +262,7 @@ def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> Plan
     >>> info(3, 1, 1).message
     'no planner covers m = 1: the planners need m >= 2 obstacles (they define the line L_C)'
     """
-    why = out_of_scope(d, n, m, r)
-    if why is not None:
-        return PlannerInfo(d, n, m, r, None, None, (), None, False, f"no planner covers {why}")
-    tc = parametrised_tc(d, n, m, r)
-    if r > 2:
-        name = default_planner(d, n, m, sequential=True)
-        if planner not in (None, name):
-            raise UnsupportedError(f"sequential planning (r > 2) uses the {name} planner")
-        p = REGISTRY[name]
-        labels = tuple(p.domain_labels(d, n, m, r))
-        msg = f"sequential planner (Mathematics §4.3) on the {name} planner"
-    else:
-        p = choose_planner(d, n, m, planner)
-        labels = tuple(p.domain_labels(d, n, m))
-        msg = p.summary
-    k = len(labels)
-    return PlannerInfo(d, n, m, r, p.name, k, labels, tc, k == tc, msg)
+    return planner_info(d, n, m, r, planner)
 
 
 def plan_query(query: dict, planner: str | None = None) -> Plan:

@@ -2,7 +2,7 @@
 the web page --, one rule and one message each, and the choice of the planner.
 
 Below the facade (:mod:`pmplan.api`) and above the planners: importing this module registers
-the planners (:mod:`pmplan.planners`).
+the planners (the package ``pmplan.planners``).
 """
 
 from __future__ import annotations
@@ -16,10 +16,11 @@ from . import backends as _backend
 from . import planners as _planners  # noqa: F401  (registers the planners)
 from .configuration import as_lift
 from .errors import InputError, UnsupportedError
-from .planners.base import REGISTRY, Planner, default_planner, lift_code
+from .planners.base import REGISTRY, Planner, default_planner, lift_code, out_of_scope
+from .results import PlannerInfo
 
 __all__ = ["check_backend", "check_lift", "check_sequential", "check_workers", "choose_planner",
-           "is_dask", "planner_names"]
+           "is_dask", "parametrised_tc", "planner_info", "planner_names"]
 
 _MSG_WORKERS = "`workers` must be a positive integer or -1 (all CPUs), got {value!r}"
 
@@ -83,3 +84,33 @@ def is_dask(*arrays) -> bool:
     is never imported here: an array of it exists only if the caller imported it."""
     da = sys.modules.get("dask.array")
     return da is not None and any(isinstance(a, da.Array) for a in arrays)
+
+
+def parametrised_tc(d: int, n: int, m: int, r: int = 2) -> int:
+    """Return the (unreduced, sequential) parametrised topological complexity.
+
+    ``2n+m-1`` (d even) / ``2n+m`` (d odd) for r = 2 (paper Theorem 2.6,
+    Cohen-Farber-Weinberger); ``rn+m-1`` / ``rn+m`` for r >= 2 (Farber-Paul, unreduced).
+    """
+    return r * n + m - 1 if d % 2 == 0 else r * n + m
+
+
+def planner_info(d: int, n: int, m: int, r: int = 2, planner: str | None = None):
+    """:func:`pmplan.info`: the planner of (d, n, m, r), its domains and the parametrised TC."""
+    why = out_of_scope(d, n, m, r)
+    if why is not None:
+        return PlannerInfo(d, n, m, r, None, None, (), None, False, f"no planner covers {why}")
+    tc = parametrised_tc(d, n, m, r)
+    if r > 2:
+        name = default_planner(d, n, m, sequential=True)
+        if planner not in (None, name):
+            raise UnsupportedError(f"sequential planning (r > 2) uses the {name} planner")
+        p = REGISTRY[name]
+        labels = tuple(p.domain_labels(d, n, m, r))
+        msg = f"sequential planner (Mathematics §4.3) on the {name} planner"
+    else:
+        p = choose_planner(d, n, m, planner)
+        labels = tuple(p.domain_labels(d, n, m))
+        msg = p.summary
+    k = len(labels)
+    return PlannerInfo(d, n, m, r, p.name, k, labels, tc, k == tc, msg)

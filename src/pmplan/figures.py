@@ -211,7 +211,7 @@ def make_figures(out_dir: str | pathlib.Path = "docs/figures") -> list[pathlib.P
     -------
     list of pathlib.Path
         13 paths: one per stratum (in the order of
-        :data:`pmplan.planners.planar_three.STRATA`), then the overview.
+        :data:`pmplan.planar_strata.STRATA`), then the overview.
     """
     import matplotlib
 

@@ -692,7 +692,7 @@ def planar_stratum_queries(
     ----------
     rng : numpy.random.Generator
     stratum : str
-        ``"T22_23"`` (pmplan) or ``"T^{2,2}_{2,3}"`` (paper) style; see :data:`pmplan.planners.planar_three.STRATA`.
+        ``"T22_23"`` (pmplan) or ``"T^{2,2}_{2,3}"`` (paper) style; see :data:`pmplan.planar_strata.STRATA`.
     count : int
 
     Returns

@@ -11,7 +11,7 @@ __all__ = ["DOMAIN_BY_CODE", "DOMAIN_OF", "EVEN", "FAMILIES", "LUT", "PAPER_SUPE
            "WAYPOINTS", "split_name"]
 
 #: the names of the 12 strata of paper Section 4 in pmplan's notation (Mathematics §5.2), in a fixed order: the stratum
-#: code of :class:`StratumClassification` is the index here (0..11)
+#: code of :class:`~pmplan.planners.planar_three.StratumClassification` is the index here (0..11)
 STRATA: tuple[str, ...] = (
     "T1_11", "T1_12", "T1_21", "T1_22",
     "T22_22", "T22_23", "T22_32", "T22_33",

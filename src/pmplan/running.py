@@ -428,7 +428,7 @@ def _output_arrays(out, planner: Planner, dims: tuple[int, int, int], b: int, r:
 
 
 def single_plan(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan:
-    """The :class:`Plan` of a batch of one (no PlanBatch in between)."""
+    """The :class:`~pmplan.Plan` of a batch of one (no PlanBatch in between)."""
     d, n, m = dims
     times = out["times"]
     path = PiecewiseLinearPath(times if times.ndim == 1 else times[0], out["waypoints"][0])
@@ -492,7 +492,7 @@ def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.
 def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float = 0.0,
                  waypoints: int | None = None, steps: int | None = None, workers: int = 1,
                  progress: bool | None = None, backend: str | None = None):
-    """:func:`pmplan.refine`: the plans refined by :class:`~pmplan.refine.RefineStage` in the
+    """:func:`pmplan.refine`: the plans refined by ``RefineStage`` (:mod:`pmplan.refine`) in the
     run loop (:func:`run_stage`), the start, intermediate and goal configurations
     checked against the radii first; a :class:`~pmplan.results.Plan` or a
     :class:`~pmplan.results.PlanBatch` as given."""

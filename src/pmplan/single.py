@@ -27,7 +27,7 @@ from .running import run_loop, single_plan
 __all__ = ["plan_one", "plan_one_sequence"]
 
 
-def plan_one(obstacles, start, goal, *, planner: str | None = None, lift=1.0,
+def plan_one(obstacles, start, goal, planner: str | None = None, lift=1.0,
              backend: str | None = None) -> Plan:
     """:func:`pmplan.plan` of an unrefined query: the lean path, else the general one."""
     if backend is None or type(backend) is str and backend in _backend.REGISTRY:
@@ -44,7 +44,7 @@ def plan_one(obstacles, start, goal, *, planner: str | None = None, lift=1.0,
     return single_plan(p, (d, n, m), out)
 
 
-def plan_one_sequence(obstacles, configs, *, lift=1.0, backend: str | None = None) -> Plan:
+def plan_one_sequence(obstacles, configs, lift=1.0, backend: str | None = None) -> Plan:
     """:func:`pmplan.plan_sequence` of an unrefined query: the lean path, else the general
     one."""
     if backend is None or type(backend) is str and backend in _backend.REGISTRY:

@@ -1,9 +1,9 @@
 """What ``pmplan verify`` needs of a planner: its strata, exact queries in them, moves inside
 them, and the notes to read a check by -- kept apart from the planner's mathematics
-(:mod:`pmplan.planners`), as OMPL keeps a planner apart from its benchmark specifications.
+(the package ``pmplan.planners``), as OMPL keeps a planner apart from its benchmark specifications.
 
-Every registered planner has a :class:`StrataSpec` here (:func:`spec_for`; the contract test
-holds each to it): :class:`ColumnStrata` for a planner that decides on columns as the
+Every planner has a :class:`StrataSpec` here, its class's or its nearest ancestor's
+(:func:`spec_for`): :class:`ColumnStrata` for a planner that decides on columns as the
 obstacle-line planner does (the column strata of the query space, paper Section 3;
 :func:`pmplan.generators.strata`), :class:`PlanarStrata` for the 12 strata of paper Section 4.
 """
@@ -14,8 +14,10 @@ import numpy as np
 
 from . import generators as gen
 from .errors import UnsupportedError
-from .planners.obstacle_line import POLE_NOTE
-from .planners.planar_three import STRATA, classify
+from .planar_strata import STRATA
+from .planners.base import REGISTRY, Planner
+from .planners.obstacle_line import POLE_NOTE, ObstacleLinePlanner
+from .planners.planar_three import PlanarThreePlanner, classify
 
 __all__ = ["ColumnStrata", "PlanarStrata", "SPECS", "StrataSpec", "spec_for"]
 
@@ -100,7 +102,7 @@ class ObstacleLineStrata(ColumnStrata):
 
 
 class PlanarStrata(StrataSpec):
-    """The 12 strata of paper Section 4 (:data:`pmplan.planners.planar_three.STRATA`)."""
+    """The 12 strata of paper Section 4 (:data:`pmplan.planar_strata.STRATA`)."""
 
     def stratum_count(self, d: int, n: int, m: int) -> int:
         return len(STRATA)
@@ -136,16 +138,18 @@ class PlanarStrata(StrataSpec):
         return classify(obstacles[None], start[None], goal[None]).record[0]
 
 
-#: the strata of every registered planner, by planner name
-SPECS: dict[str, StrataSpec] = {"obstacle_line": ObstacleLineStrata(),
-                                "planar_three": PlanarStrata()}
+#: the strata of every planner class (a planner of a subclass gets its nearest ancestor's):
+#: the column strata for any planner that decides on columns
+SPECS: dict[type, StrataSpec] = {Planner: ColumnStrata(), ObstacleLinePlanner: ObstacleLineStrata(),
+                                 PlanarThreePlanner: PlanarStrata()}
 
 
 def spec_for(planner) -> StrataSpec:
-    """The :class:`StrataSpec` of ``planner`` (a planner or its name)."""
-    name = planner if isinstance(planner, str) else planner.name
-    try:
-        return SPECS[name]
-    except KeyError:
-        raise UnsupportedError(f"pmplan verify knows no strata of the planner {name!r}; add a "
-                               "StrataSpec for it to pmplan.strata.SPECS") from None
+    """The :class:`StrataSpec` of ``planner`` (a planner, or the name of a registered one):
+    the one of its class, or of its nearest ancestor in :data:`SPECS`."""
+    if isinstance(planner, str):
+        if planner not in REGISTRY:
+            raise UnsupportedError(f"unknown planner {planner!r}; pmplan verify knows the "
+                                   f"strata of the registered ones ({', '.join(sorted(REGISTRY))})")
+        planner = REGISTRY[planner]
+    return next(SPECS[c] for c in type(planner).__mro__ if c in SPECS)

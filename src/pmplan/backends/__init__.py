@@ -11,10 +11,10 @@ place that maps a name (``backend=`` of every planning function) to an implement
 ``plan(planner, obstacles, configs, lift, out, validate) -> ndarray``
     Plan and certify a chunk of queries of ``planner`` through ``configs`` into ``out`` (the
     arrays of :meth:`~pmplan.planners.base.Planner.allocate`); return the certificate (B,)
-    bool. With ``validate`` (only where :func:`validates` says so) it also checks the queries
+    bool. With ``validate`` (only where ``validates`` says so) it also checks the queries
     (finite, distinct points): an invalid one fails its certificate.
 ``validates(planner, d) -> bool``
-    Whether :func:`plan` validates the queries of ``planner`` in dimension ``d`` itself.
+    Whether ``plan`` validates the queries of ``planner`` in dimension ``d`` itself.
 ``certify(waypoints, start, goal, m, times, via) -> (clearance, codes)``
     The certificate of paths (:func:`pmplan.certify.certificate`'s contract).
 ``single_query(planner, m, n, d)``, ``sequence_query(planner, r, m, n, d)``

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..certify import certificate
 from ..certify import clearance as exact_clearance
 from ..planar_strata import EVEN
 from ..planners.obstacle_line import OBSTACLE_LINE, path_times
@@ -26,7 +25,7 @@ __all__ = ["NAME", "arrays", "available", "certify", "plan", "redecide", "refine
 
 NAME = "numba"
 
-certify = certificate  # the kernels certify inside plan; rows certified apart, exactly
+certify = reference.certify  # the kernels certify inside plan; rows certified apart, exactly
 
 
 def available() -> bool:
@@ -292,7 +291,7 @@ def redecide(planner, flags: np.ndarray, obstacles, configs, lift, out: dict) ->
 
 
 def refine(times, waypoints, m: int, r: int, target, s: int, steps: int):
-    """The refinement's map, the kernel (:func:`pmplan.kernels.refine.refine_batch`)."""
+    """The refinement's map, the kernel (``pmplan.kernels.refine.refine_batch``)."""
     from ..kernels.refine import refine_batch  # (it imports the refinement: not at import)
 
     return refine_batch(times, waypoints, m, r, target, s, steps)

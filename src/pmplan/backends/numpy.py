@@ -39,7 +39,9 @@ def sequence_query(planner, r: int, m: int, n: int, d: int):
     return None
 
 
-certify = certificate
+def certify(waypoints, start, goal, m: int, *, times=None, via=()):
+    """The certificate of paths, ``(clearance, codes)``: :func:`pmplan.certify.certificate`."""
+    return certificate(waypoints, start, goal, m, times=times, via=via)
 
 
 def plan(planner, obstacles, configs, lift, out: dict, validate: bool = False) -> np.ndarray:

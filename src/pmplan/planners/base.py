@@ -25,8 +25,8 @@ from .. import backends
 from ..path import PiecewiseLinearPath
 from ..predicates import projection_classes
 
-__all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "default_planner", "lift_code",
-           "out_of_scope", "register", "scene_unit", "unit"]
+__all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage", "default_planner",
+           "lift_code", "out_of_scope", "register", "scene_unit", "unit"]
 
 #: how the planners and their kernels receive ``lift="scene"``: a ``lift`` that is not > 0.
 #: A positive lift is the unit itself; SCENE_CODE (0.0) asks for the unit u(O) of every query
@@ -90,10 +90,19 @@ class RawPlan:
 class Planner:
     """The protocol every planner implements (see ``obstacle_line``, ``planar_three``).
 
-    Subclass it; the methods with a default here are optional. Required: :attr:`name`,
-    :attr:`summary`, :meth:`supports`, :meth:`domain_labels`, :meth:`stratum_name`,
-    :meth:`plan` (the numpy reference) and :meth:`allocate`. The faces (:mod:`pmplan.verify`,
-    :mod:`pmplan.animation`, the CLI) ask these members, never a planner's name.
+    Subclass it; the members with a default here are optional. By concern:
+
+    * the mathematics (required): :attr:`name`, :attr:`summary`, :meth:`supports`,
+      :meth:`domain_labels`, :meth:`stratum_name`, :meth:`reference` (the numpy reference)
+      and :meth:`allocate`; optional :attr:`equivariant`, :attr:`sequential`,
+      :attr:`priority`, :meth:`path_times`, :meth:`fixed_waypoints`;
+    * what the faces display: :attr:`domain_prefix`, :attr:`uses_heights`, :attr:`phases`,
+      :meth:`map_boundaries`;
+    * how a batch is computed is a backend's (:mod:`pmplan.backends`), and what ``pmplan
+      verify`` needs is the planner's :class:`~pmplan.strata.StrataSpec` (:mod:`pmplan.strata`).
+
+    The faces (:mod:`pmplan.verify`, :mod:`pmplan.animation`, the CLI, the web page) ask these
+    members, never a planner's name.
     """
 
     #: the name users pass as ``planner=``
@@ -247,8 +256,8 @@ class Planner:
 class Stage:
     """The protocol of a stage: a map applied to planned paths after the planner, chunk by
     chunk, by the run loop (:func:`pmplan.running.run_stage`, with ``workers`` and the progress
-    display of :func:`pmplan.plan_batch`). The refinement (:class:`pmplan.refine.RefineStage`)
-    is one.
+    display of :func:`pmplan.plan_batch`). The refinement (``RefineStage`` of
+    :mod:`pmplan.refine`) is one.
 
     Subclass it: :attr:`size` (the batch length B), :attr:`chunk` and :meth:`run`, which
     processes rows ``lo:hi`` into the stage's own output arrays (each chunk writes its own rows,

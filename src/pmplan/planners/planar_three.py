@@ -57,9 +57,9 @@ Implementations: the numpy code below is the *reference* (``backend="numpy"``); 
 ``backend="numba"`` runs the fused kernel of :mod:`pmplan.kernels.planar` (classification,
 polyline, constant-speed times and certificate in one pass per query, flagged queries
 re-decided here), whose waypoints, breakpoints, strata and clearances are identical. The
-planner plugs into the run loop and the fast paths through the protocol of
-:class:`pmplan.planners.base.Planner`: :meth:`~PlanarThreePlanner.allocate`,
-:meth:`~PlanarThreePlanner.kernel` and :meth:`~PlanarThreePlanner.single_query`.
+planner plugs into the run loop through the protocol of :class:`pmplan.planners.base.Planner`
+(:meth:`~PlanarThreePlanner.reference`, :meth:`~PlanarThreePlanner.allocate`), and into the
+numba backend through its glue there (:mod:`pmplan.backends.numba`).
 
 References
 ----------
@@ -130,14 +130,14 @@ def _ndistinct(labels: np.ndarray) -> np.ndarray:
 @dataclass
 class StratumClassification:
     """Exact classification of a batch of B queries into the strata of paper Section 4 (what
-    :func:`classify` returns; the strata themselves are named in :data:`STRATA`).
+    :func:`classify` returns; the strata themselves are named in :data:`~pmplan.planar_strata.STRATA`).
 
     Attributes
     ----------
     record : ndarray of int64, shape (B, 3)
         ``(family, i, j)`` with family in {1, 22, 23} (T1_{ij}, T22_{ij}, T23_{ij}).
     code : ndarray of int64, shape (B,)
-        Index of the stratum in :data:`STRATA`.
+        Index of the stratum in :data:`~pmplan.planar_strata.STRATA`.
     domain : ndarray of int64, shape (B,)
         The domain W_a, a in {1, 2, 3, 4}.
     col_labels, height_labels : ndarray of int64, shape (B, 5)

@@ -527,50 +527,6 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
 
 
 
-@settings(max_examples=40)
-@given(st.integers(0, 2**32 - 1), st.sampled_from([8, 16, 32, 64]), st.integers(1, 200),
-       st.integers(0, 3))
-def test_write_lanes_is_the_transpose(seed, lanes, size, block):
-    """``kernels.common.write_lanes`` (8 x 8 blocks transposed in registers, the rest element
-    by element) writes ``S.T`` into rows ``b0 .. b0 + L`` of the output, bit for bit (NaN
-    payloads, signed zeros, subnormals included), and touches no other row or element;
-    ``read_lanes`` reads them back the other way."""
-    rng = np.random.default_rng(seed)
-    S = rng.standard_normal((size, lanes))
-    special = np.array([np.nan, -0.0, np.inf, -np.inf, 5e-324, -1.7976931348623157e308])
-    S.flat[rng.integers(0, S.size, 5)] = rng.choice(special, 5)
-    S.view(np.uint64).flat[0] ^= np.uint64(1)  # (an odd bit pattern: a NaN payload or ulp)
-    b0 = block * lanes
-    out = np.full((b0 + 2 * lanes, size), 7.0)
-    kernels_common.write_lanes(S, out, b0, lanes, size)
-    want = np.full_like(out, 7.0)
-    want[b0:b0 + lanes] = S.T
-    assert np.array_equal(out.view(np.uint64), want.view(np.uint64))
-    # and back: read_lanes reads those rows into rows y0 .. y0 + size of lanes-innermost rows
-    y0 = block + 1
-    back = np.full((y0 + size + 3, lanes), 7.0)
-    kernels_common.read_lanes(out, b0, lanes, size, back, y0)
-    want = np.full_like(back, 7.0)
-    want[y0:y0 + size] = S
-    assert np.array_equal(back.view(np.uint64), want.view(np.uint64))
-
-def test_large_batch_equals_reference():
-    """A batch large enough for several SIMD blocks, generic and exactly degenerate queries
-    mixed, through the public API: numba equals the numpy reference."""
-    rng = np.random.default_rng(7)
-    for d, n, m in [(2, 4, 2), (3, 2, 3), (4, 3, 2)]:
-        b = 2 * kernels_line.lanes(2, m, n, d) + 5
-        o, (s, g) = _mixed_batch(rng, b, d, m, n, 2, 0)
-        lat = rng.choice(b, size=b // 4, replace=False)
-        for a in (o, s, g):
-            a[lat] = rng.integers(-2, 3, size=a[lat].shape)
-        ok = ~(coincident_pairs(np.concatenate([o, s], 1))
-               | coincident_pairs(np.concatenate([o, g], 1)))
-        o, s, g = o[ok], s[ok], g[ok]
-        fast = pmplan.plan_batch(o, s, g, backend="numba")
-        assert_same_batch(fast, pmplan.plan_batch(o, s, g, backend="numpy"))
-
-
 @settings(max_examples=10, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([(2, 4, 2), (2, 2, 3), (3, 3, 2)]),
        st.sampled_from([2, 3]))
@@ -706,3 +662,20 @@ def test_plan_batch_validates_in_one_pass(monkeypatch):
     o3, s1, g1 = (rng.normal(size=(50, k, 2)) for k in (3, 1, 1))
     pmplan.plan_batch(o3, s1, g1)
     assert calls == [1]
+
+
+def test_large_batch_equals_reference():
+    """A batch large enough for several SIMD blocks, generic and exactly degenerate queries
+    mixed, through the public API: numba equals the numpy reference."""
+    rng = np.random.default_rng(7)
+    for d, n, m in [(2, 4, 2), (3, 2, 3), (4, 3, 2)]:
+        b = 2 * kernels_line.lanes(2, m, n, d) + 5
+        o, (s, g) = _mixed_batch(rng, b, d, m, n, 2, 0)
+        lat = rng.choice(b, size=b // 4, replace=False)
+        for a in (o, s, g):
+            a[lat] = rng.integers(-2, 3, size=a[lat].shape)
+        ok = ~(coincident_pairs(np.concatenate([o, s], 1))
+               | coincident_pairs(np.concatenate([o, g], 1)))
+        o, s, g = o[ok], s[ok], g[ok]
+        fast = pmplan.plan_batch(o, s, g, backend="numba")
+        assert_same_batch(fast, pmplan.plan_batch(o, s, g, backend="numpy"))
