@@ -525,9 +525,11 @@ def test_clearing_scale_keeps_every_floor(data, integer, d, robots, w, phi, gain
 
 
 def test_clearing_directional_allowance_pushes_a_near_contact_out():
-    """A robot whose path nearly touches an obstacle head-on at a waypoint (distance 1e-6) is
-    pushed out, along the path's turn, by far more than its isotropic cap, and stays clear."""
-    c_near = 1e-6
+    """A robot whose path nearly touches an obstacle head-on at a waypoint (distance 1e-4) is
+    pushed out, along the path's turn, by far more than its isotropic cap, and stays clear.
+    (Below about 1e-5 of the path's extent the room above F' is within the budget's rounding
+    slack, and the allowance is off: tests/test_refine_exact.py.)"""
+    c_near = 1e-4
     x = np.zeros((1, 3, 3, 2))
     x[:, :, 1] = [5.0, 5.0]  # the second obstacle, far away
     x[0, :, 2] = [[1.0, 0.0], [c_near, 0.0], [1.0, 0.5]]  # in, nearly touching 0, out
@@ -542,7 +544,7 @@ def test_clearing_directional_allowance_pushes_a_near_contact_out():
     moved = x.copy()
     moved[:, :, 2:] += delta[:, :, 2:] * s[:, :, 2:, None]
     step = np.hypot(*(moved[0, 1, 2] - x[0, 1, 2]))
-    assert step > 1e4 * cap[0, 1, 2] and step > 0.05
+    assert step > 1e3 * cap[0, 1, 2] and step > 0.05
     assert (R.piece_minima(moved, a, b) >= floor).all()
 
 

@@ -264,6 +264,44 @@ def test_verify_refine_text_and_json(refined_report, capsys):
     assert status == 0 and Report.from_json(out) == refined_report
 
 
+def test_verify_refine_probes_three_sizes_and_scales(refined_report):
+    """The refined modulus is measured at every size of REFINE_DELTAS on the same base queries,
+    and it scales linearly in every domain of this case."""
+    from pmplan.verify import REFINE_DELTAS
+
+    measured = [d for d in refined_report.domains if d.refined_modulus is not None]
+    assert measured
+    for d in measured:
+        assert len(d.refined_moduli) == len(REFINE_DELTAS)
+        assert d.refined_modulus == max(v for v in d.refined_moduli if v is not None)
+        assert d.refined_linear is True
+    text = refined_report.to_text()
+    assert all(f"{dl:g}:" in text for dl in REFINE_DELTAS) and "scales linearly" in text
+
+
+def test_verify_refine_fails_a_domain_whose_modulus_does_not_scale(monkeypatch, capsys):
+    """A refined path that jumps by a fixed amount inside a domain (planted: the probe's change
+    made independent of the perturbation size) is a failure, in the text and the exit status."""
+    import pmplan.verify as V
+
+    real = V._refined_probe
+
+    def jumping(name, lift, b0, k0, r0, k0r, moved, dist):
+        out = real(name, lift, b0, k0, r0, k0r, moved, dist)
+        size = float(np.median(dist[dist > 0])) if (dist > 0).any() else 1.0
+        return [(label, r + 1e-3 / size) for label, r in out]  # a jump of 1e-3 at every size
+
+    monkeypatch.setattr(V, "_refined_probe", jumping)
+    r = V.verify(d=2, n=1, m=2, queries=20, seed=1, progress=False, refine=True)
+    assert not r.ok
+    assert any("does not scale linearly" in p for p in r.problems)
+    assert any(d.refined_linear is False for d in r.domains)
+    assert "does NOT scale linearly" in r.to_text() and r.to_text().endswith("NOT OK")
+    status, out, _ = run(capsys, "verify", "--d", "2", "--n", "1", "--m", "2", "--queries",
+                         "20", "--seed", "1", "--no-progress", "--refine")
+    assert status == 1 and "does not scale linearly" in out
+
+
 def test_verify_without_refine_is_unchanged():
     from pmplan.verify import verify
 

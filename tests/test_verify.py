@@ -425,16 +425,21 @@ def test_reused_refined_plans_are_what_refining_again_gives(monkeypatch, planner
 
 
 def test_verify_refine_refines_each_plan_once(monkeypatch):
-    """The plans the continuity pass refines (those of the moved queries Q') are none of the
-    plans the family pass refined: the base queries' refined plans are reused, not refined
-    again; with refusals among them, the report still counts them as refused."""
+    """The plans the continuity pass refines (those of the moved queries Q', one batch per
+    perturbation size) are none of the plans the family pass refined: the base queries' refined
+    plans are reused, not refined again; with refusals among them, the report still counts
+    them as refused."""
+    from pmplan.verify import REFINE_DELTAS
+
     log: list = []
     _refusing_refine(monkeypatch, log)
     r = verify(d=2, n=2, m=2, queries=30, seed=2, progress=False, refine=True)
     families = [k for k in r.families if k.startswith("refined ")]
-    assert len(families) == 3 and len(log) == 4  # one refinement per family, one of Q'
+    # one refinement per family, one of Q' per perturbation size
+    assert len(families) == 3 and len(log) == 3 + len(REFINE_DELTAS)
     family_keys = set().union(*log[:3])
     assert sum(r.families[k]["planned"] for k in families) == len(family_keys)
-    assert log[3] and family_keys.isdisjoint(log[3])
+    for moved in log[3:]:
+        assert moved and family_keys.isdisjoint(moved)
     assert any(r.families[k]["failed"] for k in families)  # refusals met
     assert any(dr.refined_perturbations for dr in r.domains)

@@ -34,13 +34,14 @@ import numpy as np
 
 __all__ = [
     "CLAUSES",
-    "describe",
-    "check_times",
-    "check_paths",
-    "segment_clearance",
-    "clearance",
     "certificate",
     "certify",
+    "check_paths",
+    "check_times",
+    "clearance",
+    "describe",
+    "radius_report",
+    "segment_clearance",
 ]
 
 # a float minimum below REL * (scale of the pair on that piece) is re-decided exactly
@@ -229,8 +230,9 @@ def exact_segment_clearance(a0, b0, a1, b1) -> float:
         val = math.sqrt(float(sq))
     except OverflowError:
         val = math.inf
-    if val == 0.0 or not math.isfinite(val):
-        # outside the float range: the square root of sq 4**j (exact scaling into the range),
+    if val < 2.0**-500 or not math.isfinite(val):
+        # outside the float range of squares (a subnormal square has lost bits): the square
+        # root of sq 4**j (exact scaling into the range),
         # scaled back by 2**-j. Above the largest double (two points ~1e308 apart): the largest
         # double, a lower bound; positive but below the float range: the smallest positive one
         j = (sq.denominator.bit_length() - sq.numerator.bit_length()) // 2
@@ -504,3 +506,117 @@ def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, 
     """
     clr, clause = certificate(waypoints, start, goal, m, times=times, via=via)
     return clr, clause == 0
+
+
+# --- the radii: exact minimum distances against exact bounds ----------------------------------
+
+#: the band of the radius decision, in the path's power-of-two frame (largest |coordinate| in
+#: [1/2, 1)): a float piece minimum is within ``BAND_REL (need + A) + BAND_ABS`` of the exact
+#: one (A the largest |coordinate| of the pair's points on the piece: the rounding of the
+#: relative positions and of the closed form is below 1e-14 A, an underflowed square below
+#: 2**-530), with a wide margin; inside the band the exact minimum decides
+BAND_REL = 1e-9
+BAND_ABS = 2.0**-500
+#: a piece minimum below this may hold an underflowed square: measured exactly (the kernels
+#: flag it SUSPECT)
+TINY_DIST = 2.0**-480
+
+
+def _frame(wp: np.ndarray):
+    """The power-of-two frame of every path of ``wp`` (B, K, P, d): ``(scaled, e, exact)``,
+    ``scaled = wp 2**-e`` with the largest |coordinate| of the path in [1/2, 1) (e = 0 for a
+    path at the origin or not finite); ``exact`` (B,): the scaling lost no bit (False only for
+    a path whose coordinates span more than the float range: the original floats then decide)."""
+    b = wp.shape[0]
+    with np.errstate(invalid="ignore"):
+        amax = np.abs(wp).reshape(b, -1).max(axis=1, initial=0.0)
+    ok = np.isfinite(amax) & (amax > 0)
+    e = np.where(ok, np.frexp(np.where(ok, amax, 1.0))[1], 0)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        scaled = np.ldexp(wp, -e.reshape((b,) + (1,) * (wp.ndim - 1)))
+        exact = (np.ldexp(scaled, e.reshape(scaled.shape[:1] + (1,) * (wp.ndim - 1))) == wp) \
+            .reshape(b, -1).all(axis=1)
+    return scaled, e, exact
+
+
+def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius: float):
+    """``(robot_distance, obstacle_distance, respects)`` of a batch of paths (B, K, P, d).
+
+    ``respects`` is decided **exactly**, at every magnitude: the true minimum distance between
+    two robots is >= ``2 radius`` and between a robot and an obstacle >= ``radius +
+    obstacle_radius`` (B,). Each path is measured in its power-of-two frame (:func:`_frame`,
+    exact: no square underflows or overflows there); a float piece minimum decides where it is
+    farther than the band of :data:`BAND_REL` and :data:`BAND_ABS` from the bound (it is
+    then on the right side exactly), rational arithmetic on the waypoint floats otherwise.
+
+    The distances are the minima over the pieces of the closed-form piece minima in that frame,
+    scaled back (``inf`` for the robot-robot one when n = 1): each within ``1e-13 A`` of the
+    exact minimum (A the path's largest |coordinate|; re-decided exactly where it is smaller
+    than ``1e-9`` of the pair's scale, as :func:`clearance` does) -- a bound, not an exact value.
+
+    Examples
+    --------
+    A robot passing an obstacle at distance 1 keeps radius + obstacle_radius = 1, not one ulp
+    more, at every magnitude:
+
+    >>> wp = np.array([[[[0.0, 0.0], [-1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0]]]])
+    >>> radius_report(wp * 2.0**-1060, 1, 2.0**-1061, 2.0**-1061)[2]
+    array([ True])
+    >>> radius_report(wp, 1, 0.5, np.nextafter(0.5, 1))[2]
+    array([False])
+    """
+    wp = np.asarray(waypoints, dtype=float)
+    bsz, _, p, _ = wp.shape
+    if bsz == 0:
+        return np.empty(0), np.empty(0), np.ones(0, dtype=bool)
+    pa, pb = point_pairs(p, m)
+    ws, e, exact = _frame(wp)
+    with np.errstate(all="ignore"):
+        d = _decided(ws[:, :-1, pa], ws[:, :-1, pb], ws[:, 1:, pa], ws[:, 1:, pb])
+        A = np.maximum(np.abs(ws[:, :-1, pa]).max(-1), np.abs(ws[:, :-1, pb]).max(-1))
+        A = np.maximum(A, np.maximum(np.abs(ws[:, 1:, pa]).max(-1), np.abs(ws[:, 1:, pb]).max(-1)))
+    # a pair far smaller than its path (a scene of size 1e-160 lifted to 1): its squares may
+    # underflow even in the frame, measured exactly
+    for idx in zip(*np.nonzero(d < TINY_DIST)):
+        bi, ki, qi = idx
+        d[idx] = exact_segment_clearance(ws[bi, ki, pa[qi]], ws[bi, ki, pb[qi]],
+                                          ws[bi, ki + 1, pa[qi]], ws[bi, ki + 1, pb[qi]])
+    rr = pa >= m
+    out = []
+    for sel in (rr, ~rr):
+        v = d[:, :, sel].reshape(bsz, -1).min(axis=1, initial=np.inf)
+        with np.errstate(over="ignore", under="ignore"):
+            out.append(np.ldexp(v, e))
+    ok = np.ones(bsz, dtype=bool)
+    for sel, need in ((rr, 2 * Fraction(radius)),
+                      (~rr, Fraction(radius) + Fraction(obstacle_radius))):
+        if need == 0 or not sel.any():
+            continue
+        ok &= _at_least(wp, ws, e, exact, d[:, :, sel], A[:, :, sel], pa[sel], pb[sel], need)
+    return out[0], out[1], ok
+
+
+def _at_least(wp, ws, e, exact, d, A, pa, pb, need: Fraction) -> np.ndarray:
+    """Whether every pair (pa, pb) keeps an exact distance >= ``need`` along every path (B,):
+    the frame's float minima ``d`` (B, K-1, pairs) decide outside the band, the exact minima
+    (on the frame's floats, or the original ones where the frame is not exact) inside it."""
+    bsz = wp.shape[0]
+    with np.errstate(over="ignore", under="ignore"):
+        nf = np.ldexp(float(need), -e)[:, None, None]  # (inf: far above the scene)
+    band = BAND_REL * (nf + A) + BAND_ABS
+    with np.errstate(invalid="ignore"):
+        sure = d > nf + band
+        # (a waypoint that is not finite: not a path, it keeps no radius)
+        fail = (d < nf - band) | (np.isinf(nf) & ~np.isnan(d)) | np.isnan(d)
+    ok = ~fail.reshape(bsz, -1).any(axis=1)
+    for bi, ki, qi in zip(*np.nonzero(~sure & ~fail)):
+        if not ok[bi]:
+            continue
+        if exact[bi]:
+            w, bound = ws[bi], need / (Fraction(2) ** int(e[bi]))
+        else:
+            w, bound = wp[bi], need
+        if exact_segment_dist2(w[ki, pa[qi]], w[ki, pb[qi]], w[ki + 1, pa[qi]],
+                                w[ki + 1, pb[qi]]) < bound * bound:
+            ok[bi] = False
+    return ok

@@ -66,22 +66,40 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from functools import lru_cache
 
 import numpy as np
 
 from .certify import (
-    REL,
     CLEARANCE,
-    exact_segment_clearance,
-    exact_segment_dist2,
-    point_pairs,
     check_paths,
     clearance,
     describe,
+    exact_segment_clearance,
+    exact_segment_dist2,
+    radius_report,
 )
 from .errors import CertificationError, CollisionError, InputError
 from .planners.base import Stage
+from .refine_grid import (  # noqa: F401 (the grid, its constants and the closed forms: re-exported)
+    DECAY,
+    ETA,
+    FINAL,
+    GROWTH,
+    HOLD,
+    MARGIN,
+    MOBILITY,
+    chord_fraction,
+    dot,
+    final_steps,
+    hold_levels,
+    mobility,
+    overshoot,
+    pairs,
+    piece_minima,
+    schedule,
+    subdivide,
+    subdivide_times,
+)
 
 __all__ = [
     "DEFAULT_STEPS",
@@ -109,11 +127,6 @@ BETA = 0.5
 #: clearing floor: a pair below its target may lose at most 1 - PHI of its distance per step
 #: (measured with the 1e-6 probe: 0.25 against 0.5, smaller largest probes and shorter paths)
 PHI = 0.25
-#: push target T* = (1 + ETA) T at the coarsest level, divided by DECAY at every finer one
-#: (:func:`overshoot`): the clearing overshoots the target
-ETA = 0.5
-#: the protected level is T (1 + MARGIN), far above the rounding of the update
-MARGIN = 2.0**-30
 #: the soft closest point of a piece: ``clip(-r0.v / (|v|^2 + LAMBDA (|r0|^2 + |r1|^2)), 0,
 #: 1)``, continuous where the exact one (LAMBDA = 0) jumps (v -> 0); its slope is of order
 #: 1 / LAMBDA, so a larger LAMBDA keeps the continuity modulus small (measured: 2**-4 halves
@@ -148,22 +161,23 @@ GAMMA = 0.25
 #: of benchmarks/refine_bench.py). 1/2: fewer 1e-6 probes above 1e-4 (9 against 22 of 640 for
 #: 1), no squeezed path
 OMEGA = 0.5
-#: the steps of a level are GROWTH times those of the next finer level (coarse steps are cheap)
-GROWTH = 2.0
-#: the overshoot of a level is DECAY times smaller than that of the next coarser one
-DECAY = 2.0
-#: the clearing-only steps at the end, a fraction of ``steps`` (they settle the pairs the
-#: shortening pressed below their target)
-FINAL = 0.125
 #: with no radius, the target clearance is KAPPA times the raw plan's clearance
 KAPPA = 0.5
-#: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
-MOBILITY = 4.0
 #: the kernel measures the refined paths for d below this (numpy sums fewer than 8 terms
 #: sequentially, as the kernel does; beyond, numpy's pairwise sums round differently)
 MAX_SEQUENTIAL_D = 8
-#: waypoints outside [2**-RANGE, 2**RANGE) are refined scaled by a power of two (exact)
-RANGE = 400
+#: the rounding slack of the caps, in the frame (extent in [1/2, 1)): every cap is measured
+#: from ``D - 4 SLACK A`` (A the largest norm of a point of the path at the substep), every
+#: directional budget from ``h - 4 SLACK e**2`` against an inward part raised by ``SLACK e
+#: |move|`` (e = 4 A + |r0| + |v| + |move|), with a continuous ramp from 0 where the room above
+#: F' is within 2 to 4 of that slack: the float piece minimum, the float inward part and the
+#: rounded moves are within far less of the exact ones (about 2**-50 e), so every floor holds
+#: for the floats computed, exactly (tests/test_refine_exact.py). Only norms and no absolute
+#: term: the map commutes with rotations and scalings (to rounding)
+SLACK = 2.0**-44
+#: the largest target in the refinement's frame (:func:`to_frame`: the path's extent is below 1
+#: there)
+MAX_TARGET = 2.0**20
 
 # the messages of the parameter checks (one source; the CLI prints them as they are)
 _MSG_RADIUS = ("`{name}` must be a finite real number >= 0 (a length in the scene's units), "
@@ -240,119 +254,7 @@ def check_refine_flag(refine, radius, obstacle_radius) -> bool:
     return bool(refine)
 
 
-def schedule(waypoints: int, steps: int) -> list[tuple[int, int]]:
-    """The levels ``(sub-pieces s, steps at that level)``: s = 1, 2, 4, .., waypoints, each level
-    :data:`GROWTH` times the steps of the next finer one (rounded; they sum to ``steps``).
-
-    >>> schedule(4, 48)
-    [(1, 27), (2, 14), (4, 7)]
-    >>> schedule(1, 5)
-    [(1, 5)]
-    """
-    levels = waypoints.bit_length()
-    w = [GROWTH ** (levels - 1 - i) for i in range(levels)]
-    cum = [0.0]
-    for x in w:
-        cum.append(cum[-1] + x)
-    at = [int(steps * c / cum[-1] + 0.5) for c in cum]
-    return [(1 << i, at[i + 1] - at[i]) for i in range(levels)]
-
-
-def overshoot(level: int) -> float:
-    """The overshoot of the push target at a level: ``T* = (1 + ETA DECAY**-level) T`` (large
-    at the coarse levels, where it frees the caps, small at the fine ones, where it costs
-    length; DECAY = 4 or 8 measured no shorter, and kept fewer paths clear of r at n = 8)."""
-    return ETA * DECAY**-level
-
-
-def final_steps(steps: int) -> int:
-    """The clearing-only steps after the last level: ``FINAL`` of ``steps``, at least 1."""
-    return max(1, int(FINAL * steps))
-
-
-@lru_cache(maxsize=256)
-def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The pairs (a < b) with a moving point b (index >= m): ``a``, ``b`` (int64) and ``c``
-    (1/2 for two robots, 1 for an obstacle and a robot), in the kernel's order (read-only,
-    cached)."""
-    a, b = (v.astype(np.int64) for v in point_pairs(p, m))  # the certificate's pairs, its order
-    c = np.where(a >= m, 0.5, 1.0)
-    for arr in (a, b, c):
-        arr.flags.writeable = False
-    return a, b, c
-
-
-# --- the grid ------------------------------------------------------------------------------
-
-def subdivide_times(times: np.ndarray, s: int) -> np.ndarray:
-    """Breakpoints of every piece cut into ``s`` equal sub-pieces: ``t_k + (j/s)(t_{k+1} -
-    t_k)``, j = 0..s-1, then the last; shape (..., (K-1) s + 1). The raw breakpoints stay."""
-    t0, t1 = times[..., :-1], times[..., 1:]
-    fr = np.arange(s) / s
-    sub = t0[..., None] + fr * (t1 - t0)[..., None]
-    out = np.concatenate([sub.reshape(times.shape[:-1] + (-1,)), times[..., -1:]], axis=-1)
-    return out
-
-
-def subdivide(wp: np.ndarray) -> np.ndarray:
-    """Insert the midpoint ``0.5 P_i + 0.5 P_{i+1}`` of every piece: (B, K, P, d) -> (B, 2K-1,
-    P, d). The path is the same polyline (up to the rounding of the midpoints)."""
-    b, k = wp.shape[:2]
-    out = np.empty((b, 2 * k - 1) + wp.shape[2:])
-    out[:, ::2] = wp
-    out[:, 1::2] = 0.5 * wp[:, :-1] + 0.5 * wp[:, 1:]
-    return out
-
-
-def mobility(times: np.ndarray, r: int) -> np.ndarray:
-    """The mobility of every waypoint, (..., W): ``clip(MOBILITY (W-1) g, 0, 1)`` with ``g`` the
-    smallest of the times to the two neighbours and to the fixed times ``k/(r-1)``; 0 at the
-    ends. Continuous in the times."""
-    w = times.shape[-1]
-    out = np.zeros(times.shape)
-    t = times[..., 1:-1]
-    g = np.minimum(t - times[..., :-2], times[..., 2:] - t)
-    for k in range(r):
-        g = np.minimum(g, np.abs(t - k / (r - 1)))
-    out[..., 1:-1] = np.clip((MOBILITY * (w - 1)) * g, 0.0, 1.0)
-    return out
-
-
-def chord_fraction(times: np.ndarray) -> np.ndarray:
-    """``f_j = (t_j - t_{j-1}) / (t_{j+1} - t_{j-1})`` of the interior waypoints (..., W-2);
-    1/2 where the two neighbours share their time (the mobility is 0 there)."""
-    num = times[..., 1:-1] - times[..., :-2]
-    den = times[..., 2:] - times[..., :-2]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.5)
-
-
 # --- one substep -----------------------------------------------------------------------------
-
-def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Sum over the last axis in the kernel's order: ``(0 + x0 y0) + x1 y1 + ..``."""
-    s = 0.0 + x[..., 0] * y[..., 0]
-    for k in range(1, x.shape[-1]):
-        s = s + x[..., k] * y[..., k]
-    return s
-
-
-def piece_minima(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Closed-form minimum distance of every pair (a, b) on every piece: (B, W-1, pairs), in
-    the arithmetic of :func:`pmplan.certify.segment_clearance` (the kernels' order)."""
-    rel = x[:, :, a, :] - x[:, :, b, :]
-    r0, r1 = rel[:, :-1], rel[:, 1:]
-    v = r1 - r0
-    vv = _dot(v, v)
-    num = -_dot(r0, v)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        q = num / vv
-    q = np.where(num >= vv, 1.0, q)
-    q = np.where(num <= 0, 0.0, q)
-    q = np.where(vv > 0, q, 0.0)
-    qx = r0 + q[..., None] * v
-    return np.sqrt(_dot(qx, qx))
-
 
 def _caps(x, a, b, c, free) -> np.ndarray:
     """The cap of every point at every waypoint, (B, W, P): the minimum over its pairs and the
@@ -370,16 +272,25 @@ def _caps(x, a, b, c, free) -> np.ndarray:
 def _apply(x, delta, cap, m, j=slice(None)) -> None:
     """Move the robots at the waypoints ``j`` by ``delta`` clipped to ``cap`` (both of those
     waypoints): ``x += delta min(1, cap/|delta|)``."""
-    nrm = np.sqrt(_dot(delta, delta))
+    nrm = np.sqrt(dot(delta, delta))
     with np.errstate(invalid="ignore", divide="ignore"):
         scale = np.where(nrm > cap, cap / nrm, 1.0)
     x[:, j, m:] = x[:, j, m:] + delta[:, :, m:] * scale[:, :, m:, None]
 
 
+def _slack(x) -> np.ndarray:
+    """``4 SLACK A`` per path (B,): the rounding slack of the caps (:data:`SLACK`), A the
+    largest norm of a point of the path in the frame (1/2 <= A < 1 for the raw path; a norm,
+    not the largest |coordinate|, and no absolute term: the map must commute with rotations
+    and scalings, A sets where the directional allowance turns off)."""
+    return (4.0 * SLACK) * np.sqrt(dot(x, x)).reshape(x.shape[0], -1).max(axis=1)
+
+
 def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
     d = piece_minima(x, a, b)
     keep = tgt * (1.0 + MARGIN)
-    free = c * np.maximum(d - keep[:, None, :], 0.0)
+    sl = _slack(x)[:, None, None]
+    free = c * np.maximum((d - sl) - keep[:, None, :], 0.0)
     cap = _caps(x, a, b, c, free)
     w = x.shape[1]
     # red-black: the odd waypoints toward the chords of the even ones, then the even ones
@@ -393,7 +304,7 @@ def _shorten(x, m, a, b, c, tgt, frac, mob) -> None:
         _apply(x, delta, cap[:, j], m, j)
 
 
-def _budget(r0, v, f2, nterms: float, al, be, start: bool):
+def _budget(r0, v, f2, nterms: float, al, be, start: bool, err=0.0):
     """The directional scale of one end's move on one piece: ``min(1, min over t in [0, 1]
     with g(t) > 0 of h(t) / g(t))``, where ``g(t) = w(t) (al + t be)`` is the inward part of the
     move at the piece's parameter t (``w = 1 - t`` at the start, ``t`` at the end) and
@@ -406,9 +317,9 @@ def _budget(r0, v, f2, nterms: float, al, be, start: bool):
     else:  # t (al + t be)
         g0, g1, g2 = np.zeros_like(al), al, be
     den = 2.0 * nterms
-    h0 = (_dot(r0, r0) - f2 * f2) / den
-    h1 = (2.0 * _dot(r0, v)) / den
-    h2 = _dot(v, v) / den
+    h0 = (dot(r0, r0) - f2 * f2 - err) / den
+    h1 = (2.0 * dot(r0, v)) / den
+    h2 = dot(v, v) / den
     qa = h2 * g1 - h1 * g2
     qb = h2 * g0 - h0 * g2
     qc = h1 * g0 - h0 * g1
@@ -424,13 +335,13 @@ def _budget(r0, v, f2, nterms: float, al, be, start: bool):
         t = np.clip(np.where(np.isnan(t), 0.0, t), 0.0, 1.0)
         g = ((1.0 - t) if start else t) * (al + t * be)
         rt = r0 + t[..., None] * v
-        h = np.maximum((_dot(rt, rt) - f2 * f2) / den, 0.0)
+        h = np.maximum((dot(rt, rt) - f2 * f2 - err) / den, 0.0)
         with np.errstate(invalid="ignore", divide="ignore"):
             s = np.where(g > 0, np.minimum(s, h / np.where(g > 0, g, 1.0)), s)
     return s
 
 
-def _clear_scale(x, delta, m, a, b, c, d, gap, cap) -> np.ndarray:
+def _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl=None) -> np.ndarray:
     """The scale in [0, 1] of every point's clearing move, (B, W, P): 1 within the isotropic cap
     ``cap``; beyond it the smallest, over the point's pairs and the two adjacent pieces, of the
     larger of its isotropic scale ``SHARE c (D - F) / |move|`` and its *directional* scale
@@ -440,36 +351,50 @@ def _clear_scale(x, delta, m, a, b, c, d, gap, cap) -> np.ndarray:
     t and the isotropic ones take at most ``SHARE (D - F)`` more; with ``SHARE = 1/2`` the pair
     stays above ``F``."""
     bsz, w, p = x.shape[:3]
-    nrm = np.sqrt(_dot(delta, delta))
+    nrm = np.sqrt(dot(delta, delta))
     s = np.ones((bsz, w, p))
+    sl = _slack(x) if sl is None else sl
     for q in range(a.shape[0]):
         pa, pb = a[q], b[q]
         r = x[:, :, pa] - x[:, :, pb]
         r0, v = r[:, :-1], r[:, 1:] - r[:, :-1]
+        ext = sl[:, None] / SLACK + (np.sqrt(dot(r0, r0)) + np.sqrt(dot(v, v)))
         gq = gap[:, :, q]
         f2 = d[:, :, q] - SHARE * gq
         nterms = 4.0 if pa >= m else 2.0
         iso = (SHARE * c[q]) * gq
         for pt, sign in ((pb, -1.0), (pa, 1.0)) if pa >= m else ((pb, -1.0),):
             for start in (True, False):
-                sl = slice(None, -1) if start else slice(1, None)
-                dl = delta[:, sl, pt]
-                big = nrm[:, sl, pt] > cap[:, sl, pt]  # only the moves beyond the cap
-                sd = _budget(r0, v, f2, nterms, -sign * _dot(r0, dl), -sign * _dot(v, dl), start)
-                nm = nrm[:, sl, pt]
+                sl_ = slice(None, -1) if start else slice(1, None)
+                dl = delta[:, sl_, pt]
+                big = nrm[:, sl_, pt] > cap[:, sl_, pt]  # only the moves beyond the cap
+                nm = nrm[:, sl_, pt]
+                e = ext + nm
+                # (the inward part raised by its rounding bound, so that a move the floats see
+                # as outward where the pair nearly touches is not taken as free)
+                err = (4.0 * SLACK) * (e * e)
+                sd = _budget(r0, v, f2, nterms, -sign * dot(r0, dl) + (SLACK * e) * nm,
+                             -sign * dot(v, dl), start, err)
+                # no directional allowance where the room above F' is within the rounding
+                # anywhere on the piece (its budget would be empty there), and a continuous
+                # ramp up to it (a switch would make the map jump there)
+                dq = d[:, :, q]
+                room = dq * dq - f2 * f2
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    ramp = np.minimum((room - 2.0 * err) / (2.0 * err), 1.0)
+                sd = np.where(room > 2.0 * err, sd * ramp, 0.0)
                 with np.errstate(invalid="ignore", divide="ignore"):
                     si = np.where(nm > iso, iso / np.where(nm > 0, nm, 1.0), 1.0)
-                s[:, sl, pt] = np.where(big, np.minimum(s[:, sl, pt], np.maximum(sd, si)),
-                                        s[:, sl, pt])
+                s[:, sl_, pt] = np.where(big, np.minimum(s[:, sl_, pt], np.maximum(sd, si)),
+                                         s[:, sl_, pt])
     return s
 
 
-def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool) -> None:
-    """One clearing pass: the pushes at the waypoints (``at_waypoints``, floor factor
-    :data:`PHI_WAYPOINT`) or at the soft closest points of the pieces (floor factor
-    :data:`PHI`), each point's move scaled by :func:`_clear_scale`."""
-    phi = PHI_WAYPOINT if at_waypoints else PHI
-    d = piece_minima(x, a, b)
+def clear_floor(d, tgt, hold, phi, eta):
+    """The clearing's floor of every pair on every piece (B, W-1, pairs) from its piece minimum
+    ``d``: ``phi d`` below the target T, ``T (1 + MARGIN)`` from the push target ``T (1 +
+    eta)`` on, linear between; never below ``hold`` (B, pairs), the pair's no-squeezing level
+    (:func:`hold_levels`)."""
     keep = tgt * (1.0 + MARGIN)  # (B, pairs)
     star = tgt * (1.0 + eta)
     low = phi * tgt
@@ -478,7 +403,21 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool) -> None:
     floor = np.where(d <= t_, phi * d,
                      np.where(d >= star[:, None, :], keep[:, None, :],
                               low[:, None, :] + (d - t_) * slope[:, None, :]))
-    gap = np.maximum(d - floor, 0.0)
+    return np.maximum(floor, hold[:, None, :])
+
+
+def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None) -> None:
+    """One clearing pass: the pushes at the waypoints (``at_waypoints``, floor factor
+    :data:`PHI_WAYPOINT`) or at the soft closest points of the pieces (floor factor
+    :data:`PHI`), each point's move scaled by :func:`_clear_scale`; no pair below its floor
+    (:func:`clear_floor`; ``hold``: (B, pairs), 0 when not given)."""
+    phi = PHI_WAYPOINT if at_waypoints else PHI
+    d = piece_minima(x, a, b)
+    star = tgt * (1.0 + eta)
+    hold = np.zeros_like(tgt) if hold is None else hold
+    floor = clear_floor(d, tgt, hold, phi, eta)
+    sl = _slack(x)
+    gap = np.maximum((d - sl[:, None, None]) - floor, 0.0)
     cap = _caps(x, a, b, c, (SHARE * c) * gap)
     push = np.zeros(x.shape)
     for q in range(a.shape[0]):
@@ -487,11 +426,11 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool) -> None:
         r0, r1 = rel[:, :-1], rel[:, 1:]
         v = r1 - r0
         if at_waypoints:
-            dist = np.sqrt(_dot(rel, rel))
+            dist = np.sqrt(dot(rel, rel))
             # the push direction at an interior waypoint: the relative position plus GAMMA
             # times the turn of the relative path there (continuous; it does not turn with
             # r / |r| where the pair nearly touches at the end of a piece)
-            vn = np.sqrt(_dot(v, v))
+            vn = np.sqrt(dot(v, v))
             nin, nout = vn[:, :-1], vn[:, 1:]
             eps = GAMMA * np.minimum(nin, nout)
             with np.errstate(invalid="ignore", divide="ignore"):
@@ -499,7 +438,7 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool) -> None:
                 eout = np.where(nout > 0, eps / np.where(nout > 0, nout, 1.0), 0.0)
             u = rel.copy()
             u[:, 1:-1] = rel[:, 1:-1] + eout[..., None] * v[:, 1:] - ein[..., None] * v[:, :-1]
-            den = np.maximum(np.sqrt(_dot(u, u)), dist)
+            den = np.maximum(np.sqrt(dot(u, u)), dist)
             with np.errstate(invalid="ignore", divide="ignore"):
                 fac = np.where(den > 0, (OMEGA * cq) * np.maximum(sq - dist, 0.0) / den, 0.0)
             fw = fac[..., None] * u
@@ -508,10 +447,10 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool) -> None:
                 push[:, :, pa] = push[:, :, pa] + fw
             continue
         # the soft closest point of the piece: continuous even where v -> 0
-        soft = np.clip(-_dot(r0, v) / (_dot(v, v) + LAMBDA * (_dot(r0, r0) + _dot(r1, r1))),
+        soft = np.clip(-dot(r0, v) / (dot(v, v) + LAMBDA * (dot(r0, r0) + dot(r1, r1))),
                        0.0, 1.0)
         relm = r0 + soft[..., None] * v
-        distm = np.sqrt(_dot(relm, relm))
+        distm = np.sqrt(dot(relm, relm))
         with np.errstate(invalid="ignore", divide="ignore"):
             facm = np.where(distm > 0, cq * np.maximum(sq - distm, 0.0) / distm, 0.0)
         # no push on a piece whose every point is at least sq apart (d: its exact minimum)
@@ -524,7 +463,7 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool) -> None:
             push[:, 1:, pa] = push[:, 1:, pa] + f1
             push[:, :-1, pa] = push[:, :-1, pa] + f0
     delta = (BETA * mob)[..., None, None] * push
-    scale = _clear_scale(x, delta, m, a, b, c, d, gap, cap)
+    scale = _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl)
     x[:, :, m:] = x[:, :, m:] + delta[:, :, m:] * scale[:, :, m:, None]
 
 
@@ -557,6 +496,7 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     p = x.shape[2]
     a, b, c = pairs(p, m)
     tgt = np.where(a >= m, target[:, :1], target[:, 1:2])  # (B, pairs)
+    hold = hold_levels(x, a, b, tgt)
     t = times
     for level, (s, n_steps) in enumerate(schedule(waypoints_per_piece, steps)):
         if level:
@@ -568,12 +508,59 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         eta = overshoot(level)
         for _ in range(n_steps):
             if level == 0:  # the waypoint pass: at the coarsest level (PHI_WAYPOINT)
-                _clear(x, m, a, b, c, tgt, mob, eta, True)
-            _clear(x, m, a, b, c, tgt, mob, eta, False)
+                _clear(x, m, a, b, c, tgt, mob, eta, True, hold)
+            _clear(x, m, a, b, c, tgt, mob, eta, False, hold)
             _shorten(x, m, a, b, c, tgt, frac, mob)
     for _ in range(final_steps(steps)):
-        _clear(x, m, a, b, c, tgt, mob, eta, False)
+        _clear(x, m, a, b, c, tgt, mob, eta, False, hold)
     return t, x
+
+
+# --- the frame -------------------------------------------------------------------------------
+
+def to_frame(raw: np.ndarray, target: np.ndarray):
+    """The normalised frame of every raw path (B, K, P, d) and its targets (B, 2): ``(y, tgt,
+    back)``. One rule for every query, no switch:
+
+    1. ``z = raw 2**-e1``, e1 the exponent of the path's largest |coordinate| (``z`` depends
+       only on the real values ``raw 2**-e1``, so a query scaled by ``2**k`` gives the same
+       bits, subnormals included);
+    2. ``u = z - c``, c the first point at the start (an obstacle: it never moves), so that a
+       small scene far from the origin is not lost in its offset;
+    3. ``y = u 2**-e2``, e2 the exponent of the largest norm of a point of u (a norm: the frame
+       commutes with rotations): the whole path (start, goal, every configuration and lift)
+       lies in the unit ball of one frame, its extent in [1/2, 1).
+
+    In the frame the refinement's arithmetic neither overflows nor underflows (squares of
+    coordinates below 1, of distances above 2**-480; see docs/refinement.md), so it is the
+    same for every magnitude. The targets are scaled by ``2**-(e1 + e2)`` and held to
+    ``[2**-900, MAX_TARGET]`` (a target beyond a million extents is out of reach anyway).
+    :func:`from_frame` maps back."""
+    b = raw.shape[0]
+    with np.errstate(invalid="ignore"):
+        amax = np.abs(raw).reshape(b, -1).max(axis=1, initial=0.0)
+    good = np.isfinite(amax) & (amax > 0)
+    e1 = np.where(good, np.frexp(np.where(good, amax, 1.0))[1], 0)
+    with np.errstate(under="ignore"):
+        z = np.ldexp(raw, -e1[:, None, None, None])
+    c = z[:, :1, :1, :].copy()
+    u = z - c
+    umax = np.sqrt(dot(u, u)).reshape(b, -1).max(axis=1, initial=0.0)
+    e2 = np.where(umax > 0, np.frexp(np.where(umax > 0, umax, 1.0))[1], 0)
+    with np.errstate(under="ignore"):
+        y = np.ldexp(u, -e2[:, None, None, None])
+        tgt = np.ldexp(np.asarray(target, dtype=float), -(e1 + e2)[:, None])
+    tgt = np.clip(tgt, 2.0**-900, MAX_TARGET)
+    return y, tgt, (e1, e2, c)
+
+
+def from_frame(y: np.ndarray, back) -> np.ndarray:
+    """The paths of the frame ``y`` (B, W, P, d) in the query's coordinates (the caller
+    restores the fixed waypoints and the obstacles exactly)."""
+    e1, e2, c = back
+    with np.errstate(over="ignore", under="ignore"):
+        z = np.ldexp(y, e2[:, None, None, None]) + c
+        return np.ldexp(z, e1[:, None, None, None])
 
 
 # --- the radii -------------------------------------------------------------------------------
@@ -586,87 +573,6 @@ def targets(radius: float, obstacle_radius: float, raw_clearance: np.ndarray) ->
     ro = radius + obstacle_radius
     return np.stack([c if rr == 0 else np.full(c.shape, rr),
                      c if ro == 0 else np.full(c.shape, ro)], axis=1)
-
-
-def _minima_exact(wp: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The piece minima (B, K-1, pairs) of :func:`piece_minima`, re-decided exactly where the
-    certificate re-decides them (:func:`pmplan.certify.clearance`: a float minimum not clearly
-    above the rounding of its evaluation is recomputed in rational arithmetic)."""
-    d = piece_minima(wp, a, b)
-    if a.size == 0 or d.size == 0:
-        return d
-    pa, pb = wp[:, :, a, :], wp[:, :, b, :]
-    r = np.abs(pa - pb).max(-1)
-    scale = np.maximum(r[:, :-1], r[:, 1:])
-    absval = np.maximum(np.abs(pa).max(-1), np.abs(pb).max(-1))
-    absval = np.maximum(absval[:, :-1], absval[:, 1:])
-    with np.errstate(invalid="ignore", over="ignore"):
-        suspect = ~(d > REL * np.maximum(scale, absval * 1e-6)) | ~np.isfinite(d)
-    for bi, ki, qi in zip(*np.nonzero(suspect)):
-        d[bi, ki, qi] = exact_segment_clearance(wp[bi, ki, a[qi]], wp[bi, ki, b[qi]],
-                                                 wp[bi, ki + 1, a[qi]], wp[bi, ki + 1, b[qi]])
-    return d
-
-
-def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius: float):
-    """``(robot_distance, obstacle_distance, respects)`` of a batch of paths (B, K, P, d).
-
-    The distances are the minima over the pieces of the certificate's closed-form piece minima
-    (exact where the certificate is, :func:`_minima_exact`); ``inf`` for the robot-robot one
-    when n = 1. ``respects`` is decided exactly: the true minimum distance between two robots
-    is >= ``2 radius`` and between a robot and an obstacle >= ``radius + obstacle_radius``
-    (rational arithmetic on the waypoint floats where the float minimum is within 1e-9 of the
-    bound).
-    """
-    wp = np.asarray(waypoints, dtype=float)
-    bsz, _, p, _ = wp.shape
-    if bsz == 0:
-        return np.empty(0), np.empty(0), np.ones(0, dtype=bool)
-    if np.abs(wp).max() >= 2.0**RANGE:
-        return _scaled_report(wp, m, radius, obstacle_radius)
-    a, b, _ = pairs(p, m)
-    rr = a >= m
-    d = _minima_exact(wp, a, b).reshape(bsz, -1, a.size)
-    robot = d[:, :, rr].reshape(bsz, -1).min(axis=1, initial=np.inf)
-    obst = d[:, :, ~rr].reshape(bsz, -1).min(axis=1, initial=np.inf)
-    ok = _at_least(wp, d[:, :, rr], a[rr], b[rr], 2 * Fraction(radius))
-    ok &= _at_least(wp, d[:, :, ~rr], a[~rr], b[~rr],
-                    Fraction(radius) + Fraction(obstacle_radius))
-    return robot, obst, ok
-
-
-def _at_least(wp, d, pa, pb, need: Fraction) -> np.ndarray:
-    """Whether every pair (pa, pb), of piece minima ``d`` (B, K-1, pairs), keeps an exact
-    distance >= ``need`` along every path (B,): the float minimum decides where it is clearly
-    above or below, the exact one otherwise."""
-    bsz = wp.shape[0]
-    ok = np.ones(bsz, dtype=bool)
-    if pa.size == 0 or need == 0:
-        return ok
-    f = float(need)
-    with np.errstate(invalid="ignore"):
-        sure = d > f * (1 + 1e-9) + 1e-300
-        fail = d < f * (1 - 1e-9)
-    ok &= ~fail.reshape(bsz, -1).any(axis=1)
-    need2 = need * need
-    for bi, ki, qi in zip(*np.nonzero(~sure & ~fail)):
-        if ok[bi] and exact_segment_dist2(wp[bi, ki, pa[qi]], wp[bi, ki, pb[qi]],
-                                           wp[bi, ki + 1, pa[qi]], wp[bi, ki + 1, pb[qi]]) < need2:
-            ok[bi] = False
-    return ok
-
-
-def _scaled_report(wp, m, radius, obstacle_radius):
-    """:func:`radius_report` for paths beyond the float range of squares: each scaled by a
-    power of two (exact where the bits allow) and its distances scaled back."""
-    out = [np.empty(wp.shape[0]), np.empty(wp.shape[0]), np.zeros(wp.shape[0], dtype=bool)]
-    for i in range(wp.shape[0]):
-        _, e = np.frexp(np.abs(wp[i]).max())
-        rd, od, ok = radius_report(np.ldexp(wp[i:i + 1], -e), m, float(np.ldexp(radius, -e)),
-                                   float(np.ldexp(obstacle_radius, -e)))
-        with np.errstate(over="ignore"):
-            out[0][i], out[1][i], out[2][i] = np.ldexp(rd[0], e), np.ldexp(od[0], e), ok[0]
-    return tuple(out)
 
 
 def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_radius: float,
@@ -701,15 +607,13 @@ def _raise_too_close(conf, m, radius, obstacle_radius, name, index) -> None:
     p = conf.shape[0]
     a, b, _ = pairs(p, m)
     label = [f"o{k + 1}" for k in range(m)] + [f"x{k + 1}" for k in range(p - m)]
-    best = None
-    for pa, pb in zip(a, b):
-        need, value = (("2 * radius", 2 * radius) if pa >= m else
-                       ("radius + obstacle_radius", radius + obstacle_radius))
-        sq = exact_segment_dist2(conf[pa], conf[pb], conf[pa], conf[pb])
-        if sq < Fraction(value) ** 2:
-            best = (label[pa], label[pb], math.sqrt(float(sq)), need, value)
+    for pa, pb in zip(a, b):  # (check_radii's decision is exact: one pair is too close)
+        need, value = (("2 * radius", 2 * Fraction(radius)) if pa >= m else
+                       ("radius + obstacle_radius", Fraction(radius) + Fraction(obstacle_radius)))
+        if exact_segment_dist2(conf[pa], conf[pb], conf[pa], conf[pb]) < value * value:
             break
-    pa, pb, dist, need, value = best
+    dist = exact_segment_clearance(conf[pa], conf[pb], conf[pa], conf[pb])
+    pa, pb, value = label[pa], label[pb], float(value)
     where = f" in query {index}" if index is not None else ""
     raise CollisionError(
         _MSG_TOO_CLOSE.format(what=f"the {name} configuration" if name in ("start", "goal")
@@ -756,7 +660,7 @@ class RefineStage(Stage):
 
     def __init__(self, times, waypoints, clearance, m: int, fixed, radius: float,
                  obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None):
-        from .backends import NUMBA, resolve
+        from .backends import NUMBA, select  # (the backends import the refinement lazily)
 
         self.raw_times = np.asarray(times, dtype=float)
         self.raw = waypoints
@@ -765,7 +669,8 @@ class RefineStage(Stage):
         self.m, self.r = m, len(self.fixed)
         self.radius, self.obstacle_radius = radius, obstacle_radius
         self.s, self.steps = waypoints_per_piece, steps
-        self.kernel = resolve(backend) == NUMBA
+        self.backend = select(backend)
+        self.kernel = self.backend.NAME == NUMBA
         self.target = targets(radius, obstacle_radius, clearance)
         k = self.raw_times.shape[-1]
         w = (k - 1) * self.s + 1
@@ -779,36 +684,24 @@ class RefineStage(Stage):
         self.clause = np.zeros(b, np.uint8)
 
     def _refine(self, times, wp, target):
-        if self.kernel:
-            from .kernels.refine import refine_batch
-
-            return refine_batch(times, wp, self.m, self.r, target, self.s, self.steps)
-        return refine_paths(times, wp, self.m, self.r, target, self.s, self.steps)
+        """The map in the frame, by the backend (:func:`pmplan.backends.select`)."""
+        return self.backend.refine(times, wp, self.m, self.r, target, self.s, self.steps)
 
     def run(self, lo: int, hi: int) -> np.ndarray:
         raw = self.raw[lo:hi]
         times = self.raw_times if self.raw_times.ndim == 1 else self.raw_times[lo:hi]
-        target = self.target[lo:hi]
+        y, tgt, back = to_frame(raw, self.target[lo:hi])
         out = self.waypoints[lo:hi]
-        with np.errstate(invalid="ignore"):
-            amax = np.abs(raw).reshape(hi - lo, -1).max(axis=1, initial=0.0)
-        extreme = ~((amax >= 2.0**-RANGE) & (amax < 2.0**RANGE))
-        normal = np.flatnonzero(~extreme)
-        if normal.size == hi - lo:
-            out[...] = self._refine(times, raw, target)[1]
-        elif normal.size:
-            out[normal] = self._refine(times if times.ndim == 1 else times[normal], raw[normal],
-                                       target[normal])[1]
-        for i in np.flatnonzero(extreme):  # scaled by a power of two into range, exactly
-            _, e = np.frexp(amax[i])
-            t_i = times if times.ndim == 1 else times[i:i + 1]
-            res = self._refine(t_i, np.ldexp(raw[i:i + 1], -e), np.ldexp(target[i:i + 1], -e))[1]
-            with np.errstate(over="ignore", under="ignore"):
-                out[i] = np.ldexp(res[0], e)
-            out[i, :, :self.m] = raw[i, 0, :self.m]
-            for kj in self.fixed:
-                out[i, kj * self.s] = raw[i, kj]
-        self._certify(lo, hi, raw, out, extreme)
+        ref = self._refine(times, y, tgt)[1]
+        out[...] = from_frame(ref, back)
+        # the obstacles, and every raw waypoint the refinement left in place (the fixed
+        # configurations, a padded row's repeated goal), exactly: the frame rounds them
+        out[:, :, :self.m] = raw[:, :1, :self.m]
+        same = (ref[:, ::self.s] == y).all(axis=-1)  # (B, K, P)
+        out[:, ::self.s][same] = raw[same]
+        for kj in self.fixed:
+            out[:, kj * self.s] = raw[:, kj]
+        self._certify(lo, hi, raw, out, np.zeros(hi - lo, dtype=bool))
         return self.clause[lo:hi] == 0
 
     def _certify(self, lo, hi, raw, out, exact) -> None:

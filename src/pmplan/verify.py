@@ -116,6 +116,14 @@ MAX_NUMBERS = 200_000_000
 POLE_NOTE = OBSTACLE_LINE_POLE_NOTE
 #: the prefix of the families of refined plans in ``Report.families`` (``verify(refine=True)``)
 REFINED = "refined "
+#: the perturbation sizes of the refined continuity probe (``verify(refine=True)``): the same
+#: base queries moved by each, so that a modulus that does not scale with the size (a jump
+#: inside a domain, hidden at one size) shows
+REFINE_DELTAS = (1e-6, 1e-9, 1e-12)
+#: a domain's refined modulus scales linearly when the largest over :data:`REFINE_DELTAS` is at
+#: most this many times the one at the largest size (or the raw modulus, or 1); else it is a
+#: problem of the report (and ``pmplan verify --refine`` exits 1)
+REFINE_SCALE = 10.0
 
 
 # ------------------------------------------------------------------------------------------------
@@ -265,9 +273,14 @@ class DomainReport:
     refined_min_clearance : float or None
         Smallest certified clearance of those refined plans.
     refined_modulus : float or None
-        Continuity modulus of the refined planner on the same perturbation pairs as ``modulus``.
+        Continuity modulus of the refined planner: the largest over the perturbation sizes
+        :data:`REFINE_DELTAS` (the first on the same pairs as ``modulus``).
     refined_perturbations : int
         Number of those pairs whose refined plans were both certified.
+    refined_moduli : list
+        The refined modulus at each size of :data:`REFINE_DELTAS` (None where no pair was made).
+    refined_linear : bool or None
+        Whether the refined modulus scales linearly (:data:`REFINE_SCALE`).
     """
 
     label: int
@@ -283,6 +296,8 @@ class DomainReport:
     refined_min_clearance: float | None = None
     refined_modulus: float | None = None
     refined_perturbations: int = 0
+    refined_moduli: list = field(default_factory=list)
+    refined_linear: bool | None = None
 
 
 @dataclass
@@ -429,10 +444,19 @@ class Report:
             )
         refined = [d.refined_modulus for d in self.domains if d.refined_modulus is not None]
         if refined:
+            raw = [d.modulus for d in self.domains if d.modulus is not None]
+            per = [max((d.refined_moduli[k] for d in self.domains
+                        if len(d.refined_moduli) > k and d.refined_moduli[k] is not None),
+                       default=None) for k in range(len(REFINE_DELTAS))]
+            bad = [w + str(d.label) for d in self.domains if d.refined_linear is False]
             lines.append(
                 f"refined continuity: largest modulus inside a domain {max(refined):.3g} "
-                f"(raw {max(d.modulus for d in self.domains if d.modulus is not None):.3g}); "
-                "the refined planner keeps the raw labels and strata"
+                + (f"(raw {max(raw):.3g}); " if raw else "; ")
+                + "at perturbation sizes "
+                + ", ".join(f"{dl:g}: {num(v)}" for dl, v in zip(REFINE_DELTAS, per))
+                + ("; scales linearly in every domain" if not bad else
+                   f"; does NOT scale linearly in {', '.join(bad)}")
+                + "; the refined planner keeps the raw labels and strata"
             )
         for f in self.failures[:10]:
             lines.append(
@@ -511,6 +535,45 @@ def _rows(batch, idx) -> PiecewiseLinearPath:
     """The paths of plans ``idx`` of a batch."""
     return PiecewiseLinearPath(batch.times if batch.times.ndim == 1 else batch.times[idx],
                                batch.waypoints[idx])
+
+
+def _moved_copies(p, rng, base, size: float):
+    """The base queries moved within their strata by ``size`` (Q' = Q where the planner has no
+    such move: distance 0, left out) and their distances."""
+    moved = []
+    for i in range(base[0].shape[0]):
+        one = (base[0][i], base[1][i], base[2][i])
+        mv = spec_for(p).perturb_within_stratum(rng, one, size)
+        moved.append(one if mv is None else mv)
+    mq = tuple(np.stack([mv[k] for mv in moved]) for k in range(3))
+    return mq, query_distance(base, mq)
+
+
+def _refined_probe(name, lift, b0, k0, r0, k0r, moved, dist):
+    """``(label, sup |R(Q) - R(Q')| / |Q - Q'|)`` of the base queries whose raw plans (``b0``
+    at rows ``k0``) and refined plans (``r0`` at rows ``k0r``) exist, against the moved
+    queries ``moved`` planned and refined, over the pairs with the same label."""
+    if r0 is None:
+        return []
+    b1, k1, _ = _plan_each(moved, name, lift)
+    if b1 is None:
+        return []
+    both = np.intersect1d(np.intersect1d(k0, k1), k0r)
+    both = both[dist[both] > 0]
+    la = b0.domain[np.searchsorted(k0, both)]
+    lb = b1.domain[np.searchsorted(k1, both)]
+    same = both[la == lb]
+    if same.size == 0:
+        return []
+    r1, k1r, _ = _refine_each(b1[np.searchsorted(k1, same)])
+    if r1 is None:
+        return []
+    kk = same[k1r]
+    j0 = np.searchsorted(k0r, kk)
+    ratio = path_distance(PiecewiseLinearPath(r0.times[j0], r0.waypoints[j0]),
+                          _rows(r1, np.arange(k1r.size))) / dist[kk]
+    labels = b0.domain[np.searchsorted(k0, kk)]
+    return list(zip(labels.tolist(), ratio.tolist()))
 
 
 def _stratum_name(p, d: int, n: int, m: int, q, i: int) -> str:
@@ -687,7 +750,7 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
 
     # continuity inside each domain: stratum-preserving perturbations of exact and random queries
     ratios: dict[int, list] = {}
-    refined_ratios: dict[int, list] = {}
+    refined_ratios: dict[int, dict] = {}  # label -> size index -> ratios
     base_o, base_s, base_g, pert = [], [], [], []
     source: list[tuple[str, int]] = []  # (family, row of its planned batch) of each base query
     for fname, share in (("exact", 2), ("random", 3)):
@@ -738,29 +801,39 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
             for label, r, same in zip(la.tolist(), ratio.tolist(), (la == lb).tolist()):
                 if same:
                     ratios.setdefault(label, []).append(r)
-            if refine:  # the refined planner on the same pairs (refusals counted above)
-                same = np.flatnonzero(la == lb)
-                # Q: the family pass refined its plan already (b0 plans the same queries of
-                # the exact and random families, alike); only the moved queries Q' are new
-                pair = both[same]
-                r0, k0r = _refined_rows(refined_plans, src_fam[pair], src_row[pair])
-                r1, k1r, _ = _refine_each(b1[i1[same]])
-                if r0 is not None and r1 is not None:
-                    kk = np.intersect1d(k0r, k1r)
-                    j0, j1 = np.searchsorted(k0r, kk), np.searchsorted(k1r, kk)
-                    ratio = (path_distance(PiecewiseLinearPath(r0.times[j0], r0.waypoints[j0]),
-                                           _rows(r1, j1))
-                             / dist[both][same][kk])
-                    for label, r in zip(la[same][kk].tolist(), ratio.tolist()):
-                        refined_ratios.setdefault(label, []).append(r)
+        if refine and b0 is not None:
+            # the refined planner at every size of REFINE_DELTAS, on the same base queries Q
+            # (the family pass refined their plans already: b0 plans the same queries of the
+            # exact and random families, alike); only the moved queries Q' are new
+            r0, k0r = _refined_rows(refined_plans, src_fam, src_row)
+            for level, size in enumerate(REFINE_DELTAS):
+                if level == 0:
+                    mq, md = moved, dist
+                else:
+                    mq, md = _moved_copies(p, rng, base, size)
+                for label, r in _refined_probe(name, lift, b0, k0, r0, k0r, mq, md):
+                    refined_ratios.setdefault(label, {}).setdefault(level, []).append(r)
     for label, rs in ratios.items():
         dr = dom.setdefault(label, DomainReport(label=label))
         dr.modulus = float(max(rs))
         dr.perturbations = len(rs)
-    for label, rs in refined_ratios.items():
+    for label, by_size in refined_ratios.items():
         dr = dom.setdefault(label, DomainReport(label=label))
-        dr.refined_modulus = float(max(rs))
-        dr.refined_perturbations = len(rs)
+        mods = [float(max(by_size[k])) if by_size.get(k) else None
+                for k in range(len(REFINE_DELTAS))]
+        seen = [v for v in mods if v is not None]
+        dr.refined_moduli = mods
+        dr.refined_modulus = max(seen)
+        dr.refined_perturbations = len(by_size.get(0, []))
+        ref = max(mods[0] or 0.0, dr.modulus or 0.0, 1.0)
+        dr.refined_linear = max(seen) <= REFINE_SCALE * ref
+        if not dr.refined_linear:
+            problems.append(
+                f"domain {p.domain_prefix}{label}: the refined modulus does not scale linearly "
+                "with the perturbation ("
+                + ", ".join(f"{v:.3g} at {dl:g}" for dl, v in zip(REFINE_DELTAS, mods)
+                            if v is not None)
+                + "): the refined path jumps inside the domain")
     bar.update(1)
 
     # jumps across domains: exact queries against generic neighbours at distance ~delta

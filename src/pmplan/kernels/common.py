@@ -16,7 +16,15 @@ from __future__ import annotations
 
 # one source: the unit roundoff and the underflow bound of pmplan.predicates' filter, and the
 # thresholds of pmplan.certify (numba reads these module globals as compile-time constants)
-from ..certify import MAXF, OBSTACLE_TINY2, REL, SURE  # noqa: F401 (the kernels import them here)
+from ..certify import (  # noqa: F401 (the kernels import them here)
+    BAND_ABS,
+    BAND_REL,
+    MAXF,
+    OBSTACLE_TINY2,
+    REL,
+    SURE,
+    TINY_DIST,
+)
 from ..predicates import TINY, U  # noqa: F401
 
 try:

@@ -16,9 +16,10 @@ import sys
 
 import numpy as np
 
-from ..refine import (
+from ..refine_grid import (
     chord_fraction,
     final_steps,
+    hold_levels,
     mobility,
     overshoot,
     pairs,
@@ -26,12 +27,12 @@ from ..refine import (
     subdivide,
     subdivide_times,
 )
-from .common import OBSTACLE_TINY2, OPTS, REL, njit
+from .common import BAND_ABS, BAND_REL, OBSTACLE_TINY2, OPTS, REL, TINY_DIST, njit
 
 __all__ = ["measure_batch", "refine_batch"]
 
 # the reference's constants are passed as ``kp`` = (ALPHA, BETA, PHI, ETA, MARGIN, LAMBDA,
-# OMEGA, SHARE, GAMMA, PHI_WAYPOINT) and the overshoot ``eta`` of the level, read at every call
+# OMEGA, SHARE, GAMMA, PHI_WAYPOINT, SLACK) and the overshoot ``eta`` of the level, read at every call
 # (a module global would be compiled in, and cached on disk, as a constant: a change of
 # pmplan.refine would not reach the kernel)
 
@@ -108,13 +109,29 @@ def _caps(a, b, free, cap):  # pragma: no cover - compiled
 
 
 @njit(**OPTS)
+def _slack(x, slack):  # pragma: no cover - compiled
+    """:func:`pmplan.refine._slack` of one path: ``4 SLACK A``, A the largest norm of a point
+    (summed as the reference's ``dot``)."""
+    amax = 0.0
+    w, p, dd = x.shape
+    for j in range(w):
+        for i in range(p):
+            s = 0.0
+            for k in range(dd):
+                s = s + x[j, i, k] * x[j, i, k]
+            amax = max(amax, math.sqrt(s))
+    return (4.0 * slack) * amax
+
+
+@njit(**OPTS)
 def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel_t, kp):  # pragma: no cover
     w, p, dd = x.shape
     _minima(x, a, b, dmin, rel_t)
+    sl = _slack(x, kp[10])
     for q in range(a.shape[0]):
         keep = tgt[q] * (1.0 + kp[4])
         for j in range(w - 1):
-            free[j, q] = c[q] * max(dmin[j, q] - keep, 0.0)
+            free[j, q] = c[q] * max((dmin[j, q] - sl) - keep, 0.0)
     _caps(a, b, free, cap)
     for first in (1, 2):  # red-black, as the reference
         for j in range(first, w - 1, 2):
@@ -138,7 +155,7 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel_t, kp): 
 
 
 @njit(**OPTS)
-def _budget_at(r0, v, f2, den, al, be, start, t):  # pragma: no cover - compiled
+def _budget_at(r0, v, f2, den, al, be, start, err, t):  # pragma: no cover - compiled
     """``h(t) / g(t)`` of :func:`pmplan.refine._budget` at one candidate t (inf where g <= 0)."""
     t = 0.0 if math.isnan(t) else min(max(t, 0.0), 1.0)
     g = ((1.0 - t) if start else t) * (al + t * be)
@@ -148,11 +165,11 @@ def _budget_at(r0, v, f2, den, al, be, start, t):  # pragma: no cover - compiled
     for k in range(r0.shape[0]):
         rt = r0[k] + t * v[k]
         s = s + rt * rt
-    return max((s - f2 * f2) / den, 0.0) / g
+    return max((s - f2 * f2 - err) / den, 0.0) / g
 
 
 @njit(**OPTS)
-def _budget(r0, v, f2, nterms, al, be, start):  # pragma: no cover - compiled
+def _budget(r0, v, f2, nterms, al, be, start, err=0.0):  # pragma: no cover - compiled
     """:func:`pmplan.refine._budget` of one term, same arithmetic."""
     if start:
         g0 = al
@@ -170,7 +187,7 @@ def _budget(r0, v, f2, nterms, al, be, start):  # pragma: no cover - compiled
         rr = rr + r0[k] * r0[k]
         rv = rv + r0[k] * v[k]
         vv = vv + v[k] * v[k]
-    h0 = (rr - f2 * f2) / den
+    h0 = (rr - f2 * f2 - err) / den
     h1 = (2.0 * rv) / den
     h2 = vv / den
     qa = h2 * g1 - h1 * g2
@@ -178,23 +195,23 @@ def _budget(r0, v, f2, nterms, al, be, start):  # pragma: no cover - compiled
     qc = h1 * g0 - h0 * g1
     sq = math.sqrt(max(qb * qb - qa * qc, 0.0))
     qq = -(qb + sq) if qb >= 0 else -(qb - sq)
-    s = min(1.0, _budget_at(r0, v, f2, den, al, be, start, 0.0))
-    s = min(s, _budget_at(r0, v, f2, den, al, be, start, 1.0))
+    s = min(1.0, _budget_at(r0, v, f2, den, al, be, start, err, 0.0))
+    s = min(s, _budget_at(r0, v, f2, den, al, be, start, err, 1.0))
     if qa != 0:
-        s = min(s, _budget_at(r0, v, f2, den, al, be, start, qq / qa))
+        s = min(s, _budget_at(r0, v, f2, den, al, be, start, err, qq / qa))
     else:
-        s = min(s, _budget_at(r0, v, f2, den, al, be, start, 0.0))
+        s = min(s, _budget_at(r0, v, f2, den, al, be, start, err, 0.0))
     if qq != 0:
-        s = min(s, _budget_at(r0, v, f2, den, al, be, start, qc / qq))
+        s = min(s, _budget_at(r0, v, f2, den, al, be, start, err, qc / qq))
     else:
-        s = min(s, _budget_at(r0, v, f2, den, al, be, start, 0.0))
+        s = min(s, _budget_at(r0, v, f2, den, al, be, start, err, 0.0))
     if qa != 0:
-        s = min(s, _budget_at(r0, v, f2, den, al, be, start, -qb / qa))
+        s = min(s, _budget_at(r0, v, f2, den, al, be, start, err, -qb / qa))
     return s
 
 
 @njit(**OPTS)
-def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v):  # pragma: no cover
+def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl):  # pragma: no cover
     """The scale of point ``pt``'s clearing move at waypoint ``j`` beyond its isotropic cap
     (:func:`pmplan.refine._clear_scale`, same arithmetic); ``r0``, ``v``: (d,) scratch."""
     w, _, dd = x.shape
@@ -217,12 +234,24 @@ def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v):  # pragma
             iso = (share_k * c[q]) * gq
             r0d = 0.0
             vd = 0.0
+            rr = 0.0
+            vv = 0.0
             for k in range(dd):
                 r0[k] = x[jp, pa, k] - x[jp, pb, k]
                 v[k] = (x[jp + 1, pa, k] - x[jp + 1, pb, k]) - r0[k]
                 r0d = r0d + r0[k] * delta[j, pt, k]
                 vd = vd + v[k] * delta[j, pt, k]
-            sd = _budget(r0, v, f2, nterms, -sign * r0d, -sign * vd, jp == j)
+                rr = rr + r0[k] * r0[k]
+                vv = vv + v[k] * v[k]
+            e = (sl / kp[10] + (math.sqrt(rr) + math.sqrt(vv))) + nm
+            err = (4.0 * kp[10]) * (e * e)
+            dq = dmin[jp, q]
+            room = dq * dq - f2 * f2
+            if room > 2.0 * err:  # (and the reference's continuous ramp above it)
+                sd = _budget(r0, v, f2, nterms, -sign * r0d + (kp[10] * e) * nm, -sign * vd,
+                             jp == j, err) * min((room - 2.0 * err) / (2.0 * err), 1.0)
+            else:
+                sd = 0.0  # (the reference's: no room above F' beyond the rounding)
             si = iso / nm if nm > iso else 1.0
             s = min(s, max(sd, si))
     return s
@@ -239,7 +268,7 @@ def _turned(rel, j, k, ein, eout):  # pragma: no cover - compiled
 
 
 @njit(**OPTS)
-def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta,
+def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta,
            at_waypoints):  # pragma: no cover - compiled
     """One clearing pass of :func:`pmplan.refine._clear` (same arithmetic, same order)."""
     w, p, dd = x.shape
@@ -248,6 +277,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
     share_k = kp[7]
     gamma = kp[8]
     _minima(x, a, b, dmin, rel_t)
+    sl = _slack(x, kp[10])
     for q in range(a.shape[0]):
         t = tgt[q]
         keep = t * (1.0 + kp[4])
@@ -265,7 +295,8 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
                 floor = keep
             else:
                 floor = low + (dq - t) * slope
-            g = max(dq - floor, 0.0)
+            floor = max(floor, hold[q])
+            g = max((dq - sl) - floor, 0.0)
             gap[j, q] = g
             free[j, q] = (share_k * cq) * g
         if not near:
@@ -350,7 +381,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
                 s = s + delta[j, i, k] * delta[j, i, k]
             nm = math.sqrt(s)
             cap[j, i] = _dir_scale(x, m, a, b, c, dmin, gap, delta, j, i, nm, kp, rel[0],
-                                   rel[1]) if nm > cap[j, i] else 1.0
+                                   rel[1], sl) if nm > cap[j, i] else 1.0
     for j in range(w):
         for i in range(m, p):
             sc = cap[j, i]
@@ -359,7 +390,7 @@ def _clear(x, m, a, b, c, tgt, mob, dmin, free, gap, cap, delta, rel, rel_t, kp,
 
 
 @njit(**OPTS)
-def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta,
+def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
            waypoint_pass):  # pragma: no cover - compiled
     """``steps`` steps (clear, shorten) then ``clear_only`` clearing steps on every query of
     the batch ``x`` (B, W, P, d), in place; ``frac`` (B, W-2), ``mob`` (B, W), ``tgt`` (B,
@@ -379,10 +410,10 @@ def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta,
         g = i if mob.shape[0] > 1 else 0  # shared times: one row of mobility and fractions
         for k in range(steps + clear_only):
             if waypoint_pass and k < steps:  # the clearing substep: the waypoint pass first
-                _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, rel_t,
-                       kp, eta, True)
-            _clear(xi, m, a, b, c, tgt[i], mob[g], dmin, free, gap, cap, delta, rel, rel_t, kp,
-                   eta, False)
+                _clear(xi, m, a, b, c, tgt[i], hold[i], mob[g], dmin, free, gap, cap, delta, rel,
+                       rel_t, kp, eta, True)
+            _clear(xi, m, a, b, c, tgt[i], hold[i], mob[g], dmin, free, gap, cap, delta, rel,
+                   rel_t, kp, eta, False)
             if k < steps:
                 _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel_t,
                          kp)
@@ -390,7 +421,8 @@ def _level(x, m, a, b, c, tgt, frac, mob, steps, clear_only, kp, eta,
 
 #: flags of :func:`measure_batch`: the certificate's exact re-decision is needed (a piece
 #: minimum not clearly above its rounding, an obstacle pair that may underflow, a non-finite
-#: value), the radii are within 1e-9 of a minimum (decided exactly), the radii are not kept
+#: value), a piece minimum lies in the band of :func:`pmplan.certify.radius_report` around a
+#: radius bound (decided exactly), the radii are certainly not kept
 SUSPECT = 1
 CLOSE = 2
 SHORT = 4
@@ -424,18 +456,20 @@ def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
                     for k in range(dd):
                         scale = max(scale, abs(rel[jj, k]))
                         absval = max(absval, abs(xi[jj, pa, k]), abs(xi[jj, pb, k]))
+                # (a distance below 2**-480 may hold an underflowed square: measured exactly)
                 if not (dq > REL * max(scale, absval * 1e-6)) or not math.isfinite(dq) \
-                        or not math.isfinite(absval):
+                        or not math.isfinite(absval) or not dq > TINY_DIST:
                     fl |= SUSPECT
                 clr = min(clr, dq)
                 if pa >= m:
                     rob = min(rob, dq)
                 else:
                     obs = min(obs, dq)
-                if nd > 0:
-                    if dq < nd * (1 - 1e-9):
+                if nd > 0:  # the band of pmplan.certify.radius_report
+                    band = BAND_REL * (nd + absval) + BAND_ABS
+                    if dq < nd - band:
                         fl |= SHORT
-                    elif not dq > nd * (1 + 1e-9) + 1e-300:
+                    elif not dq > nd + band:
                         fl |= CLOSE
         for k1 in range(m):
             for k2 in range(k1 + 1, m):
@@ -465,10 +499,11 @@ def measure_batch(waypoints: np.ndarray, m: int, need: tuple[float, float]):
 
 
 def constants() -> np.ndarray:
-    """The reference's constants, as the kernel reads them."""
+    """The reference's constants, as the kernel reads them (at every call, from the loaded
+    :mod:`pmplan.refine`: the kernel does not import it)."""
     ref = sys.modules["pmplan.refine"]
     return np.array([ref.ALPHA, ref.BETA, ref.PHI, ref.ETA, ref.MARGIN, ref.LAMBDA, ref.OMEGA,
-                     ref.SHARE, ref.GAMMA, ref.PHI_WAYPOINT])
+                     ref.SHARE, ref.GAMMA, ref.PHI_WAYPOINT, ref.SLACK])
 
 
 def _grids(times: np.ndarray, r: int, waypoints_per_piece: int, steps: int, b: int):
@@ -502,6 +537,7 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     p = x.shape[2]
     a, b, c = pairs(p, m)
     tgt = np.ascontiguousarray(np.where(a >= m, target[:, :1], target[:, 1:2]))
+    hold = np.ascontiguousarray(hold_levels(x, a, b, tgt))
     levels = _grids(times, r, waypoints_per_piece, steps, x.shape[0])
     kp = constants()
     t = times
@@ -509,7 +545,7 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         if level:
             x = subdivide(x)
         if x.shape[0]:
-            _level(x, m, a, b, c, tgt, frac, mob, n_steps,
+            _level(x, m, a, b, c, tgt, hold, frac, mob, n_steps,
                    final_steps(steps) if level == len(levels) - 1 else 0, kp, overshoot(level),
                    level == 0)
     return t, x

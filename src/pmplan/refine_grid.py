@@ -1,0 +1,168 @@
+"""The grid and the schedule of the refinement map R, shared by its numpy reference
+(:mod:`pmplan.refine`) and its numba kernel (:mod:`pmplan.kernels.refine`), which both import
+them from here (so neither imports the other at load time): the levels and their steps, the
+overshoot, the subdivided breakpoints and waypoints, the mobility and chord fractions, the pairs,
+the closed-form piece minima and the no-squeezing levels. See :mod:`pmplan.refine` for the map.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from .certify import point_pairs
+
+__all__ = [
+    "chord_fraction",
+    "final_steps",
+    "hold_levels",
+    "mobility",
+    "overshoot",
+    "pairs",
+    "piece_minima",
+    "schedule",
+    "subdivide",
+    "subdivide_times",
+]
+
+#: push target T* = (1 + ETA) T at the coarsest level, divided by DECAY at every finer one
+#: (:func:`overshoot`): the clearing overshoots the target
+ETA = 0.5
+#: the protected level is T (1 + MARGIN), far above the rounding of the update
+MARGIN = 2.0**-30
+#: the steps of a level are GROWTH times those of the next finer level (coarse steps are cheap)
+GROWTH = 2.0
+#: the overshoot of a level is DECAY times smaller than that of the next coarser one
+DECAY = 2.0
+#: the clearing-only steps at the end, a fraction of ``steps`` (they settle the pairs the
+#: shortening pressed below their target)
+FINAL = 0.125
+#: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
+MOBILITY = 4.0
+#: no self-squeezing: a pair never goes below ``HOLD min(T (1 + MARGIN), D_raw)``, D_raw its
+#: smallest distance on the raw path (the clearing's floor is at least that; the shortening
+#: never lowers a pair below min(D, T)). ``min(T, HOLD D_raw)`` instead (the floor at T for
+#: every pair the raw path keeps 2 T apart) cost 1.6x the kernel's time on refine_bench's
+#: (2,4,2) batch -- the caps bind far more often -- for no fewer jumps (docs/refinement.md)
+HOLD = 0.5
+
+
+def schedule(waypoints: int, steps: int) -> list[tuple[int, int]]:
+    """The levels ``(sub-pieces s, steps at that level)``: s = 1, 2, 4, .., waypoints, each level
+    :data:`GROWTH` times the steps of the next finer one (rounded; they sum to ``steps``).
+
+    >>> schedule(4, 48)
+    [(1, 27), (2, 14), (4, 7)]
+    >>> schedule(1, 5)
+    [(1, 5)]
+    """
+    levels = waypoints.bit_length()
+    w = [GROWTH ** (levels - 1 - i) for i in range(levels)]
+    cum = [0.0]
+    for x in w:
+        cum.append(cum[-1] + x)
+    at = [int(steps * c / cum[-1] + 0.5) for c in cum]
+    return [(1 << i, at[i + 1] - at[i]) for i in range(levels)]
+
+
+def overshoot(level: int) -> float:
+    """The overshoot of the push target at a level: ``T* = (1 + ETA DECAY**-level) T`` (large
+    at the coarse levels, where it frees the caps, small at the fine ones, where it costs
+    length; DECAY = 4 or 8 measured no shorter, and kept fewer paths clear of r at n = 8)."""
+    return ETA * DECAY**-level
+
+
+def final_steps(steps: int) -> int:
+    """The clearing-only steps after the last level: ``FINAL`` of ``steps``, at least 1."""
+    return max(1, int(FINAL * steps))
+
+
+@lru_cache(maxsize=256)
+def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pairs (a < b) with a moving point b (index >= m): ``a``, ``b`` (int64) and ``c``
+    (1/2 for two robots, 1 for an obstacle and a robot), in the kernel's order (read-only,
+    cached)."""
+    a, b = (v.astype(np.int64) for v in point_pairs(p, m))  # the certificate's pairs, its order
+    c = np.where(a >= m, 0.5, 1.0)
+    for arr in (a, b, c):
+        arr.flags.writeable = False
+    return a, b, c
+
+
+# --- the grid ------------------------------------------------------------------------------
+
+def subdivide_times(times: np.ndarray, s: int) -> np.ndarray:
+    """Breakpoints of every piece cut into ``s`` equal sub-pieces: ``t_k + (j/s)(t_{k+1} -
+    t_k)``, j = 0..s-1, then the last; shape (..., (K-1) s + 1). The raw breakpoints stay."""
+    t0, t1 = times[..., :-1], times[..., 1:]
+    fr = np.arange(s) / s
+    sub = t0[..., None] + fr * (t1 - t0)[..., None]
+    out = np.concatenate([sub.reshape(times.shape[:-1] + (-1,)), times[..., -1:]], axis=-1)
+    return out
+
+
+def subdivide(wp: np.ndarray) -> np.ndarray:
+    """Insert the midpoint ``0.5 P_i + 0.5 P_{i+1}`` of every piece: (B, K, P, d) -> (B, 2K-1,
+    P, d). The path is the same polyline (up to the rounding of the midpoints)."""
+    b, k = wp.shape[:2]
+    out = np.empty((b, 2 * k - 1) + wp.shape[2:])
+    out[:, ::2] = wp
+    out[:, 1::2] = 0.5 * wp[:, :-1] + 0.5 * wp[:, 1:]
+    return out
+
+
+def mobility(times: np.ndarray, r: int) -> np.ndarray:
+    """The mobility of every waypoint, (..., W): ``clip(MOBILITY (W-1) g, 0, 1)`` with ``g`` the
+    smallest of the times to the two neighbours and to the fixed times ``k/(r-1)``; 0 at the
+    ends. Continuous in the times."""
+    w = times.shape[-1]
+    out = np.zeros(times.shape)
+    t = times[..., 1:-1]
+    g = np.minimum(t - times[..., :-2], times[..., 2:] - t)
+    for k in range(r):
+        g = np.minimum(g, np.abs(t - k / (r - 1)))
+    out[..., 1:-1] = np.clip((MOBILITY * (w - 1)) * g, 0.0, 1.0)
+    return out
+
+
+def chord_fraction(times: np.ndarray) -> np.ndarray:
+    """``f_j = (t_j - t_{j-1}) / (t_{j+1} - t_{j-1})`` of the interior waypoints (..., W-2);
+    1/2 where the two neighbours share their time (the mobility is 0 there)."""
+    num = times[..., 1:-1] - times[..., :-2]
+    den = times[..., 2:] - times[..., :-2]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.5)
+
+
+# --- the closed-form piece minima and the no-squeezing levels ---------------------------------
+
+def dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Sum over the last axis in the kernel's order: ``(0 + x0 y0) + x1 y1 + ..``."""
+    s = 0.0 + x[..., 0] * y[..., 0]
+    for k in range(1, x.shape[-1]):
+        s = s + x[..., k] * y[..., k]
+    return s
+
+
+def piece_minima(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Closed-form minimum distance of every pair (a, b) on every piece: (B, W-1, pairs), in
+    the arithmetic of :func:`pmplan.certify.segment_clearance` (the kernels' order)."""
+    rel = x[:, :, a, :] - x[:, :, b, :]
+    r0, r1 = rel[:, :-1], rel[:, 1:]
+    v = r1 - r0
+    vv = dot(v, v)
+    num = -dot(r0, v)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q = num / vv
+    q = np.where(num >= vv, 1.0, q)
+    q = np.where(num <= 0, 0.0, q)
+    q = np.where(vv > 0, q, 0.0)
+    qx = r0 + q[..., None] * v
+    return np.sqrt(dot(qx, qx))
+
+
+def hold_levels(x, a, b, tgt) -> np.ndarray:
+    """The no-squeezing level of every pair (B, pairs): ``HOLD min(T (1 + MARGIN), D_raw)``,
+    ``D_raw`` the pair's smallest distance on the raw path ``x`` (:data:`HOLD`)."""
+    return HOLD * np.minimum(tgt * (1.0 + MARGIN), piece_minima(x, a, b).min(axis=1))

@@ -1,0 +1,76 @@
+"""The refinement's grid and schedule (pmplan.refine_grid), shared by the reference and the
+kernel: the levels sum to the steps, subdividing keeps the raw breakpoints and the polyline,
+the mobility vanishes at the fixed times, the pairs are the certificate's, and the
+no-squeezing level is HOLD min(T (1 + MARGIN), D_raw) (exactly its definition, on integer
+paths)."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pmplan.certify import point_pairs
+from pmplan.refine_grid import (
+    HOLD,
+    MARGIN,
+    chord_fraction,
+    final_steps,
+    hold_levels,
+    mobility,
+    pairs,
+    piece_minima,
+    schedule,
+    subdivide,
+    subdivide_times,
+)
+
+
+@given(w=st.sampled_from([1, 2, 4, 8, 64]), steps=st.integers(1, 5000))
+def test_schedule_sums_to_the_steps(w, steps):
+    levels = schedule(w, steps)
+    assert [s for s, _ in levels] == [1 << i for i in range(w.bit_length())]
+    assert sum(k for _, k in levels) == steps and all(k >= 0 for _, k in levels)
+    assert final_steps(steps) >= 1
+
+
+@settings(max_examples=40)
+@given(data=st.data(), k=st.integers(2, 6), s=st.sampled_from([1, 2, 4]))
+def test_subdivision_keeps_breakpoints_and_the_polyline(data, k, s):
+    t = np.sort(np.array(data.draw(st.lists(st.integers(0, 8), min_size=k, max_size=k)),
+                         dtype=float)) / 8
+    t[0], t[-1] = 0.0, 1.0
+    sub = subdivide_times(t, s)
+    assert np.array_equal(sub[::s], t) and (np.diff(sub) >= 0).all()
+    wp = np.array(data.draw(st.lists(st.integers(-4, 4), min_size=k * 4, max_size=k * 4)),
+                  dtype=float).reshape(1, k, 2, 2)
+    half = subdivide(wp)
+    assert np.array_equal(half[:, ::2], wp)
+    assert np.array_equal(half[:, 1::2], 0.5 * wp[:, :-1] + 0.5 * wp[:, 1:])
+
+
+def test_mobility_and_chord_fractions():
+    t = np.array([0.0, 0.25, 0.5, 0.5, 0.75, 1.0])
+    mob = mobility(t, 3)  # fixed times 0, 1/2, 1
+    assert mob[0] == mob[-1] == 0 and mob[2] == mob[3] == 0 and (mob >= 0).all()
+    assert (mob <= 1).all() and mob[1] > 0 and mob[4] > 0
+    f = chord_fraction(t)
+    assert f[0] == 0.5 and f[1] == 1.0 and f[2] == 0.0
+
+
+@settings(max_examples=40)
+@given(data=st.data(), robots=st.integers(1, 3), k=st.integers(2, 5), t=st.sampled_from([0.5, 1.0, 9.0]))
+def test_hold_levels_are_half_the_smaller_of_target_and_raw_distance(data, robots, k, t):
+    m, p = 2, 2 + robots
+    wp = np.array(data.draw(st.lists(st.integers(-4, 4), min_size=k * p * 2,
+                                     max_size=k * p * 2)), dtype=float).reshape(1, k, p, 2)
+    wp[:, :, :m] = wp[:, :1, :m]
+    a, b, c = pairs(p, m)
+    ia, ib = point_pairs(p, m)
+    assert np.array_equal(a, ia) and np.array_equal(b, ib)
+    assert np.array_equal(c, np.where(a >= m, 0.5, 1.0))
+    tgt = np.full((1, a.size), t)
+    got = hold_levels(wp, a, b, tgt)
+    draw = piece_minima(wp, a, b).min(axis=1)
+    assert np.array_equal(got, HOLD * np.minimum(tgt * (1 + MARGIN), draw))
+    assert HOLD == 0.5  # the documented kappa of issue 24
