@@ -638,8 +638,18 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     >>> r.ok, all(d.refined_modulus is not None for d in r.domains)
     (True, True)
     """
-    from tqdm import tqdm
+    _check_arguments(queries, seed, refine)
+    check = _Check(api.choose_planner(d, n, m, planner), d, n, m, lift, int(queries),
+                   int(seed), bool(refine), progress)
+    check.plan_families()
+    if refine:
+        check.refine_families()
+    check.continuity()
+    check.jumps()
+    return check.report()
 
+
+def _check_arguments(queries, seed, refine) -> None:
     for what, value, lo, hi in (("queries", queries, MIN_QUERIES, MAX_QUERIES),
                                 ("seed", seed, 0, None)):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo \
@@ -648,177 +658,190 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
             raise InputError(f"`{what}` must be an integer {bound}, got {value!r}")
     if not isinstance(refine, (bool, np.bool_)):
         raise InputError(f"`refine` must be True or False, got {refine!r}")
-    p = api.choose_planner(d, n, m, planner)
-    name = p.name
-    labels = [int(v) for v in api.info(d, n, m, planner=name).labels]
-    # the exact family has at least one query per stratum: (m - 1) (n + 1)^2, twice for odd d
-    largest = max(int(queries), (m - 1) * (n + 1) ** 2 * (2 if d % 2 else 1))
-    numbers = largest * (m + n) ** 2 * d
-    if numbers > MAX_NUMBERS:
-        raise InputError(
-            f"verify on (d, n, m) = ({d}, {n}, {m}) with {largest:,} queries in a family would "
-            f"hold about {numbers:,} numbers at once, more than {MAX_NUMBERS:,}: use fewer "
-            "queries, or fewer robots, obstacles or dimensions"
-        )
-    rng = np.random.default_rng(seed)
-    n_exact = int(0.4 * queries)
-    n_random = int(0.3 * queries)
-    n_near = queries - n_exact - n_random
-    heights = p.uses_heights
 
-    bar = tqdm(total=7 if refine else 6, desc=f"verify {name} ({d},{n},{m})", unit="step", file=sys.stderr,
-               disable=not progress, leave=False)
-    families = {
-        "exact": spec_for(p).exact_queries(rng, d, n, m, n_exact),
-    }
-    n_strata = spec_for(p).stratum_count(d, n, m)
-    families = {
-        **families,
-        "random": tuple(gen.random_queries(rng, d, n, m, n_random)),
-    }
-    near = [spec_for(p).near_degenerate_queries(rng, d, n, m, k, s)
-            for k, s in zip((n_near // 2, n_near - n_near // 2), NEAR_SCALES)]
-    families["near-degenerate"] = tuple(np.concatenate(parts) for parts in zip(*near))
-    bar.update(1)
 
-    dom = {label: DomainReport(label=label) for label in labels}
-    met_strata: dict[int, set] = {label: set() for label in labels}  # stratum names by domain
-    fam_stats: dict[str, dict] = {}
-    failures: list[dict] = []
-    problems: list[str] = []
-    planned: dict[str, tuple] = {}
-    for fname, q in families.items():
-        batch, kept, refused = _plan_each(q, name, lift)
-        rho = degeneracy_ratio(*q, heights=heights)
-        excused = [i for i, _ in refused if rho[i] < RHO_MIN]
-        failed = [(i, msg) for i, msg in refused if not rho[i] < RHO_MIN]
-        for i, msg in failed:
-            failures.append({"family": fname, "index": i, "rho": float(rho[i]),
-                             "stratum": _stratum_name(p, d, n, m, q, i), "error": msg})
-        fam_stats[fname] = {"queries": int(q[0].shape[0]), "planned": int(kept.size),
-                            "excused": len(excused), "failed": len(failed)}
-        bar.update(1)
-        if batch is None:
-            continue
-        planned[fname] = (batch, kept)
-        names = batch.stratum
-        for label in np.unique(batch.domain).tolist():
-            sel = batch.domain == label
-            dr = dom.setdefault(label, DomainReport(label=label))
-            met_strata.setdefault(label, set()).update(names[sel].tolist())
-            dr.queries += int(sel.sum())
-            low = float(batch.clearance[sel].min())
-            dr.min_clearance = low if dr.min_clearance is None else min(dr.min_clearance, low)
+class _Check:
+    """One run of :func:`verify`: its query families, the state the steps share (the domains'
+    reports, failures, problems, the planned and refined families) and the steps, in order."""
 
-    def refined_failures(family: str, q, refused, kept_plan) -> list:
-        """Counted failures among the refused refinements of ``q[kept_plan]``."""
-        rho = degeneracy_ratio(*q, heights=heights)
-        out = []
+    def __init__(self, p, d: int, n: int, m: int, lift, queries: int, seed: int, refine: bool,
+                 progress: bool):
+        from tqdm import tqdm
+
+        self.p, self.name, self.dims, self.lift, self.seed = p, p.name, (d, n, m), lift, seed
+        self.spec, self.refine, self.heights = spec_for(p), refine, p.uses_heights
+        self.labels = [int(v) for v in api.info(d, n, m, planner=self.name).labels]
+        # the exact family has at least one query per stratum: (m - 1) (n + 1)^2, twice for odd d
+        largest = max(queries, (m - 1) * (n + 1) ** 2 * (2 if d % 2 else 1))
+        numbers = largest * (m + n) ** 2 * d
+        if numbers > MAX_NUMBERS:
+            raise InputError(
+                f"verify on (d, n, m) = ({d}, {n}, {m}) with {largest:,} queries in a family "
+                f"would hold about {numbers:,} numbers at once, more than {MAX_NUMBERS:,}: use "
+                "fewer queries, or fewer robots, obstacles or dimensions"
+            )
+        self.rng = np.random.default_rng(seed)
+        self.bar = tqdm(total=7 if refine else 6, desc=f"verify {self.name} ({d},{n},{m})",
+                        unit="step", file=sys.stderr, disable=not progress, leave=False)
+        n_exact, n_random = int(0.4 * queries), int(0.3 * queries)
+        n_near = queries - n_exact - n_random
+        rng, spec = self.rng, self.spec
+        self.families = {"exact": spec.exact_queries(rng, d, n, m, n_exact)}
+        self.n_strata = spec.stratum_count(d, n, m)
+        self.families["random"] = tuple(gen.random_queries(rng, d, n, m, n_random))
+        near = [spec.near_degenerate_queries(rng, d, n, m, k, s)
+                for k, s in zip((n_near // 2, n_near - n_near // 2), NEAR_SCALES)]
+        self.families["near-degenerate"] = tuple(np.concatenate(parts) for parts in zip(*near))
+        self.bar.update(1)
+        self.dom = {label: DomainReport(label=label) for label in self.labels}
+        self.met_strata: dict[int, set] = {label: set() for label in self.labels}
+        self.fam_stats: dict[str, dict] = {}
+        self.failures: list[dict] = []
+        self.problems: list[str] = []
+        self.planned: dict[str, tuple] = {}
+        self.refined_plans: dict[str, tuple] = {}  # family -> (refined batch or None, rows)
+
+    def domain(self, label: int) -> DomainReport:
+        return self.dom.setdefault(label, DomainReport(label=label))
+
+    def count_failures(self, family: str, q, refused, rows=None) -> int:
+        """Record the refusals ``(j, message)`` of queries ``q[rows[j]]`` (``rows``: None, the
+        identity) that double precision can represent; return how many."""
+        rho = degeneracy_ratio(*q, heights=self.heights)
+        counted = 0
         for j, msg in refused:
-            i = int(kept_plan[j])
+            i = int(j if rows is None else rows[j])
             if not rho[i] < RHO_MIN:
-                out.append({"family": family, "index": i, "rho": float(rho[i]),
-                            "stratum": _stratum_name(p, d, n, m, q, i), "error": msg})
-        return out
+                counted += 1
+                self.failures.append({"family": family, "index": i, "rho": float(rho[i]),
+                                      "stratum": _stratum_name(self.p, *self.dims, q, i),
+                                      "error": msg})
+        return counted
 
-    refined_plans: dict[str, tuple] = {}  # family -> (refined batch or None, kept rows)
-    if refine:  # the refined planner on every planned family: certificates, labels kept
+    def plan_families(self) -> None:
+        """Plan every family: certificates (the failure rule), labels, strata, clearances."""
+        for fname, q in self.families.items():
+            batch, kept, refused = _plan_each(q, self.name, self.lift)
+            failed = self.count_failures(fname, q, refused)
+            self.fam_stats[fname] = {"queries": int(q[0].shape[0]), "planned": int(kept.size),
+                                     "excused": len(refused) - failed, "failed": failed}
+            self.bar.update(1)
+            if batch is None:
+                continue
+            self.planned[fname] = (batch, kept)
+            names = batch.stratum
+            for label in np.unique(batch.domain).tolist():
+                sel = batch.domain == label
+                dr = self.domain(label)
+                self.met_strata.setdefault(label, set()).update(names[sel].tolist())
+                dr.queries += int(sel.sum())
+                low = float(batch.clearance[sel].min())
+                dr.min_clearance = low if dr.min_clearance is None else min(dr.min_clearance,
+                                                                             low)
+
+    def refine_families(self) -> None:
+        """The refined planner on every planned family: certificates, labels and strata kept."""
         changed = 0
-        for fname, (batch, kept) in planned.items():
+        for fname, (batch, kept) in self.planned.items():
             rb, rk, refused = _refine_each(batch)
-            refined_plans[fname] = (rb, rk)
-            fails = refined_failures(REFINED + fname, families[fname], refused, kept)
-            failures.extend(fails)
-            fam_stats[REFINED + fname] = {
+            self.refined_plans[fname] = (rb, rk)
+            fails = self.count_failures(REFINED + fname, self.families[fname], refused, kept)
+            self.fam_stats[REFINED + fname] = {
                 "queries": len(batch), "planned": int(rk.size),
-                "excused": len(refused) - len(fails), "failed": len(fails)}
+                "excused": len(refused) - fails, "failed": fails}
             if rb is None:
                 continue
             changed += int(((rb.domain != batch.domain[rk])
                             | (rb.stratum != batch.stratum[rk])).sum())
             for label in np.unique(rb.domain).tolist():
                 sel = rb.domain == label
-                dr = dom.setdefault(label, DomainReport(label=label))
+                dr = self.domain(label)
                 dr.refined_queries += int(sel.sum())
                 low = float(rb.clearance[sel].min())
                 dr.refined_min_clearance = (low if dr.refined_min_clearance is None
                                             else min(dr.refined_min_clearance, low))
         if changed:
-            problems.append(f"{changed} refined plans changed the label or stratum of their "
-                            "raw plan")
-        bar.update(1)
+            self.problems.append(f"{changed} refined plans changed the label or stratum of "
+                                 "their raw plan")
+        self.bar.update(1)
 
-    # continuity inside each domain: stratum-preserving perturbations of exact and random queries
-    ratios: dict[int, list] = {}
-    refined_ratios: dict[int, dict] = {}  # label -> size index -> ratios
-    base_o, base_s, base_g, pert = [], [], [], []
-    source: list[tuple[str, int]] = []  # (family, row of its planned batch) of each base query
-    for fname, share in (("exact", 2), ("random", 3)):
-        if fname not in planned:
-            continue
-        batch, kept = planned[fname]
-        q = _take(families[fname], kept)
-        # a share of the family (the exact family is built round robin over the strata, so its
-        # first queries cover every stratum)
-        for i in range(min(kept.size, max(n_strata, kept.size // share))):
-            moved = spec_for(p).perturb_within_stratum(rng, (q[0][i], q[1][i], q[2][i]), DELTA)
-            if moved is None:
+    def _perturbation_pairs(self):
+        """Stratum-preserving perturbations of a share of the exact and random queries:
+        (base, moved, distance, family and row of each base query), or None."""
+        base_o, base_s, base_g, pert, source = [], [], [], [], []
+        for fname, share in (("exact", 2), ("random", 3)):
+            if fname not in self.planned:
                 continue
-            base_o.append(q[0][i])
-            base_s.append(q[1][i])
-            base_g.append(q[2][i])
-            pert.append(moved)
-            source.append((fname, i))
-    if pert:
+            _, kept = self.planned[fname]
+            q = _take(self.families[fname], kept)
+            # the exact family is built round robin over the strata: its first queries cover
+            # every stratum
+            for i in range(min(kept.size, max(self.n_strata, kept.size // share))):
+                moved = self.spec.perturb_within_stratum(self.rng, (q[0][i], q[1][i], q[2][i]),
+                                                         DELTA)
+                if moved is None:
+                    continue
+                base_o.append(q[0][i])
+                base_s.append(q[1][i])
+                base_g.append(q[2][i])
+                pert.append(moved)
+                source.append((fname, i))
+        if not pert:
+            return None
         base = (np.stack(base_o), np.stack(base_s), np.stack(base_g))
         moved = tuple(np.stack([pq[k] for pq in pert]) for k in range(3))
         dist = query_distance(base, moved)
         use = dist > 0
-        base, moved, dist = _take(base, use), _take(moved, use), dist[use]
-        src_fam = np.array([f for f, _ in source])[use]
-        src_row = np.array([i for _, i in source], dtype=np.int64)[use]
-        b0, k0, r0 = _plan_each(base, name, lift)
-        b1, k1, r1 = _plan_each(moved, name, lift)
-        for fam_name, refused, qq in (("exact+random", r0, base), ("perturbed", r1, moved)):
-            rho = degeneracy_ratio(*qq, heights=heights)
-            for i, msg in refused:
-                if not rho[i] < RHO_MIN:
-                    failures.append({"family": fam_name, "index": i, "rho": float(rho[i]),
-                                     "stratum": _stratum_name(p, d, n, m, qq, i),
-                                     "error": msg})
-        both = np.intersect1d(k0, k1)
-        if both.size:
-            i0 = np.searchsorted(k0, both)
-            i1 = np.searchsorted(k1, both)
-            la, lb = b0.domain[i0], b1.domain[i1]
-            changed = np.flatnonzero(la != lb)
-            if changed.size:
-                problems.append(
-                    f"{changed.size} stratum-preserving perturbations changed the label "
-                    f"(e.g. {int(la[changed[0]])} -> {int(lb[changed[0]])})"
-                )
-            ratio = path_distance(_rows(b0, i0), _rows(b1, i1)) / dist[both]
-            for label, r, same in zip(la.tolist(), ratio.tolist(), (la == lb).tolist()):
-                if same:
-                    ratios.setdefault(label, []).append(r)
-        if refine and b0 is not None:
-            # the refined planner at every size of REFINE_DELTAS, on the same base queries Q
-            # (the family pass refined their plans already: b0 plans the same queries of the
-            # exact and random families, alike); only the moved queries Q' are new
-            r0, k0r = _refined_rows(refined_plans, src_fam, src_row)
-            for level, size in enumerate(REFINE_DELTAS):
-                if level == 0:
-                    mq, md = moved, dist
-                else:
-                    mq, md = _moved_copies(p, rng, base, size)
-                for label, r in _refined_probe(name, lift, b0, k0, r0, k0r, mq, md):
-                    refined_ratios.setdefault(label, {}).setdefault(level, []).append(r)
-    for label, rs in ratios.items():
-        dr = dom.setdefault(label, DomainReport(label=label))
-        dr.modulus = float(max(rs))
-        dr.perturbations = len(rs)
-    for label, by_size in refined_ratios.items():
-        dr = dom.setdefault(label, DomainReport(label=label))
+        return (_take(base, use), _take(moved, use), dist[use],
+                np.array([f for f, _ in source])[use],
+                np.array([i for _, i in source], dtype=np.int64)[use])
+
+    def continuity(self) -> None:
+        """Continuity inside each domain: the raw modulus, and the refined one at every size of
+        :data:`REFINE_DELTAS` (does it scale linearly?)."""
+        ratios: dict[int, list] = {}
+        refined_ratios: dict[int, dict] = {}  # label -> size index -> ratios
+        pairs = self._perturbation_pairs()
+        if pairs is not None:
+            base, moved, dist, src_fam, src_row = pairs
+            b0, k0, r0 = _plan_each(base, self.name, self.lift)
+            b1, k1, r1 = _plan_each(moved, self.name, self.lift)
+            self.count_failures("exact+random", base, r0)
+            self.count_failures("perturbed", moved, r1)
+            both = np.intersect1d(k0, k1)
+            if both.size:
+                i0, i1 = np.searchsorted(k0, both), np.searchsorted(k1, both)
+                la, lb = b0.domain[i0], b1.domain[i1]
+                changed = np.flatnonzero(la != lb)
+                if changed.size:
+                    self.problems.append(
+                        f"{changed.size} stratum-preserving perturbations changed the label "
+                        f"(e.g. {int(la[changed[0]])} -> {int(lb[changed[0]])})")
+                ratio = path_distance(_rows(b0, i0), _rows(b1, i1)) / dist[both]
+                for label, r, same in zip(la.tolist(), ratio.tolist(), (la == lb).tolist()):
+                    if same:
+                        ratios.setdefault(label, []).append(r)
+            if self.refine and b0 is not None:
+                # the refined planner at every size of REFINE_DELTAS, on the same base queries
+                # Q (the family pass refined their plans already: b0 plans the same queries of
+                # the exact and random families, alike); only the moved queries Q' are new
+                rr0, k0r = _refined_rows(self.refined_plans, src_fam, src_row)
+                for level, size in enumerate(REFINE_DELTAS):
+                    mq, md = (moved, dist) if level == 0 else \
+                        _moved_copies(self.p, self.rng, base, size)
+                    for label, r in _refined_probe(self.name, self.lift, b0, k0, rr0, k0r, mq,
+                                                   md):
+                        refined_ratios.setdefault(label, {}).setdefault(level, []).append(r)
+        for label, rs in ratios.items():
+            dr = self.domain(label)
+            dr.modulus = float(max(rs))
+            dr.perturbations = len(rs)
+        for label, by_size in refined_ratios.items():
+            self._refined_modulus(label, by_size)
+        self.bar.update(1)
+
+    def _refined_modulus(self, label: int, by_size: dict) -> None:
+        dr = self.domain(label)
         mods = [float(max(by_size[k])) if by_size.get(k) else None
                 for k in range(len(REFINE_DELTAS))]
         seen = [v for v in mods if v is not None]
@@ -828,70 +851,65 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
         ref = max(mods[0] or 0.0, dr.modulus or 0.0, 1.0)
         dr.refined_linear = max(seen) <= REFINE_SCALE * ref
         if not dr.refined_linear:
-            problems.append(
-                f"domain {p.domain_prefix}{label}: the refined modulus does not scale linearly "
-                "with the perturbation ("
+            self.problems.append(
+                f"domain {self.p.domain_prefix}{label}: the refined modulus does not scale "
+                "linearly with the perturbation ("
                 + ", ".join(f"{v:.3g} at {dl:g}" for dl, v in zip(REFINE_DELTAS, mods)
                             if v is not None)
                 + "): the refined path jumps inside the domain")
-    bar.update(1)
 
-    # jumps across domains: exact queries against generic neighbours at distance ~delta
-    jumps: dict[int, list] = {}
-    if "exact" in planned:
-        batch, kept = planned["exact"]
-        q = _take(families["exact"], kept)
-        noise = [rng.normal(size=a.shape) for a in q[1:]]
-        scale = np.maximum(*(np.sqrt((z * z).sum(-1)).max(axis=1) for z in noise))
-        near_q = (q[0], *(a + DELTA * z / scale[:, None, None] for a, z in zip(q[1:], noise)))
-        b1, k1, _ = _plan_each(near_q, name, lift)  # refusals here are not failures: Q' is not exact
-        if b1 is not None:
-            la = batch.domain[k1]
-            lb = b1.domain
-            diff = np.flatnonzero(la != lb)
-            if diff.size:
-                times0 = batch.times if batch.times.ndim == 1 else batch.times[k1[diff]]
-                times1 = b1.times if b1.times.ndim == 1 else b1.times[diff]
-                pa = PiecewiseLinearPath(times0, batch.waypoints[k1[diff]])
-                pb = PiecewiseLinearPath(times1, b1.waypoints[diff])
-                ratio = path_distance(pa, pb) / query_distance(_take(q, k1[diff]),
-                                                               _take(near_q, k1[diff]))
-                for a_, b_, r in zip(la[diff].tolist(), lb[diff].tolist(), ratio.tolist()):
-                    jumps.setdefault(a_, []).append(r)
-                    jumps.setdefault(b_, []).append(r)
-    for label, rs in jumps.items():
-        dr = dom.setdefault(label, DomainReport(label=label))
-        dr.jump = float(max(rs))
-        dr.jump_median = float(np.median(rs))
-        dr.jumps = len(rs)
-    bar.update(1)
-    bar.close()
+    def jumps(self) -> None:
+        """Jumps across domains: exact queries against generic neighbours at distance ~delta."""
+        jumps: dict[int, list] = {}
+        if "exact" in self.planned:
+            batch, kept = self.planned["exact"]
+            q = _take(self.families["exact"], kept)
+            noise = [self.rng.normal(size=a.shape) for a in q[1:]]
+            scale = np.maximum(*(np.sqrt((z * z).sum(-1)).max(axis=1) for z in noise))
+            near_q = (q[0], *(a + DELTA * z / scale[:, None, None] for a, z in zip(q[1:], noise)))
+            # refusals here are not failures: Q' is not exact
+            b1, k1, _ = _plan_each(near_q, self.name, self.lift)
+            if b1 is not None:
+                la, lb = batch.domain[k1], b1.domain
+                diff = np.flatnonzero(la != lb)
+                if diff.size:
+                    times0 = batch.times if batch.times.ndim == 1 else batch.times[k1[diff]]
+                    times1 = b1.times if b1.times.ndim == 1 else b1.times[diff]
+                    pa = PiecewiseLinearPath(times0, batch.waypoints[k1[diff]])
+                    pb = PiecewiseLinearPath(times1, b1.waypoints[diff])
+                    ratio = path_distance(pa, pb) / query_distance(_take(q, k1[diff]),
+                                                                   _take(near_q, k1[diff]))
+                    for a_, b_, r in zip(la[diff].tolist(), lb[diff].tolist(), ratio.tolist()):
+                        jumps.setdefault(a_, []).append(r)
+                        jumps.setdefault(b_, []).append(r)
+        for label, rs in jumps.items():
+            dr = self.domain(label)
+            dr.jump = float(max(rs))
+            dr.jump_median = float(np.median(rs))
+            dr.jumps = len(rs)
+        self.bar.update(1)
+        self.bar.close()
 
-    for label, dr in dom.items():
-        dr.strata = sorted(met_strata.get(label, set()))
-    realised = sorted(label for label, dr in dom.items() if dr.queries > 0)
-    missing = sorted(set(labels) - set(realised))
-    if failures:
-        problems.insert(0, f"{len(failures)} certificate failure(s) on queries that double "
-                           "precision can represent")
-    if missing:
-        problems.append(f"labels never realised: {missing}")
-    unknown = sorted(set(realised) - set(labels))
-    if unknown:
-        problems.append(f"labels outside the planner's list {labels}: {unknown}")
-    return Report(
-        ok=not problems,
-        planner=name,
-        dims=[d, n, m],
-        seed=int(seed),
-        delta=DELTA,
-        labels=labels,
-        realised=realised,
-        domains=[dom[label] for label in sorted(dom)],
-        families=fam_stats,
-        failures=failures,
-        problems=problems,
-        notes=spec_for(p).notes(d, n, m),
-        lift=lift,
-        refine=bool(refine),
-    )
+    def report(self) -> Report:
+        """The report: every domain's findings, and the problems that make it not ok."""
+        for label, dr in self.dom.items():
+            dr.strata = sorted(self.met_strata.get(label, set()))
+        realised = sorted(label for label, dr in self.dom.items() if dr.queries > 0)
+        missing = sorted(set(self.labels) - set(realised))
+        problems = list(self.problems)
+        if self.failures:
+            problems.insert(0, f"{len(self.failures)} certificate failure(s) on queries that "
+                               "double precision can represent")
+        if missing:
+            problems.append(f"labels never realised: {missing}")
+        unknown = sorted(set(realised) - set(self.labels))
+        if unknown:
+            problems.append(f"labels outside the planner's list {self.labels}: {unknown}")
+        d, n, m = self.dims
+        return Report(
+            ok=not problems, planner=self.name, dims=[d, n, m], seed=self.seed, delta=DELTA,
+            labels=self.labels, realised=realised,
+            domains=[self.dom[label] for label in sorted(self.dom)], families=self.fam_stats,
+            failures=self.failures, problems=problems, notes=self.spec.notes(d, n, m),
+            lift=self.lift, refine=self.refine,
+        )
