@@ -24,7 +24,7 @@ from pmplan.refine import refine_paths, targets
 
 #: the functions (and constants) of the protocol, in every backend module
 PROTOCOL = ("NAME", "available", "arrays", "plan", "validates", "certify", "single_query",
-            "sequence_query", "refine")
+            "sequence_query", "refine", "measure")
 CASES = [("obstacle_line", (2, 3, 2)), ("obstacle_line", (3, 2, 3)),
          ("obstacle_line", (2, 2, 4)), ("planar_three", (2, 1, 3))]
 
@@ -126,8 +126,7 @@ def test_every_backend_refines_as_the_reference(name):
 
 
 def test_nothing_outside_the_seam_asks_a_backend_its_name():
-    """No module outside ``backends/`` compares a backend with "numba" or "numpy" (the house
-    rule; the refinement's kernel choice is the one left, in its own issue)."""
+    """No module outside ``backends/`` compares a backend with "numba" or "numpy"."""
     import ast
     from pathlib import Path
 
@@ -143,4 +142,31 @@ def test_nothing_outside_the_seam_asks_a_backend_its_name():
                          or isinstance(c, ast.Constant) and c.value in ("numba", "numpy")]
                 if names:
                     bad.append(f"{path.relative_to(src)}:{node.lineno}")
-    assert [b for b in bad if not b.startswith("refine.py:")] == []
+    assert bad == []
+
+
+@pytest.mark.parametrize("name", sorted(backends.REGISTRY))
+def test_every_backend_measures_as_the_exact_reference(name):
+    """``measure``: None (every row decided exactly), or values equal to the exact measure
+    where it does not flag a row as too close to call, and the radii decided alike."""
+    from pmplan.certify import clearance, radius_report
+
+    be = _backend(name)
+    obstacles, (start, goal) = _queries((2, 3, 2), "integer", 16, seed=_seed(name, "measure"))
+    p = REGISTRY["obstacle_line"]
+    out = p.allocate(16, 2, 2, 3, 2)
+    backends.select("numpy").plan(p, obstacles, [start, goal], 1.0, out)
+    need = (0.5, 0.25)
+    measured = be.measure(out["waypoints"], 2, need)
+    if measured is None:
+        return
+    vals, kept, close = measured
+    assert vals.shape == (16, 3) and kept.dtype == bool and close.dtype == bool
+    clr = clearance(out["waypoints"], 2)
+    rd, od, ok = radius_report(out["waypoints"], 2, need[0] / 2, need[1] - need[0] / 2)
+    sure = ~close
+    assert sure.any()
+    np.testing.assert_array_equal(vals[sure, 0], clr[sure])
+    np.testing.assert_array_equal(kept[sure], ok[sure])
+    np.testing.assert_allclose(vals[sure, 1], rd[sure], rtol=1e-12)
+    np.testing.assert_allclose(vals[sure, 2], od[sure], rtol=1e-12)

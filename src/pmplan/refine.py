@@ -576,7 +576,7 @@ def targets(radius: float, obstacle_radius: float, raw_clearance: np.ndarray) ->
 
 
 def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_radius: float,
-                batched: bool, kernel: bool = False) -> None:
+                batched: bool, backend=None) -> None:
     """Raise :class:`~pmplan.errors.CollisionError` (an InputError) if a configuration the path
     must pass through (start, goal, intermediate) violates the radii: two robots closer than
     ``2 radius`` or a robot closer than ``radius + obstacle_radius`` to an obstacle (exact)."""
@@ -588,12 +588,12 @@ def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_ra
     full = np.concatenate([np.concatenate([obstacles, c], axis=1) for c in configs])
     wp = np.stack([full, full], axis=1)  # constant paths, (r B, 2, P, d)
     ok = None
-    if kernel and wp.shape[-1] < MAX_SEQUENTIAL_D:  # the kernel's measure; exact when close
-        from .kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
-
-        _, flags = measure_batch(wp, m, (2.0 * radius, radius + obstacle_radius))
-        if not (flags & (CLOSE | SUSPECT)).any():
-            ok = (flags & SHORT) == 0
+    measured = None if backend is None else \
+        backend.measure(wp, m, (2.0 * radius, radius + obstacle_radius))
+    if measured is not None:  # the backend's measure; exact when close
+        _, kept, close = measured
+        if not close.any():
+            ok = kept
     if ok is None:
         _, _, ok = radius_report(wp, m, radius, obstacle_radius)
     if ok.all():
@@ -660,7 +660,7 @@ class RefineStage(Stage):
 
     def __init__(self, times, waypoints, clearance, m: int, fixed, radius: float,
                  obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None):
-        from .backends import NUMBA, select  # (the backends import the refinement lazily)
+        from .backends import select  # (the backends import the refinement lazily)
 
         self.raw_times = np.asarray(times, dtype=float)
         self.raw = waypoints
@@ -670,7 +670,6 @@ class RefineStage(Stage):
         self.radius, self.obstacle_radius = radius, obstacle_radius
         self.s, self.steps = waypoints_per_piece, steps
         self.backend = select(backend)
-        self.kernel = self.backend.NAME == NUMBA
         self.target = targets(radius, obstacle_radius, clearance)
         k = self.raw_times.shape[-1]
         w = (k - 1) * self.s + 1
@@ -719,15 +718,13 @@ class RefineStage(Stage):
         clr = self.clearance[lo:hi]
         rd, od, ok = (self.robot_distance[lo:hi], self.obstacle_distance[lo:hi],
                       self.respects[lo:hi])
-        if self.kernel and out.shape[-1] < MAX_SEQUENTIAL_D:
-            from .kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
-
-            need = (2.0 * self.radius, self.radius + self.obstacle_radius)
-            vals, flags = measure_batch(out, m, need)
+        measured = self.backend.measure(out, m, (2.0 * self.radius,
+                                                 self.radius + self.obstacle_radius))
+        if measured is not None:
+            vals, kept, close = measured
             clr[:], rd[:], od[:] = vals[:, 0], vals[:, 1], vals[:, 2]
-            ok[:] = (flags & SHORT) == 0
-            exact = exact | ((flags & (SUSPECT | CLOSE)) != 0)
-            redo = np.flatnonzero(exact)
+            ok[:] = kept
+            redo = np.flatnonzero(exact | close)
         else:
             redo = np.arange(hi - lo)
         if redo.size:

@@ -526,7 +526,7 @@ def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float =
     fixed = p.fixed_waypoints(np.asarray(times))  # start, intermediate configurations, goal
     stage = RefineStage(times, wp, clearance, m, fixed, radius, obstacle_radius, s, steps, backend)
     check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in fixed], radius, obstacle_radius,
-                batched=not single, kernel=stage.kernel)
+                batched=not single, backend=stage.backend)
     run_stage(stage, progress=progress, workers=workers)
     extra = stage.extra()
     if single:

@@ -21,8 +21,12 @@ place that maps a name (``backend=`` of every planning function) to an implement
     One query in one call, for :func:`pmplan.plan` / :func:`pmplan.plan_sequence`: a function
     ``run(...)`` (see :meth:`pmplan.backends.numba.single_query`), or None when the backend has
     none for that shape (the general path then plans it as a batch of one).
-``refine(times, waypoints, m, r, target, s, steps)``, ``measure(waypoints, m, need)``
-    The refinement's map and its measure of the refined paths (:mod:`pmplan.refine`).
+``refine(times, waypoints, m, r, target, s, steps)``
+    The refinement's map (:mod:`pmplan.refine`), in its frame.
+``measure(waypoints, m, need) -> (values, kept, close) | None``
+    The refined paths' clearance and robot and obstacle distances (B, 3), whether they keep
+    the distances ``need`` (B,), and the rows too close to call, which the refinement then
+    decides exactly; None: it decides every row exactly.
 
 Two backends are registered (:data:`REGISTRY`): :mod:`pmplan.backends.numpy`, the references
 (exact, every planner's mathematics in numpy), and :mod:`pmplan.backends.numba`, the fused

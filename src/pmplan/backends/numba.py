@@ -20,7 +20,7 @@ from ..planners.planar_three import PLANAR_THREE
 from . import kernel_array, kernels, planar_kernels, shared_kernels
 from . import numpy as reference
 
-__all__ = ["NAME", "arrays", "available", "certify", "plan", "redecide", "refine",
+__all__ = ["NAME", "arrays", "available", "certify", "measure", "plan", "redecide", "refine",
            "sequence_query", "single_query", "validates"]
 
 NAME = "numba"
@@ -288,6 +288,20 @@ def redecide(planner, flags: np.ndarray, obstacles, configs, lift, out: dict) ->
         configs = [np.asarray(c, dtype=float) for c in configs]
         ok[idx] = reference.plan_rows(planner, obstacles, configs, lift, idx, out)
     return ok
+
+
+def measure(waypoints, m: int, need):
+    """The kernel's measure of refined paths (``pmplan.kernels.refine.measure_batch``), in the
+    certificate's arithmetic: ``(values (B, 3): clearance, robot and obstacle distances; kept
+    (B,): the radii ``need`` kept; close (B,): rows to decide exactly)``, or None for d where
+    the kernel's sums would round differently (the reference measures every row)."""
+    from ..kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
+    from ..refine import MAX_SEQUENTIAL_D
+
+    if waypoints.shape[-1] >= MAX_SEQUENTIAL_D:
+        return None
+    vals, flags = measure_batch(waypoints, m, need)
+    return vals, (flags & SHORT) == 0, (flags & (SUSPECT | CLOSE)) != 0
 
 
 def refine(times, waypoints, m: int, r: int, target, s: int, steps: int):

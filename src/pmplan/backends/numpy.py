@@ -8,7 +8,7 @@ import numpy as np
 
 from ..certify import certificate
 
-__all__ = ["NAME", "arrays", "available", "certify", "plan", "plan_rows", "refine",
+__all__ = ["NAME", "arrays", "available", "certify", "measure", "plan", "plan_rows", "refine",
            "sequence_query", "single_query", "validates"]
 
 NAME = "numpy"
@@ -75,6 +75,12 @@ def plan_rows(planner, obstacles, configs, lift, idx, out: dict) -> np.ndarray:
                                  via=via)
     out["clearance"][idx] = clr
     return codes == 0
+
+
+def measure(waypoints, m: int, need):
+    """None: the refined paths are measured exactly by the reference
+    (:func:`pmplan.certify.clearance`, :func:`pmplan.certify.radius_report`)."""
+    return None
 
 
 def refine(times, waypoints, m: int, r: int, target, s: int, steps: int):
