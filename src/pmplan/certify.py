@@ -33,6 +33,8 @@ from fractions import Fraction
 import numpy as np
 
 __all__ = [
+    "BAND_ABS",
+    "BAND_REL",
     "CLAUSES",
     "certificate",
     "certify",
@@ -510,12 +512,13 @@ def certify(waypoints: np.ndarray, start: np.ndarray, goal: np.ndarray, m: int, 
 
 # --- the radii: exact minimum distances against exact bounds ----------------------------------
 
-#: the band of the radius decision, in the path's power-of-two frame (largest |coordinate| in
+#: the band of the radius decision, in the path's power-of-two frame (largest ``|coordinate|`` in
 #: [1/2, 1)): a float piece minimum is within ``BAND_REL (need + A) + BAND_ABS`` of the exact
-#: one (A the largest |coordinate| of the pair's points on the piece: the rounding of the
+#: one (A the largest ``|coordinate|`` of the pair's points on the piece: the rounding of the
 #: relative positions and of the closed form is below 1e-14 A, an underflowed square below
 #: 2**-530), with a wide margin; inside the band the exact minimum decides
 BAND_REL = 1e-9
+#: the absolute part of that band (see :data:`BAND_REL`)
 BAND_ABS = 2.0**-500
 #: a piece minimum below this may hold an underflowed square: measured exactly (the kernels
 #: flag it SUSPECT)
@@ -524,7 +527,7 @@ TINY_DIST = 2.0**-480
 
 def _frame(wp: np.ndarray):
     """The power-of-two frame of every path of ``wp`` (B, K, P, d): ``(scaled, e, exact)``,
-    ``scaled = wp 2**-e`` with the largest |coordinate| of the path in [1/2, 1) (e = 0 for a
+    ``scaled = wp 2**-e`` with the largest ``|coordinate|`` of the path in [1/2, 1) (e = 0 for a
     path at the origin or not finite); ``exact`` (B,): the scaling lost no bit (False only for
     a path whose coordinates span more than the float range: the original floats then decide)."""
     b = wp.shape[0]
@@ -546,13 +549,15 @@ def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius:
     two robots is >= ``2 radius`` and between a robot and an obstacle >= ``radius +
     obstacle_radius`` (B,). Each path is measured in its power-of-two frame (:func:`_frame`,
     exact: no square underflows or overflows there); a float piece minimum decides where it is
-    farther than the band of :data:`BAND_REL` and :data:`BAND_ABS` from the bound (it is
+    farther than the band of :data:`pmplan.certify.BAND_REL` and
+    :data:`pmplan.certify.BAND_ABS` from the bound (it is
     then on the right side exactly), rational arithmetic on the waypoint floats otherwise.
 
     The distances are the minima over the pieces of the closed-form piece minima in that frame,
     scaled back (``inf`` for the robot-robot one when n = 1): each within ``1e-13 A`` of the
-    exact minimum (A the path's largest |coordinate|; re-decided exactly where it is smaller
-    than ``1e-9`` of the pair's scale, as :func:`clearance` does) -- a bound, not an exact value.
+    exact minimum (A the path's largest ``|coordinate|``; re-decided exactly where it is smaller
+    than ``1e-9`` of the pair's scale, as :func:`pmplan.certify.clearance` does) -- a bound,
+    not an exact value.
 
     Examples
     --------

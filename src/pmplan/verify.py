@@ -92,6 +92,8 @@ __all__ = [
     "MAX_NUMBERS",
     "POLE_NOTE",
     "REFINED",
+    "REFINE_DELTAS",
+    "REFINE_SCALE",
     "DomainReport",
     "Report",
     "path_distance",
