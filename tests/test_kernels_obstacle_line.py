@@ -38,7 +38,6 @@ import pmplan
 from pmplan import configuration, running
 from pmplan.configuration import coincident_pairs
 from pmplan.errors import CertificationError, InputError, PmplanError
-from pmplan.kernels import common as kernels_common
 from pmplan.kernels import obstacle_line as kernels_line
 from pmplan.kernels import validation as kernels_validation
 from pmplan.planners.obstacle_line import OBSTACLE_LINE, path_times
