@@ -69,6 +69,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from .backends import select
 from .certify import (
     CLEARANCE,
     check_paths,
@@ -660,8 +661,6 @@ class RefineStage(Stage):
 
     def __init__(self, times, waypoints, clearance, m: int, fixed, radius: float,
                  obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None):
-        from .backends import select  # (the backends import the refinement lazily)
-
         self.raw_times = np.asarray(times, dtype=float)
         self.raw = waypoints
         self.size = waypoints.shape[0]

@@ -525,7 +525,7 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
             rows = _read_rows(_open_input(Path(spec.source)), lo, hi)
         if group is None:
             group = zarr.open_group(spec.out, mode="r+")
-    except (InputError, OSError, FileNotFoundError) as exc:
+    except (InputError, OSError) as exc:
         import socket
 
         raise StoreError(_MSG_UNREACHABLE.format(host=socket.gethostname(), i=i, cause=exc),
@@ -691,8 +691,8 @@ def _failure(exc: BaseException, out: Path, group, nchunks: int) -> BaseExceptio
     """The one-line error of a run stopped by ``exc``, naming the store and what finishes it;
     None for an exception passed on as it is (Ctrl-C, a bug)."""
     done = _done_count(group)
-    if isinstance(exc, StoreError):
-        if not exc.resumable or " is incomplete (" in str(exc):
+    if isinstance(exc, StoreError):  # creating the store (not resumable) or a chunk's stores
+        if not exc.resumable:
             return exc
         return StoreError(f"{exc}; " + _MSG_INCOMPLETE.format(
             out=out, done=done, total=nchunks, fix="fix that, then rerun with --resume"),
