@@ -4,9 +4,10 @@ Data flows one way: input arrays -> validation (:mod:`pmplan.configuration`) -> 
 (:mod:`pmplan.running`) -> planner (:mod:`pmplan.planners`) -> path (:mod:`pmplan.path`) ->
 certificate (:mod:`pmplan.certify`) -> :class:`~pmplan.results.Plan` /
 :class:`~pmplan.results.PlanBatch` (:mod:`pmplan.results`, re-exported here). A single query
-is a batch of one; :func:`plan` and
-:func:`plan_sequence` first try a lean path (one validating kernel call, see
-:func:`_plan_fast`) that gives the same :class:`Plan` and declines anything unusual.
+is a batch of one; :func:`plan` and :func:`plan_sequence` first try a lean path (one
+validating kernel call, :mod:`pmplan.single`) that gives the same :class:`Plan` and declines
+anything unusual. Each public function here is a few lines over :mod:`pmplan.running`,
+:mod:`pmplan.single` and :mod:`pmplan.checks`.
 """
 
 from __future__ import annotations
