@@ -42,6 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .display import display_for
 from .errors import InputError, UnsupportedError
 from .frame import Frame
 from .planners import OBSTACLE_LINE, REGISTRY
@@ -60,8 +61,8 @@ __all__ = [
 ]
 
 #: the seven phases of one obstacle-line leg: (short name, what happens, paper reference);
-#: the planner's own fact (:attr:`pmplan.planners.base.Planner.phases`)
-OBSTACLE_LINE_PHASES: tuple[tuple[str, str], ...] = OBSTACLE_LINE.phases
+#: the planner's display (:attr:`pmplan.display.DisplaySpec.phases`)
+OBSTACLE_LINE_PHASES: tuple[tuple[str, str], ...] = display_for(OBSTACLE_LINE).phases
 
 #: most frames in one animation (a .gif holds them all in memory while it is written)
 MAX_FRAMES = 1000
@@ -153,7 +154,7 @@ def phase_at(plan, t: float) -> Phase:
         return Phase(REFINED_PHASE, k + 1, pieces, 1, 1,
                      f"piece {k + 1} of the refined path (pmplan.refine, docs/refinement.md)")
     p = REGISTRY.get(plan.planner)
-    phases = p.phases if p is not None else ()
+    phases = display_for(p).phases if p is not None else ()
     nph = len(phases)
     if nph > 1 and pieces % nph == 0:  # named phases, every leg (pair of configurations)
         legs = pieces // nph

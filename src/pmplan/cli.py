@@ -504,7 +504,7 @@ def cmd_demo(args) -> int:
         refined = list(api.refine(batch, **radii))
         extra = _planar_three_demo(args.lift)
         refined += [api.refine(p, **radii) for p in extra]
-    from .planners import REGISTRY
+    from .display import display_for
 
     print(f"pmplan demo: {args.n} robots among 2 obstacles in the plane "
           f"({len(plans)} domains, optimal: TC = {api.parametrised_tc(2, args.n, 2)})"
@@ -516,7 +516,7 @@ def cmd_demo(args) -> int:
     print(f"{'planner':<14} {'domain':<7} {'stratum':<18} {'length':>9} {'clearance':>10} "
           f"{'length':>9} {'clearance':>10}")
     for p, r in zip(plans + extra, refined):
-        dom = f"{REGISTRY[p.planner].domain_prefix}{p.domain}"
+        dom = f"{display_for(p.planner).domain_prefix}{p.domain}"
         print(f"{p.planner:<14} {dom:<7} {p.stratum:<18} {p.path.length():9.3f} "
               f"{p.clearance:10.4f} {r.path.length():9.3f} {r.clearance:10.4f}")
     from .plotting import plan_grid

@@ -10,12 +10,13 @@ obstacle-line planner does (the column strata of the query space, paper Section 
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 
 from . import generators as gen
-from .errors import UnsupportedError
 from .planar_strata import STRATA
-from .planners.base import REGISTRY, Planner
+from .planners.base import Planner, spec_of_class
 from .planners.obstacle_line import POLE_NOTE, ObstacleLinePlanner
 from .planners.planar_three import PlanarThreePlanner, classify
 
@@ -24,6 +25,10 @@ __all__ = ["ColumnStrata", "PlanarStrata", "SPECS", "StrataSpec", "spec_for"]
 
 class StrataSpec:
     """The protocol: what :mod:`pmplan.verify` asks of a planner's strata."""
+
+    #: the planner decides on heights (distance to the line L_C) as well as on columns: the
+    #: degeneracy of a query (:func:`pmplan.verify.degeneracy_ratio`) counts its heights too
+    uses_heights: ClassVar[bool] = False
 
     def stratum_count(self, d: int, n: int, m: int) -> int:
         """The number of strata :meth:`exact_queries` cycles through for (d, n, m)."""
@@ -104,6 +109,8 @@ class ObstacleLineStrata(ColumnStrata):
 class PlanarStrata(StrataSpec):
     """The 12 strata of paper Section 4 (:data:`pmplan.planar_strata.STRATA`)."""
 
+    uses_heights = True
+
     def stratum_count(self, d: int, n: int, m: int) -> int:
         return len(STRATA)
 
@@ -147,9 +154,4 @@ SPECS: dict[type, StrataSpec] = {Planner: ColumnStrata(), ObstacleLinePlanner: O
 def spec_for(planner) -> StrataSpec:
     """The :class:`StrataSpec` of ``planner`` (a planner, or the name of a registered one):
     the one of its class, or of its nearest ancestor in :data:`SPECS`."""
-    if isinstance(planner, str):
-        if planner not in REGISTRY:
-            raise UnsupportedError(f"unknown planner {planner!r}; pmplan verify knows the "
-                                   f"strata of the registered ones ({', '.join(sorted(REGISTRY))})")
-        planner = REGISTRY[planner]
-    return next(SPECS[c] for c in type(planner).__mro__ if c in SPECS)
+    return spec_of_class(SPECS, planner)

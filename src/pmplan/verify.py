@@ -79,9 +79,9 @@ from . import generators as gen
 from .errors import CertificationError, InputError
 from .frame import Frame
 from .path import PiecewiseLinearPath
-from .planners.base import REGISTRY
 from .planners.obstacle_line import POLE_NOTE as OBSTACLE_LINE_POLE_NOTE
 from .predicates import projection_classes
+from .display import display_for
 from .strata import spec_for
 
 __all__ = [
@@ -388,7 +388,7 @@ class Report:
     def to_text(self) -> str:
         """Return a human-readable summary (the default output of ``pmplan verify``)."""
         d, n, m = self.dims
-        w = REGISTRY[self.planner].domain_prefix
+        w = display_for(self.planner).domain_prefix
         fam = ", ".join(f"{k} {v['queries']}" for k, v in self.families.items()
                         if not k.startswith(REFINED))
         lines = [
@@ -671,7 +671,8 @@ class _Check:
         from tqdm import tqdm
 
         self.p, self.name, self.dims, self.lift, self.seed = p, p.name, (d, n, m), lift, seed
-        self.spec, self.refine, self.heights = spec_for(p), refine, p.uses_heights
+        self.spec, self.refine = spec_for(p), refine
+        self.heights = self.spec.uses_heights
         self.labels = [int(v) for v in api.info(d, n, m, planner=self.name).labels]
         # the exact family has at least one query per stratum: (m - 1) (n + 1)^2, twice for odd d
         largest = max(queries, (m - 1) * (n + 1) ** 2 * (2 if d % 2 else 1))
@@ -854,8 +855,8 @@ class _Check:
         dr.refined_linear = max(seen) <= REFINE_SCALE * ref
         if not dr.refined_linear:
             self.problems.append(
-                f"domain {self.p.domain_prefix}{label}: the refined modulus does not scale "
-                "linearly with the perturbation ("
+                f"domain {display_for(self.p).domain_prefix}{label}: the refined modulus does "
+                "not scale linearly with the perturbation ("
                 + ", ".join(f"{v:.3g} at {dl:g}" for dl, v in zip(REFINE_DELTAS, mods)
                             if v is not None)
                 + "): the refined path jumps inside the domain")

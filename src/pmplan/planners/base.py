@@ -22,11 +22,11 @@ from typing import ClassVar
 import numpy as np
 
 from .. import backends
+from ..errors import UnsupportedError
 from ..path import PiecewiseLinearPath
-from ..predicates import projection_classes
 
 __all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage", "default_planner",
-           "lift_code", "out_of_scope", "register", "scene_unit", "unit"]
+           "lift_code", "out_of_scope", "register", "scene_unit", "spec_of_class", "unit"]
 
 #: how the planners and their kernels receive ``lift="scene"``: a ``lift`` that is not > 0.
 #: A positive lift is the unit itself; SCENE_CODE (0.0) asks for the unit u(O) of every query
@@ -96,10 +96,10 @@ class Planner:
       :meth:`domain_labels`, :meth:`stratum_name`, :meth:`reference` (the numpy reference)
       and :meth:`allocate`; optional :attr:`equivariant`, :attr:`sequential`,
       :attr:`priority`, :meth:`path_times`, :meth:`fixed_waypoints`;
-    * what the faces display: :attr:`domain_prefix`, :attr:`uses_heights`, :attr:`phases`,
-      :meth:`map_boundaries`;
-    * how a batch is computed is a backend's (:mod:`pmplan.backends`), and what ``pmplan
-      verify`` needs is the planner's :class:`~pmplan.strata.StrataSpec` (:mod:`pmplan.strata`).
+    * how a batch is computed is a backend's (:mod:`pmplan.backends`), what ``pmplan verify``
+      needs is the planner's :class:`~pmplan.strata.StrataSpec` (:mod:`pmplan.strata`), and
+      what the faces show of it its :class:`~pmplan.display.DisplaySpec`
+      (:mod:`pmplan.display`), each found by :func:`spec_of_class`.
 
     The faces (:mod:`pmplan.verify`, :mod:`pmplan.animation`, the CLI, the web page) ask these
     members, never a planner's name.
@@ -116,16 +116,6 @@ class Planner:
     sequential: ClassVar[bool] = False
     #: the default planner of the (d, n, m) it supports is the one of highest priority
     priority: ClassVar[int] = 0
-    #: how the faces write domain label l: ``f"{domain_prefix}{l}"`` (``W_5``, ``W1``)
-    domain_prefix: ClassVar[str] = "W_"
-    #: the planner decides on heights (distance to the line L_C) as well as on columns: the
-    #: faces that draw or check the frame show the heights too
-    uses_heights: ClassVar[bool] = False
-    #: the named phases ``(name, what happens)`` of the pieces of a path, for the faces that
-    #: show a motion (:func:`pmplan.animation.phase_at`): several -- the phases of every leg
-    #: between two configurations, in order; one -- every piece is of that kind; none -- the
-    #: pieces are unnamed
-    phases: ClassVar[tuple[tuple[str, str], ...]] = ()
 
     # --- what the planner covers ---------------------------------------------------------
     def supports(self, d: int, n: int, m: int) -> str | None:
@@ -223,35 +213,6 @@ class Planner:
                     return np.searchsorted(times, np.arange(r) / (r - 1)).astype(np.int64)
         return np.array([0, k - 1], dtype=np.int64)
 
-    def map_boundaries(self, obstacles, others) -> list[tuple[np.ndarray, np.ndarray]]:
-        """Return the lines of the plane on which the label of one moving point changes.
-
-        The moving point is one robot's start (or goal); ``obstacles`` (m, 2) and ``others``
-        (k, 2), the other robots of the same configuration, stay where they are. Its label
-        changes exactly where its column meets another point's column (Mathematics §3.6,
-        §4.2), so the default is the column line through every other point.
-
-        Parameters
-        ----------
-        obstacles : numpy.ndarray
-            The obstacles, shape (m, 2).
-        others : numpy.ndarray
-            The other robots' points of the mapped configuration, shape (k, 2).
-
-        Returns
-        -------
-        list of tuple
-            ``(point, direction)`` pairs of float arrays of shape (2,), one per line, with
-            ``direction`` a unit vector; points on one column give one line.
-        """
-        o = np.asarray(obstacles, dtype=float)
-        pts = np.concatenate([o, np.asarray(others, dtype=float).reshape(-1, 2)])
-        e = (o[1] - o[0]) / np.hypot(*(o[1] - o[0]))
-        nu = np.array([-e[1], e[0]])
-        labels = projection_classes(pts[None], o[0][None], o[1][None])[0][0]
-        first = [int(np.flatnonzero(labels == lab)[0]) for lab in np.unique(labels)]
-        return [(pts[k], nu) for k in sorted(first)]
-
 
 class Stage:
     """The protocol of a stage: a map applied to planned paths after the planner, chunk by
@@ -313,3 +274,15 @@ def default_planner(d: int, n: int, m: int, sequential: bool = False) -> str:
     if fit:
         return max(fit, key=lambda p: p.priority).name
     return min(pool, key=lambda p: p.priority).name
+
+
+def spec_of_class(table: dict, planner):
+    """The entry of ``table`` (planner class -> what a concern needs of it, e.g.
+    :data:`pmplan.strata.SPECS`) for ``planner`` (a planner, or the name of a registered one):
+    its class's, or its nearest ancestor's."""
+    if isinstance(planner, str):
+        if planner not in REGISTRY:
+            raise UnsupportedError(f"unknown planner {planner!r}; choose one of "
+                                   f"{', '.join(sorted(REGISTRY))}")
+        planner = REGISTRY[planner]
+    return next(table[c] for c in type(planner).__mro__ if c in table)

@@ -189,17 +189,6 @@ class ObstacleLinePlanner(Planner):
     #: extreme magnitudes are planned scaled (:mod:`pmplan.magnitude`)
     equivariant = True
     sequential = True
-    #: the seven phases of every leg (Mathematics §3, paper Section 3), one piece each
-    phases = (
-        ("desingularization", "robots step along e off shared columns, paper (3.2)"),
-        ("projection to the line",
-         "robots move straight onto L_C, paper (3.6)"),
-        ("lift", "robot i rises by i*lambda*nu(e), section of paper (3.8)"),
-        ("slide", "robots slide parallel to L_C from X to X', section of paper (3.8)"),
-        ("descend", "robots descend onto L_C at X', section of paper (3.8)"),
-        ("projection reversed", "robots lift back off the line to F(C', 1)"),
-        ("desingularization reversed", "robots step back along e to C', paper (3.2) reversed"),
-    )
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         """None for every d >= 2, n >= 1, m >= 2 (:func:`~pmplan.planners.base.out_of_scope`)."""

@@ -419,11 +419,6 @@ class PlanarThreePlanner(Planner):
     equivariant = True
     #: the default for (2, 1, 3), where ``obstacle_line`` applies too
     priority = 1
-    domain_prefix = "W_"
-    uses_heights = True
-    phases = (
-        ("polyline leg", "straight leg of the polyline of paper Section 4, at constant speed"),
-    )
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         """Return None for (d, n, m) = (2, 1, 3), else why the planner does not apply."""
@@ -442,32 +437,6 @@ class PlanarThreePlanner(Planner):
         """Paper notation of a strata record ``(family, i, j)``, e.g. ``"T^{2,2}_{2,3}"``."""
         f, i, j = (int(v) for v in row)
         return f"T^{{{PAPER_SUPER[f]}}}_{{{i},{j}}}"
-
-    def map_boundaries(self, obstacles, others) -> list[tuple[np.ndarray, np.ndarray]]:
-        """Return the lines on which the stratum of the robot's start (goal) changes.
-
-        With o3 exactly on the line o1o2 (the family ``T1_ij``) the stratum depends on the
-        robot's height only: the boundary is that line. Otherwise (``T22_rs``, ``T23_kl``) it
-        depends on the robot's column: the boundaries are the obstacles' columns
-        (Mathematics §5.2).
-
-        Parameters
-        ----------
-        obstacles : numpy.ndarray
-            The three obstacles, shape (3, 2).
-        others : numpy.ndarray
-            The other robots' points (none: n = 1), shape (0, 2).
-
-        Returns
-        -------
-        list of tuple
-            ``(point, direction)`` pairs, ``direction`` a unit vector.
-        """
-        o = np.asarray(obstacles, dtype=float)
-        heights = projection_classes(o[None], o[0][None], o[1][None], perpendicular=True)[1]
-        if int(heights[0]) == 1:  # o3 on L_C: heights decide
-            return [(o[0], (o[1] - o[0]) / np.hypot(*(o[1] - o[0])))]
-        return super().map_boundaries(obstacles, others)
 
     def plan(self, obstacles, start, goal, *, lift: float = 1.0,
              backend: str | None = None) -> RawPlan:

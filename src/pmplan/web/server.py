@@ -26,7 +26,7 @@ Endpoints
     of its time budget :data:`MAP_BUDGET`), ``legend`` (per label: its
     count and the strata, in the paper's notation, met there), ``boundaries`` (the lines
     ``{"point": [x, y], "direction": [u, v]}`` on which the label changes,
-    :meth:`pmplan.planners.base.Planner.map_boundaries`), ``planner``.
+    :meth:`pmplan.display.DisplaySpec.map_boundaries`), ``planner``.
 
 Errors are JSON ``{"error": message, "type": name}``: 400 for a body that is not JSON, 413 for
 a body over :data:`MAX_BODY` bytes, 422 for a query the library refuses (the message is the
@@ -47,6 +47,7 @@ import numpy as np
 
 from .. import api
 from ..configuration import as_real
+from ..display import display_for
 from ..errors import CertificationError, InputError, PmplanError
 from ..io import json_int, parse_query, plan_to_dict
 from ..magnitude import LIMIT, needs_scaling
@@ -270,7 +271,7 @@ def domain_map(obj) -> dict:
     # the lines where the label changes, drawn by the page as continuous lines (the pixels
     # exactly on them are too few once the line o1o2 is tilted)
     chosen = api.choose_planner(2, n, obstacles.shape[0], planner=query.get("planner"))
-    lines = chosen.map_boundaries(obstacles, others[obstacles.shape[0]:])
+    lines = display_for(chosen).map_boundaries(obstacles, others[obstacles.shape[0]:])
     for lab, count in zip(*np.unique(label, return_counts=True)):
         if lab >= 0:
             legend[int(lab)]["count"] = int(count)
