@@ -99,8 +99,8 @@ def test_the_module_graph_is_read():
     assert len(MODULES) > 30
 
 
-#: no circle left: the refinement's reference and kernel share the grid and schedule of
-#: pmplan.refine_grid, and the kernel no longer imports the reference (issue 24)
+#: no circle left: the refinement's reference and kernel share the grid, schedule and constants
+#: of pmplan.refine.grid, and neither imports the other (issue 24)
 KNOWN: list = []
 
 
@@ -145,7 +145,11 @@ def test_no_module_imports_another_modules_private_names():
 TESTED_IN = {"pmplan.planners.base": "test_contract.py",  # the protocol every planner keeps
              "pmplan.backends.numpy": "test_backends.py",
              "pmplan.backends.numba": "test_backends.py",
-             "pmplan.kernels.refine": "test_refine.py",  # the kernel == the reference, bitwise
+             "pmplan.refine.kernel": "test_refine.py",  # the kernel == the reference, bitwise
+             "pmplan.refine.reference": "test_refine.py",
+             "pmplan.refine.stage": "test_refine.py",  # parameters, radii, the certified stage
+             "pmplan.refine.frame": "test_refine_exact.py",  # equivariance at every magnitude
+             "pmplan.kernels.measure": "test_refine_exact.py",  # flags against exact arithmetic
              "pmplan.version": "test_io_cli.py"}  # pmplan --version and the store attribute
 
 

@@ -4,7 +4,6 @@ equivariant, kernel == numpy reference, parameters validated."""
 
 from __future__ import annotations
 
-import sys
 from fractions import Fraction
 
 import numpy as np
@@ -16,20 +15,22 @@ from strategies import queries
 import pmplan
 from pmplan.certify import exact_segment_dist2, certificate
 from pmplan.errors import CollisionError, InputError
-from pmplan.kernels.refine import refine_batch
+from pmplan.refine.kernel import refine_batch
 from pmplan.planners.base import REGISTRY
 from pmplan.strata import spec_for
 from pmplan.refine import (
     DEFAULT_STEPS,
     DEFAULT_WAYPOINTS,
     check_parameters,
-    pairs,
+    grid,
     radius_report,
+    reference,
     refine_paths,
     schedule,
 )
+from pmplan.refine.grid import pairs
 
-R = sys.modules["pmplan.refine"]  # the module (pmplan.refine is the function)
+R = reference  # the map's reference (its substeps; the grid's constants through it)
 OMPL_OBSTACLES = np.array([[0.35, 0.5], [0.65, 0.5]])
 
 DIMS = [(2, 1, 2), (2, 3, 2), (3, 2, 2), (2, 2, 3), (4, 1, 3), (2, 1, 3)]
@@ -474,7 +475,7 @@ def test_radius_report_exact_at_ties():
     assert od[0] == 1.0 and ok[0]
     _, _, ok = radius_report(wp, 1, 0.5, np.nextafter(0.5, 1))
     assert not ok[0]
-    assert R.KAPPA > 0 and 0 < R.PHI < 1
+    assert grid.KAPPA > 0 and 0 < R.PHI < 1
 
 
 def _pieces_exact(wp: np.ndarray, a, b) -> np.ndarray:
@@ -554,7 +555,7 @@ def test_directional_budget_is_the_exact_minimum(data, d, start):
     """``_budget`` is ``min(1, min over t of h(t) / g(t))`` (g > 0): never above the ratio at
     any of 20,001 sampled t (safe), and within 1e-3 of the sampled minimum (tight), for random
     and integer pieces and moves; the kernel's version gives the same bits."""
-    from pmplan.kernels.refine import _budget as kernel_budget
+    from pmplan.refine.kernel import _budget as kernel_budget
 
     f = data.draw(st.sampled_from([st.floats(-1, 1, allow_subnormal=False),
                                    st.integers(-3, 3).map(float)]))

@@ -5,7 +5,6 @@ rest of the suite let through (planted one at a time, see the docstrings)."""
 
 from __future__ import annotations
 
-import sys
 from fractions import Fraction
 
 import numpy as np
@@ -18,10 +17,11 @@ from test_refine import _exact_min2
 import pmplan
 from pmplan.certify import check_times, exact_segment_dist2, radius_report
 from pmplan.errors import CollisionError, PmplanError
-from pmplan.kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
-from pmplan.refine import pairs
+from pmplan.kernels.measure import CLOSE, SHORT, SUSPECT, measure_batch
+from pmplan.refine import frame, grid, reference
+from pmplan.refine.grid import pairs
 
-R = sys.modules["pmplan.refine"]
+R = reference  # the map's reference (its substeps; the grid's constants through it)
 
 
 def _truth(wp: np.ndarray, m: int, radius: float, obstacle_radius: float) -> bool:
@@ -146,7 +146,7 @@ def test_refined_queries_at_every_magnitude_are_reported_exactly(seed, mag, frac
 
 def _kernel_shorten(x, m, tgt, frac, mob):
     """The kernel's shortening substep on one path (W, P, d), in place."""
-    from pmplan.kernels.refine import _shorten, constants
+    from pmplan.refine.kernel import _shorten, constants
 
     w, p, dd = x.shape
     a, b, c = pairs(p, m)
@@ -335,8 +335,8 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
     (:func:`pmplan.refine.clear_floor`, with the no-squeezing level ``HOLD min(T (1 +
     MARGIN), D_raw)``) in rational arithmetic -- not one ulp below; the kernel's pass gives the
     same bits."""
-    from pmplan.kernels.refine import _clear as kernel_clear
-    from pmplan.kernels.refine import constants
+    from pmplan.refine.kernel import _clear as kernel_clear
+    from pmplan.refine.kernel import constants
 
     x = _near_contact_path(data, d, robots, w, 10.0**-e)
     m, p = 2, 2 + robots
@@ -347,7 +347,7 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
     if not (d_raw > 0).all():
         return
     scene = float(R.piece_minima(x, a, b).max())
-    y, tgt, _ = R.to_frame(raw, np.array([[tfrac * 0.1 * scene] * 2]) * 2.0**mag)
+    y, tgt, _ = frame.to_frame(raw, np.array([[tfrac * 0.1 * scene] * 2]) * 2.0**mag)
     tq = np.where(a >= m, tgt[:, :1], tgt[:, 1:2])
     dy = R.piece_minima(y, a, b)
     if not (dy > 0).all():
@@ -401,8 +401,8 @@ def test_no_pair_is_squeezed(backend, data, dims, degenerate, radius):
                    for j in range(len(wr) - 1))
         got = min(exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
                   for j in range(len(wf) - 1))
-        t = (2 * radius if pa >= m else radius) or R.KAPPA * raw.clearance
-        need = R.HOLD * min(float(t), float(draw) ** 0.5) - 4 * np.spacing(A)
+        t = (2 * radius if pa >= m else radius) or grid.KAPPA * raw.clearance
+        need = grid.HOLD * min(float(t), float(draw) ** 0.5) - 4 * np.spacing(A)
         assert got >= Fraction(max(need, 0.0)) ** 2
 
 
@@ -433,7 +433,7 @@ def test_the_squeezed_query_is_held(backend):
         got = min(exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
                   for j in range(len(wf) - 1))
         t = 0.05 if pa >= 6 else 0.025
-        # (the documented kappa = 1/2, not R.HOLD: a planted HOLD = 0 must fail here)
+        # (the documented kappa = 1/2, not grid.HOLD: a planted HOLD = 0 must fail here)
         assert got >= Fraction(0.5 * min(t, float(draw) ** 0.5) * (1 - 1e-12)) ** 2
 
 

@@ -1,4 +1,4 @@
-"""The refinement's grid and schedule (pmplan.refine_grid), shared by the reference and the
+"""The refinement's grid and schedule (pmplan.refine.grid), shared by the reference and the
 kernel: the levels sum to the steps, subdividing keeps the raw breakpoints and the polyline,
 the mobility vanishes at the fixed times, the pairs are the certificate's, and the
 no-squeezing level is HOLD min(T (1 + MARGIN), D_raw) (exactly its definition, on integer
@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pmplan.certify import point_pairs
-from pmplan.refine_grid import (
+from pmplan.refine.grid import (
     HOLD,
     MARGIN,
     chord_fraction,

@@ -291,12 +291,12 @@ def redecide(planner, flags: np.ndarray, obstacles, configs, lift, out: dict) ->
 
 
 def measure(waypoints, m: int, need):
-    """The kernel's measure of refined paths (``pmplan.kernels.refine.measure_batch``), in the
+    """The kernel's measure of refined paths (``pmplan.kernels.measure.measure_batch``), in the
     certificate's arithmetic: ``(values (B, 3): clearance, robot and obstacle distances; kept
     (B,): the radii ``need`` kept; close (B,): rows to decide exactly)``, or None for d where
     the kernel's sums would round differently (the reference measures every row)."""
-    from ..kernels.refine import CLOSE, SHORT, SUSPECT, measure_batch
-    from ..refine import MAX_SEQUENTIAL_D
+    from ..kernels.measure import CLOSE, SHORT, SUSPECT, measure_batch
+    from ..refine.grid import MAX_SEQUENTIAL_D  # (the refinement imports the backends)
 
     if waypoints.shape[-1] >= MAX_SEQUENTIAL_D:
         return None
@@ -305,7 +305,7 @@ def measure(waypoints, m: int, need):
 
 
 def refine(times, waypoints, m: int, r: int, target, s: int, steps: int):
-    """The refinement's map, the kernel (``pmplan.kernels.refine.refine_batch``)."""
-    from ..kernels.refine import refine_batch  # (it imports the refinement: not at import)
+    """The refinement's map, the kernel (``pmplan.refine.kernel.refine_batch``)."""
+    from ..refine.kernel import refine_batch  # (the refinement imports the backends: not at import)
 
     return refine_batch(times, waypoints, m, r, target, s, steps)

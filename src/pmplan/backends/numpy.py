@@ -1,6 +1,6 @@
 """The numpy backend: every planner's reference (:meth:`pmplan.planners.base.Planner.reference`,
 exact, in numpy), certified by :func:`pmplan.certify.certificate`; the refinement's reference
-map (:func:`pmplan.refine.refine_paths`). The functions of :mod:`pmplan.backends`."""
+map (:func:`pmplan.refine.reference.refine_paths`). The functions of :mod:`pmplan.backends`."""
 
 from __future__ import annotations
 
@@ -84,7 +84,7 @@ def measure(waypoints, m: int, need):
 
 
 def refine(times, waypoints, m: int, r: int, target, s: int, steps: int):
-    """The refinement's map, the reference (:func:`pmplan.refine.refine_paths`)."""
-    from ..refine import refine_paths  # (the refinement imports the backends: not at import)
+    """The refinement's map, the reference (:func:`pmplan.refine.reference.refine_paths`)."""
+    from ..refine.reference import refine_paths  # (the refinement imports the backends: not at import)
 
     return refine_paths(times, waypoints, m, r, target, s, steps)

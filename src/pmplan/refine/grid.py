@@ -1,8 +1,10 @@
-"""The grid and the schedule of the refinement map R, shared by its numpy reference
-(:mod:`pmplan.refine`) and its numba kernel (:mod:`pmplan.kernels.refine`), which both import
-them from here (so neither imports the other at load time): the levels and their steps, the
+"""The grid, the schedule and the constants of the refinement map R, shared by its numpy
+reference (:mod:`pmplan.refine.reference`) and its numba kernel (:mod:`pmplan.refine.kernel`),
+which both import them from here and neither imports the other: the levels and their steps, the
 overshoot, the subdivided breakpoints and waypoints, the mobility and chord fractions, the pairs,
-the closed-form piece minima and the no-squeezing levels. See :mod:`pmplan.refine` for the map.
+the closed-form piece minima, the no-squeezing levels, and every gain, floor and slack of the
+map (one source; the kernel reads them at every call, :func:`pmplan.refine.kernel.constants`).
+See :mod:`pmplan.refine` for the map and ``docs/refinement.md`` for the argument.
 """
 
 from __future__ import annotations
@@ -11,9 +13,32 @@ from functools import lru_cache
 
 import numpy as np
 
-from .certify import point_pairs
+from ..certify import point_pairs
 
 __all__ = [
+    "ALPHA",
+    "BETA",
+    "DECAY",
+    "DEFAULT_STEPS",
+    "DEFAULT_WAYPOINTS",
+    "ETA",
+    "FINAL",
+    "GAMMA",
+    "GROWTH",
+    "HOLD",
+    "KAPPA",
+    "LAMBDA",
+    "MARGIN",
+    "MAX_SEQUENTIAL_D",
+    "MAX_STEPS",
+    "MAX_TARGET",
+    "MAX_WAYPOINTS",
+    "MOBILITY",
+    "OMEGA",
+    "PHI",
+    "PHI_WAYPOINT",
+    "SHARE",
+    "SLACK",
     "chord_fraction",
     "final_steps",
     "hold_levels",
@@ -46,6 +71,77 @@ MOBILITY = 4.0
 #: every pair the raw path keeps 2 T apart) cost 1.6x the kernel's time on refine_bench's
 #: (2,4,2) batch -- the caps bind far more often -- for no fewer jumps (docs/refinement.md)
 HOLD = 0.5
+
+
+# --- the map's gains, floors and slack (the reference and the kernel read them here) ----------
+
+#: default sub-pieces per raw piece at the finest level (a power of two): 7 raw pieces per leg
+#: of the obstacle-line planner give 14 pieces per leg (measured: benchmarks/refine_bench.py)
+DEFAULT_WAYPOINTS = 2
+#: default number of steps (each a clearing and a shortening substep), split over the levels
+DEFAULT_STEPS = 56
+#: the largest ``waypoints`` accepted
+MAX_WAYPOINTS = 64
+#: the largest ``steps`` accepted
+MAX_STEPS = 100_000
+#: shortening gain: the fraction of the way to the chord point moved per step
+ALPHA = 1.0
+#: clearing gain: the fraction of the deficit pushed per step
+BETA = 0.5
+#: clearing floor: a pair below its target may lose at most 1 - PHI of its distance per step
+#: (measured with the 1e-6 probe: 0.25 against 0.5, smaller largest probes and shorter paths)
+PHI = 0.25
+#: the soft closest point of a piece: ``clip(-r0.v / (|v|^2 + LAMBDA (|r0|^2 + |r1|^2)), 0,
+#: 1)``, continuous where the exact one (LAMBDA = 0) jumps (v -> 0); its slope is of order
+#: 1 / LAMBDA, so a larger LAMBDA keeps the continuity modulus small (measured: 2**-4 halves
+#: the largest 1e-6 probe of n = 8 against 2**-12, at the same lengths)
+LAMBDA = 2.0**-4
+#: clearing floor of the waypoint pass (its pushes first, then the soft points' with PHI): a
+#: pair below its target may lose at most 1 - PHI_WAYPOINT of its distance in that pass. Two
+#: passes, so that the push at a waypoint where a pair nearly touches (along the path's turn,
+#: outward on both pieces) is not held back by the soft points' pushes, nearly along the pieces
+#: (measured on the n = 8 rows of benchmarks/refine_bench.py, three draws: 2 probes above 1e-4
+#: of 400 against 4-13 in one pass; 0.9 keeps every path clear of 1e-2, 0.5 squeezes some to
+#: 1e-9). The waypoint pass runs at the coarsest level only, where the raw path's
+#: near-contacts are separated: at the finer levels and in the final steps it changed no probe
+#: above 1e-5 and no length by 1e-3, and cost a fifth of the kernel's time
+PHI_WAYPOINT = 0.9
+#: the clearing's share of a pair's free distance ``D - F``: a move of a point within
+#: ``SHARE c (D - F)`` (isotropic), or whose inward part along the piece stays within its share of
+#: ``D^2 - F'^2`` (directional: a near-contact is pushed out, or slides, in large steps), keeps the
+#: pair above ``F`` (1/2 makes the two kinds add up to at most ``D - F``; measured on the n = 8
+#: rows of benchmarks/refine_bench.py: the largest 1e-6 probe 3-4e-4 against 0.7-4.9e-3 with the
+#: isotropic cap alone, same lengths)
+SHARE = 0.5
+#: the push direction at an interior waypoint is ``r + GAMMA min(|v_in|, |v_out|) (v_out/|v_out|
+#: - v_in/|v_in|)`` (r the relative position, v the relative path's pieces): where a pair nearly
+#: touches at the end of a piece it follows the path's turn rather than ``r / |r|``
+GAMMA = 0.25
+#: the weight of the push at the waypoints (along the pair's relative position there) against
+#: the push at the soft closest point of each piece (weight 1). Where a pair nearly touches at a
+#: waypoint (clearance c) its direction turns by delta / c under a move delta of the query, so
+#: it carries most of the continuity modulus; without it a pair pushed only at soft points,
+#: nearly along the piece, can be squeezed to a clearance of 1e-17 (measured on the n = 8 rows
+#: of benchmarks/refine_bench.py). 1/2: fewer 1e-6 probes above 1e-4 (9 against 22 of 640 for
+#: 1), no squeezed path
+OMEGA = 0.5
+#: with no radius, the target clearance is KAPPA times the raw plan's clearance
+KAPPA = 0.5
+#: the kernel measures the refined paths for d below this (numpy sums fewer than 8 terms
+#: sequentially, as the kernel does; beyond, numpy's pairwise sums round differently)
+MAX_SEQUENTIAL_D = 8
+#: the rounding slack of the caps, in the frame (extent in [1/2, 1)): every cap is measured
+#: from ``D - 4 SLACK A`` (A the largest norm of a point of the path at the substep), every
+#: directional budget from ``h - 4 SLACK e**2`` against an inward part raised by ``SLACK e
+#: |move|`` (``e = 4 A + |r0| + |v| + |move|``), with a continuous ramp from 0 where the room above
+#: F' is within 2 to 4 of that slack: the float piece minimum, the float inward part and the
+#: rounded moves are within far less of the exact ones (about 2**-50 e), so every floor holds
+#: for the floats computed, exactly (tests/test_refine_exact.py). Only norms and no absolute
+#: term: the map commutes with rotations and scalings (to rounding)
+SLACK = 2.0**-44
+#: the largest target in the refinement's frame (:func:`pmplan.refine.frame.to_frame`: the path's extent is below 1
+#: there)
+MAX_TARGET = 2.0**20
 
 
 def schedule(waypoints: int, steps: int) -> list[tuple[int, int]]:

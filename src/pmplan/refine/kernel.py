@@ -1,22 +1,25 @@
 """The numba kernel of the refinement map R (:mod:`pmplan.refine`), batch-first.
 
-:func:`refine_batch` runs the whole schedule of :func:`pmplan.refine.refine_paths` -- the
+:func:`refine_batch` runs the whole schedule of :func:`pmplan.refine.reference.refine_paths` -- the
 coarse-to-fine levels, per level the steps (a clearing then a shortening substep), then the
 clearing-only steps -- with one compiled call per level (:func:`_level`, ``nogil``: the threads
 of ``workers`` refine chunks in parallel). Its arithmetic is the reference's, operation for
 operation and in the same order (sums over coordinates from 0, pushes pair after pair), so the
 two give bitwise equal paths (tests/test_refine.py). The grid, the mobility and the chord
-fractions are computed once per level by the reference's own numpy functions.
+fractions are computed once per level by the numpy functions of :mod:`pmplan.refine.grid`,
+which it shares with the reference (neither imports the other).
 """
 
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 
-from ..refine_grid import (
+from ..kernels.common import OPTS, njit
+from ..kernels.measure import minima, pair_rel
+from . import grid
+from .grid import (
     chord_fraction,
     final_steps,
     hold_levels,
@@ -27,71 +30,13 @@ from ..refine_grid import (
     subdivide,
     subdivide_times,
 )
-from .common import BAND_ABS, BAND_REL, OBSTACLE_TINY2, OPTS, REL, TINY_DIST, njit
 
-__all__ = ["measure_batch", "refine_batch"]
+__all__ = ["constants", "refine_batch"]
 
-# the reference's constants are passed as ``kp`` = (ALPHA, BETA, PHI, ETA, MARGIN, LAMBDA,
-# OMEGA, SHARE, GAMMA, PHI_WAYPOINT, SLACK) and the overshoot ``eta`` of the level, read at every call
-# (a module global would be compiled in, and cached on disk, as a constant: a change of
-# pmplan.refine would not reach the kernel)
-
-
-@njit(**OPTS)
-def _pair_rel(x, pa, pb, rel):  # pragma: no cover - compiled
-    """The relative position ``x_pa - x_pb`` at every waypoint into ``rel`` (W, d)."""
-    w, _, dd = x.shape
-    for j in range(w):
-        for k in range(dd):
-            rel[j, k] = x[j, pa, k] - x[j, pb, k]
-
-
-@njit(**OPTS)
-def _minima(x, a, b, dmin, rel_t):  # pragma: no cover - compiled
-    """The closed-form minimum distance of every pair on every piece into ``dmin`` (W-1,
-    pairs), in :func:`pmplan.refine.piece_minima`'s (and :func:`pmplan.certify.clearance`'s)
-    arithmetic, bit for bit; the relative positions are held coordinate-major in ``rel_t``
-    (d, W), so that the loop over the pieces vectorises (2.2x faster than one piece at a time
-    with the positions point-major, W = 15, 14 pairs)."""
-    w, _, dd = x.shape
-    for q in range(a.shape[0]):
-        pa, pb = a[q], b[q]
-        for k in range(dd):
-            for j in range(w):
-                rel_t[k, j] = x[j, pa, k] - x[j, pb, k]
-        if dd == 2:
-            for j in range(w - 1):
-                r0x = rel_t[0, j]
-                r0y = rel_t[1, j]
-                vx = rel_t[0, j + 1] - r0x
-                vy = rel_t[1, j + 1] - r0y
-                vv = (0.0 + vx * vx) + vy * vy
-                num = -((0.0 + r0x * vx) + r0y * vy)
-                qq = num / vv  # (vv = 0: replaced below)
-                qq = 1.0 if num >= vv else qq
-                qq = 0.0 if num <= 0 else qq
-                qq = qq if vv > 0 else 0.0
-                qx = r0x + qq * vx
-                qy = r0y + qq * vy
-                dmin[j, q] = math.sqrt((0.0 + qx * qx) + qy * qy)
-        else:
-            for j in range(w - 1):
-                vv = 0.0
-                r0v = 0.0
-                for k in range(dd):
-                    v = rel_t[k, j + 1] - rel_t[k, j]
-                    vv = vv + v * v
-                    r0v = r0v + rel_t[k, j] * v
-                num = -r0v
-                qq = num / vv
-                qq = 1.0 if num >= vv else qq
-                qq = 0.0 if num <= 0 else qq
-                qq = qq if vv > 0 else 0.0
-                sq = 0.0
-                for k in range(dd):
-                    qx = rel_t[k, j] + qq * (rel_t[k, j + 1] - rel_t[k, j])
-                    sq = sq + qx * qx
-                dmin[j, q] = math.sqrt(sq)
+# the map's constants are passed as ``kp`` = (ALPHA, BETA, PHI, ETA, MARGIN, LAMBDA, OMEGA,
+# SHARE, GAMMA, PHI_WAYPOINT, SLACK) and the overshoot ``eta`` of the level, read from
+# pmplan.refine.grid at every call (a module global would be compiled in, and cached on disk,
+# as a constant: a change of pmplan.refine.grid would not reach the kernel)
 
 
 @njit(**OPTS)
@@ -110,7 +55,7 @@ def _caps(a, b, free, cap):  # pragma: no cover - compiled
 
 @njit(**OPTS)
 def _slack(x, slack):  # pragma: no cover - compiled
-    """:func:`pmplan.refine._slack` of one path: ``4 SLACK A``, A the largest norm of a point
+    """:func:`pmplan.refine.reference._slack` of one path: ``4 SLACK A``, A the largest norm of a point
     (summed as the reference's ``dot``)."""
     amax = 0.0
     w, p, dd = x.shape
@@ -126,7 +71,7 @@ def _slack(x, slack):  # pragma: no cover - compiled
 @njit(**OPTS)
 def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel_t, kp):  # pragma: no cover
     w, p, dd = x.shape
-    _minima(x, a, b, dmin, rel_t)
+    minima(x, a, b, dmin, rel_t)
     sl = _slack(x, kp[10])
     for q in range(a.shape[0]):
         keep = tgt[q] * (1.0 + kp[4])
@@ -145,7 +90,7 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel_t, kp): 
                     dk = wgt * (chord - x[j, i, k])
                     delta[j, i, k] = dk
                     s = s + dk * dk
-                # the capped move of pmplan.refine._apply, written out: a shared inlined helper
+                # the capped move of pmplan.refine.reference._apply, written out: a shared inlined helper
                 # cost 10-20 % of a refined (2,4,2) batch (CPU time, 5 alternating pairs, 2,000
                 # queries)
                 nrm = math.sqrt(s)
@@ -156,7 +101,7 @@ def _shorten(x, m, a, b, c, tgt, frac, mob, dmin, free, cap, delta, rel_t, kp): 
 
 @njit(**OPTS)
 def _budget_at(r0, v, f2, den, al, be, start, err, t):  # pragma: no cover - compiled
-    """``h(t) / g(t)`` of :func:`pmplan.refine._budget` at one candidate t (inf where g <= 0)."""
+    """``h(t) / g(t)`` of :func:`pmplan.refine.reference._budget` at one candidate t (inf where g <= 0)."""
     t = 0.0 if math.isnan(t) else min(max(t, 0.0), 1.0)
     g = ((1.0 - t) if start else t) * (al + t * be)
     if not g > 0:
@@ -170,7 +115,7 @@ def _budget_at(r0, v, f2, den, al, be, start, err, t):  # pragma: no cover - com
 
 @njit(**OPTS)
 def _budget(r0, v, f2, nterms, al, be, start, err=0.0):  # pragma: no cover - compiled
-    """:func:`pmplan.refine._budget` of one term, same arithmetic."""
+    """:func:`pmplan.refine.reference._budget` of one term, same arithmetic."""
     if start:
         g0 = al
         g1 = be - al
@@ -213,7 +158,7 @@ def _budget(r0, v, f2, nterms, al, be, start, err=0.0):  # pragma: no cover - co
 @njit(**OPTS)
 def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl):  # pragma: no cover
     """The scale of point ``pt``'s clearing move at waypoint ``j`` beyond its isotropic cap
-    (:func:`pmplan.refine._clear_scale`, same arithmetic); ``r0``, ``v``: (d,) scratch."""
+    (:func:`pmplan.refine.reference._clear_scale`, same arithmetic); ``r0``, ``v``: (d,) scratch."""
     w, _, dd = x.shape
     share_k = kp[7]
     s = 1.0
@@ -260,7 +205,7 @@ def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl):  # pr
 @njit(**OPTS)
 def _turned(rel, j, k, ein, eout):  # pragma: no cover - compiled
     """Coordinate k of the waypoint push direction ``u`` at waypoint j of
-    :func:`pmplan.refine._clear`: the relative position plus the turn of the relative path
+    :func:`pmplan.refine.reference._clear`: the relative position plus the turn of the relative path
     (interior waypoints only)."""
     if 0 < j < rel.shape[0] - 1:
         return rel[j, k] + eout * (rel[j + 1, k] - rel[j, k]) - ein * (rel[j, k] - rel[j - 1, k])
@@ -270,13 +215,13 @@ def _turned(rel, j, k, ein, eout):  # pragma: no cover - compiled
 @njit(**OPTS)
 def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta,
            at_waypoints):  # pragma: no cover - compiled
-    """One clearing pass of :func:`pmplan.refine._clear` (same arithmetic, same order)."""
+    """One clearing pass of :func:`pmplan.refine.reference._clear` (same arithmetic, same order)."""
     w, p, dd = x.shape
     phi = kp[9] if at_waypoints else kp[2]
     delta[:, :, :] = 0.0  # the push
     share_k = kp[7]
     gamma = kp[8]
-    _minima(x, a, b, dmin, rel_t)
+    minima(x, a, b, dmin, rel_t)
     sl = _slack(x, kp[10])
     for q in range(a.shape[0]):
         t = tgt[q]
@@ -301,7 +246,7 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
             free[j, q] = (share_k * cq) * g
         if not near:
             continue
-        _pair_rel(x, pa, pb, rel)
+        pair_rel(x, pa, pb, rel)
         sq = star
         for j in range(w if at_waypoints else 0):  # at the waypoints
             s = 0.0
@@ -419,91 +364,12 @@ def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
                          kp)
 
 
-#: flags of :func:`measure_batch`: the certificate's exact re-decision is needed (a piece
-#: minimum not clearly above its rounding, an obstacle pair that may underflow, a non-finite
-#: value), a piece minimum lies in the band of :func:`pmplan.certify.radius_report` around a
-#: radius bound (decided exactly), the radii are certainly not kept
-SUSPECT = 1
-CLOSE = 2
-SHORT = 4
-
-
-@njit(**OPTS)
-def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
-    """Per path of ``x`` (B, W, P, d): ``out[i] = (clearance, robot distance, obstacle
-    distance)`` in :func:`pmplan.certify.clearance`'s arithmetic (d < 8: its sums are
-    sequential) and the flags above; ``need`` = (2 radius, radius + obstacle_radius)."""
-    bsz, w, _p, dd = x.shape
-    rel = np.empty((w, dd))
-    rel_t = np.empty((dd, w))
-    dmin = np.empty((w - 1, a.shape[0]))
-    for i in range(bsz):
-        xi = x[i]
-        fl = 0
-        clr = np.inf
-        rob = np.inf
-        obs = np.inf
-        _minima(xi, a, b, dmin, rel_t)
-        for q in range(a.shape[0]):
-            pa, pb = a[q], b[q]
-            nd = need[0] if pa >= m else need[1]
-            _pair_rel(xi, pa, pb, rel)
-            for j in range(w - 1):
-                dq = dmin[j, q]
-                scale = 0.0
-                absval = 0.0
-                for jj in range(j, j + 2):
-                    for k in range(dd):
-                        scale = max(scale, abs(rel[jj, k]))
-                        absval = max(absval, abs(xi[jj, pa, k]), abs(xi[jj, pb, k]))
-                # (a distance below 2**-480 may hold an underflowed square: measured exactly)
-                if not (dq > REL * max(scale, absval * 1e-6)) or not math.isfinite(dq) \
-                        or not math.isfinite(absval) or not dq > TINY_DIST:
-                    fl |= SUSPECT
-                clr = min(clr, dq)
-                if pa >= m:
-                    rob = min(rob, dq)
-                else:
-                    obs = min(obs, dq)
-                if nd > 0:  # the band of pmplan.certify.radius_report
-                    band = BAND_REL * (nd + absval) + BAND_ABS
-                    if dq < nd - band:
-                        fl |= SHORT
-                    elif not dq > nd + band:
-                        fl |= CLOSE
-        for k1 in range(m):
-            for k2 in range(k1 + 1, m):
-                s = 0.0
-                for k in range(dd):
-                    dk = xi[0, k1, k] - xi[0, k2, k]
-                    s = s + dk * dk
-                if not s >= OBSTACLE_TINY2 or not math.isfinite(s):
-                    fl |= SUSPECT
-                clr = min(clr, math.sqrt(s))
-        out[i, 0] = clr
-        out[i, 1] = rob
-        out[i, 2] = obs
-        flags[i] = fl
-
-
-def measure_batch(waypoints: np.ndarray, m: int, need: tuple[float, float]):
-    """The clearance, robot and obstacle distances (B, 3) of refined paths and their flags
-    (B,) uint8 (:data:`SUSPECT`, :data:`CLOSE`, :data:`SHORT`); see :func:`_measure`."""
-    b = waypoints.shape[0]
-    a, bb, _ = pairs(waypoints.shape[2], m)
-    out = np.empty((b, 3))
-    flags = np.zeros(b, np.uint8)
-    if b:
-        _measure(waypoints, m, a, bb, np.array(need, dtype=float), out, flags)
-    return out, flags
-
-
 def constants() -> np.ndarray:
-    """The reference's constants, as the kernel reads them (at every call, from the loaded
-    :mod:`pmplan.refine`: the kernel does not import it)."""
-    ref = sys.modules["pmplan.refine"]
-    return np.array([ref.ALPHA, ref.BETA, ref.PHI, ref.ETA, ref.MARGIN, ref.LAMBDA, ref.OMEGA,
-                     ref.SHARE, ref.GAMMA, ref.PHI_WAYPOINT, ref.SLACK])
+    """The map's constants (:mod:`pmplan.refine.grid`, the one source the reference imports
+    too), as the kernel reads them at every call."""
+    g = grid
+    return np.array([g.ALPHA, g.BETA, g.PHI, g.ETA, g.MARGIN, g.LAMBDA, g.OMEGA, g.SHARE,
+                     g.GAMMA, g.PHI_WAYPOINT, g.SLACK])
 
 
 def _grids(times: np.ndarray, r: int, waypoints_per_piece: int, steps: int, b: int):
@@ -531,7 +397,7 @@ _GRIDS: dict = {}
 
 def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
                  waypoints_per_piece: int, steps: int) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`pmplan.refine.refine_paths` by the kernel: same arguments, same (bitwise) result."""
+    """:func:`pmplan.refine.reference.refine_paths` by the kernel: same arguments, same (bitwise) result."""
     times = np.asarray(times, dtype=float)
     x = np.array(waypoints, dtype=float)
     p = x.shape[2]
