@@ -4,7 +4,7 @@ Usage (from the repository root)::
 
     python benchmarks/refine_continuity.py                 # the rows of the table below
     python benchmarks/refine_continuity.py --quick         # a few queries per row
-    python benchmarks/refine_continuity.py --seed 2        # held-out draws
+    python benchmarks/refine_continuity.py --seeds 3 --held-out ''   # another draw
 
 For every family row (d, n, m, lift, family) it draws ``N`` valid queries (points at least
 ``GAP`` apart, radius ``RADIUS`` of the scene's size), plans and refines them, moves every
@@ -101,10 +101,10 @@ def _pair_ratio(raw: pmplan.Plan, ref: pmplan.Plan) -> float:
 
 
 def row(name, d, n, m, lift, family, count, seed, size=1.0, radius=RADIUS):
+    """The probes of one family row: per pair (query, perturbed query with the same label)
+    its K, the raw plan's K and the query's target / c_raw."""
     rng = np.random.default_rng(seed)
-    ks = {dl: [] for dl in DELTAS}
-    worst = (0.0, None, None)
-    bound = 0.0  # the largest K / max(1, target / c_raw)
+    recs = []  # (delta, K, raw K, target / c_raw, c_raw / size)
     jumps = 0
     ratios = []
     t0 = time.process_time()
@@ -131,37 +131,69 @@ def row(name, d, n, m, lift, family, count, seed, size=1.0, radius=RADIUS):
             continue  # keep only raw plans that nearly touch
         done += 1
         ratios.append(_pair_ratio(raw, ref))
+        target = max(2 * rad, 0.5 * raw.clearance) if rad else 0.5 * raw.clearance
         for dl in DELTAS:
             step = dl * size
             po, ps, pg = (x + step * rng.uniform(-1, 1, x.shape) for x in (o, s, g))
             pv = None if via is None else [v + step * rng.uniform(-1, 1, v.shape) for v in via]
             try:
-                ref2, _ = _refined(po, ps, pg, lift, rad, pv)
+                ref2, raw2 = _refined(po, ps, pg, lift, rad, pv)
             except PmplanError:
                 continue
             if ref2.domain != ref.domain:
                 continue
             change = _sup(ref, ref2)
-            k = change / step
-            ks[dl].append(k)
             if dl <= 1e-9 and change > 1e-3 * size:
                 jumps += 1
-            target = max(2 * rad, 0.5 * raw.clearance) if rad else 0.5 * raw.clearance
-            bound = max(bound, k / max(1.0, target / raw.clearance))
-            if k > worst[0]:
-                worst = (k, raw.clearance / size, target / raw.clearance)
-    cpu = time.process_time() - t0
-    allk = np.concatenate([np.asarray(v) for v in ks.values()]) if done else np.zeros(0)
+            recs.append((dl, change / step, _sup(raw, raw2) / step, target / raw.clearance,
+                         raw.clearance / size))
+    return summarise(name, recs, done, jumps, ratios, time.process_time() - t0)
+
+
+def summarise(name, recs, done, jumps, ratios, cpu):
+    """One row's figures from its probes (see the module docstring)."""
+    k = np.array([r[1] for r in recs])
+    kraw = np.array([r[2] for r in recs])
+    tc = np.array([r[3] for r in recs])
+    bound = k / np.maximum(1.0, tc) if k.size else k
+    factor = bound / np.maximum(1.0, kraw) if k.size else k  # the refinement's own share
+    clear = tc <= 1.0  # the raw plan keeps the targets: no pair is pushed out
+    worst = int(np.argmax(bound)) if k.size else None
+    near = ~clear
     return {
-        "row": name, "queries": done, "cpu_s": cpu,
-        "max": {dl: (max(v) if v else float("nan")) for dl, v in ks.items()},
-        "p999": float(np.quantile(allk, 0.999)) if allk.size else float("nan"),
-        "over1e3": int((allk > 1e3).sum()), "over1e4": int((allk > 1e4).sum()),
-        "pairs": int(allk.size), "jumps": jumps,
-        "worst_c_raw": worst[1], "worst_bound": worst[2], "bound_constant": bound,
+        "row": name, "queries": done, "cpu_s": cpu, "pairs": int(k.size), "jumps": jumps,
+        "max": {dl: max((r[1] for r in recs if r[0] == dl), default=float("nan"))
+                for dl in DELTAS},
+        "raw_max": float(kraw.max()) if k.size else float("nan"),
+        "p999": float(np.quantile(k, 0.999)) if k.size else float("nan"),
+        "clear_pairs": int(clear.sum()),
+        "clear_max": float(k[clear].max()) if clear.any() else float("nan"),
+        "clear_over1e3": int((k[clear] > GOAL_P999).sum()),
+        "clear_over1e4": int((k[clear] > GOAL_MAX).sum()),
+        "over1e3": int((k > GOAL_P999).sum()),
+        "eff_over1e3": int((bound > GOAL_P999).sum()),
+        "near_pairs": int(near.sum()),
+        "near_max": float(k[near].max()) if near.any() else float("nan"),
+        "bound_constant": float(bound.max()) if k.size else float("nan"),
+        "factor_max": float(factor.max()) if k.size else float("nan"),
+        "factors": factor.tolist(),
+        "worst_tc": float(tc[worst]) if worst is not None else float("nan"),
+        "worst_c_raw": float(recs[worst][4]) if worst is not None else float("nan"),
         "min_ratio": float(min(ratios)) if ratios else float("nan"),
         "median_ratio": float(np.median(ratios)) if ratios else float("nan"),
     }
+
+
+def meets(r) -> bool:
+    """The goal of a row (item 1 with its stated limit, K_eff = K / max(1, target / c_raw)):
+    no jump and K_eff <= 1e4 on every pair; K_eff <= 1e3 on >= 99.9 % is judged on the pairs
+    of all rows together (:func:`pooled`: a row has 30-90 pairs)."""
+    return r["jumps"] == 0 and not r["bound_constant"] > GOAL_MAX
+
+
+def pooled(results) -> tuple[int, int]:
+    """(pairs with K_eff > 1e3, pairs) over all rows."""
+    return (sum(r["eff_over1e3"] for r in results), sum(r["pairs"] for r in results))
 
 
 def replanning(ticks=80, seed=0):
@@ -231,18 +263,16 @@ def replanning(ticks=80, seed=0):
 
 
 ROWS = [
-    # name, d, n, m, lift, family, size
-    *[(f"({2},{n},{m}) lift 0.1 uniform", 2, n, m, 0.1, "uniform", 1.0)
-      for n in (2, 4, 8, 16) for m in (2, 4, 6)],
-    *[(f"({3},{n},{m}) lift 0.1 uniform", 3, n, m, 0.1, "uniform", 1.0)
-      for n in (2, 4, 8) for m in (2, 4)],
-    ("(2,8,4) lift 1 uniform", 2, 8, 4, 1.0, "uniform", 1.0),
-    ("(2,8,4) lift scene uniform", 2, 8, 4, "scene", "uniform", 1.0),
+    # name, d, n, m, lift, family, size: every (d, n, m, lift) of item 1's uniform family
+    *[(f"({d},{n},{m}) lift {lift} uniform", d, n, m, lift, "uniform", 1.0)
+      for lift in (0.1, 1.0, "scene") for d in (2, 3) for n in (2, 4, 8, 16) for m in (2, 4, 6)],
     ("(2,4,2) integer grid", 2, 4, 2, "scene", "integer", 1.0),
+    ("(3,4,2) integer grid", 3, 4, 2, "scene", "integer", 1.0),
     ("(2,8,4) near-contact raw", 2, 8, 4, 0.1, "near-contact", 1.0),
     ("(2,4,2) sequence r=3", 2, 4, 2, 0.1, "sequence", 1.0),
+    ("(2,8,4) sequence r=3", 2, 8, 4, 0.1, "sequence", 1.0),
     ("(2,1,3) planar three", 2, 1, 3, "scene", "uniform", 1.0),
-    ("(2,16,6) room 10x10", 2, 16, 6, "scene", "uniform", 10.0),
+    *[(f"(2,{n},6) room 10x10", 2, n, 6, "scene", "uniform", 10.0) for n in (4, 8, 16)],
 ]
 
 
@@ -250,55 +280,65 @@ def _fmt(x):
     return "-" if x is None or math.isnan(x) else f"{x:.3g}"
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--count", type=int, default=None)
-    ap.add_argument("--rows", default=None, help="substring filter on the row names")
-    ap.add_argument("--out", default=str(HERE / "refine_continuity.md"))
-    args = ap.parse_args(argv)
-    count = args.count or (4 if args.quick else 30)
+def section(seed: int, held_out: bool, args, count: int) -> list[str]:
+    """The rows and the replanning run of one draw, as the lines of its section."""
     results = []
-    for name, d, n, m, lift, fam, size in ROWS:
+    for index, (name, d, n, m, lift, fam, size) in enumerate(ROWS):
         if args.rows and args.rows not in name:
             continue
         c = count if n <= 8 else max(2, count // 3)
-        r = row(name, d, n, m, lift, fam, c, args.seed * 1000 + len(results), size=size)
+        r = row(name, d, n, m, lift, fam, c, seed * 1000 + index, size=size)
         results.append(r)
-        print(name, {k: v for k, v in r.items() if k != "row"}, flush=True)
-    rep = replanning(ticks=20 if args.quick else 80, seed=args.seed)
+        print(name, {k: v for k, v in r.items() if k not in ("row", "factors")}, flush=True)
+    rep = replanning(ticks=20 if args.quick else 80, seed=seed)
     print("replanning", rep, flush=True)
     lines = [
-        "# Continuity of the refined planner in floating point (issue 24)",
+        f"## Seed {seed} ({'held out' if held_out else 'design'})",
         "",
-        (f"`python benchmarks/refine_continuity.py --seed {args.seed}` "
+        (f"`python benchmarks/refine_continuity.py --seeds {seed}` "
         f"({_dt.date.today().isoformat()}, {count} queries per row, a third for n = 16; "
         "every point of the query moved by delta times a uniform vector in [-1, 1]^d; "
         "K = exact sup change / delta over the pairs with the same label; c_raw the raw plan's "
-        "clearance over the scene's size, target = max(2 radius, c_raw / 2)). Goal: K <= 1e3 on "
-        ">= 99.9 % and <= 1e4 on all, no jump (a move <= 1e-9 changing the path by > 1e-3). "
-        "A row misses the goal when one pair exceeds 1e4, or more than 0.1 % of its pairs "
-        "exceed 1e3 (with 90 pairs per row, any one), or a jump occurs. The refined/raw column "
-        "is the smallest ratio over the pairs of points of the refined to the raw minimum "
-        "distance (no self-squeezing: >= HOLD min(T, D_raw) / D_raw)."),
+        "clearance over the scene's size, target = max(2 radius, c_raw / 2); raw K the raw "
+        "plan's amplification, which the refinement inherits). A pair the raw path brings "
+        "within c_raw of contact and that the refinement pushes out to its target amplifies "
+        "by about target / c_raw: that limit is real (docs/refinement.md), so the goal is on "
+        "K_eff = K / max(1, target / c_raw), which is K wherever the raw plan keeps the targets. "
+        "Goal (item 1): no jump (a move <= 1e-9 changing the path by > 1e-3); K_eff <= 1e4 on "
+        "every pair (per row) and <= 1e3 on >= 99.9 % of the pairs (all rows together: a row "
+        "has 30-90). The refined/raw column is the smallest ratio over the pairs of points of "
+        "the refined to the raw minimum distance (no self-squeezing, item 2)."),
         "",
-        ("| row | queries | K max 1e-6 | K max 1e-9 | K max 1e-12 | K p99.9 | pairs > 1e3 | "
-         "pairs > 1e4 | jumps | c_raw at worst K | target/c_raw | max K / max(1, target/c_raw) | "
+        ("| row | queries | K max 1e-6 | K max 1e-9 | K max 1e-12 | raw K max | "
+         "K max where target <= c_raw | K_eff max | its c_raw, target/c_raw | "
+         "K_eff / max(1, raw K) max | "
+         "pairs K > 1e3 | pairs K_eff > 1e3 | jumps | "
          "refined/raw pair distance min (median) | goal |"),
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
-        meets = r["over1e4"] == 0 and r["jumps"] == 0 and \
-            r["over1e3"] <= 0.001 * max(r["pairs"], 1)
-        big = max(v for v in r["max"].values() if not math.isnan(v)) if r["pairs"] else 0
         lines.append(
             f"| {r['row']} | {r['queries']} | " + " | ".join(_fmt(r["max"][dl]) for dl in DELTAS)
-            + f" | {_fmt(r['p999'])} | {r['over1e3']} | {r['over1e4']} | {r['jumps']} | "
-            + (f"{_fmt(r['worst_c_raw'])} | {_fmt(r['worst_bound'])}" if big > 1e3 else "- | -")
-            + f" | {_fmt(r['bound_constant'])}"
-            + f" | {_fmt(r['min_ratio'])} ({_fmt(r['median_ratio'])}) | "
-            + ("met" if meets else "**missed**") + " |")
+            + f" | {_fmt(r['raw_max'])} | {_fmt(r['clear_max'])} | "
+            f"{_fmt(r['bound_constant'])} | {_fmt(r['worst_c_raw'])}, {_fmt(r['worst_tc'])} | "
+            f"{_fmt(r['factor_max'])} | "
+            f"{r['over1e3']} | {r['eff_over1e3']} | {r['jumps']} | "
+            f"{_fmt(r['min_ratio'])} ({_fmt(r['median_ratio'])}) | "
+            + ("met" if meets(r) else "**missed**") + " |")
+    missed = [r["row"] for r in results if not meets(r)]
+    over, total = pooled(results)
+    share = 100.0 * (total - over) / max(total, 1)
+    lines += ["", f"**Rows that miss the goal:** {', '.join(missed) if missed else 'none'} "
+              f"(of {len(results)}). **All rows together:** K_eff <= 1e3 on {total - over} of "
+              f"{total} pairs ({share:.2f} %; goal >= 99.9 %: "
+              f"{'met' if share >= 99.9 else 'missed'}); largest K_eff "
+              f"{_fmt(max(r['bound_constant'] for r in results))}; largest K where the raw plan "
+              f"keeps the targets {_fmt(np.nanmax([r['clear_max'] for r in results]))}; "
+              f"pairs with K > 1e3 {sum(r['over1e3'] for r in results)}, each with its c_raw "
+              "in its row. The refinement's own share, K_eff / max(1, raw K) (the raw plan's "
+              "change is what it starts from): largest "
+              f"{_fmt(max(r['factor_max'] for r in results))}, 99.9th percentile "
+              f"{_fmt(float(np.quantile(sum((r['factors'] for r in results), []), 0.999)))}."]
     lines += ["", "Replanning (4 robots swapping in a 10 x 10 room, 6 obstacles drifting 0.02 "
               "per tick, radius 0.1, lift scene): "
               f"{rep['compared']} ticks compared, {rep['jumps']} jumps (a change per drift "
@@ -312,6 +352,27 @@ def main(argv=None):
                  + ", ".join(f"{sz:.1e} -> {ch:.3g}" for sz, ch in rep["persisting"]) + ")"
                  if rep["persisting"] else "none persists (every one is a steep but continuous "
                  "change)") + ".", ""]
+    return lines
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--seeds", default="1,2", help="the design draws (comma-separated)")
+    ap.add_argument("--held-out", default="5", help="draws not looked at while designing")
+    ap.add_argument("--count", type=int, default=None)
+    ap.add_argument("--rows", default=None, help="substring filter on the row names")
+    ap.add_argument("--out", default=str(HERE / "refine_continuity.md"))
+    args = ap.parse_args(argv)
+    count = args.count or (4 if args.quick else 30)
+    design = [int(x) for x in args.seeds.split(",") if x]
+    held = [int(x) for x in args.held_out.split(",") if x]
+    lines = ["# Continuity of the refined planner in floating point (issue 24)", "",
+             f"`python benchmarks/refine_continuity.py` ({_dt.date.today().isoformat()}): "
+             f"design draws {design} (the constants and the stated bound were chosen on them), "
+             f"held-out draws {held} (run once, after).", ""]
+    for seed in design + held:
+        lines += section(seed, seed in held, args, count)
     Path(args.out).write_text("\n".join(lines))
     print("\n".join(lines))
 

@@ -578,3 +578,21 @@ def test_directional_budget_is_the_exact_minimum(data, d, start):
     brute = min(1.0, (h[pos] / g[pos]).min()) if pos.any() else 1.0
     assert got <= brute * (1 + 1e-9)
     assert got >= brute * (1 - 1e-3) - 1e-12
+
+
+def test_the_raw_clearance_is_reported_beside_the_refined_one():
+    """Issue 24 item 2: a refined plan (single, batch, row of a batch) carries the clearance
+    of the plan it refined; an unrefined plan's is its own clearance."""
+    o, s, g = OMPL_OBSTACLES, np.array([[0.1, 0.5], [0.5, 0.2]]), np.array([[0.9, 0.5], [0.5, 0.8]])
+    raw = pmplan.plan(o, s, g, lift=0.1)
+    assert raw.raw_clearance == raw.clearance
+    ref = pmplan.refine(raw, radius=0.02)
+    assert ref.raw_clearance == raw.clearance and ref.clearance != raw.clearance
+    rng = np.random.default_rng(3)
+    ob, sb, gb = (rng.uniform(0, 1, (6, k, 2)) for k in (2, 3, 3))
+    rawb = pmplan.plan_batch(ob, sb, gb, lift=0.1)
+    assert np.array_equal(rawb.raw_clearance, rawb.clearance)
+    refb = pmplan.refine(rawb)
+    assert np.array_equal(refb.raw_clearance, rawb.clearance)
+    assert refb[2].raw_clearance == rawb.clearance[2]
+    assert np.array_equal(refb[1:4].raw_clearance, rawb.clearance[1:4])

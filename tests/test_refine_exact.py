@@ -382,10 +382,10 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
 @given(data=st.data(), dims=st.sampled_from([(2, 2, 2), (2, 4, 2), (3, 2, 3), (2, 3, 4)]),
        degenerate=st.booleans(), radius=st.sampled_from([0.0, 0.05, 0.3]))
 def test_no_pair_is_squeezed(backend, data, dims, degenerate, radius):
-    """Every pair of points keeps, along the refined path, at least ``HOLD min(T, D_raw)`` --
-    ``D_raw`` its smallest distance on the raw path -- up to the rounding of the way back from
-    the frame (4 ulps of the path's largest coordinate); random and exactly degenerate
-    queries."""
+    """Every pair of points keeps, along the refined path, at least ``min(T, D_raw) / 2`` and
+    at least ``min(T, D_raw / 8)`` -- ``D_raw`` its smallest distance on the raw path -- up to
+    the rounding of the way back from the frame (4 ulps of the path's largest coordinate);
+    random and exactly degenerate queries, radii up to and beyond the raw distances."""
     d, n, m = dims
     o, s, g = data.draw(queries(d, m, n, degenerate=degenerate))
     raw = pmplan.plan(o, s, g, lift="scene")
@@ -402,7 +402,8 @@ def test_no_pair_is_squeezed(backend, data, dims, degenerate, radius):
         got = min(exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
                   for j in range(len(wf) - 1))
         t = (2 * radius if pa >= m else radius) or grid.KAPPA * raw.clearance
-        need = grid.HOLD * min(float(t), float(draw) ** 0.5) - 4 * np.spacing(A)
+        dr = float(draw) ** 0.5
+        need = max(0.5 * min(float(t), dr), min(float(t), 0.125 * dr)) - 4 * np.spacing(A)
         assert got >= Fraction(max(need, 0.0)) ** 2
 
 
@@ -435,6 +436,67 @@ def test_the_squeezed_query_is_held(backend):
         t = 0.05 if pa >= 6 else 0.025
         # (the documented kappa = 1/2, not grid.HOLD: a planted HOLD = 0 must fail here)
         assert got >= Fraction(0.5 * min(t, float(draw) ** 0.5) * (1 - 1e-12)) ** 2
+
+
+#: a (2,16,4) query (radius = obstacle_radius = 0.025, lift 0.1) whose refinement with the
+#: first level alone (``HOLD min(T, D_raw)``) took a pair from 0.391 (7.8 T) down to 0.0465:
+#: below ``min(T, D_raw / 8) = 0.0489``, the issue's form of the floor (kappa = 1/8)
+FAR_PAIR = (
+    [[0.18837407619963986, 0.9368378556794887],
+     [0.9159206603513076, 0.4312561511205637],
+     [0.3503724065465571, 0.71708798667725],
+     [0.6991856356341636, 0.8340817379682708]],
+    [[0.08673356905195462, 0.6053572199466333],
+     [0.5313498871284855, 0.4943863372068762],
+     [0.4994705448166875, 0.305786956835676],
+     [0.9578000404729682, 0.5819570906576259],
+     [0.4806597482782311, 0.5901459279427433],
+     [0.7086652770157289, 0.5752931005984938],
+     [0.6178307378032594, 0.23538758603743637],
+     [0.0273933531600542, 0.9762536572388771],
+     [0.2398531721777285, 0.16161290491162772],
+     [0.7444241620945262, 0.9519694288093768],
+     [0.9817701858174024, 0.330251475214435],
+     [0.535223805237747, 0.419050836584158],
+     [0.3661790425407213, 0.5798210589617752],
+     [0.630587092335549, 0.941841963713769],
+     [0.39062400229936056, 0.08022595713567149],
+     [0.14115822648521237, 0.33467228487640044]],
+    [[0.6258820374107635, 0.2264702908864875],
+     [0.298245246272833, 0.9050108963810769],
+     [0.03402929232564078, 0.8491535568427189],
+     [0.05803091022660367, 0.976014725172321],
+     [0.5628186883428393, 0.5822245694694761],
+     [0.3420923298285333, 0.36358893203738496],
+     [0.8036731384789915, 0.8121557354434599],
+     [0.9366732447237714, 0.10574643015149121],
+     [0.5174804395409881, 0.8376998651834727],
+     [0.8660162502478426, 0.7365946117324782],
+     [0.7541664965099645, 0.016445845081233368],
+     [0.06793682530314049, 0.5694912153082736],
+     [0.26090772085633107, 0.03609874036865268],
+     [0.4136423421027038, 0.2206241663103954],
+     [0.1458120318909648, 0.6182135195719468],
+     [0.6133585335693584, 0.32616303388960055]])
+
+
+@pytest.mark.parametrize("backend", ["numba", "numpy"])
+def test_a_pair_kept_far_apart_stays_at_its_target(backend):
+    """Every pair keeps ``min(T, D_raw / 8)``, exactly (planted bug: KAPPA_FLOOR = 0, or the
+    level ``HOLD min(T, D_raw)`` alone, fails on this query)."""
+    o, s, g = (np.array(v) for v in FAR_PAIR)
+    raw = pmplan.plan(o, s, g, lift=0.1)
+    ref = pmplan.refine(raw, radius=0.025, obstacle_radius=0.025, backend=backend)
+    assert ref.raw_clearance == raw.clearance
+    a, b, _ = pairs(20, 4)
+    wr, wf = raw.path.waypoints, ref.path.waypoints
+    for pa, pb in zip(a, b):
+        draw = min(exact_segment_dist2(wr[j, pa], wr[j, pb], wr[j + 1, pa], wr[j + 1, pb])
+                   for j in range(len(wr) - 1))
+        got = min(exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
+                  for j in range(len(wf) - 1))
+        need = min(0.05, 0.125 * float(draw) ** 0.5) * (1 - 1e-12)
+        assert got >= Fraction(need) ** 2, (pa, pb)
 
 
 # --- continuity in floating point (item 1) ---------------------------------------------------

@@ -1,8 +1,8 @@
 """The refinement's grid and schedule (pmplan.refine.grid), shared by the reference and the
 kernel: the levels sum to the steps, subdividing keeps the raw breakpoints and the polyline,
 the mobility vanishes at the fixed times, the pairs are the certificate's, and the
-no-squeezing level is HOLD min(T (1 + MARGIN), D_raw) (exactly its definition, on integer
-paths)."""
+no-squeezing level is min(T', max(HOLD min(T', D_raw), KAPPA_FLOOR D_raw)) (exactly its
+definition, on integer paths)."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from pmplan.certify import point_pairs
 from pmplan.refine.grid import (
     HOLD,
+    KAPPA_FLOOR,
     MARGIN,
     chord_fraction,
     final_steps,
@@ -60,7 +61,11 @@ def test_mobility_and_chord_fractions():
 
 @settings(max_examples=40)
 @given(data=st.data(), robots=st.integers(1, 3), k=st.integers(2, 5), t=st.sampled_from([0.5, 1.0, 9.0]))
-def test_hold_levels_are_half_the_smaller_of_target_and_raw_distance(data, robots, k, t):
+def test_hold_levels_hold_both_documented_floors(data, robots, k, t):
+    """The level is ``min(T', max(min(T', D_raw) / 2, D_raw / 8))`` with the documented 1/2
+    and 1/8 written here as literals (a planted HOLD or KAPPA_FLOOR fails): at least half the
+    smaller of the target and the raw distance, at least ``min(T', D_raw / 8)`` (issue 24
+    item 2: a pair the raw path keeps 8 T apart never goes below T), never above ``T'``."""
     m, p = 2, 2 + robots
     wp = np.array(data.draw(st.lists(st.integers(-4, 4), min_size=k * p * 2,
                                      max_size=k * p * 2)), dtype=float).reshape(1, k, p, 2)
@@ -72,5 +77,7 @@ def test_hold_levels_are_half_the_smaller_of_target_and_raw_distance(data, robot
     tgt = np.full((1, a.size), t)
     got = hold_levels(wp, a, b, tgt)
     draw = piece_minima(wp, a, b).min(axis=1)
-    assert np.array_equal(got, HOLD * np.minimum(tgt * (1 + MARGIN), draw))
-    assert HOLD == 0.5  # the documented kappa of issue 24
+    tp = tgt * (1 + MARGIN)
+    assert np.array_equal(got, np.minimum(tp, np.maximum(0.5 * np.minimum(tp, draw), draw / 8)))
+    assert (got >= np.minimum(tp, draw / 8)).all() and (got >= 0.5 * np.minimum(tp, draw)).all()
+    assert (got <= tp).all() and HOLD == 0.5 and KAPPA_FLOOR == 0.125

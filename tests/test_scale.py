@@ -384,7 +384,7 @@ def test_invalid_query_mid_run_leaves_an_incomplete_store(tmp_path, capsys):
 # refined motions (pmplan.refine) chunk by chunk
 
 REFINED = ("robot_distance", "obstacle_distance", "respects_radius", "radius", "obstacle_radius",
-           "refined")
+           "refined", "raw_clearance")
 
 
 def assert_same_refined(batch, ref):

@@ -13,8 +13,8 @@ Batch npz (``pmplan batch``): arrays ``obstacles`` (B, m, d), ``start`` (B, n, d
 (B, n, d). Output npz: ``domain`` (B,), ``clearance`` (B,), ``times`` (K,) or (B, K),
 ``waypoints`` (B, K, m+n, d), ``strata`` (B, S) and ``stratum`` (B,) names, and the fields of
 refined motions (:data:`REFINE_FIELDS`, issue 14): ``refined``, ``radius``, ``obstacle_radius``
-(B,) always; for a refined batch also ``respects_radius`` (B,) and the exact minima
-``robot_distance``, ``obstacle_distance`` (B,) (an unrefined batch has radius 0, and its
+(B,) always; for a refined batch also ``respects_radius`` (B,), the exact minima
+``robot_distance``, ``obstacle_distance`` (B,) and the unrefined plans' ``raw_clearance`` (B,) (an unrefined batch has radius 0, and its
 minimum distance is ``clearance``: measuring the two minima apart would cost a pass over all
 pairs, so ``pmplan batch`` without ``--refine`` stays as fast as before).
 
@@ -55,7 +55,7 @@ _KEYS = {"obstacles", "start", "goal", "via", "lift", "planner"}
 #: the fields a Plan / PlanBatch reports about refinement and radii (:func:`pmplan.refine`),
 #: written by :func:`plan_to_dict` and :func:`write_plans`
 REFINE_FIELDS = ("refined", "radius", "obstacle_radius", "robot_distance", "obstacle_distance",
-                 "respects_radius")
+                 "respects_radius", "raw_clearance")
 
 
 #: the fix named when a query file holds something that is not a real number

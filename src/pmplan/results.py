@@ -46,6 +46,10 @@ class Plan:
     respects_radius : bool
         ``robot_distance >= 2 radius`` and ``obstacle_distance >= radius + obstacle_radius``,
         decided exactly (always True for radii 0).
+    raw_clearance : float
+        The clearance of the unrefined plan (``clearance`` itself when unrefined): a refined
+        plan's pair distances never drop below ``min(T, KAPPA_FLOOR D_raw)`` of the raw ones
+        (:data:`pmplan.refine.grid.KAPPA_FLOOR`, ``docs/refinement.md``).
     """
 
     domain: int
@@ -76,6 +80,12 @@ class Plan:
         rd, od, ok = radius_report(self.path.waypoints[None], self.m, self.radius,
                                    self.obstacle_radius)
         return float(rd[0]), float(od[0]), bool(ok[0])
+
+    @cached_property
+    def raw_clearance(self) -> float:
+        """The clearance of the unrefined plan (``clearance`` when this one is unrefined; NaN for
+        a refined plan read from a store written before it was recorded)."""
+        return float("nan") if self.refined else self.clearance
 
     @cached_property
     def robot_distance(self) -> float:
@@ -141,6 +151,7 @@ class PlanBatch:
     planner : str
     dims : tuple (d, n, m)
     radius, obstacle_radius, refined, robot_distance, obstacle_distance, respects_radius
+    raw_clearance
         As in :class:`Plan`, arrays of shape (B,).
     """
 
@@ -163,6 +174,8 @@ class PlanBatch:
                 self._extra[key] = np.zeros(b)
             elif key == "refined":
                 self._extra[key] = np.zeros(b, dtype=bool)
+            elif key == "raw_clearance":  # (NaN: a refined store written before it was kept)
+                self._extra[key] = np.where(self._record("refined"), np.nan, self.clearance)
             else:
                 from .refine import radius_report
 
@@ -175,6 +188,8 @@ class PlanBatch:
     obstacle_radius = _recorded("obstacle_radius",
                                 "The obstacles' radius asked of every plan (B,) (0 where unrefined).")
     refined = _recorded("refined", "Whether every plan is a refined motion (B,) bool.")
+    raw_clearance = _recorded("raw_clearance", "The clearance of every unrefined plan (B,) "
+                              "(``clearance`` where unrefined), beside the refined one.")
     robot_distance = _recorded("robot_distance", "Minimum robot-robot distance along every "
                                "path (B,) (``inf`` when n = 1).")
     obstacle_distance = _recorded("obstacle_distance",

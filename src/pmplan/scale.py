@@ -32,8 +32,8 @@ leaves none; a run stopped by the disk or the cluster says, in one line
 Refined motions (:func:`pmplan.refine`, ``refine=`` here, ``pmplan batch --refine``) go the same
 way: every chunk is planned and then refined, as :func:`pmplan.plan_batch` with
 ``refine=True`` does on the whole batch, so the refined plans are bit for bit the in-memory
-ones. A refined store also has ``robot_distance``, ``obstacle_distance`` (B,) float64 and
-``respects_radius`` (B,) bool (:data:`REFINED_OUTPUTS`), and the attribute ``refine`` (the
+ones. A refined store also has ``robot_distance``, ``obstacle_distance``, ``raw_clearance``
+(B,) float64 and ``respects_radius`` (B,) bool (:data:`REFINED_OUTPUTS`), and the attribute ``refine`` (the
 radii, waypoints and steps; ``null`` for raw plans).
 
 This module is a face (ARCHITECTURE.md): the core never imports it, and it needs the optional
@@ -85,7 +85,7 @@ DEFAULT_CHUNK = 65536
 #: the arrays of an output store, in the order they are written (``done`` last)
 OUTPUTS = ("domain", "strata", "clearance", "times", "waypoints")
 #: the arrays a store of refined motions has besides :data:`OUTPUTS` (written before ``done``)
-REFINED_OUTPUTS = ("robot_distance", "obstacle_distance", "respects_radius")
+REFINED_OUTPUTS = ("robot_distance", "obstacle_distance", "respects_radius", "raw_clearance")
 _RECHUNK = "x.rechunk({1: -1, 2: -1})"
 #: zstd's level in a compressed store: on plans it gives the ratio of Zarr's default (level 3),
 #: about 1.9-2, two to three times as fast (``benchmarks/store_breakdown.py``)
@@ -163,7 +163,7 @@ def _record(template: dict, per_query_times: bool, refined: bool) -> np.dtype:
         fields.append(("times", np.float64, template["times"].shape[1:]))
     if refined:
         fields += [("robot_distance", np.float64), ("obstacle_distance", np.float64),
-                   ("respects_radius", np.bool_)]
+                   ("respects_radius", np.bool_), ("raw_clearance", np.float64)]
     return np.dtype(fields)
 
 
@@ -546,6 +546,8 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
         a = getattr(batch, name)
         if name == "times" and a.ndim == 1:
             continue  # shared breakpoints, written once when the store was created
+        if name == "raw_clearance" and name not in group:
+            continue  # a refined store created before the raw clearance was kept
         group[name][lo:hi] = a
     group["inputs"][i] = fingerprint
     group["done"][i] = True
@@ -566,7 +568,7 @@ def _create_arrays(group, template: dict, b: int, chunk: int, nchunks: int, comp
     names = ["domain", "strata", "clearance", "waypoints"]
     if refined:
         template = {**template, "robot_distance": np.empty(0), "obstacle_distance": np.empty(0),
-                    "respects_radius": np.empty(0, dtype=bool)}
+                    "respects_radius": np.empty(0, dtype=bool), "raw_clearance": np.empty(0)}
         names += list(REFINED_OUTPUTS)
     for name in names:
         t = template[name]
@@ -1033,5 +1035,7 @@ def open_plans(path):
     extra = {}
     refine = attrs.get("refine")
     if refine is not None:
-        extra = _extra(refine, {k: da.from_zarr(group[k]) for k in REFINED_OUTPUTS})
+        # (a refined store created before the raw clearance was kept has none: NaN)
+        extra = _extra(refine, {k: da.from_zarr(group[k]) for k in REFINED_OUTPUTS
+                                if k in group})
     return PlanBatch(planner=attrs["planner"], dims=(d, n, m), _extra=extra, **arrays)

@@ -65,12 +65,17 @@ DECAY = 2.0
 FINAL = 0.125
 #: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
 MOBILITY = 4.0
-#: no self-squeezing: a pair never goes below ``HOLD min(T (1 + MARGIN), D_raw)``, D_raw its
-#: smallest distance on the raw path (the clearing's floor is at least that; the shortening
-#: never lowers a pair below min(D, T)). ``min(T, HOLD D_raw)`` instead (the floor at T for
-#: every pair the raw path keeps 2 T apart) cost 1.6x the kernel's time on refine_bench's
-#: (2,4,2) batch -- the caps bind far more often -- for no fewer jumps (docs/refinement.md)
+#: no self-squeezing (two levels, both held): a pair never goes below ``HOLD min(T (1 +
+#: MARGIN), D_raw)``, D_raw its smallest distance on the raw path, nor below ``min(T (1 +
+#: MARGIN), KAPPA_FLOOR D_raw)`` -- so a pair the raw path keeps at least ``T / KAPPA_FLOOR``
+#: apart never goes below its target (:func:`hold_levels`; the clearing's floor is at least
+#: that, the shortening never lowers a pair below min(D, T)). The kernel's time on a refined
+#: (2,4,2) query against KAPPA_FLOOR = 0 (alternating runs): 1/2 (the floor at T from 2 T on)
+#: about 1.5x, 1/4 1.3-1.5x -- the caps bind far more often and the directional budgets are
+#: computed -- 1/8 0.92-1.1x (docs/refinement.md)
 HOLD = 0.5
+#: see :data:`HOLD`
+KAPPA_FLOOR = 0.125
 
 
 # --- the map's gains, floors and slack (the reference and the kernel read them here) ----------
@@ -259,6 +264,10 @@ def piece_minima(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def hold_levels(x, a, b, tgt) -> np.ndarray:
-    """The no-squeezing level of every pair (B, pairs): ``HOLD min(T (1 + MARGIN), D_raw)``,
-    ``D_raw`` the pair's smallest distance on the raw path ``x`` (:data:`HOLD`)."""
-    return HOLD * np.minimum(tgt * (1.0 + MARGIN), piece_minima(x, a, b).min(axis=1))
+    """The no-squeezing level of every pair (B, pairs): ``min(T', max(HOLD min(T', D_raw),
+    KAPPA_FLOOR D_raw))``, ``T' = T (1 + MARGIN)``, ``D_raw`` the pair's smallest distance on
+    the raw path ``x`` (:data:`HOLD`, :data:`KAPPA_FLOOR`): at least ``HOLD min(T', D_raw)``
+    and at least ``min(T', KAPPA_FLOOR D_raw)``, continuous in ``D_raw``."""
+    keep = tgt * (1.0 + MARGIN)
+    d = piece_minima(x, a, b).min(axis=1)
+    return np.minimum(keep, np.maximum(HOLD * np.minimum(keep, d), KAPPA_FLOOR * d))

@@ -219,6 +219,7 @@ class RefineStage(Stage):
         self.radius, self.obstacle_radius = radius, obstacle_radius
         self.s, self.steps = waypoints_per_piece, steps
         self.backend = select(backend)
+        self.raw_clearance = np.asarray(clearance, dtype=float)
         self.target = targets(radius, obstacle_radius, clearance)
         k = self.raw_times.shape[-1]
         w = (k - 1) * self.s + 1
@@ -298,7 +299,8 @@ class RefineStage(Stage):
         b = self.size
         return {"radius": np.full(b, self.radius), "obstacle_radius": np.full(b, self.obstacle_radius),
                     "refined": np.ones(b, dtype=bool), "robot_distance": self.robot_distance,
-                    "obstacle_distance": self.obstacle_distance, "respects_radius": self.respects}
+                    "obstacle_distance": self.obstacle_distance, "respects_radius": self.respects,
+                    "raw_clearance": self.raw_clearance}
 
 
 def asks_refine(refine, radius, obstacle_radius, out=None) -> bool:
