@@ -22,7 +22,11 @@ from .planners.base import out_of_scope
 from .refine import asks_refine
 from .results import Plan, PlanBatch, PlannerInfo
 from .running import plan_arrays, refine_plans
-from .single import plan_one, plan_one_sequence
+from .single import plan_one, plan_one_in_box, plan_one_sequence
+
+#: dask arrays with ``bounds=`` (one source of the message)
+MSG_BOUNDS_DASK = ("`bounds=` is not supported for dask arrays yet: plan the batch in memory "
+                   "(pmplan.scale.compute the inputs first), or without `bounds`")
 
 __all__ = [
     "Plan",
@@ -45,7 +49,7 @@ def plan_batch(
     obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
     progress: bool = False, backend: str | None = None, workers: int = 1,
     out: PlanBatch | None = None, refine: bool = False, radius: float = 0.0,
-    obstacle_radius: float = 0.0,
+    obstacle_radius: float = 0.0, bounds=None,
 ) -> PlanBatch:
     """Plan a batch of B queries at once (vectorised :func:`plan`).
 
@@ -79,6 +83,13 @@ def plan_batch(
         are overwritten with this batch's answers and ``out`` itself is returned, so that
         planning batch after batch allocates nothing (as ``np.copyto`` writes into an existing
         array). If the call raises, the contents of ``out`` are unspecified.
+    bounds : (lo, hi), optional
+        A workspace box ``[lo, hi]`` (numbers, or length-d sequences): every point of every
+        query must lie strictly inside it, and every path stays in it -- a refined one in the
+        box shrunk by ``radius``, which ``respects_radius`` then includes. The planner is
+        conjugated by a homeomorphism of R^d onto the open box, the identity away from the
+        walls, so it keeps its number of domains and its continuity (:mod:`pmplan.workspace`).
+        Default: no box (R^d).
 
     Returns
     -------
@@ -116,11 +127,13 @@ def plan_batch(
     if is_dask(obstacles, start, goal):  # lazy plans of dask arrays (the optional extra)
         from . import scale
 
+        if bounds is not None:
+            raise InputError(MSG_BOUNDS_DASK)
         return scale.plan_batch(obstacles, start, goal, planner=planner, lift=lift,
                                 progress=progress, backend=backend, workers=workers, out=out,
                                 refine=_radii(refining, radius, obstacle_radius))
     batch = plan_arrays(obstacles, [start, goal], planner=planner, lift=lift, backend=backend,
-                        workers=workers, progress=progress, out=out)
+                        workers=workers, progress=progress, out=out, bounds=bounds)
     if refining:
         return refine_plans(batch, radius=radius, obstacle_radius=obstacle_radius,
                             progress=progress, workers=workers, backend=backend)
@@ -129,7 +142,7 @@ def plan_batch(
 
 def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
          backend: str | None = None, refine: bool = False, radius: float = 0.0,
-         obstacle_radius: float = 0.0) -> Plan:
+         obstacle_radius: float = 0.0, bounds=None) -> Plan:
     """Plan one query: a certified collision-free motion from ``start`` to ``goal``.
 
     Parameters
@@ -145,6 +158,12 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
         radius): see :func:`plan_batch`.
     backend : {"numba", "numpy"}, optional
         See :func:`plan_batch`.
+    refine : bool
+        Return the refined motion (:func:`refine`, with ``radius`` and ``obstacle_radius``).
+    radius, obstacle_radius : float
+        See :func:`refine`.
+    bounds : (lo, hi), optional
+        A workspace box the motion stays in: see :func:`plan_batch`.
 
     Returns
     -------
@@ -166,7 +185,11 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     >>> p.path(0.0)[2], p.path(1.0)[2]
     (array([0., 1.]), array([ 1., -1.]))
     """
-    if asks_refine(refine, radius, obstacle_radius):
+    refining = asks_refine(refine, radius, obstacle_radius)
+    if bounds is not None:
+        return plan_one_in_box(obstacles, [start, goal], bounds, planner, lift, backend,
+                               radii=(radius, obstacle_radius) if refining else None)
+    if refining:
         raw = plan(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             backend=backend)
@@ -199,23 +222,27 @@ def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
 def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
                         backend: str | None = None, progress: bool = False,
                         workers: int = 1, out: PlanBatch | None = None, refine: bool = False,
-                        radius: float = 0.0, obstacle_radius: float = 0.0) -> PlanBatch:
+                        radius: float = 0.0, obstacle_radius: float = 0.0,
+                        bounds=None) -> PlanBatch:
     """Plan batches of motions through r >= 2 configurations (Mathematics §4.3).
 
     ``obstacles`` (B, m, d); ``configs`` a list of r arrays (B, n, d). The path passes through
     configuration k at tau = (k-1)/(r-1); labels sum_k cp(C_k) - (r-1) cp_o + 2 (- 1 when
-    e == N in odd d). ``lift``, ``backend``, ``progress``, ``workers``, ``out``: see
-    :func:`plan_batch`.
+    e == N in odd d). ``lift``, ``backend``, ``progress``, ``workers``, ``out``, ``bounds``:
+    see :func:`plan_batch`.
     """
     refining = asks_refine(refine, radius, obstacle_radius, out)
     if isinstance(configs, (list, tuple)) and is_dask(obstacles, *configs):
         from . import scale
 
+        if bounds is not None:
+            raise InputError(MSG_BOUNDS_DASK)
         return scale.plan_sequence_batch(obstacles, configs, lift=lift, progress=progress,
                                          backend=backend, workers=workers, out=out,
                                          refine=_radii(refining, radius, obstacle_radius))
     batch = plan_arrays(obstacles, as_config_list(configs), lift=lift, backend=backend,
-                        workers=workers, progress=progress, out=out, sequential=True)
+                        workers=workers, progress=progress, out=out, sequential=True,
+                        bounds=bounds)
     if refining:
         return refine_plans(batch, radius=radius, obstacle_radius=obstacle_radius,
                             progress=progress, workers=workers, backend=backend)
@@ -224,7 +251,7 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
 
 def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
                   backend: str | None = None, refine: bool = False, radius: float = 0.0,
-                  obstacle_radius: float = 0.0) -> Plan:
+                  obstacle_radius: float = 0.0, bounds=None) -> Plan:
     """Plan one motion through r >= 2 robot configurations with the same obstacles (Mathematics §4.3).
 
     Parameters
@@ -245,7 +272,11 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
     >>> p.path(0.5)[2]
     array([ 1., -1.])
     """
-    if asks_refine(refine, radius, obstacle_radius):
+    refining = asks_refine(refine, radius, obstacle_radius)
+    if bounds is not None:
+        return plan_one_in_box(obstacles, configs, bounds, None, lift, backend, sequential=True,
+                               radii=(radius, obstacle_radius) if refining else None)
+    if refining:
         raw = plan_sequence(obstacles, configs, lift=lift, backend=backend)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             backend=backend)
@@ -270,7 +301,8 @@ def plan_query(query: dict, planner: str | None = None) -> Plan:
     """Plan a query given as a dict (the form :func:`pmplan.io.read_query` returns).
 
     Keys ``obstacles``, ``start``, ``goal`` and optional ``via`` (intermediate configurations:
-    then :func:`plan_sequence`), ``lift`` and ``planner`` (overridden by ``planner``).
+    then :func:`plan_sequence`), ``lift``, ``bounds`` (the workspace box) and ``planner``
+    (overridden by ``planner``).
 
     Examples
     --------
@@ -279,12 +311,13 @@ def plan_query(query: dict, planner: str | None = None) -> Plan:
     'T_{2,3,3}'
     """
     planner = planner or query.get("planner")
-    lift = query.get("lift", 1.0)
+    lift, bounds = query.get("lift", 1.0), query.get("bounds")
     if "via" in query:
         check_sequential(planner)
         configs = [query["start"], *query["via"], query["goal"]]
-        return plan_sequence(query["obstacles"], configs, lift=lift)
-    return plan(query["obstacles"], query["start"], query["goal"], planner=planner, lift=lift)
+        return plan_sequence(query["obstacles"], configs, lift=lift, bounds=bounds)
+    return plan(query["obstacles"], query["start"], query["goal"], planner=planner, lift=lift,
+                bounds=bounds)
 
 
 def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_radius: float = 0.0,

@@ -197,6 +197,10 @@ def _parser_plan(sub, names: list[str], planner_help: str) -> None:
                    f"(2 <= K <= {MAX_SAMPLES:,})")
     p.add_argument("--planner", default=None, choices=names, help=planner_help)
     p.add_argument("--lift", type=_lift, default=None, metavar="LIFT", help=LIFT_HELP)
+    p.add_argument("--bounds", type=_bound, nargs=2, default=None, metavar=("LO", "HI"),
+                   help="the workspace box: every path stays in [LO, HI] (each a number, or "
+                   "comma-separated coordinates: --bounds 0,0 10,5); the same as \"bounds\" "
+                   "in the query")
     p.add_argument("--indent", type=_int_in(0, 16), default=None, metavar="N",
                    help="indent the JSON output by N spaces (default: one line)")
     _add_refine_options(p)
@@ -352,6 +356,33 @@ def _read_query_arg(path: str) -> dict:
     return read_query(path)
 
 
+def _same(a, b) -> bool:
+    """Whether a file's option and the command line's agree (numbers, words or arrays)."""
+    try:
+        return bool(np.array_equal(np.asarray(a, dtype=float), np.asarray(b, dtype=float)))
+    except (TypeError, ValueError):
+        return a == b
+
+
+def _shown(value, quote: bool) -> str:
+    """An option's value as the message shows it (a box as nested lists; a file's word
+    quoted)."""
+    if isinstance(value, (list, tuple)):
+        return repr(np.asarray(value, dtype=float).tolist())
+    return repr(value) if quote else str(value)
+
+
+def _bound(text: str):
+    """An argparse ``type`` for ``--bounds``: a number or comma-separated numbers (the API
+    checks the box)."""
+    try:
+        parts = [float(x) for x in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number or comma-separated numbers, got "
+                                         f"{text!r}") from None
+    return parts[0] if len(parts) == 1 else parts
+
+
 def _source(path: str) -> str:
     return "standard input" if path == "-" else path
 
@@ -365,13 +396,14 @@ def _with_options(q: dict, args, source: str) -> dict:
     from .errors import InputError
 
     q = dict(q)
-    for key in ("planner", "lift"):
+    for key in ("planner", "lift", "bounds"):
         value = getattr(args, key, None)
         if value is None:
             continue
-        if key in q and q[key] != value:
+        if key in q and not _same(q[key], value):
             raise InputError(
-                f"--{key} {value} contradicts \"{key}\": {q[key]!r} in {source}; "
+                f"--{key} {_shown(value, False)} contradicts \"{key}\": {_shown(q[key], True)} "
+                f"in {source}; "
                 f"give only one of them, or the same value"
             )
         q[key] = value

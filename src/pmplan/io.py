@@ -7,6 +7,7 @@ Query JSON (one query)::
      "goal":      [[x, y], ...],      # (n, d)
      "via":       [[[x, y], ...], ...],   # optional: intermediate configurations (Mathematics §4.3)
      "lift":      1.0,                # optional: a positive number, or "scene"
+     "bounds":    [[0, 0], [10, 10]], # optional: the workspace box [lo, hi] (pmplan.workspace)
      "planner":   "obstacle_line"}    # optional
 
 Batch npz (``pmplan batch``): arrays ``obstacles`` (B, m, d), ``start`` (B, n, d), ``goal``
@@ -51,7 +52,7 @@ MAX_POINTS = 10_000
 MAX_SAMPLES = 100_000
 #: largest number of coordinates K * (m + n) * d in the samples of one path
 MAX_OUTPUT_NUMBERS = 10_000_000
-_KEYS = {"obstacles", "start", "goal", "via", "lift", "planner"}
+_KEYS = {"obstacles", "start", "goal", "via", "lift", "planner", "bounds"}
 #: the fields a Plan / PlanBatch reports about refinement and radii (:func:`pmplan.refine`),
 #: written by :func:`plan_to_dict` and :func:`write_plans`
 REFINE_FIELDS = ("refined", "radius", "obstacle_radius", "robot_distance", "obstacle_distance",
@@ -122,6 +123,12 @@ def parse_query(obj) -> dict:
             if isinstance(obj["via"], list) else _numeric(obj["via"], "via", 3)
     if "lift" in obj:
         out["lift"] = as_lift(obj["lift"])  # a positive number, or "scene"
+    if "bounds" in obj:  # (checked against d by the planning function: pmplan.workspace)
+        b = obj["bounds"]
+        if not isinstance(b, list) or len(b) != 2:
+            raise InputError(f"`bounds` must be a list [lo, hi] (numbers or coordinate lists), "
+                             f"got {b!r}")
+        out["bounds"] = [_numeric(v, f"bounds[{k}]", np.ndim(v)) for k, v in enumerate(b)]
     if "planner" in obj:
         if not isinstance(obj["planner"], str):
             raise InputError(f"`planner` must be a string, got {obj['planner']!r}")
@@ -193,6 +200,8 @@ def plan_to_dict(plan, samples: int | None = None) -> dict:
         "stratum": plan.stratum,
         "clearance": plan.clearance,
     }
+    if plan.bounds is not None:
+        out["bounds"] = np.asarray(plan.bounds).tolist()
     for key in REFINE_FIELDS:
         value = getattr(plan, key)
         if isinstance(value, (bool, np.bool_)):

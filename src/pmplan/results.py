@@ -50,7 +50,13 @@ class Plan:
         The clearance of the unrefined plan (``clearance`` itself when unrefined): a refined
         plan's pair distances never drop below ``min(T, KAPPA_FLOOR D_raw)`` of the raw ones
         (:data:`pmplan.refine.grid.KAPPA_FLOOR`, ``docs/refinement.md``).
+    bounds : ndarray, shape (2, d), or None
+        The workspace box ``[lo, hi]`` the motion stays in (``bounds=`` of the planning
+        functions, :mod:`pmplan.workspace`); None without one.
     """
+
+    #: (not a dataclass field: set only when planned in a workspace box)
+    bounds = None
 
     domain: int
     stratum: str
@@ -188,6 +194,11 @@ class PlanBatch:
     obstacle_radius = _recorded("obstacle_radius",
                                 "The obstacles' radius asked of every plan (B,) (0 where unrefined).")
     refined = _recorded("refined", "Whether every plan is a refined motion (B,) bool.")
+    @property
+    def bounds(self) -> np.ndarray | None:
+        """The workspace box of every plan (B, 2, d) (``bounds=``), or None without one."""
+        return self._extra.get("bounds")
+
     raw_clearance = _recorded("raw_clearance", "The clearance of every unrefined plan (B,) "
                               "(``clearance`` where unrefined), beside the refined one.")
     robot_distance = _recorded("robot_distance", "Minimum robot-robot distance along every "
@@ -249,7 +260,8 @@ class PlanBatch:
             path=path,
             planner=self.planner,
             dims=self.dims,
-            **{k: v[i].item() for k, v in self._extra.items()},
+            **{k: v[i].item() if np.ndim(v) == 1 else np.array(v[i])
+               for k, v in self._extra.items()},
         )
 
     def __iter__(self):

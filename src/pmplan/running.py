@@ -40,7 +40,12 @@ from .refine import (
     check_radii,
 )
 from .results import Plan, PlanBatch
+from .workspace import (check_bounds, check_inside, check_walls, from_box, inside, into_box,
+                        restore)
 
+#: ``out=`` with ``bounds=`` (one source of the message)
+MSG_BOUNDS_OUT = ("`out=` cannot be combined with `bounds=` (a path in a workspace is mapped "
+                  "into it after planning): plan without `out`")
 #: the most queries planned per chunk inside plan_batch: bounds the temporaries (memory) of a
 #: batch (see :func:`chunk_size`)
 CHUNK = 8192
@@ -444,7 +449,8 @@ def single_plan(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan
 
 def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.0,
                 backend: str | None = None, workers: int = 1, progress: bool = False,
-                out: PlanBatch | None = None, sequential: bool = False) -> PlanBatch:
+                out: PlanBatch | None = None, sequential: bool = False,
+                bounds=None, batched: bool = True) -> PlanBatch:
     """The one entry below the facade: plan a batch of queries through the configurations
     ``configs`` (r >= 2 arrays (B, n, d): start, intermediate ones, goal) among ``obstacles``
     (B, m, d): the arguments checked, the input validated, the planner chosen, the run loop.
@@ -452,7 +458,9 @@ def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.
     :func:`pmplan.plan_batch` (r = 2), :func:`pmplan.plan_sequence_batch` and every chunk of
     :mod:`pmplan.scale` call it; the keywords are theirs. ``sequential`` (implied by r > 2):
     a query through configurations (the planner must plan through intermediate ones; the
-    default is the sequential planner of (d, n, m)).
+    default is the sequential planner of (d, n, m)). ``bounds``: the workspace box
+    (:mod:`pmplan.workspace`): the queries are planned through its map and every path stays in
+    it; ``batched=False``: one query (the messages name no query index).
     """
     lift = check_lift(lift)
     workers = check_workers(workers)
@@ -482,11 +490,45 @@ def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.
                            default_planner(d, n, m, sequential=True))
         check_backend(backend)
         deferred = False
+    if bounds is not None:
+        return _plan_in_box(p, obstacles, configs, lift, bounds, backend, workers, progress, out,
+                            batched)
     into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], len(configs),
                           (obstacles, *configs))
     res = run_loop(p, obstacles, configs, lift, batched=True, progress=progress, backend=backend,
                workers=workers, validate=deferred, into=into)
     return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
+
+
+def _plan_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers, progress,
+                 out, batched: bool) -> PlanBatch:
+    """:func:`plan_arrays` in a workspace box (:mod:`pmplan.workspace`): the queries (checked,
+    every point strictly inside) mapped out of the box, planned, the paths mapped back in with
+    the obstacles and configurations restored bit for bit, then certified again (every clause,
+    and every waypoint inside the box)."""
+    if out is not None:
+        raise InputError(MSG_BOUNDS_OUT)
+    b, m, d = obstacles.shape
+    box = check_bounds(bounds, d)
+    if len(configs) == 2 and batched:  # (one query and sequences: checked by the caller)
+        check_query(obstacles, configs[0], configs[1], batched=True)
+    check_inside(obstacles, configs, box, batched=batched)
+    res = run_loop(p, from_box(obstacles, box), [from_box(c, box) for c in configs], lift,
+                   batched=batched, progress=progress, backend=backend, workers=workers)
+    wp = into_box(res["waypoints"], box)
+    fixed = p.fixed_waypoints(np.asarray(res["times"]))
+    restore(wp, m, fixed, configs, obstacles)
+    full = [np.concatenate([obstacles, c], axis=1) for c in configs]
+    r = len(configs)
+    clearance, codes = backends.select(backend).certify(
+        wp, full[0], full[-1], m, times=res["times"],
+        via=[(k / (r - 1), full[k]) for k in range(1, r - 1)])
+    bad = ~(clearance > 0) | (np.asarray(codes) != 0) | ~inside(wp, box)
+    if bad.any():
+        _raise_certificate(bad, batched, np.asarray(codes))
+    res = {**res, "waypoints": wp, "clearance": clearance}
+    return PlanBatch(planner=p.name, dims=(d, configs[0].shape[1], m), **res,
+                     _extra={"bounds": np.broadcast_to(box, (b, 2, d))})
 
 
 def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float = 0.0,
@@ -524,15 +566,21 @@ def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float =
     p = REGISTRY[batch.planner]
     m = batch.dims[2]
     fixed = p.fixed_waypoints(np.asarray(times))  # start, intermediate configurations, goal
-    stage = RefineStage(times, wp, clearance, m, fixed, radius, obstacle_radius, s, steps, backend)
+    box = batch.bounds if single or batch.bounds is None else batch.bounds[0]
+    stage = RefineStage(times, wp, clearance, m, fixed, radius, obstacle_radius, s, steps, backend,
+                        box=box)
     check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in fixed], radius, obstacle_radius,
                 batched=not single, backend=stage.backend)
+    if box is not None:
+        check_walls([wp[:, kj, m:] for kj in fixed], box, radius, batched=not single)
     run_stage(stage, progress=progress, workers=workers)
     extra = stage.extra()
     if single:
         path = PiecewiseLinearPath(stage.times, stage.waypoints[0])
         return Plan(batch.domain, batch.stratum, float(stage.clearance[0]), path.compact(),
-                    batch.planner, batch.dims, **{k: v[0].item() for k, v in extra.items()})
+                    batch.planner, batch.dims,
+                    **{k: v[0].item() if np.ndim(v) == 1 else np.array(v[0])
+                       for k, v in extra.items()})
     return PlanBatch(domain=batch.domain.copy(), strata=batch.strata.copy(),
                      clearance=stage.clearance, times=stage.times, waypoints=stage.waypoints,
                      planner=batch.planner, dims=batch.dims, _names=batch._names, _extra=extra)

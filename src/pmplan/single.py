@@ -22,9 +22,9 @@ from .errors import InputError
 from .path import unchecked_path
 from .planners.base import REGISTRY, SCENE_CODE, Planner, default_planner
 from .results import Plan
-from .running import run_loop, single_plan
+from .running import plan_arrays, refine_plans, run_loop, single_plan
 
-__all__ = ["plan_one", "plan_one_sequence"]
+__all__ = ["plan_one", "plan_one_in_box", "plan_one_sequence"]
 
 
 def plan_one(obstacles, start, goal, planner: str | None = None, lift=1.0,
@@ -42,6 +42,25 @@ def plan_one(obstacles, start, goal, planner: str | None = None, lift=1.0,
     check_backend(backend)
     out = run_loop(p, obstacles, [start, goal], lift, batched=False, backend=backend)
     return single_plan(p, (d, n, m), out)
+
+
+def plan_one_in_box(obstacles, configs: list, bounds, planner: str | None = None, lift=1.0,
+                    backend: str | None = None, sequential: bool = False,
+                    radii: tuple[float, float] | None = None) -> Plan:
+    """:func:`pmplan.plan` or :func:`pmplan.plan_sequence` in a workspace box (``bounds``,
+    :mod:`pmplan.workspace`): a batch of one (the box's map runs on the batch), refined when
+    ``radii`` = (radius, obstacle_radius) are given."""
+    if sequential:
+        obstacles, configs = check_sequence(obstacles, configs, batched=False)
+    else:
+        obstacles, start, goal = check_query(obstacles, configs[0], configs[1], batched=False)
+        configs = [start, goal]
+    batch = plan_arrays(obstacles, configs, planner=planner, lift=lift, backend=backend,
+                        sequential=sequential, bounds=bounds, batched=False)
+    if radii is not None:
+        return refine_plans(batch[0], radius=radii[0], obstacle_radius=radii[1],
+                            backend=backend)
+    return batch[0]
 
 
 def plan_one_sequence(obstacles, configs, lift=1.0, backend: str | None = None) -> Plan:

@@ -26,6 +26,7 @@ __all__ = [
     "GAMMA",
     "GROWTH",
     "HOLD",
+    "KAPPA_FLOOR",
     "KAPPA",
     "LAMBDA",
     "MARGIN",

@@ -24,6 +24,7 @@ from ..certify import (
 )
 from ..errors import CertificationError, CollisionError, InputError
 from ..planners.base import Stage
+from ..workspace import SQUEEZE, inside, into_box, restore, shrunk
 from .frame import from_frame, to_frame
 from .grid import (
     DEFAULT_STEPS,
@@ -210,7 +211,9 @@ class RefineStage(Stage):
     label = "refining"
 
     def __init__(self, times, waypoints, clearance, m: int, fixed, radius: float,
-                 obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None):
+                 obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None,
+                 box=None):
+        self.box = box  # the workspace (2, d), or None (pmplan.workspace)
         self.raw_times = np.asarray(times, dtype=float)
         self.raw = waypoints
         self.size = waypoints.shape[0]
@@ -250,6 +253,10 @@ class RefineStage(Stage):
         out[:, ::self.s][same] = raw[same]
         for kj in self.fixed:
             out[:, kj * self.s] = raw[:, kj]
+        if self.box is not None:  # into the box shrunk by the radius (pmplan.workspace)
+            out[...] = into_box(out, shrunk(self.box, self.radius), SQUEEZE)
+            restore(out, self.m, [kj * self.s for kj in self.fixed],
+                    [raw[:, kj, self.m:] for kj in self.fixed], raw[:, 0, :self.m])
         self._certify(lo, hi, raw, out, np.zeros(hi - lo, dtype=bool))
         return self.clause[lo:hi] == 0
 
@@ -284,6 +291,9 @@ class RefineStage(Stage):
                 rd[redo], od[redo], ok[redo] = radius_report(sub, m, self.radius,
                                                              self.obstacle_radius)
         clause[(clause == 0) & ~(clr > 0)] = CLEARANCE
+        if self.box is not None:  # the walls are part of the radii: exact comparisons
+            ok &= inside(out, self.box, self.radius)
+            clause[(clause == 0) & ~inside(out, self.box)] = CLEARANCE
         self.clause[lo:hi] = clause
 
     def fail(self, bad: np.ndarray) -> None:
@@ -300,7 +310,9 @@ class RefineStage(Stage):
         return {"radius": np.full(b, self.radius), "obstacle_radius": np.full(b, self.obstacle_radius),
                     "refined": np.ones(b, dtype=bool), "robot_distance": self.robot_distance,
                     "obstacle_distance": self.obstacle_distance, "respects_radius": self.respects,
-                    "raw_clearance": self.raw_clearance}
+                    "raw_clearance": self.raw_clearance,
+                    **({} if self.box is None else
+                       {"bounds": np.broadcast_to(self.box, (b,) + self.box.shape)})}
 
 
 def asks_refine(refine, radius, obstacle_radius, out=None) -> bool:

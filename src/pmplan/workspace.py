@@ -1,0 +1,184 @@
+"""A workspace: motions that stay inside an axis-aligned box ``[lo, hi]`` (issue 25, item 1).
+
+A planner ``s`` for the whole space R^d becomes a planner for the open box ``B`` by
+conjugation with a homeomorphism ``phi : R^d -> B``: ``s_B(q) = phi o s(phi^-1(q))``, the
+query mapped out of the box, planned, and the motion mapped back into it, point by point and at
+every time. ``phi`` is a homeomorphism, so ``s_B`` is continuous exactly where ``s`` is (on the
+images ``phi(W_l)`` of its domains: the same number of domains, so an optimal planner stays
+optimal; the labels are the unmapped query's), it keeps the endpoints and the obstacles fixed,
+and two points never meet in ``B`` since they never meet in R^d (Mathematics §8).
+
+``phi`` acts coordinate by coordinate, ``phi(x)_k = psi_k(x_k)``, with ``psi`` the identity on
+the inner interval ``[lo + mu, hi - mu]`` (``mu = BAND (hi - lo)``), so a motion that stays
+there is not changed at all, and an algebraic tail outside, ``psi(x) = hi - mu^2 / (x - b +
+mu)`` above ``b = hi - mu`` (C^1: value and slope match at ``b``; the mirror image below): far
+excursions of the raw construction are brought in without crushing them together (an
+exponential tail rounded distinct far points to the same corner of the box and failed 44 of
+192 certificates of the scene benchmark; this one none). A path is a polyline: the mapped path
+is the polyline through the mapped waypoints, which stays in the box (a box is convex) and is
+certified like every plan (collision-free, exactly); the obstacles and the configurations it
+passes through are restored bit for bit.
+
+A refined motion (:func:`pmplan.refine`) must keep a robot of ``radius`` inside the box:
+after the refinement, a second map of the same form into the box shrunk by ``radius``, with
+the narrow band ``SQUEEZE (hi - lo)``, brings back the few points the clearing pushed out (the
+identity wherever the refined path already keeps that distance from the walls), and
+``respects_radius`` includes the walls, decided exactly.
+
+Everything here commutes with translations and scalings of the query and the box together.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import InputError
+
+__all__ = [
+    "BAND",
+    "SQUEEZE",
+    "check_bounds",
+    "check_inside",
+    "check_walls",
+    "from_box",
+    "inside",
+    "into_box",
+    "restore",
+    "shrunk",
+]
+
+#: the width of the band along each wall where the map into the box is not the identity, as a
+#: fraction of the box's side (measured on benchmarks/scenes_compare.py's rooms: 1/10 and
+#: 1/4 gave the same valid shares within one query of 16 per row; 1/8 between)
+BAND = 0.125
+#: the band of the map that brings a refined path into the box shrunk by ``radius``, as a
+#: fraction of the side
+SQUEEZE = 1.0 / 64.0
+
+_MSG_BOUNDS = ("`bounds` must be a pair (lo, hi) of numbers or of length-{d} sequences with "
+               "lo < hi in every coordinate (the workspace box), got {value!r}")
+_MSG_OUTSIDE = ("{what} {point} is at {coord} = {value:.17g}, outside the workspace box "
+                "[{lo:.17g}, {hi:.17g}] in that coordinate{where}: move it inside, or "
+                "enlarge `bounds`")
+_MSG_WALL = ("{what} {point} is {dist:.6g} from the wall {coord} = {wall:.17g}{where}, closer "
+             "than radius = {radius:.6g}: move it away from the wall or use a smaller radius")
+
+
+def check_bounds(bounds, d: int) -> np.ndarray:
+    """``bounds`` as a float array (2, d) ``[lo, hi]``: a pair of numbers (the same for every
+    coordinate) or of length-d sequences, finite, ``lo < hi``; else an InputError.
+
+    >>> check_bounds((0, 10), 2).tolist()
+    [[0.0, 0.0], [10.0, 10.0]]
+    """
+    try:
+        if isinstance(bounds, (str, bytes)) or len(bounds) != 2:
+            raise TypeError
+        parts = []
+        for part in bounds:
+            if isinstance(part, (bool, np.bool_)):
+                raise TypeError
+            a = np.asarray(part)
+            if a.dtype.kind not in "iuf" or a.ndim > 1 or (a.ndim == 1 and a.shape[0] != d):
+                raise TypeError
+            parts.append(np.broadcast_to(a.astype(float), (d,)))
+        box = np.array(parts)
+    except (TypeError, ValueError):
+        raise InputError(_MSG_BOUNDS.format(d=d, value=bounds)) from None
+    if not np.isfinite(box).all() or not (box[0] < box[1]).all():
+        raise InputError(_MSG_BOUNDS.format(d=d, value=bounds))
+    return box
+
+
+def _label(m: int, index: int) -> str:
+    return f"obstacle o{index + 1}" if index < m else f"robot x{index - m + 1}"
+
+
+def check_inside(obstacles: np.ndarray, configs: list, box: np.ndarray, batched: bool) -> None:
+    """Raise an InputError naming the first point of the query (obstacle, or robot of a start,
+    goal or intermediate configuration) that is not strictly inside ``box`` (2, d)."""
+    lo, hi = box
+    names = ["start", *[f"configuration {k}" for k in range(2, len(configs))], "goal"]
+    m = obstacles.shape[1]
+    for name, pts in (("", obstacles), *zip(names, configs)):
+        bad = ~((pts > lo) & (pts < hi))  # (B, P, d)
+        if bad.any():
+            q, i, k = (int(v[0]) for v in np.nonzero(bad))
+            what = _label(m, i) if not name else f"in the {name}, robot"
+            point = "" if not name else f"x{i + 1}"
+            where = f" in query {q}" if batched else ""
+            raise InputError(_MSG_OUTSIDE.format(
+                what=what.strip(), point=point, coord=f"x[{k}]", value=float(pts[q, i, k]),
+                lo=float(lo[k]), hi=float(hi[k]), where=where).replace("  ", " "))
+
+
+def check_walls(configs: list, box: np.ndarray, radius: float, batched: bool) -> None:
+    """Raise an InputError naming the first robot of a configuration the path passes through
+    that is closer than ``radius`` to a wall of ``box``."""
+    if radius == 0:
+        return
+    lo, hi = box
+    names = ["start", *[f"configuration {k}" for k in range(2, len(configs))], "goal"]
+    for name, pts in zip(names, configs):
+        dist = np.minimum(pts - lo, hi - pts)
+        bad = dist < radius
+        if bad.any():
+            q, i, k = (int(v[0]) for v in np.nonzero(bad))
+            wall = lo[k] if pts[q, i, k] - lo[k] <= hi[k] - pts[q, i, k] else hi[k]
+            raise InputError(_MSG_WALL.format(
+                what=f"in the {name}, robot", point=f"x{i + 1}", dist=float(dist[q, i, k]),
+                coord=f"x[{k}]", wall=float(wall), where=f" in query {q}" if batched else "",
+                radius=radius))
+
+
+def _bands(box: np.ndarray, frac: float):
+    lo, hi = box
+    mu = frac * (hi - lo)
+    return lo, hi, mu, lo + mu, hi - mu
+
+
+def from_box(x: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
+    """``phi^-1``: points of the open box (..., d) to R^d (the identity on the inner box)."""
+    lo, hi, mu, a, b = _bands(box, frac)
+    x = np.asarray(x, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        up = b - mu + mu * mu / (hi - x)
+        dn = a + mu - mu * mu / (x - lo)
+    return np.where(x > b, up, np.where(x < a, dn, x))
+
+
+def into_box(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
+    """``phi``: points of R^d (..., d) into the closed box (the open one up to rounding; the
+    identity on the inner box ``[lo + mu, hi - mu]``, ``mu = frac (hi - lo)``)."""
+    lo, hi, mu, a, b = _bands(box, frac)
+    z = np.asarray(z, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        up = hi - mu * mu / (z - b + mu)
+        dn = lo + mu * mu / (a - z + mu)
+    out = np.where(z > b, up, np.where(z < a, dn, z))
+    return np.clip(out, lo, hi)  # (rounding only: the tails are within [lo, hi])
+
+
+def restore(waypoints: np.ndarray, m: int, fixed, originals: list, obstacles: np.ndarray) -> None:
+    """Put the obstacles (every waypoint) and the configurations the path passes through (at
+    the waypoints ``fixed``) back bit for bit, in place: the maps round them."""
+    waypoints[:, :, :m] = obstacles[:, None]
+    for kj, conf in zip(fixed, originals):
+        waypoints[:, kj, m:] = conf
+
+
+def inside(waypoints: np.ndarray, box: np.ndarray, margin: float = 0.0) -> np.ndarray:
+    """Whether every waypoint of every path (B, K, P, d) lies in the closed box shrunk by
+    ``margin`` (B,) -- exactly (comparisons of floats); a polyline whose waypoints are in a
+    box stays in it."""
+    lo, hi = box
+    b = waypoints.shape[0]
+    ok = (waypoints >= lo + margin) & (waypoints <= hi - margin)
+    return ok.reshape(b, -1).all(axis=1)
+
+
+def shrunk(box: np.ndarray, radius: float) -> np.ndarray:
+    """The box shrunk by ``radius`` on every side (2, d); the caller has checked that it is not
+    empty (:func:`check_walls` on the start)."""
+    return np.array([box[0] + radius, box[1] - radius])
+

@@ -1,0 +1,214 @@
+"""The workspace box (pmplan.workspace, issue 25 item 1): the map into the box and out of it,
+plans that stay inside it with their endpoints, vias and obstacles exact, certified and
+continuous, refined plans inside the box shrunk by the radius with the walls in
+``respects_radius``, and the errors for a bad box or a point outside it."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import pmplan
+from pmplan import workspace as W
+from pmplan.certify import radius_report
+from pmplan.io import parse_query
+
+BOX = np.array([[0.0, 0.0], [10.0, 10.0]])
+
+
+# --- the map ----------------------------------------------------------------------------------
+
+def test_check_bounds_forms_and_refusals():
+    assert W.check_bounds((0, 10), 2).tolist() == BOX.tolist()
+    assert W.check_bounds(([0, -1, 2], [1, 1, 3]), 3).tolist() == [[0, -1, 2], [1, 1, 3]]
+    for bad in [(10, 0), (0, 0), (0, np.inf), (0, np.nan), "ab", (0,), (0, 1, 2), (True, 2),
+                (0, [1, 2, 3]), ([0, 0], [[1, 1]]), ("0", 1), None]:
+        with pytest.raises(pmplan.InputError, match="`bounds` must be a pair"):
+            W.check_bounds(bad, 2)
+
+
+@settings(max_examples=200, deadline=None)
+@given(x=st.floats(-1e6, 1e6), lo=st.floats(-100, 100), width=st.floats(1e-3, 1e3))
+def test_the_map_is_a_monotone_bijection_onto_the_box_and_the_identity_inside(x, lo, width):
+    box = np.array([[lo], [lo + width]])
+    y = float(W.into_box(np.array([x]), box)[0])
+    assert lo <= y <= lo + width
+    mu = W.BAND * width
+    if lo + mu <= x <= lo + width - mu:
+        assert y == x  # bit for bit
+    if lo < y < lo + width:  # (far out, y rounds to the wall)
+        back = float(W.from_box(np.array([y]), box)[0])
+        assert abs(back - x) <= 1e-9 * max(1.0, abs(x - lo), width) * (1 + (abs(x - lo) / mu) ** 2)
+    # monotone and continuous across the band's edges (value and slope match: C^1)
+    xs = np.array([x, x + 1e-7 * width])
+    ys = W.into_box(xs, box)
+    assert ys[1] >= ys[0] and ys[1] - ys[0] <= 1e-7 * width * (1 + 1e-6)
+
+
+def test_far_points_stay_apart():
+    """The algebraic tail: points 100 and 101 band widths beyond the wall stay distinct (an
+    exponential tail rounds both to the wall)."""
+    box = np.array([[0.0], [10.0]])
+    mu = W.BAND * 10
+    y = W.into_box(np.array([10 - mu + 100 * mu, 10 - mu + 101 * mu]), box)
+    assert y[0] < y[1] < 10.0
+
+
+# --- plans in a box ---------------------------------------------------------------------------
+
+def _spaced(rng, k, d, lo, hi, gap):
+    while True:
+        x = rng.uniform(lo, hi, (k, d))
+        dist = np.linalg.norm(x[:, None] - x[None], axis=-1)
+        if k < 2 or dist[np.triu_indices(k, 1)].min() >= gap:
+            return x
+
+
+def _inside_queries(rng, b, n, m, d=2, size=10.0, margin=0.5, gap=0.6):
+    """b queries in [margin, size - margin]^d, the points of a configuration >= gap apart."""
+    o, s, g = [], [], []
+    for _ in range(b):
+        ob = _spaced(rng, m, d, margin, size - margin, gap)
+        pair = [_spaced(rng, m + n, d, margin, size - margin, gap)[m:] for _ in range(2)]
+        while any(np.linalg.norm(c[:, None] - ob[None], axis=-1).min() < gap for c in pair):
+            pair = [_spaced(rng, m + n, d, margin, size - margin, gap)[m:] for _ in range(2)]
+        o.append(ob), s.append(pair[0]), g.append(pair[1])
+    return np.array(o), np.array(s), np.array(g)
+
+
+@pytest.mark.parametrize("dims", [(2, 1, 2), (2, 4, 2), (2, 8, 6), (3, 4, 4), (2, 1, 3)])
+def test_plans_stay_in_the_box_with_exact_endpoints(dims):
+    d, n, m = dims
+    rng = np.random.default_rng(sum(dims))
+    o, s, g = _inside_queries(rng, 40, n, m, d)
+    box = np.array([[0.0] * d, [10.0] * d])
+    batch = pmplan.plan_batch(o, s, g, bounds=(0, 10))
+    free = pmplan.plan_batch(o, s, g)
+    assert W.inside(batch.waypoints, box).all() and not W.inside(free.waypoints, box).all() \
+        or n == 1
+    assert (batch.clearance > 0).all()
+    assert np.array_equal(batch.waypoints[:, 0, m:], s) and np.array_equal(batch.waypoints[:, -1, m:], g)
+    assert (batch.waypoints[:, :, :m] == o[:, None]).all()
+    assert np.array_equal(batch.domain, pmplan.plan_batch(W.from_box(o, box), W.from_box(s, box),
+                                                          W.from_box(g, box)).domain)
+    assert batch.bounds.shape == (40, 2, d) and (batch.bounds == box).all()
+    one = pmplan.plan(o[3], s[3], g[3], bounds=(0, 10))
+    assert np.array_equal(one.waypoints, batch[3].waypoints) and one.domain == batch.domain[3]
+
+
+def test_a_plan_inside_the_inner_box_is_unchanged():
+    """The map is the identity away from the walls: a query whose raw path stays in the inner
+    box gets the same path, bit for bit."""
+    o, s, g = [[4.5, 5.0], [5.5, 5.0]], [[4.0, 4.0]], [[6.0, 6.0]]
+    free = pmplan.plan(o, s, g, lift=0.1)
+    boxed = pmplan.plan(o, s, g, lift=0.1, bounds=(0, 10))
+    assert np.array_equal(free.waypoints, boxed.waypoints)
+
+
+@settings(max_examples=30, deadline=None)
+@given(pts=st.lists(st.tuples(st.integers(1, 7), st.integers(1, 7)), min_size=6, max_size=6,
+                    unique=True), goal=st.lists(st.tuples(st.integers(1, 7), st.integers(1, 7)),
+                                                min_size=2, max_size=2, unique=True))
+def test_integer_queries_in_a_box(pts, goal):
+    """Exactly degenerate queries (integer points on a grid, collinear triples, the obstacle
+    line through robots): every path certified and inside [0, 8]^2."""
+    o, s = np.array(pts[:2], float), np.array(pts[2:4], float)
+    g = np.array(goal, float)
+    if {tuple(x) for x in g} & {tuple(x) for x in o}:
+        return
+    p = pmplan.plan(o, s, g, bounds=(0, 8))
+    assert W.inside(p.waypoints[None], np.array([[0.0, 0], [8, 8]]))[0] and p.clearance > 0
+    assert np.array_equal(p.waypoints[-1, 2:], g)
+
+
+def test_sequences_in_a_box():
+    rng = np.random.default_rng(5)
+    o = rng.uniform(1, 9, (6, 3, 2))
+    cs = [rng.uniform(1, 9, (6, 2, 2)) for _ in range(3)]
+    b = pmplan.plan_sequence_batch(o, cs, bounds=(0, 10), refine=True, radius=0.05)
+    assert W.inside(b.waypoints, BOX, 0.05).all()
+    times = b.times if b.times.ndim == 1 else b.times[0]
+    k = int(np.flatnonzero(times == 0.5)[0])
+    assert np.array_equal(b.waypoints[:, k, 3:], cs[1])
+    one = pmplan.plan_sequence(o[0], [c[0] for c in cs], bounds=(0, 10))
+    assert W.inside(one.waypoints[None], BOX)[0]
+
+
+@pytest.mark.parametrize("delta", [1e-6, 1e-9, 1e-12])
+def test_plans_in_a_box_are_continuous(delta):
+    """The map and its inverse are continuous (C^1 with slopes at most 1 into the box): a
+    move of the query moves the boxed path by about what it moves the free one."""
+    rng = np.random.default_rng(9)
+    o, s, g = _inside_queries(rng, 30, 4, 4)
+    a = pmplan.plan_batch(o, s, g, bounds=(0, 10), refine=True, radius=0.05)
+    move = [delta * rng.uniform(-1, 1, x.shape) for x in (o, s, g)]
+    b = pmplan.plan_batch(*(x + v for x, v in zip((o, s, g), move)), bounds=(0, 10),
+                          refine=True, radius=0.05)
+    same = a.domain == b.domain
+    assert same.sum() >= 25
+    change = np.abs(a.waypoints - b.waypoints).max(axis=(1, 2, 3))[same] / delta
+    assert change.max() <= 1e4, change.max()
+
+
+def test_refined_plans_keep_the_radius_from_the_walls():
+    rng = np.random.default_rng(2)
+    o, s, g = _inside_queries(rng, 40, 4, 6)
+    r = 0.2
+    b = pmplan.plan_batch(o, s, g, bounds=(0, 10), refine=True, radius=r, obstacle_radius=r)
+    ok = W.inside(b.waypoints, BOX, r)
+    rd, od, kept = radius_report(b.waypoints, 6, r, r)
+    assert np.array_equal(b.respects_radius, kept & ok)
+    assert b.respects_radius.sum() >= 30
+    assert W.inside(b.waypoints, BOX).all()
+    raw = pmplan.plan_batch(o, s, g, bounds=(0, 10))
+    again = pmplan.refine(raw, radius=r, obstacle_radius=r)  # the raw batch carries its box
+    assert np.array_equal(again.waypoints, b.waypoints) and (again.bounds == BOX).all()
+
+
+# --- errors -----------------------------------------------------------------------------------
+
+def test_points_outside_the_box_are_named():
+    o, s, g = [[3.5, 5], [6.5, 5]], [[1, 5], [5, 2]], [[9, 5], [5, 8]]
+    with pytest.raises(pmplan.InputError, match=r"obstacle o1 is at x\[1\] = 5, outside"):
+        pmplan.plan(o, s, g, bounds=(0, 4))
+    gb = np.array([g] * 3, float)
+    gb[:2, 0, 0] = 8.5
+    with pytest.raises(pmplan.InputError, match=r"in the goal, robot x1 is at x\[0\] = 9, .*query 2"):
+        pmplan.plan_batch(np.array([o] * 3, float), np.array([s] * 3, float), gb, bounds=(0, 9))
+    with pytest.raises(pmplan.InputError, match=r"robot x1 is 1 from the wall x\[0\] = 0, closer"):
+        pmplan.plan(o, s, g, bounds=(0, 10), refine=True, radius=1.5)
+    with pytest.raises(pmplan.InputError, match="cannot be combined with `bounds=`"):
+        out = pmplan.plan_batch(*(np.array([v], float) for v in (o, s, g)))
+        pmplan.plan_batch(*(np.array([v], float) for v in (o, s, g)), bounds=(0, 10), out=out)
+
+
+def test_json_and_cli(tmp_path):
+    q = {"obstacles": [[3.5, 5], [6.5, 5]], "start": [[1, 5], [5, 2]], "goal": [[9, 5], [5, 8]],
+         "bounds": [0, 10]}
+    p = pmplan.plan_query(parse_query(q))
+    assert p.bounds.tolist() == BOX.tolist()
+    f = tmp_path / "q.json"
+    f.write_text(json.dumps(q))
+    run = [sys.executable, "-m", "pmplan", "plan", str(f), "--refine", "--radius", "0.3"]
+    res = subprocess.run(run, capture_output=True, text=True)
+    out = json.loads(res.stdout)
+    assert res.returncode == 0 and out["bounds"] == BOX.tolist() and out["respects_radius"]
+    res = subprocess.run(run + ["--bounds", "0", "9"], capture_output=True, text=True)
+    assert res.returncode == 2 and res.stdout == "" and len(res.stderr.splitlines()) == 1
+    assert '--bounds [0.0, 9.0] contradicts "bounds": [0.0, 10.0]' in res.stderr
+    del q["bounds"]
+    f.write_text(json.dumps(q))
+    res = subprocess.run([sys.executable, "-m", "pmplan", "plan", str(f), "--bounds", "0,0",
+                          "10,10"], capture_output=True, text=True)
+    assert res.returncode == 0 and json.loads(res.stdout)["bounds"] == BOX.tolist()
+    q["bounds"] = [0, 10, 20]
+    f.write_text(json.dumps(q))
+    res = subprocess.run([sys.executable, "-m", "pmplan", "plan", str(f)], capture_output=True,
+                         text=True)
+    assert res.returncode == 2 and "`bounds` must be a list [lo, hi]" in res.stderr
