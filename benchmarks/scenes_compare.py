@@ -417,7 +417,7 @@ def _row_lines(cell: dict, fam, n) -> list[str]:
             f"{r['keeps_r']}/{r['inside']}/{r['returned']} | {_fmt(r['time_ms_median'])} | "
             f"{_fmt(r['len_lb_median'])} | {pc} | {_fmt(r['probe_median'])} | "
             f"{_fmt(r['probe_max'])} | {r['probe_label_changes']} | "
-            f"{rp['jumps']}/{rp['over_abs']}/{rp['compared']} ({rp['jumps_at_label_change']}); failed "
+            f"{rp['jumps']}/{rp.get('over_abs', '?')}/{rp['compared']} ({rp['jumps_at_label_change']}); failed "
             f"{rp['failed']}, skipped {rp['skipped']} | {_fmt(rp['median'])} |")
     return lines
 
@@ -497,16 +497,23 @@ def report(out: dict) -> str:
     lines += ["", f"pmplan's own `respects_radius` disagrees with the harness's exact check on "
               f"{dis} returned paths (all rows and lifts; 0 expected).", ""]
     lines += ["## Headline per row", "",
-              "| row | valid: default / best lift / RRTC / RRT* | len/LB: default / best lift / "
-              "RRTC / RRT* |", "|---|---|---|"]
+              "Best pmplan = the row's highest valid share, then lowest len/LB. len/LB over "
+              "valid paths (n/a: none valid); the last columns give pmplan default's median "
+              "len/LB over every returned path, valid or not, and why its paths are invalid.",
+              "",
+              "| row | best pmplan | valid: default / best / RRTC / RRT* | len/LB: default / "
+              "best / RRTC / RRT* | default, every returned path: len/LB | default: keeps r / "
+              "inside / returned | RRTC time (ms) |", "|---|---|---|---|---|---|---|"]
     for c in rows:
         p = c["planners"]
         b = c["wins"]["best"]
         names = [PD, b, RC, RS]
-        lines.append(f"| {c['family']} n = {c['n']} | "
+        d = p[PD]
+        lines.append(f"| {c['family']} n = {c['n']} | {b} | "
                      + " / ".join(f"{p[x]['valid']}/{p[x]['count']}" for x in names)
-                     + f" ({b}) | " + " / ".join(_fmt(p[x]["len_lb_median"]) for x in names)
-                     + " |")
+                     + " | " + " / ".join(_fmt(p[x]["len_lb_median"]) for x in names)
+                     + f" | {_fmt(d['len_lb_median_returned'])} | {d['keeps_r']}/{d['inside']}/"
+                     f"{d['returned']} | {_fmt(p[RC]['time_ms_median'])} |")
     lines.append("")
     return "\n".join(lines)
 
@@ -519,7 +526,13 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true", help="4 queries per row, n <= 8")
     ap.add_argument("--families", default=",".join(scenes.FAMILIES))
     ap.add_argument("--out", default=None, help="output stem (default: by seed)")
+    ap.add_argument("--from-json", default=None, metavar="JSON",
+                    help="plan nothing: rewrite the .md beside JSON from it")
     args = ap.parse_args(argv)
+    if args.from_json:
+        path = Path(args.from_json)
+        path.with_suffix(".md").write_text(report(json.loads(path.read_text())))
+        return 0
     try:
         from ompl import util as ou
     except ImportError:
