@@ -72,6 +72,8 @@ PROBE_DELTA = 1e-6
 TICKS = 40
 DRIFT = 0.02
 JUMP_ABS, JUMP_REL = 25.0, 10.0
+#: a paired length ratio within this of 1 is a tie (both straight lines, to rounding)
+TIE = 1e-9
 NS = (2, 4, 8, 16)
 
 RC, RS, PD = "OMPL RRTConnect", "OMPL RRT*", "pmplan default"
@@ -391,7 +393,7 @@ def ompl_wins(cell: dict) -> dict:
             if c["valid_share"] > p["valid_share"]:
                 what.append(f"validity ({c['valid']}/{c['count']} vs {p['valid']}/{p['count']})")
             ratio, k = cell["paired"][pm][o]
-            if k and ratio > 1:
+            if k and ratio > 1 + TIE:
                 what.append(f"length (paired {pm}/{o} {ratio:.3g} over {k})")
             if c["time_ms_median"] < p["time_ms_median"]:
                 what.append("time")
@@ -483,16 +485,16 @@ def report(out: dict) -> str:
     lines += ["## Where OMPL wins, row by row", "",
               "Against pmplan default and against the row's best pmplan (highest valid share, "
               "then lowest len/LB). An aspect is won when OMPL's valid share is higher, the "
-              "paired length ratio pmplan/OMPL is > 1, its median time is lower, its probe "
+              "paired length ratio pmplan/OMPL is > 1 (+1e-9), its median time is lower, its probe "
               "median is lower, or it has fewer replanning jumps.", "",
               "| row | best pmplan | OMPL planner | wins vs pmplan default | wins vs best pmplan |",
               "|---|---|---|---|---|"]
     for c in rows:
-        w = c["wins"]
+        w = ompl_wins(c["planners"])  # from the summaries: the rule of this version
         for o in OMPL:
             lines.append(f"| {c['family']} n = {c['n']} | {w['best']} | {o} | "
-                         f"{', '.join(w[f'{o}|{PD}']) or 'nothing'} | "
-                         f"{', '.join(w[o + '|' + w['best']]) or 'nothing'} |")
+                         f"{', '.join(w[(o, PD)]) or 'nothing'} | "
+                         f"{', '.join(w[(o, w['best'])]) or 'nothing'} |")
     dis = sum(c["planners"][x]["claims_disagree"] or 0 for c in rows for x in PMPLAN)
     lines += ["", f"pmplan's own `respects_radius` disagrees with the harness's exact check on "
               f"{dis} returned paths (all rows and lifts; 0 expected).", ""]
@@ -506,7 +508,7 @@ def report(out: dict) -> str:
               "inside / returned | RRTC time (ms) |", "|---|---|---|---|---|---|---|"]
     for c in rows:
         p = c["planners"]
-        b = c["wins"]["best"]
+        b = best_pmplan(p)
         names = [PD, b, RC, RS]
         d = p[PD]
         lines.append(f"| {c['family']} n = {c['n']} | {b} | "
