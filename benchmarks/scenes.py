@@ -1,0 +1,118 @@
+"""Scene families of issue 25 (item 7): seeded generators of rooms, swaps and 3-D rooms.
+
+Every family lives in a box ``[0, SIZE]^d`` (SIZE = 10) with the required distance ``R = 0.3``
+between any two robots and between a robot and an obstacle:
+
+* ``room`` (d = 2, m = 6): obstacles uniform in the box, pairwise at least ``2 R + 2 (R/2)``
+  apart and at least ``R`` from the walls; starts and goals uniform, each point at least
+  ``MARGIN * R`` (1.1 R) from every other point of its configuration (robots and obstacles) and
+  from the walls;
+* ``swap`` (d = 2, m = 6): the same obstacles and starts; robots exchange places pairwise (robot
+  2k's goal is robot 2k+1's start and vice versa; n even);
+* ``room3d`` (d = 3, m = 4): as ``room`` in ``[0, SIZE]^3``.
+
+:func:`queries` draws ``count`` queries of one row from a seed; the same (family, n, count,
+seed) gives the same queries. Rows are drawn independently of each other
+(``default_rng([seed, family index, n])``), so that ``--quick`` runs, which stop at smaller n and
+fewer queries, plan a prefix of the full run's queries of the same row.
+
+Not a test module (``benchmarks/conftest.py``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["FAMILIES", "MARGIN", "R", "SIZE", "Family", "queries"]
+
+#: the box side (the scene size)
+SIZE = 10.0
+#: the required distance between two robots and between a robot and an obstacle
+R = 0.3
+#: starts and goals keep MARGIN * R from every other point of their configuration and the walls
+MARGIN = 1.1
+#: obstacles are pairwise at least this far apart (2 R + 2 (R/2))
+OBSTACLE_GAP = 2 * R + 2 * (R / 2)
+
+
+class Family:
+    """One scene family: its name, dimension d, number of obstacles m, and whether it swaps."""
+
+    def __init__(self, name: str, d: int, m: int, swap: bool, index: int):
+        self.name, self.d, self.m, self.swap, self.index = name, d, m, swap, index
+
+    def __repr__(self) -> str:  # pragma: no cover
+        return f"Family({self.name!r}, d={self.d}, m={self.m})"
+
+
+FAMILIES = {
+    "room": Family("room", 2, 6, False, 0),
+    "swap": Family("swap", 2, 6, True, 1),
+    "room3d": Family("room3d", 3, 4, False, 2),
+}
+
+
+def _draw(rng: np.random.Generator, count: int, d: int, lo: float, hi: float,
+          others: np.ndarray, gap_others: float, gap_self: float) -> np.ndarray:
+    """``count`` points uniform in [lo, hi]^d, one at a time (rejection): each at least
+    ``gap_others`` from every row of ``others`` and ``gap_self`` from the points drawn before."""
+    pts: list[np.ndarray] = []
+    for _ in range(count):
+        for _attempt in range(100_000):
+            x = rng.uniform(lo, hi, d)
+            if others.size and np.linalg.norm(others - x, axis=1).min() < gap_others:
+                continue
+            if pts and np.linalg.norm(np.asarray(pts) - x, axis=1).min() < gap_self:
+                continue
+            pts.append(x)
+            break
+        else:  # pragma: no cover - the box is far from full for n <= 16
+            raise RuntimeError("could not place a point: the box is too crowded")
+    return np.asarray(pts).reshape(count, d)
+
+
+def obstacles(rng: np.random.Generator, family: Family) -> np.ndarray:
+    """m obstacles uniform in the box, pairwise >= OBSTACLE_GAP apart, >= R from the walls."""
+    return _draw(rng, family.m, family.d, R, SIZE - R, np.empty((0, family.d)), 0.0,
+                 OBSTACLE_GAP)
+
+
+def configuration(rng: np.random.Generator, family: Family, n: int,
+                  obst: np.ndarray) -> np.ndarray:
+    """n robot positions, each >= MARGIN R from the obstacles, the other robots and the walls."""
+    g = MARGIN * R
+    return _draw(rng, n, family.d, g, SIZE - g, obst, g, g)
+
+
+def query(rng: np.random.Generator, family: Family, n: int):
+    """One query (obstacles (m, d), starts (n, d), goals (n, d)) of the family."""
+    o = obstacles(rng, family)
+    s = configuration(rng, family, n, o)
+    if family.swap:
+        if n % 2:
+            raise ValueError("the swap family needs an even number of robots")
+        g = s.copy()
+        g[0::2], g[1::2] = s[1::2], s[0::2]
+    else:
+        g = configuration(rng, family, n, o)
+    return o, s, g
+
+
+def queries(family: str, n: int, count: int, seed: int) -> list[tuple]:
+    """``count`` queries of one row (family, n), drawn from ``seed`` (row-independent stream)."""
+    fam = FAMILIES[family]
+    rng = np.random.default_rng([seed, fam.index, n])
+    return [query(rng, fam, n) for _ in range(count)]
+
+
+def check(o: np.ndarray, s: np.ndarray, g: np.ndarray) -> bool:
+    """Whether a query meets the family rules (distances, walls): used by the harness's self
+    check and by the replanning run (drifting obstacles may break them)."""
+    for c in (s, g):
+        pts = np.concatenate([o, c])
+        dist = np.linalg.norm(pts[:, None] - pts[None], axis=-1)
+        m = len(o)
+        np.fill_diagonal(dist, np.inf)
+        if dist[m:].min() < R or np.any(c < 0) or np.any(c > SIZE):
+            return False
+    return True
