@@ -18,7 +18,9 @@ and *room3d* (d = 3, m = 4), n = 2, 4, 8, 16. Planners:
   every other argument at its default (``lift`` = 1, an absolute length);
 * ``pmplan lift L``: the same with ``lift = L * 10`` (L in 0.03, 0.1, 0.3, 1; ``lift`` is an
   absolute length, the box side is 10) and ``lift = "scene"`` (each query's obstacles' radius).
-  ``lift 0.1`` is ``lift = 1``, the default: that row is the default row, not re-run.
+  ``lift 0.1`` is ``lift = 1``, the default: that row is the default row, not re-run;
+* ``pmplan default + box``: the default with the workspace box, ``bounds=(0, 10)``
+  (:mod:`pmplan.workspace`): paths inside the box shrunk by the radius.
 
 A path is *valid* when every robot-robot and robot-obstacle distance is >= r along the whole
 polyline -- decided exactly (``pmplan.certify.radius_report`` with radii r/2, rational
@@ -80,6 +82,10 @@ RC, RS, PD = "OMPL RRTConnect", "OMPL RRT*", "pmplan default"
 #: pmplan variants: label -> lift argument (None: the default). "lift 0.1" = the default's 1.
 LIFTS = {PD: None, "pmplan lift 0.03": 0.3, "pmplan lift 0.1": 1.0, "pmplan lift 0.3": 3.0,
          "pmplan lift 1": 10.0, "pmplan lift scene": "scene"}
+#: pmplan default with the workspace box (``bounds=(0, SIZE)``, pmplan.workspace)
+PB = "pmplan default + box"
+LIFTS[PB] = None
+BOUNDED = {PB}
 PLANNERS = [RC, RS, *LIFTS]
 PMPLAN = list(LIFTS)
 OMPL = [RC, RS]
@@ -239,10 +245,12 @@ class PmplanRunner:
     """``pmplan.plan(..., refine=True, radius=r/2, obstacle_radius=r/2)`` with ``lift`` (None:
     pmplan's default)."""
 
-    def __init__(self, lift):
+    def __init__(self, lift, bounded: bool = False):
         self.kw = dict(refine=True, radius=HALF, obstacle_radius=HALF)
         if lift is not None:
             self.kw["lift"] = lift
+        if bounded:
+            self.kw["bounds"] = (0.0, scenes.SIZE)
 
     def plan(self, o, s, g):
         t0 = time.perf_counter()
@@ -579,7 +587,7 @@ def main(argv=None) -> int:
                     cell[name] = dict(cell[PD], same_as=PD)
                     continue
                 runner = (OmplRunner(n, fam.d, name, kernels) if name in OMPL
-                          else PmplanRunner(LIFTS[name]))
+                          else PmplanRunner(LIFTS[name], name in BOUNDED))
                 t0 = time.perf_counter()
                 res = evaluate(runner, qs, dirs)
                 summ = summarise(res)

@@ -212,3 +212,46 @@ def test_json_and_cli(tmp_path):
     res = subprocess.run([sys.executable, "-m", "pmplan", "plan", str(f)], capture_output=True,
                          text=True)
     assert res.returncode == 2 and "`bounds` must be a list [lo, hi]" in res.stderr
+
+
+# --- batches: dask arrays, Zarr stores, pmplan batch ------------------------------------------
+
+def test_dask_arrays_and_stores_in_a_box(tmp_path):
+    import dask.array as da
+    from pmplan import scale
+
+    rng = np.random.default_rng(4)
+    o, s, g = _inside_queries(rng, 30, 3, 2)
+    ref = pmplan.plan_batch(o, s, g, bounds=(0, 10), refine=True, radius=0.05)
+    lazy = pmplan.plan_batch(*(da.from_array(x, chunks=7) for x in (o, s, g)), bounds=(0, 10),
+                             refine=True, radius=0.05)
+    got = scale.compute(lazy, scheduler="sync")
+    assert np.array_equal(got.waypoints, ref.waypoints) and (got.bounds == BOX).all()
+    assert np.array_equal(got.respects_radius, ref.respects_radius)
+    with pytest.raises(pmplan.InputError, match="`bounds` must be a pair"):
+        pmplan.plan_batch(*(da.from_array(x, chunks=7) for x in (o, s, g)), bounds=(10, 0))
+    rep = scale.plan_store({"obstacles": o, "start": s, "goal": g}, tmp_path / "p.zarr",
+                           bounds=(0, 10), refine={"radius": 0.05}, chunk=8)
+    assert rep.queries == 30
+    back = scale.compute(scale.open_plans(tmp_path / "p.zarr"))
+    assert np.array_equal(back.waypoints, ref.waypoints) and (back.bounds == BOX).all()
+    with pytest.raises(pmplan.InputError, match=r"--bounds \(bounds=\): stored"):
+        scale.plan_store({"obstacles": o, "start": s, "goal": g}, tmp_path / "p.zarr",
+                         bounds=(0, 11), refine={"radius": 0.05}, chunk=8, resume=True)
+
+
+def test_a_json_batch_with_one_box(tmp_path):
+    q = {"obstacles": [[3.5, 5], [6.5, 5]], "start": [[1, 5], [5, 2]], "goal": [[9, 5], [5, 8]],
+         "bounds": [0, 10]}
+    f = tmp_path / "qs.json"
+    f.write_text(json.dumps([q, q]))
+    res = subprocess.run([sys.executable, "-m", "pmplan", "batch", str(f), "--out",
+                          str(tmp_path / "p.npz"), "--no-progress"], capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    with np.load(tmp_path / "p.npz") as z:
+        assert z["bounds"].shape == (2, 2, 2) and (z["bounds"] == BOX).all()
+        assert W.inside(z["waypoints"], BOX).all()
+    f.write_text(json.dumps([q, {**q, "bounds": [0, 20]}]))
+    res = subprocess.run([sys.executable, "-m", "pmplan", "batch", str(f), "--out",
+                          str(tmp_path / "p.npz")], capture_output=True, text=True)
+    assert res.returncode == 2 and 'query 1 has "bounds"' in res.stderr

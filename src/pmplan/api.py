@@ -24,10 +24,6 @@ from .results import Plan, PlanBatch, PlannerInfo
 from .running import plan_arrays, refine_plans
 from .single import plan_one, plan_one_in_box, plan_one_sequence
 
-#: dask arrays with ``bounds=`` (one source of the message)
-MSG_BOUNDS_DASK = ("`bounds=` is not supported for dask arrays yet: plan the batch in memory "
-                   "(pmplan.scale.compute the inputs first), or without `bounds`")
-
 __all__ = [
     "Plan",
     "PlanBatch",
@@ -127,11 +123,9 @@ def plan_batch(
     if is_dask(obstacles, start, goal):  # lazy plans of dask arrays (the optional extra)
         from . import scale
 
-        if bounds is not None:
-            raise InputError(MSG_BOUNDS_DASK)
         return scale.plan_batch(obstacles, start, goal, planner=planner, lift=lift,
                                 progress=progress, backend=backend, workers=workers, out=out,
-                                refine=_radii(refining, radius, obstacle_radius))
+                                refine=_radii(refining, radius, obstacle_radius), bounds=bounds)
     batch = plan_arrays(obstacles, [start, goal], planner=planner, lift=lift, backend=backend,
                         workers=workers, progress=progress, out=out, bounds=bounds)
     if refining:
@@ -235,11 +229,10 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     if isinstance(configs, (list, tuple)) and is_dask(obstacles, *configs):
         from . import scale
 
-        if bounds is not None:
-            raise InputError(MSG_BOUNDS_DASK)
         return scale.plan_sequence_batch(obstacles, configs, lift=lift, progress=progress,
                                          backend=backend, workers=workers, out=out,
-                                         refine=_radii(refining, radius, obstacle_radius))
+                                         refine=_radii(refining, radius, obstacle_radius),
+                                         bounds=bounds)
     batch = plan_arrays(obstacles, as_config_list(configs), lift=lift, backend=backend,
                         workers=workers, progress=progress, out=out, sequential=True,
                         bounds=bounds)

@@ -198,9 +198,7 @@ def _parser_plan(sub, names: list[str], planner_help: str) -> None:
     p.add_argument("--planner", default=None, choices=names, help=planner_help)
     p.add_argument("--lift", type=_lift, default=None, metavar="LIFT", help=LIFT_HELP)
     p.add_argument("--bounds", type=_bound, nargs=2, default=None, metavar=("LO", "HI"),
-                   help="the workspace box: every path stays in [LO, HI] (each a number, or "
-                   "comma-separated coordinates: --bounds 0,0 10,5); the same as \"bounds\" "
-                   "in the query")
+                   help=BOUNDS_HELP)
     p.add_argument("--indent", type=_int_in(0, 16), default=None, metavar="N",
                    help="indent the JSON output by N spaces (default: one line)")
     _add_refine_options(p)
@@ -220,6 +218,8 @@ def _parser_batch(sub, names: list[str], planner_help: str) -> None:
                    "(a name ending in .zarr), written chunk by chunk")
     p.add_argument("--planner", default=None, choices=names, help=planner_help)
     p.add_argument("--lift", type=_lift, default=None, metavar="LIFT", help=LIFT_HELP)
+    p.add_argument("--bounds", type=_bound, nargs=2, default=None, metavar=("LO", "HI"),
+                   help=BOUNDS_HELP)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--workers", type=_int_in(1, also=(-1,)), default=1, metavar="W",
                    help="threads planning in parallel (-1: one per CPU; default 1)")
@@ -356,6 +356,10 @@ def _read_query_arg(path: str) -> dict:
     return read_query(path)
 
 
+BOUNDS_HELP = ("the workspace box: every path stays in [LO, HI] (each a number, or comma-"
+               "separated coordinates: --bounds 0,0 10,5); the same as \"bounds\" in a query")
+
+
 def _same(a, b) -> bool:
     """Whether a file's option and the command line's agree (numbers, words or arrays)."""
     try:
@@ -431,7 +435,8 @@ def cmd_batch(args) -> int:
         return _cmd_batch_store(args, options)
     q = _with_options(read_queries(args.queries), args, args.queries)
     lift = q.get("lift", 1.0)
-    common = dict(lift=lift, progress=not args.no_progress, workers=args.workers)
+    common = dict(lift=lift, progress=not args.no_progress, workers=args.workers,
+                  bounds=q.get("bounds"))
     if "via" in q:
         check_sequential(q.get("planner"))
         configs = [q["start"], *np.moveaxis(q["via"], 1, 0), q["goal"]]
@@ -494,6 +499,7 @@ def _cmd_batch_store(args, options: dict | None) -> int:
     else:
         source = _with_options(read_queries(args.queries), args, args.queries)
         lift = planner = None
+    bounds = source.pop("bounds", None) if isinstance(source, dict) else args.bounds
     if args.scheduler is not None or args.dask_workers is not None:
         _quiet_dask()
     try:
@@ -501,7 +507,7 @@ def _cmd_batch_store(args, options: dict | None) -> int:
                          resume=args.resume, scheduler=args.scheduler,
                          dask_workers=args.dask_workers, workers=args.workers,
                          progress=not args.no_progress, compress=not args.no_compress,
-                         refine=options)
+                         refine=options, bounds=bounds)
     except KeyboardInterrupt:  # Ctrl-C: the chunks marked done are kept
         print(f"pmplan batch: interrupted; {args.out} is incomplete: rerun with --resume to plan "
               "only the chunks not yet written", file=sys.stderr)

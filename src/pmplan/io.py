@@ -15,7 +15,8 @@ Batch npz (``pmplan batch``): arrays ``obstacles`` (B, m, d), ``start`` (B, n, d
 ``waypoints`` (B, K, m+n, d), ``strata`` (B, S) and ``stratum`` (B,) names, and the fields of
 refined motions (:data:`REFINE_FIELDS`, issue 14): ``refined``, ``radius``, ``obstacle_radius``
 (B,) always; for a refined batch also ``respects_radius`` (B,), the exact minima
-``robot_distance``, ``obstacle_distance`` (B,) and the unrefined plans' ``raw_clearance`` (B,) (an unrefined batch has radius 0, and its
+``robot_distance``, ``obstacle_distance`` (B,) and the unrefined plans' ``raw_clearance`` (B,);
+``bounds`` (B, 2, d) for a batch planned in a workspace box (an unrefined batch has radius 0, and its
 minimum distance is ``clearance``: measuring the two minima apart would cost a pass over all
 pairs, so ``pmplan batch`` without ``--refine`` stays as fast as before).
 
@@ -231,11 +232,22 @@ def plan_to_dict(plan, samples: int | None = None) -> dict:
 
 
 #: per-query options of a batch: honoured when every query gives the same value, else refused
-_BATCH_OPTIONS = ("lift", "planner")
+_BATCH_OPTIONS = ("lift", "planner", "bounds")
+
+
+def _equal(a, b) -> bool:
+    """Whether two values of an option are the same (numbers, words, or a box)."""
+    if isinstance(a, list) or isinstance(b, list):
+        try:
+            return bool(np.array_equal(np.asarray(a, dtype=float), np.asarray(b, dtype=float)))
+        except (TypeError, ValueError):
+            return False
+    return a == b
 
 
 def _common_options(path: Path, qs: list[dict]) -> dict:
-    """The options (``lift``, ``planner``) and stacked ``via`` of a JSON list of queries.
+    """The options (``lift``, ``planner``, ``bounds``) and stacked ``via`` of a JSON list of
+    queries.
 
     A batch is planned with one lift and one planner, and a ``via`` needs the same number of
     intermediate configurations in every query (:func:`pmplan.plan_sequence_batch`). So an
@@ -256,7 +268,7 @@ def _common_options(path: Path, qs: list[dict]) -> dict:
             )
         first = qs[0][key]
         for i, q in enumerate(qs):
-            if q[key] != first:
+            if not _equal(q[key], first):
                 raise InputError(
                     f"{path}: query {i} has \"{key}\": {q[key]!r} but query 0 has {first!r}; a "
                     f"batch is planned with one {key}: split the file by {key}"
@@ -388,5 +400,6 @@ def write_plans(path: str | Path, batch) -> Path:
         planner=np.array(batch.planner),
         **{key: np.asarray(getattr(batch, key))
            for key in (REFINE_FIELDS if batch.refined.any() else REFINE_FIELDS[:3])},
+        **({} if batch.bounds is None else {"bounds": np.asarray(batch.bounds)}),
     )
     return path

@@ -60,6 +60,7 @@ from .errors import CertificationError, CollisionError, InputError, PmplanError,
 from .planners.base import default_planner
 from .results import PlanBatch
 from .running import plan_arrays, refine_plans
+from .workspace import check_bounds
 
 __all__ = [
     "FORMAT",
@@ -245,24 +246,26 @@ def _context(exc: PmplanError, lo: int, hi: int, where: str):
         return exc
 
 
-def _plan_chunk_arrays(obstacles, configs, planner, lift, backend, workers, refine=None):
-    """``plan_batch`` (r = 2) or ``plan_sequence_batch`` on one chunk of numpy arrays, then
-    :func:`pmplan.refine` with the options ``refine`` (None: raw plans)."""
+def _plan_chunk_arrays(obstacles, configs, planner, lift, backend, workers, refine=None,
+                       bounds=None):
+    """``plan_batch`` (r = 2) or ``plan_sequence_batch`` on one chunk of numpy arrays (in the
+    workspace box ``bounds``, or None), then :func:`pmplan.refine` with the options ``refine``
+    (None: raw plans)."""
     batch = plan_arrays(obstacles, configs, planner=planner, lift=lift, backend=backend,
-                        workers=workers, sequential=len(configs) > 2)
+                        workers=workers, sequential=len(configs) > 2, bounds=bounds)
     if refine is None:
         return batch
     return refine_plans(batch, **refine, workers=workers, backend=backend)
 
 
 def _plan_block(obstacles, *configs, planner, lift, backend, workers, record, refine=None,
-                block_info=None):
+                bounds=None, block_info=None):
     """One block of the lazy batch: its plans packed into ``record`` rows."""
     lo = block_info[None]["array-location"][0][0] if block_info else 0
     hi = lo + obstacles.shape[0]
     try:
         batch = _plan_chunk_arrays(np.asarray(obstacles), [np.asarray(c) for c in configs],
-                                   planner, lift, backend, workers, refine)
+                                   planner, lift, backend, workers, refine, bounds)
     except PmplanError as exc:
         raise _context(exc, lo, hi, "dask block") from None
     out = np.empty(obstacles.shape[0], dtype=record)
@@ -275,7 +278,8 @@ def _field(block: np.ndarray, name: str) -> np.ndarray:
     return np.ascontiguousarray(block[name])
 
 
-def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential, refine=None):
+def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential, refine=None,
+          bounds=None):
     refine = _refine_options(refine)
     da, arrays = _dask_inputs([obstacles, *configs], names)
     obstacles, configs = arrays[0], arrays[1:]
@@ -290,12 +294,13 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
                              f"({c.shape[0]}, {n}, {d})")
     p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True)
                            if sequential else planner)
+    box = None if bounds is None else check_bounds(bounds, d)  # checked now
     template = _template(p, len(configs), m, n, d, refine)
     per_query_times = template["times"].ndim == 2
     record = _record(template, per_query_times, refine is not None)
     packed = da.map_blocks(
         _plan_block, obstacles, *configs, planner=None if sequential else p.name,
-        lift=lift, backend=backend, workers=workers, record=record, refine=refine,
+        lift=lift, backend=backend, workers=workers, record=record, refine=refine, bounds=box,
         dtype=record, meta=np.empty((0,), record), drop_axis=[1, 2],
         chunks=(obstacles.chunks[0],), name="pmplan-plan",
     )
@@ -313,12 +318,14 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
     extra = {}
     if refine is not None:
         extra = _extra(refine, {k: out.pop(k) for k in REFINED_OUTPUTS})
+    if box is not None:
+        extra["bounds"] = np.broadcast_to(box, (obstacles.shape[0], 2, d))
     return PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
 
 
 def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
                backend: str | None = None, workers: int = 1, progress: bool = False,
-               out=None, refine: dict | None = None):
+               out=None, refine: dict | None = None, bounds=None):
     """:func:`pmplan.plan_batch` on dask arrays: a PlanBatch of lazy dask arrays.
 
     ``obstacles`` (B, m, d), ``start`` and ``goal`` (B, n, d): dask arrays (a numpy array
@@ -340,6 +347,8 @@ def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: floa
     ``waypoints``, ``steps``) to refine every block after planning it (what
     ``pmplan.plan_batch(..., refine=True)`` hands over); the lazy batch then also has the
     refinement record (``radius``, ``robot_distance``, ``respects_radius``, ...).
+    ``bounds``: the workspace box of :func:`pmplan.plan_batch` (checked now, applied per
+    block).
 
     Use the threaded scheduler on one machine (the numba kernels release the GIL) and
     processes or a ``dask.distributed`` cluster when Python-level work dominates (the numpy
@@ -350,12 +359,12 @@ def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: floa
                          "(write it with dask.array.to_zarr, or use pmplan.scale.plan_store)")
     del progress  # dask's own diagnostics (e.g. dask.diagnostics.ProgressBar) report progress
     return _lazy(obstacles, [start, goal], ["obstacles", "start", "goal"], planner, lift,
-                 backend, workers, sequential=False, refine=refine)
+                 backend, workers, sequential=False, refine=refine, bounds=bounds)
 
 
 def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
                         backend: str | None = None, workers: int = 1, progress: bool = False,
-                        out=None, refine: dict | None = None):
+                        out=None, refine: dict | None = None, bounds=None):
     """:func:`pmplan.plan_sequence_batch` on dask arrays (see :func:`plan_batch`)."""
     if out is not None:
         raise InputError("`out=` is for numpy batches; with dask arrays the result is lazy")
@@ -364,7 +373,7 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     if len(configs) < 2:
         raise InputError(f"expected at least r = 2 configurations, got {len(configs)}")
     return _lazy(obstacles, configs, ["obstacles"] + [f"configs[{k}]" for k in range(len(configs))],
-                 None, lift, backend, workers, sequential=True, refine=refine)
+                 None, lift, backend, workers, sequential=True, refine=refine, bounds=bounds)
 
 
 def compute(batch, **kwargs):
@@ -421,6 +430,7 @@ class _Spec:
     backend: str | None
     workers: int
     refine: dict | None = None  # the keywords of pmplan.refine, or None: raw plans
+    bounds: list | None = None  # the workspace box [lo, hi] (lists of d floats), or None
 
 
 def _open_input(path: Path):
@@ -539,7 +549,8 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
     planner = spec.planner if len(configs) == 2 else None
     try:
         batch = _plan_chunk_arrays(obstacles, configs, planner, spec.lift, spec.backend,
-                                   spec.workers, spec.refine)
+                                   spec.workers, spec.refine,
+                                   None if spec.bounds is None else np.array(spec.bounds))
     except PmplanError as exc:
         raise _context(exc, lo, hi, f"chunk {i}") from None
     for name in OUTPUTS + (REFINED_OUTPUTS if refined else ()):
@@ -629,12 +640,12 @@ def _create_output(out: Path, attrs: dict, template: dict, b: int, chunk: int, n
     return zarr.open_group(str(out), mode="r+")
 
 
-def _attrs(planner, lift, dims, r, b, chunk, refine=None, compress=True) -> dict:
+def _attrs(planner, lift, dims, r, b, chunk, refine=None, compress=True, bounds=None) -> dict:
     from .version import __version__
 
     return {"format": FORMAT, "planner": planner, "lift": lift, "pmplan_version": __version__,
             "dims": list(dims), "r": r, "B": b, "chunk": chunk, "refine": refine,
-            "compress": bool(compress)}
+            "compress": bool(compress), "bounds": bounds}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -644,6 +655,7 @@ def _attrs(planner, lift, dims, r, b, chunk, refine=None, compress=True) -> dict
 _OPTIONS = {"planner": "--planner (planner=)", "lift": "--lift (lift=)",
             "chunk": "--chunk (chunk=)", "compress": "--no-compress (compress=)",
             "refine": "--refine, --radius, --obstacle-radius, --waypoints, --steps (refine=)",
+            "bounds": "--bounds (bounds=)",
             "B": "the number of queries in the input", "dims": "the input's (d, n, m)",
             "r": "the input's configurations per query (via)", "format": "the store's format"}
 _MSG_CREATE = "cannot create the output store {out}: {cause}; nothing was written: {fix}"
@@ -731,6 +743,9 @@ def _source_arrays(source, out: Path, lift, planner):
                 mine = lift if k == "lift" else planner
                 if mine is not None and mine != source[k]:
                     raise InputError(f"{k} {mine!r} contradicts {k} {source[k]!r} in the input")
+        if source.get("bounds") is not None:  # (a JSON list's box: plan_store's `bounds`)
+            raise InputError("give the workspace box of a streamed batch as `bounds=` "
+                             "(--bounds), not in the input")
         return (arrays, None, "the input", source.get("lift", lift),
                 source.get("planner", planner))
     src_path = Path(source).resolve()  # absolute: workers may run in another directory
@@ -797,7 +812,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
                dask_workers: int | None = None, workers: int = 1, backend: str | None = None,
                progress: bool = False, compress: bool = True,
                on_chunk: Callable[[int, int, int], None] | None = None,
-               refine: dict | None = None) -> StoreReport:
+               refine: dict | None = None, bounds=None) -> StoreReport:
     """Plan a batch from a Zarr store (or in-memory arrays) into a Zarr store, chunk by chunk.
 
     Parameters
@@ -870,8 +885,9 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True)
                            if r > 2 else planner)
     nchunks = -(-b // chunk)
+    box = None if bounds is None else check_bounds(bounds, d).tolist()
     attrs = _attrs(p.name, lift if isinstance(lift, str) else float(lift), (d, n, m), r, b,
-                   chunk, refine, compress)
+                   chunk, refine, compress, box)
     if out.suffix != ".zarr":
         raise InputError(f"the output {out} must be a Zarr store: give it the suffix .zarr")
     group = _open_for_resume(out, attrs, resume)
@@ -879,7 +895,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         _check_fingerprints(group, arrays, b, chunk, out)
     spec = _Spec(source=None if src_path is None else str(src_path), out=str(out),
                  names=tuple(arrays), b=b, chunk=chunk, planner=p.name, lift=lift,
-                 backend=backend, workers=workers, refine=refine)
+                 backend=backend, workers=workers, refine=refine, bounds=box)
     # connect before anything is written: an unreachable scheduler leaves no output behind
     client, cluster, owned = (None, None, False) if scheduler is None and dask_workers is None \
         else _connect(scheduler, dask_workers)
@@ -1038,4 +1054,6 @@ def open_plans(path):
         # (a refined store created before the raw clearance was kept has none: NaN)
         extra = _extra(refine, {k: da.from_zarr(group[k]) for k in REFINED_OUTPUTS
                                 if k in group})
+    if attrs.get("bounds") is not None:
+        extra["bounds"] = np.broadcast_to(np.array(attrs["bounds"]), (attrs["B"], 2, d))
     return PlanBatch(planner=attrs["planner"], dims=(d, n, m), _extra=extra, **arrays)
