@@ -456,3 +456,56 @@ def test_phone_width_every_control_clicks_and_the_map_is_on_by_default(page):
         driver.get(base)
         WebDriverWait(driver, 60).until(lambda d: d.execute_script(
             "return document.body.dataset.state") == "ready")
+
+
+# --------------------------------------------------------------------------------------------
+# the workspace box (issue 25): drawn, its corners dragged, every motion inside it
+
+
+def test_workspace_box_keeps_the_motion_inside_and_its_corners_drag(page):
+    driver, shots = page
+    q = {"obstacles": [[0, 0], [4, 0], [2, 2]], "start": [[1, 1], [3, 2]],
+         "goal": [[3, -1], [-0.5, 1]]}
+    _reset(driver, q)
+    free = pmplan.plan(q["obstacles"], q["start"], q["goal"])
+    assert free.waypoints[:, :, 1].max() > 3.5  # the free motion leaves the box above
+    driver.find_element("id", "box-toggle").click()
+    _wait_ready(driver)
+    box = driver.execute_script("return pmplanExplore.state.box")
+    assert box == [[-1.5, -2], [5, 3]]  # every point, one unit of margin
+    assert driver.find_element("id", "box").is_displayed()
+    m = 3
+    world = np.array(json.loads(driver.find_element("id", "path-2").get_attribute("data-world")))
+    want = pmplan.plan(q["obstacles"], q["start"], q["goal"], bounds=([-1.5, -2], [5, 3]))
+    assert np.array_equal(world, want.path.waypoints[:, m + 1])
+    assert (world >= [-1.5, -2]).all() and (world <= [5, 3]).all()
+    # drag the upper corner up by one unit: the box follows, the motion stays inside it
+    _drag(driver, "box-corner-2", 0, 1)
+    box = driver.execute_script("return pmplanExplore.state.box")
+    assert box[0] == [-1.5, -2] and box[1] == [5, 4]
+    for i in (1, 2):
+        w = np.array(json.loads(driver.find_element("id", f"path-{i}").get_attribute("data-world")))
+        assert (w >= [-1.5, -2]).all() and (w <= [5, 4]).all()
+    driver.save_screenshot(str(shots / "9-box.png"))
+    # the refined motion keeps its radius off the walls
+    radius = driver.find_element("id", "radius")
+    radius.clear()
+    radius.send_keys("0.2")
+    driver.find_element("id", "refine-toggle").click()
+    _wait_ready(driver)
+    for i in (1, 2):
+        w = np.array(json.loads(driver.find_element("id", f"path-{i}").get_attribute("data-world")))
+        assert (w >= np.array([-1.5, -2]) + 0.2).all() and (w <= np.array([5, 4]) - 0.2).all()
+    assert driver.find_element("id", "radii").get_attribute("data-kept") == "true"
+    # a corner dragged past a start: the library's message, in one line
+    _drag(driver, "box-corner-2", -4.5, 0, state="error")
+    assert "outside the workspace box" in _shown(driver)["error"]
+    _drag(driver, "box-corner-2", 4.5, 0)
+    # the domain map marks the outside of the box
+    _wait_map(driver)
+    mp = driver.execute_script("return pmplanExplore.state.map")
+    assert mp["outside"] > 0 and mp["boundaries"] == []
+    driver.find_element("id", "refine-toggle").click()
+    driver.find_element("id", "box-toggle").click()
+    _wait_ready(driver)
+    assert not driver.find_elements("id", "box")

@@ -23,7 +23,8 @@ Endpoints
     :func:`pmplan.plan_batch`. Answer: ``domain`` (``ny`` rows of ``nx`` labels, row ``j`` at
     ``y0 + j h``; ``-1`` where the point would coincide with another point of its
     configuration, ``-2`` where the path could not be certified, ``-3`` where the map ran out
-    of its time budget :data:`MAP_BUDGET`), ``legend`` (per label: its
+    of its time budget :data:`MAP_BUDGET`, ``-4`` outside the query's workspace box
+    ``"bounds"``, where the labels are those of the box's planner), ``legend`` (per label: its
     count and the strata, in the paper's notation, met there), ``boundaries`` (the lines
     ``{"point": [x, y], "direction": [u, v]}`` on which the label changes,
     :meth:`pmplan.display.DisplaySpec.map_boundaries`), ``planner``.
@@ -52,6 +53,7 @@ from ..errors import CertificationError, InputError, PmplanError
 from ..io import json_int, parse_query, plan_to_dict
 from ..magnitude import LIMIT, needs_scaling
 from ..refine import check_radius, check_refine_flag
+from ..workspace import check_bounds
 from . import require_extra
 
 __all__ = ["MAX_BODY", "MAX_GRID", "MAX_POINTS", "create_app", "examples", "domain_map",
@@ -233,6 +235,11 @@ def domain_map(obj) -> dict:
     others = np.concatenate([obstacles, np.delete(moving, robot - 1, axis=0)])
     label = np.full(b, -1, dtype=np.int64)
     ok = ~(pts[:, None, :] == others[None]).all(axis=2).any(axis=1)
+    box = None if query.get("bounds") is None else check_bounds(query["bounds"], 2)
+    if box is not None:  # (the query's own points are checked by the planning call)
+        outside = ~((pts > box[0]) & (pts < box[1])).all(axis=1)
+        label[outside] = -4
+        ok &= ~outside
     idx = np.flatnonzero(ok)
     legend: dict[int, dict] = {}
     planner = None
@@ -252,7 +259,8 @@ def domain_map(obj) -> dict:
             s, g = (rest, conf) if which == "goal" else (conf, rest)
             obs = np.repeat(obstacles[None], part.size, axis=0)
             try:
-                batch = api.plan_batch(obs, s, g, planner=query.get("planner"), lift=lift)
+                batch = api.plan_batch(obs, s, g, planner=query.get("planner"), lift=lift,
+                                       bounds=box)
             except CertificationError as exc:
                 if exc.indices is None or len(exc.indices) == 0:
                     raise
@@ -271,7 +279,10 @@ def domain_map(obj) -> dict:
     # the lines where the label changes, drawn by the page as continuous lines (the pixels
     # exactly on them are too few once the line o1o2 is tilted)
     chosen = api.choose_planner(2, n, obstacles.shape[0], planner=query.get("planner"))
-    lines = display_for(chosen).map_boundaries(obstacles, others[obstacles.shape[0]:])
+    # (in a box the boundaries are the images of these lines under the box's map: curves,
+    # which the pixels show; no lines are drawn)
+    lines = [] if box is not None else \
+        display_for(chosen).map_boundaries(obstacles, others[obstacles.shape[0]:])
     for lab, count in zip(*np.unique(label, return_counts=True)):
         if lab >= 0:
             legend[int(lab)]["count"] = int(count)
@@ -288,6 +299,7 @@ def domain_map(obj) -> dict:
         "invalid": int((label == -1).sum()),
         "uncertified": int((label == -2).sum()),
         "unfinished": int((label == -3).sum()),
+        "outside": int((label == -4).sum()),
     }
 
 

@@ -16,6 +16,7 @@
     start: [[1, 1]],
     goal: [[3, -1]],
     view: { x0: -3, y0: -4.5, scale: 50 },
+    box: null,  // the workspace box [[x0, y0], [x1, y1]] (two draggable corners), or null
     plan: null, error: null, t: 0, playing: false,
     fitAfterPlan: false, mapKey: null, map: null,
   };
@@ -77,10 +78,32 @@
       el("line", { y1: sy(y), y2: sy(y), x1: 0, x2: W, class: y === 0 ? "axis" : "gridline" }, g);
   }
 
+  function boxCorners() {  // [lo, hi] whichever corner was dragged where
+    const [a, b] = state.box;
+    return [[Math.min(a[0], b[0]), Math.min(a[1], b[1])], [Math.max(a[0], b[0]), Math.max(a[1], b[1])]];
+  }
+
+  function drawBox() {
+    const g = $("workspace");
+    g.replaceChildren();
+    if (!state.box) return;
+    const [lo, hi] = boxCorners();
+    el("rect", { id: "box", class: "box", x: sx(lo[0]), y: sy(hi[1]),
+                 width: (hi[0] - lo[0]) * state.view.scale,
+                 height: (hi[1] - lo[1]) * state.view.scale }, g);
+  }
+
   function drawPoints() {
     const g = $("points");
     g.replaceChildren();
     g.setAttribute("class", state.error ? "invalid" : "");
+    drawBox();
+    (state.box || []).forEach((p, k) => {
+      const h = el("g", { id: `box-corner-${k + 1}`, class: "handle", "data-kind": "box",
+                          "data-index": k, transform: `translate(${sx(p[0])},${sy(p[1])})` }, g);
+      el("circle", { r: 15, class: "hit" }, h);
+      el("rect", { x: -5, y: -5, width: 10, height: 10, class: "box-corner" }, h);
+    });
     state.obstacles.forEach((p, k) => {
       const h = el("g", { id: `obstacle-${k + 1}`, class: "handle", "data-kind": "obstacles",
                           "data-index": k, transform: `translate(${sx(p[0])},${sy(p[1])})` }, g);
@@ -177,7 +200,9 @@
 
   // ---------------------------------------------------------------- planning
   function query() {
-    return { obstacles: state.obstacles, start: state.start, goal: state.goal };
+    const q = { obstacles: state.obstacles, start: state.start, goal: state.goal };
+    if (state.box) q.bounds = boxCorners();
+    return q;
   }
 
   async function post(url, body) {
@@ -272,6 +297,7 @@
     if (label === -1) return "#bbbbbb";
     if (label === -2) return "#000000";
     if (label === -3) return "#ffffff";
+    if (label === -4) return "#f4f4f4";
     return MAP_COLORS[label % MAP_COLORS.length];
   }
 
@@ -331,6 +357,7 @@
     if (mp.invalid) item(mapColor(-1), `coincides with another point (${mp.invalid} px)`);
     if (mp.uncertified) item(mapColor(-2), `not certified (${mp.uncertified} px)`);
     if (mp.unfinished) item(mapColor(-3), `not computed: time budget (${mp.unfinished} px)`);
+    if (mp.outside) item(mapColor(-4), `outside the workspace box (${mp.outside} px)`);
   }
 
   // ---------------------------------------------------------------- dragging
@@ -385,11 +412,22 @@
     return [cx + Math.random(), cy + Math.random()];
   }
 
+  function defaultBox() {  // a box around every point, one unit of margin, on the 1/4 grid
+    const pts = [...state.obstacles, ...state.start, ...state.goal];
+    const xs = pts.map((p) => p[0]), ys = pts.map((p) => p[1]);
+    const r = (v) => Math.round(v * 4) / 4;
+    return [[r(Math.min(...xs) - 1), r(Math.min(...ys) - 1)],
+            [r(Math.max(...xs) + 1), r(Math.max(...ys) + 1)]];
+  }
+
   function setQuery(q) {
+    state.box = q.bounds ? q.bounds.map((p) => p.slice()) : null;
     state.obstacles = q.obstacles.map((p) => p.slice());
     state.start = q.start.map((p) => p.slice());
     state.goal = q.goal.map((p) => p.slice());
-    fit([...state.obstacles, ...state.start, ...state.goal]);
+    if (!state.box && $("box-toggle").checked) state.box = defaultBox();
+    $("box-toggle").checked = !!state.box;
+    fit([...state.obstacles, ...state.start, ...state.goal, ...(state.box || [])]);
     state.fitAfterPlan = true;
     state.mapKey = null;
     redraw();
@@ -419,6 +457,12 @@
   $("map-mode").onchange = () => { state.mapKey = null; updateMap(); };
   $("discs-toggle").onchange = () => drawMovers();
   $("refine-toggle").onchange = () => schedule(0);
+  $("box-toggle").onchange = () => {
+    state.box = $("box-toggle").checked ? defaultBox() : null;
+    if (state.box) fit([...state.obstacles, ...state.start, ...state.goal, ...state.box]);
+    state.mapKey = null;
+    redraw(); schedule(0);
+  };
   $("radius").onchange = () => { if ($("refine-toggle").checked) schedule(0); };
   $("time").oninput = (ev) => { state.t = Number(ev.target.value) / 1000; drawMovers(); };
 
