@@ -12,6 +12,7 @@ Writes, next to this file:
 * ``motion.gif``    the animation itself (small);
 * ``frame3d.png``   one frame of a query in R^3, drawn in the planner's frame;
 * ``refined.png``   the query of ``strip.png`` raw and refined (radius 0.2), side by side;
+* ``room.png``      the crowded room (8 robots, 6 obstacles, a box) raw and refined;
 * ``refined.gif``   the refined motion, robots drawn as discs of radius 0.2;
 * ``verify.txt``    the output of ``pmplan verify --d 2 --n 2 --m 2 --no-progress``;
 * ``verify_refine.txt``  the same with ``--refine`` (the refined planner's moduli beside).
@@ -127,6 +128,22 @@ def refined_picture(plan, out: Path) -> None:
     plt.close(fig)
 
 
+def room_picture(out: Path) -> None:
+    """The crowded room of ``pmplan demo`` raw and refined (radius 0.15) in its box."""
+    from pmplan.examples import ROOM_GAP, crowded_room
+    from pmplan.plotting import plan_grid
+
+    o, s, g, bounds = crowded_room()
+    raw = pmplan.plan(o, s, g, bounds=bounds)
+    ref = pmplan.refine(raw, radius=ROOM_GAP / 2, obstacle_radius=ROOM_GAP / 2)
+    fig = plan_grid([raw, ref], ncols=2, panel=4.6, same_axes=2,
+                    titles=[f"raw, in the box: $W_{{{raw.domain}}}$, length "
+                            f"{raw.path.length():.3g}",
+                            f"refined, radius {ROOM_GAP / 2:g}: length {ref.path.length():.3g}"])
+    fig.savefig(out, dpi=70)
+    plt.close(fig)
+
+
 def verify_output(out: Path, *extra: str) -> None:
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf):
@@ -143,10 +160,11 @@ def main_pictures() -> None:
     frame3d_picture(HERE / "frame3d.png")
     refined_picture(plan, HERE / "refined.png")
     gif(pmplan.refine(plan, radius=RADIUS), HERE / "refined.gif")
+    room_picture(HERE / "room.png")
     verify_output(HERE / "verify.txt")
     verify_output(HERE / "verify_refine.txt", "--refine")
     for name in ("domains.png", "strip.png", "motion.gif", "frame3d.png", "refined.png",
-                 "refined.gif", "verify.txt", "verify_refine.txt"):
+                 "refined.gif", "room.png", "verify.txt", "verify_refine.txt"):
         print(f"wrote {HERE / name} ({(HERE / name).stat().st_size // 1024} KiB)")
 
 

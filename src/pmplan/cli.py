@@ -542,6 +542,7 @@ def cmd_demo(args) -> int:
         refined = list(api.refine(batch, **radii))
         extra = _planar_three_demo(args.lift)
         refined += [api.refine(p, **radii) for p in extra]
+        room, room_refined = _crowded_room_demo()
     from .display import display_for
 
     print(f"pmplan demo: {args.n} robots among 2 obstacles in the plane "
@@ -553,17 +554,21 @@ def cmd_demo(args) -> int:
     print(f"{'':<41} {'raw motion':^20} {'refined motion':^20}")
     print(f"{'planner':<14} {'domain':<7} {'stratum':<18} {'length':>9} {'clearance':>10} "
           f"{'length':>9} {'clearance':>10}")
-    for p, r in zip(plans + extra, refined):
+    for p, r in zip(plans + extra + [room], refined + [room_refined]):
         dom = f"{display_for(p.planner).domain_prefix}{p.domain}"
-        print(f"{p.planner:<14} {dom:<7} {p.stratum:<18} {p.path.length():9.3f} "
+        print(f"{p.planner:<14} {dom:<7} {p.stratum[:18]:<18} {p.path.length():9.3f} "
               f"{p.clearance:10.4f} {r.path.length():9.3f} {r.clearance:10.4f}")
+    print(f"the last row: {room.dims[1]} robots among {room.dims[2]} obstacles in the box "
+          f"[0, 10]^2 (bounds=), refined with radius {room_refined.radius:g}: radii and walls "
+          f"{'kept' if room_refined.respects_radius else 'NOT kept'}")
     from .plotting import plan_grid
     import matplotlib
 
     matplotlib.use("Agg")
     what = f"{args.n} robot{'s' if args.n > 1 else ''} among 2 obstacles (obstacle_line)" + (
         ", 1 robot among 3 obstacles (planar_three, paper Section 4)" if extra else "")
-    pairs = [q for pair in zip(plans + extra, refined) for q in pair]
+    what += f"; a crowded room: {room.dims[1]} robots, {room.dims[2]} obstacles, box [0, 10]$^2$"
+    pairs = [q for pair in zip(plans + extra + [room], refined + [room_refined]) for q in pair]
     fig = plan_grid(pairs, ncols=4, same_axes=2,
                     suptitle="pmplan demo: one certified motion per domain of "
                     f"continuity $W_l$, raw (left) and refined (right)\n{what}")
@@ -590,6 +595,17 @@ def _picture_path(out: str) -> Path:
         raise InputError(f"cannot draw the demo into {path.name!r}: use a file name ending in "
                          f"{', '.join(PICTURE_SUFFIXES)}")
     return path
+
+
+def _crowded_room_demo():
+    """The crowded room of the demo (:func:`pmplan.examples.crowded_room`): raw in its box and
+    refined with robots and obstacles of radius half the room's required distance."""
+    from . import api
+    from .examples import ROOM_GAP, crowded_room
+
+    o, s, g, bounds = crowded_room()
+    raw = api.plan(o, s, g, bounds=bounds)
+    return raw, api.refine(raw, radius=ROOM_GAP / 2, obstacle_radius=ROOM_GAP / 2)
 
 
 def _planar_three_demo(lift=1.0):

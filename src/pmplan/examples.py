@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["line_configuration", "obstacle_line_examples", "planar_three_examples"]
+__all__ = ["crowded_room", "line_configuration", "obstacle_line_examples",
+           "planar_three_examples"]
 
 # columns and heights (for n = 3) giving cp = 2..5 with obstacles o1 = (0, 0), o2 = (4, 0)
 _START = {
@@ -79,3 +80,32 @@ def planar_three_examples() -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
         (f([0, 0], [4, 0], [2.5, 1.5]), f([2.5, -1.5]), f([0, 3])),
         (f([0, 0], [4, 0], [2.5, 1.5]), f([0, -2]), f([6, 2.5])),
     ]
+
+
+#: the crowded room of ``pmplan demo`` and the tutorial: its side, required distance and draw
+ROOM_SIZE, ROOM_GAP, ROOM_SEED = 10.0, 0.3, 3
+
+
+def crowded_room(n: int = 8, m: int = 6, seed: int = ROOM_SEED):
+    """A crowded room: ``(obstacles (m, 2), start (n, 2), goal (n, 2), bounds)`` in the box
+    ``[0, 10]^2`` -- the scene family *room* of ``benchmarks/scenes.py``: obstacles at least
+    ``3 ROOM_GAP`` apart and ``ROOM_GAP`` from the walls, robots at least ``1.1 ROOM_GAP`` from
+    every other point of their configuration and from the walls (seeded rejection sampling)."""
+    rng = np.random.default_rng(seed)
+
+    def draw(count, others, gap_others, gap_self, margin):
+        pts = []
+        while len(pts) < count:
+            x = rng.uniform(margin, ROOM_SIZE - margin, 2)
+            if others.size and np.linalg.norm(others - x, axis=1).min() < gap_others:
+                continue
+            if pts and np.linalg.norm(np.asarray(pts) - x, axis=1).min() < gap_self:
+                continue
+            pts.append(x)
+        return np.asarray(pts)
+
+    o = draw(m, np.empty((0, 2)), 0.0, 3 * ROOM_GAP, ROOM_GAP)
+    g = 1.1 * ROOM_GAP
+    s = draw(n, o, g, g, g)
+    t = draw(n, o, g, g, g)
+    return o, s, t, (0.0, ROOM_SIZE)

@@ -165,6 +165,10 @@ def draw_plan(plan, ax=None, *, samples: int = 400, title: str | None = None,
     colors = robot_colors(n)
     obs = plan.obstacles
     ax.plot(obs[:, 0], obs[:, 1], "s", color="black", ms=9, zorder=5)
+    if plan.bounds is not None:  # the workspace box (pmplan.workspace), dashed
+        (x0, y0), (x1, y1) = np.asarray(plan.bounds)
+        ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], "--", color="0.35", lw=1.2,
+                zorder=2)
     times = plan.path.times
     ticks = plan.path(np.asarray(TIME_TICKS))
     for j in range(n):
