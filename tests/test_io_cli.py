@@ -292,8 +292,11 @@ def test_demo_writes_png_and_one_row_per_domain(tmp_path, capsys):
     assert out_png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     rec = pmplan.info(2, 3, 2)
     rows = [line.split() for line in out.splitlines() if line.startswith("obstacle_line")]
+    rows, room = rows[:-1], rows[-1]  # the last row: the crowded room, in its box
     assert len(rows) == rec.domains
     assert [int(r[1].removeprefix("W_")) for r in rows] == list(rec.labels)
+    assert "8 robots among 6 obstacles in the box [0, 10]^2 (bounds=)" in out
+    assert "radii and walls kept" in out and float(room[-1]) > 0.3
     for r in rows:  # positive certified clearance on every row
         assert float(r[-1]) > 0
 
