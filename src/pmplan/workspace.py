@@ -48,11 +48,14 @@ __all__ = [
 ]
 
 #: the width of the band along each wall where the map into the box is not the identity, as a
-#: fraction of the box's side (measured on benchmarks/scenes_compare.py's rooms: 1/10 and
-#: 1/4 gave the same valid shares within one query of 16 per row; 1/8 between)
+#: fraction of the box's side. Measured on seed 3 of the scene families of
+#: benchmarks/scenes.py (12 rows of 16 queries, refined): 1/10 and 1/4 give the same valid
+#: shares within one query in ten rows, 1/10 three more in two (swap n = 8, 3-D room n = 16);
+#: 1/8 lies between and was not tuned further
 BAND = 0.125
 #: the band of the map that brings a refined path into the box shrunk by ``radius``, as a
-#: fraction of the side
+#: fraction of the side (about the radius of the scene benchmark, 0.15 in a room of 10: the
+#: identity wherever the refined path keeps that much more from the walls)
 SQUEEZE = 1.0 / 64.0
 
 _MSG_BOUNDS = ("`bounds` must be a pair (lo, hi) of numbers or of length-{d} sequences with "
