@@ -169,6 +169,22 @@ def _lower_bound(start: np.ndarray, goal: np.ndarray) -> float:
 
 
 # --------------------------------------------------------------------------- OMPL
+def set_planner(ss, optimal: bool, rrtc_limit: float, budget: float) -> float:
+    """Give the SimpleSetup ``ss`` RRTConnect, or RRT* with the path-length objective
+    (``optimal``), set it up, and return its time limit (``rrtc_limit`` or ``budget``)."""
+    from ompl import base as ob
+    from ompl import geometric as og
+
+    si = ss.getSpaceInformation()
+    if optimal:
+        ss.setPlanner(og.RRTstar(si))
+        ss.setOptimizationObjective(ob.PathLengthOptimizationObjective(si))
+    else:
+        ss.setPlanner(og.RRTConnect(si))
+    ss.setup()
+    return budget if optimal else rrtc_limit
+
+
 class OmplRunner:
     """One OMPL SimpleSetup for n robots in the unit square (state space R^(2n))."""
 
@@ -199,16 +215,7 @@ class OmplRunner:
         self.ss.setStateValidityChecker(valid)
         si = self.ss.getSpaceInformation()
         si.setStateValidityCheckingResolution((R / 4) / self.space.getMaximumExtent())
-        if planner == "RRTConnect":
-            self.ss.setPlanner(og.RRTConnect(si))
-            self.limit = RRTC_LIMIT
-        elif planner == "RRT*":
-            self.ss.setPlanner(og.RRTstar(si))
-            self.ss.setOptimizationObjective(ob.PathLengthOptimizationObjective(si))
-            self.limit = BUDGET
-        else:  # pragma: no cover
-            raise ValueError(planner)
-        self.ss.setup()
+        self.limit = set_planner(self.ss, planner == "RRT*", RRTC_LIMIT, BUDGET)
 
     def _state(self, pts: np.ndarray):
         s = self.space.allocState()

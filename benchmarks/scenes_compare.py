@@ -57,7 +57,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import scenes
 from _common import HERE, _fmt, _machine_md, machine_info
-from ompl_compare import _path, _sup_distance
+from ompl_compare import _path, _sup_distance, set_planner
 from refine_continuity import _sup as _sup_times
 
 import pmplan
@@ -204,16 +204,9 @@ class OmplRunner:
         self.ss.setStateValidityChecker(valid_state)
         self._motion = Motion(si)
         si.setMotionValidator(self._motion)
-        if planner == RC:
-            self.ss.setPlanner(og.RRTConnect(si))
-            self.limit = RRTC_LIMIT
-        elif planner == RS:
-            self.ss.setPlanner(og.RRTstar(si))
-            self.ss.setOptimizationObjective(ob.PathLengthOptimizationObjective(si))
-            self.limit = BUDGET
-        else:  # pragma: no cover
+        if planner not in (RC, RS):  # pragma: no cover
             raise ValueError(planner)
-        self.ss.setup()
+        self.limit = set_planner(self.ss, planner == RS, RRTC_LIMIT, BUDGET)
 
     def _state(self, pts: np.ndarray):
         s = self.space.allocState()

@@ -24,6 +24,12 @@ from pmplan.refine.grid import pairs
 R = reference  # the map's reference (its substeps; the grid's constants through it)
 
 
+def _pair_min2(wp: np.ndarray, pa: int, pb: int) -> Fraction:
+    """The exact smallest squared distance of points pa and pb along a path (K, P, d)."""
+    return min(exact_segment_dist2(wp[j, pa], wp[j, pb], wp[j + 1, pa], wp[j + 1, pb])
+               for j in range(len(wp) - 1))
+
+
 def _truth(wp: np.ndarray, m: int, radius: float, obstacle_radius: float) -> bool:
     """Whether a path (K, P, d) keeps the radii, in rational arithmetic."""
     a, b, _ = pairs(wp.shape[1], m)
@@ -397,10 +403,7 @@ def test_no_pair_is_squeezed(backend, data, dims, degenerate, radius):
     wr, wf = raw.path.waypoints, ref.path.waypoints
     A = float(np.abs(wf).max())
     for pa, pb in zip(a, b):
-        draw = min(exact_segment_dist2(wr[j, pa], wr[j, pb], wr[j + 1, pa], wr[j + 1, pb])
-                   for j in range(len(wr) - 1))
-        got = min(exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
-                  for j in range(len(wf) - 1))
+        draw, got = _pair_min2(wr, pa, pb), _pair_min2(wf, pa, pb)
         t = (2 * radius if pa >= m else radius) or grid.KAPPA * raw.clearance
         dr = float(draw) ** 0.5
         need = max(0.5 * min(float(t), dr), min(float(t), 0.125 * dr)) - 4 * np.spacing(A)
@@ -429,10 +432,7 @@ def test_the_squeezed_query_is_held(backend):
     a, b, _ = pairs(10, 6)
     wr, wf = raw.path.waypoints, ref.path.waypoints
     for pa, pb in zip(a, b):
-        draw = min(exact_segment_dist2(wr[j, pa], wr[j, pb], wr[j + 1, pa], wr[j + 1, pb])
-                   for j in range(len(wr) - 1))
-        got = min(exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
-                  for j in range(len(wf) - 1))
+        draw, got = _pair_min2(wr, pa, pb), _pair_min2(wf, pa, pb)
         t = 0.05 if pa >= 6 else 0.025
         # (the documented kappa = 1/2, not grid.HOLD: a planted HOLD = 0 must fail here)
         assert got >= Fraction(0.5 * min(t, float(draw) ** 0.5) * (1 - 1e-12)) ** 2
@@ -491,10 +491,7 @@ def test_a_pair_kept_far_apart_stays_at_its_target(backend):
     a, b, _ = pairs(20, 4)
     wr, wf = raw.path.waypoints, ref.path.waypoints
     for pa, pb in zip(a, b):
-        draw = min(exact_segment_dist2(wr[j, pa], wr[j, pb], wr[j + 1, pa], wr[j + 1, pb])
-                   for j in range(len(wr) - 1))
-        got = min(exact_segment_dist2(wf[j, pa], wf[j, pb], wf[j + 1, pa], wf[j + 1, pb])
-                  for j in range(len(wf) - 1))
+        draw, got = _pair_min2(wr, pa, pb), _pair_min2(wf, pa, pb)
         need = min(0.05, 0.125 * float(draw) ** 0.5) * (1 - 1e-12)
         assert got >= Fraction(need) ** 2, (pa, pb)
 
