@@ -329,8 +329,10 @@ def test_demo_draws_raw_and_refined_side_by_side(tmp_path, capsys, monkeypatch):
     out_png = tmp_path / "demo.png"
     status, out, _ = run(capsys, "demo", "--n", "2", "--out", out_png)
     assert status == 0
-    # every domain's query, raw then refined: the same domain, stratum and endpoints
-    assert len(drawn) == 2 * (len(pmplan.info(2, 2, 2).labels) + 4)
+    # every domain's query, raw then refined (and the crowded room, in its box): the same
+    # domain, stratum and endpoints
+    assert len(drawn) == 2 * (len(pmplan.info(2, 2, 2).labels) + 4 + 1)
+    assert drawn[-2].bounds is not None and drawn[-1].bounds is not None
     for raw, ref in zip(drawn[::2], drawn[1::2]):
         assert not raw.refined and ref.refined
         assert (ref.planner, ref.domain, ref.stratum) == (raw.planner, raw.domain, raw.stratum)
@@ -338,7 +340,8 @@ def test_demo_draws_raw_and_refined_side_by_side(tmp_path, capsys, monkeypatch):
     rows = [line.split() for line in out.splitlines()
             if line.startswith(("obstacle_line", "planar_three"))]
     labels = pmplan.info(2, 2, 2).labels
-    assert [int(r[1].removeprefix("W_")) for r in rows if r[0] == "obstacle_line"] == list(labels)
+    assert [int(r[1].removeprefix("W_")) for r in rows if r[0] == "obstacle_line"][:-1] \
+        == list(labels)
     for r in rows:  # raw length, clearance; refined length, clearance
         raw_len, raw_clr, ref_len, ref_clr = map(float, r[-4:])
         assert raw_clr > 0 and ref_clr > 0 and ref_len < raw_len, r
