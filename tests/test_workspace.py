@@ -51,6 +51,21 @@ def test_the_map_is_a_monotone_bijection_onto_the_box_and_the_identity_inside(x,
     assert ys[1] >= ys[0] and ys[1] - ys[0] <= 1e-7 * width * (1 + 1e-6)
 
 
+@pytest.mark.parametrize("k", [-1000, -500, -60, 60, 500, 960])
+def test_a_box_at_every_magnitude_is_bitwise_equivariant(k):
+    """The maps run in the box's unit coordinates: a query and its box scaled by 2**k give the
+    plan scaled by 2**k, bit for bit, refined too (lift="scene": equivariant plans)."""
+    rng = np.random.default_rng(7)
+    o, s, g = _inside_queries(rng, 12, 4, 3)
+    f = 2.0 ** k
+    a = pmplan.plan_batch(o, s, g, lift="scene", bounds=(0, 10), refine=True, radius=0.01)
+    b = pmplan.plan_batch(o * f, s * f, g * f, lift="scene", bounds=(0, 10 * f), refine=True,
+                          radius=0.01 * f)
+    assert np.array_equal(b.domain, a.domain)
+    assert np.array_equal(b.waypoints, a.waypoints * f)
+    assert np.array_equal(b.respects_radius, a.respects_radius) and a.respects_radius.sum() >= 10
+
+
 def test_far_points_stay_apart():
     """The algebraic tail: points 100 and 101 band widths beyond the wall stay distinct (an
     exponential tail rounds both to the wall)."""

@@ -25,7 +25,10 @@ the narrow band ``SQUEEZE (hi - lo)``, brings back the few points the clearing p
 identity wherever the refined path already keeps that distance from the walls), and
 ``respects_radius`` includes the walls, decided exactly.
 
-Everything here commutes with translations and scalings of the query and the box together.
+Both maps are computed in the box's unit coordinates ``u = (x - lo) / (hi - lo)`` (the band is
+``BAND`` there): nothing underflows or overflows at any magnitude of the box, and a query and
+its box scaled together by a power of two give the same plan scaled, bit for bit (with
+``lift="scene"``, whose plans are themselves equivariant).
 """
 
 from __future__ import annotations
@@ -134,31 +137,36 @@ def check_walls(configs: list, box: np.ndarray, radius: float, batched: bool) ->
                 radius=radius))
 
 
-def _bands(box: np.ndarray, frac: float):
-    lo, hi = box
-    mu = frac * (hi - lo)
-    return lo, hi, mu, lo + mu, hi - mu
-
-
 def from_box(x: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
-    """``phi^-1``: points of the open box (..., d) to R^d (the identity on the inner box)."""
-    lo, hi, mu, a, b = _bands(box, frac)
+    """``phi^-1``: points of the open box (..., d) to R^d (the identity on the inner box, bit
+    for bit). Computed in the box's unit coordinates ``u = (x - lo) / (hi - lo)``, where the
+    band is ``frac`` and nothing underflows at any magnitude of the box."""
+    lo, hi = box
+    w = hi - lo
     x = np.asarray(x, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        up = b - mu + mu * mu / (hi - x)
-        dn = a + mu - mu * mu / (x - lo)
-    return np.where(x > b, up, np.where(x < a, dn, x))
+    a, b = frac, 1.0 - frac
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        u = (x - lo) / w
+        up = b - frac + frac * frac / (1.0 - u)
+        dn = a + frac - frac * frac / u
+        out = lo + w * np.where(u > b, up, dn)
+    return np.where((u >= a) & (u <= b), x, out)
 
 
 def into_box(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
     """``phi``: points of R^d (..., d) into the closed box (the open one up to rounding; the
-    identity on the inner box ``[lo + mu, hi - mu]``, ``mu = frac (hi - lo)``)."""
-    lo, hi, mu, a, b = _bands(box, frac)
+    identity, bit for bit, on the inner box, the band ``frac (hi - lo)`` from each wall).
+    Computed in the box's unit coordinates (see :func:`from_box`)."""
+    lo, hi = box
+    w = hi - lo
     z = np.asarray(z, dtype=float)
+    a, b = frac, 1.0 - frac
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        up = hi - mu * mu / (z - b + mu)
-        dn = lo + mu * mu / (a - z + mu)
-    out = np.where(z > b, up, np.where(z < a, dn, z))
+        u = (z - lo) / w
+        up = 1.0 - frac * frac / (u - b + frac)
+        dn = frac * frac / (a - u + frac)
+        out = lo + w * np.where(u > b, up, dn)
+    out = np.where((u >= a) & (u <= b), z, out)
     return np.clip(out, lo, hi)  # (rounding only: the tails are within [lo, hi])
 
 
