@@ -86,6 +86,15 @@ def _git_commit() -> str:
         return "?"
 
 
+def exit_after_ompl(rc: int) -> None:
+    """End a script that used OMPL with status ``rc``: flush the output, then leave without the
+    interpreter's teardown, where OMPL's nanobind bindings print spurious "leaked instance"
+    reports."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(rc)
+
+
 def machine_info() -> dict:
     """CPU model, core count, memory, OS, versions of Python/numpy/numba/pmplan/ompl, date."""
     mem = "?"

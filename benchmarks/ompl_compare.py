@@ -39,7 +39,6 @@ import argparse
 import datetime as _dt
 import json
 import math
-import os
 import sys
 import time
 from pathlib import Path
@@ -48,7 +47,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _common import OMPL_JSON, ROOT, ompl_section
+from _common import OMPL_JSON, ROOT, exit_after_ompl, ompl_section
 
 import pmplan
 from pmplan import PiecewiseLinearPath
@@ -587,8 +586,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    rc = main()
-    sys.stdout.flush()
-    sys.stderr.flush()
-    # OMPL's nanobind bindings print spurious "leaked instance" reports at interpreter exit
-    os._exit(rc)
+    exit_after_ompl(main())

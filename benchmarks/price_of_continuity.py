@@ -30,7 +30,6 @@ from __future__ import annotations
 import argparse
 import datetime as _dt
 import json
-import os
 import sys
 import time
 from pathlib import Path
@@ -41,7 +40,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import scenes  # noqa: E402
-from _common import machine_info  # noqa: E402
+from _common import exit_after_ompl, machine_info  # noqa: E402
 import pmplan  # noqa: E402
 from scenes_compare import (  # noqa: E402
     HALF,
@@ -196,6 +195,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    rc = main()
-    sys.stdout.flush()
-    os._exit(rc)  # OMPL's bindings print spurious reports at interpreter exit
+    exit_after_ompl(main())

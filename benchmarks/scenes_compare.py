@@ -46,7 +46,6 @@ from __future__ import annotations
 import argparse
 import datetime as _dt
 import json
-import os
 import sys
 import time
 from pathlib import Path
@@ -56,7 +55,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import scenes
-from _common import HERE, _fmt, _machine_md, machine_info
+from _common import HERE, _fmt, _machine_md, exit_after_ompl, machine_info
 from ompl_compare import _path, _sup_distance, set_planner
 from refine_continuity import _sup as _sup_times
 
@@ -622,8 +621,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    rc = main()
-    sys.stdout.flush()
-    sys.stderr.flush()
-    # OMPL's nanobind bindings print spurious "leaked instance" reports at interpreter exit
-    os._exit(rc)
+    exit_after_ompl(main())

@@ -194,3 +194,14 @@ def configurations(draw, d: int, m: int, n: int, degenerate: bool = False,
     """Strategy for one configuration: an array (m + n, d) of distinct points, obstacles first."""
     obstacles, start, _ = draw(queries(d, m, n, degenerate, grid))
     return np.concatenate([obstacles, start], axis=0)
+
+
+def spaced_points(rng: np.random.Generator, k: int, d: int, lo: float, hi: float,
+                  gap: float) -> np.ndarray:
+    """k points uniform in [lo, hi]^d, pairwise at least ``gap`` apart (rejection sampling with
+    ``rng``: seeded draws for the tests that probe families of queries)."""
+    while True:
+        x = rng.uniform(lo, hi, (k, d))
+        dist = np.linalg.norm(x[:, None] - x[None], axis=-1)
+        if k < 2 or dist[np.triu_indices(k, 1)].min() >= gap:
+            return x

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from strategies import spaced_points
 
 import pmplan
 from pmplan.errors import PmplanError
@@ -22,11 +23,7 @@ GAP = 0.06
 
 
 def _points(rng, k, d, size):
-    while True:
-        x = rng.uniform(0.0, size, (k, d))
-        dist = np.linalg.norm(x[:, None] - x[None], axis=-1)
-        if k < 2 or dist[np.triu_indices(k, 1)].min() >= GAP * size:
-            return x
+    return spaced_points(rng, k, d, 0.0, size, GAP * size)
 
 
 def _query(rng, d, n, m, size, integer):

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from strategies import spaced_points
 
 import pmplan
 from pmplan import workspace as W
@@ -77,22 +78,14 @@ def test_far_points_stay_apart():
 
 # --- plans in a box ---------------------------------------------------------------------------
 
-def _spaced(rng, k, d, lo, hi, gap):
-    while True:
-        x = rng.uniform(lo, hi, (k, d))
-        dist = np.linalg.norm(x[:, None] - x[None], axis=-1)
-        if k < 2 or dist[np.triu_indices(k, 1)].min() >= gap:
-            return x
-
-
 def _inside_queries(rng, b, n, m, d=2, size=10.0, margin=0.5, gap=0.6):
     """b queries in [margin, size - margin]^d, the points of a configuration >= gap apart."""
     o, s, g = [], [], []
     for _ in range(b):
-        ob = _spaced(rng, m, d, margin, size - margin, gap)
-        pair = [_spaced(rng, m + n, d, margin, size - margin, gap)[m:] for _ in range(2)]
+        ob = spaced_points(rng, m, d, margin, size - margin, gap)
+        pair = [spaced_points(rng, m + n, d, margin, size - margin, gap)[m:] for _ in range(2)]
         while any(np.linalg.norm(c[:, None] - ob[None], axis=-1).min() < gap for c in pair):
-            pair = [_spaced(rng, m + n, d, margin, size - margin, gap)[m:] for _ in range(2)]
+            pair = [spaced_points(rng, m + n, d, margin, size - margin, gap)[m:] for _ in range(2)]
         o.append(ob), s.append(pair[0]), g.append(pair[1])
     return np.array(o), np.array(s), np.array(g)
 

@@ -360,14 +360,6 @@ BOUNDS_HELP = ("the workspace box: every path stays in [LO, HI] (each a number, 
                "separated coordinates: --bounds 0,0 10,5); the same as \"bounds\" in a query")
 
 
-def _same(a, b) -> bool:
-    """Whether a file's option and the command line's agree (numbers, words or arrays)."""
-    try:
-        return bool(np.array_equal(np.asarray(a, dtype=float), np.asarray(b, dtype=float)))
-    except (TypeError, ValueError):
-        return a == b
-
-
 def _shown(value, quote: bool) -> str:
     """An option's value as the message shows it (a box as nested lists; a file's word
     quoted)."""
@@ -398,13 +390,14 @@ def _with_options(q: dict, args, source: str) -> dict:
     never silently resolved.
     """
     from .errors import InputError
+    from .io import same_value
 
     q = dict(q)
     for key in ("planner", "lift", "bounds"):
         value = getattr(args, key, None)
         if value is None:
             continue
-        if key in q and not _same(q[key], value):
+        if key in q and not same_value(q[key], value):
             raise InputError(
                 f"--{key} {_shown(value, False)} contradicts \"{key}\": {_shown(q[key], True)} "
                 f"in {source}; "

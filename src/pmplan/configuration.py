@@ -15,11 +15,22 @@ from .errors import CollisionError, InputError, NonFiniteError, ObstacleMismatch
 
 __all__ = [
     "SCENE", "as_lift", "as_points", "as_real", "check_query", "coincident_pairs",
-    "check_same_obstacles", "check_sequence", "as_config_list", "kernel_array"]
+    "check_same_obstacles", "check_sequence", "as_config_list", "configuration_names",
+    "kernel_array"]
 
 #: the value of ``lift`` that makes the unit of every query its obstacles' radius
 #: ``u(O) = max_{k >= 2} |o_k - o_1|`` (see :func:`pmplan.planners.base.unit`)
 SCENE = "scene"
+
+def configuration_names(r: int) -> list[str]:
+    """How messages name the r configurations a motion passes through: ``start``,
+    ``configuration 2`` .. ``configuration r-1``, ``goal``.
+
+    >>> configuration_names(3)
+    ['start', 'configuration 2', 'goal']
+    """
+    return ["start", *[f"configuration {k}" for k in range(2, r)], "goal"]
+
 
 #: the fix every "not a real number" error names
 _FIX = "pass real numbers, e.g. np.asarray(x, dtype=float)"

@@ -15,10 +15,10 @@ Batch npz (``pmplan batch``): arrays ``obstacles`` (B, m, d), ``start`` (B, n, d
 ``waypoints`` (B, K, m+n, d), ``strata`` (B, S) and ``stratum`` (B,) names, and the fields of
 refined motions (:data:`REFINE_FIELDS`, issue 14): ``refined``, ``radius``, ``obstacle_radius``
 (B,) always; for a refined batch also ``respects_radius`` (B,), the exact minima
-``robot_distance``, ``obstacle_distance`` (B,) and the unrefined plans' ``raw_clearance`` (B,);
-``bounds`` (B, 2, d) for a batch planned in a workspace box (an unrefined batch has radius 0, and its
-minimum distance is ``clearance``: measuring the two minima apart would cost a pass over all
-pairs, so ``pmplan batch`` without ``--refine`` stays as fast as before).
+``robot_distance``, ``obstacle_distance`` (B,) and the unrefined plans' ``raw_clearance`` (B,)
+(an unrefined batch has radius 0, and its minimum distance is ``clearance``: measuring the two
+minima apart would cost a pass over all pairs, so ``pmplan batch`` without ``--refine`` stays
+as fast as before); ``bounds`` (B, 2, d) for a batch planned in a workspace box.
 
 The JSON of one plan (:func:`plan_to_dict`) has the same fields; a distance that has no pair to
 measure (``robot_distance`` with one robot) is ``null`` there (``inf`` in the npz).
@@ -44,6 +44,7 @@ __all__ = [
     "parse_query",
     "plan_to_dict",
     "read_queries",
+    "same_value",
     "write_plans",
 ]
 
@@ -235,8 +236,9 @@ def plan_to_dict(plan, samples: int | None = None) -> dict:
 _BATCH_OPTIONS = ("lift", "planner", "bounds")
 
 
-def _equal(a, b) -> bool:
-    """Whether two values of an option are the same (numbers, words, or a box)."""
+def same_value(a, b) -> bool:
+    """Whether two values of an option are the same (numbers, words, or a box): the rule of a
+    JSON list's per-query options and of a command-line option beside its file's key."""
     if isinstance(a, list) or isinstance(b, list):
         try:
             return bool(np.array_equal(np.asarray(a, dtype=float), np.asarray(b, dtype=float)))
@@ -268,7 +270,7 @@ def _common_options(path: Path, qs: list[dict]) -> dict:
             )
         first = qs[0][key]
         for i, q in enumerate(qs):
-            if not _equal(q[key], first):
+            if not same_value(q[key], first):
                 raise InputError(
                     f"{path}: query {i} has \"{key}\": {q[key]!r} but query 0 has {first!r}; a "
                     f"batch is planned with one {key}: split the file by {key}"

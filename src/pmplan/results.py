@@ -138,6 +138,12 @@ class Plan:
         return self.path.waypoints
 
 
+def extra_row(extra: dict, i: int) -> dict:
+    """Row ``i`` of a batch's refinement record (:attr:`PlanBatch._extra`) as the keyword
+    arguments of :class:`Plan`: a number per field, the box (2, d) as an array."""
+    return {k: v[i].item() if np.ndim(v) == 1 else np.array(v[i]) for k, v in extra.items()}
+
+
 def _recorded(key: str, doc: str) -> property:
     """A read-only attribute of :class:`PlanBatch` from its refinement record."""
     return property(lambda self: self._record(key), doc=doc)
@@ -260,8 +266,7 @@ class PlanBatch:
             path=path,
             planner=self.planner,
             dims=self.dims,
-            **{k: v[i].item() if np.ndim(v) == 1 else np.array(v[i])
-               for k, v in self._extra.items()},
+            **extra_row(self._extra, i),
         )
 
     def __iter__(self):

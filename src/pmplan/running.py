@@ -39,7 +39,7 @@ from .refine import (
     check_parameters,
     check_radii,
 )
-from .results import Plan, PlanBatch
+from .results import Plan, PlanBatch, extra_row
 from .workspace import (check_bounds, check_inside, check_walls, from_box, inside, into_box,
                         restore)
 
@@ -154,7 +154,6 @@ def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
     (:func:`pmplan.certify.certificate`, which also gives the clearance). Yields ``(idx,
     arrays, ok)`` per group.
     """
-    m = obstacles.shape[1]
     lift_arr = np.asarray(lift, dtype=float)
     for kg in np.unique(k):
         idx = np.flatnonzero(k == kg)
@@ -173,12 +172,8 @@ def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
                           [np.ldexp(c[idx], -kg) for c in configs], lift_g)
         with np.errstate(over="ignore", under="ignore"):
             arrays["waypoints"] = np.ldexp(arrays["waypoints"], kg)
-        r = len(configs)
-        full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
-        via = [(j / (r - 1), full[j]) for j in range(1, r - 1)]
-        times = arrays["times"]
-        arrays["clearance"], clause = certificate(arrays["waypoints"], full[0], full[-1], m,
-                                                  times=times, via=via)
+        arrays["clearance"], clause = query_certificate(
+            arrays["waypoints"], obstacles[idx], [c[idx] for c in configs], arrays["times"])
         yield idx, arrays, ok & (clause == 0)
 
 
@@ -303,17 +298,25 @@ def run_stage(stage: Stage, progress: bool = False, workers: int = 1) -> None:
     _each_chunk(chunk, range(0, b, stage.chunk), progress, workers, check, stage.label)
 
 
+def query_certificate(waypoints, obstacles, configs: list, times, certify=certificate):
+    """The certificate ``(clearance, clauses)`` of paths (B, K, P, d) against their queries:
+    ``obstacles`` (B, m, d) and the r configurations ``configs`` (B, n, d) they pass through,
+    the intermediate ones at ``k / (r - 1)`` (``certify``: :func:`pmplan.certify.certificate`
+    or a backend's, the same contract)."""
+    m, r = obstacles.shape[1], len(configs)
+    full = [np.concatenate([obstacles, c], axis=1) for c in configs]
+    via = [(k / (r - 1), full[k]) for k in range(1, r - 1)]
+    return certify(waypoints, full[0], full[-1], m, times=times, via=via)
+
+
 def _failed_clauses(out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarray:
     """The clause of the certificate (:func:`pmplan.certify.certificate`) that each failing
     query (``bad``) of a fused run fails, for the error message; (B,) uint8."""
     idx = np.flatnonzero(bad)[:10]
     times = out["times"][idx] if out["times"].ndim == 2 else out["times"]
-    m, r = obstacles.shape[1], len(configs)
-    full = [np.concatenate([obstacles[idx], c[idx]], axis=1) for c in configs]
-    via = [(k / (r - 1), full[k]) for k in range(1, r - 1)]
     with np.errstate(all="ignore"):
-        _, clause = certificate(out["waypoints"][idx], full[0], full[-1], m, times=times,
-                                via=via)
+        _, clause = query_certificate(out["waypoints"][idx], obstacles[idx],
+                                      [c[idx] for c in configs], times)
     codes = np.zeros(bad.shape[0], np.uint8)
     codes[idx] = clause
     return codes
@@ -478,7 +481,8 @@ def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.
         except PmplanError:  # an invalid query is reported first, as always
             check_query(obstacles, start, goal, batched=True)
             raise
-        deferred = backends.select(backend).validates(p, d)
+        # (in a box the queries are validated here, before their points are tested against it)
+        deferred = bounds is None and backends.select(backend).validates(p, d)
         if not deferred:
             check_query(obstacles, start, goal, batched=True)
     else:
@@ -510,19 +514,14 @@ def _plan_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers,
         raise InputError(MSG_BOUNDS_OUT)
     b, m, d = obstacles.shape
     box = check_bounds(bounds, d)
-    if len(configs) == 2 and batched:  # (one query and sequences: checked by the caller)
-        check_query(obstacles, configs[0], configs[1], batched=True)
     check_inside(obstacles, configs, box, batched=batched)
     res = run_loop(p, from_box(obstacles, box), [from_box(c, box) for c in configs], lift,
                    batched=batched, progress=progress, backend=backend, workers=workers)
     wp = into_box(res["waypoints"], box)
     fixed = p.fixed_waypoints(np.asarray(res["times"]))
     restore(wp, m, fixed, configs, obstacles)
-    full = [np.concatenate([obstacles, c], axis=1) for c in configs]
-    r = len(configs)
-    clearance, codes = backends.select(backend).certify(
-        wp, full[0], full[-1], m, times=res["times"],
-        via=[(k / (r - 1), full[k]) for k in range(1, r - 1)])
+    clearance, codes = query_certificate(wp, obstacles, configs, res["times"],
+                                         backends.select(backend).certify)
     bad = ~(clearance > 0) | (np.asarray(codes) != 0) | ~inside(wp, box)
     if bad.any():
         _raise_certificate(bad, batched, np.asarray(codes))
@@ -579,8 +578,7 @@ def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float =
         path = PiecewiseLinearPath(stage.times, stage.waypoints[0])
         return Plan(batch.domain, batch.stratum, float(stage.clearance[0]), path.compact(),
                     batch.planner, batch.dims,
-                    **{k: v[0].item() if np.ndim(v) == 1 else np.array(v[0])
-                       for k, v in extra.items()})
+                    **extra_row(extra, 0))
     return PlanBatch(domain=batch.domain.copy(), strata=batch.strata.copy(),
                      clearance=stage.clearance, times=stage.times, waypoints=stage.waypoints,
                      planner=batch.planner, dims=batch.dims, _names=batch._names, _extra=extra)

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .configuration import configuration_names
 from .errors import InputError
 
 __all__ = [
@@ -45,6 +46,7 @@ __all__ = [
     "check_walls",
     "from_box",
     "inside",
+    "interior",
     "into_box",
     "restore",
     "shrunk",
@@ -63,11 +65,12 @@ SQUEEZE = 1.0 / 64.0
 
 _MSG_BOUNDS = ("`bounds` must be a pair (lo, hi) of numbers or of length-{d} sequences with "
                "lo < hi in every coordinate (the workspace box), got {value!r}")
-_MSG_OUTSIDE = ("{what} {point} is at {coord} = {value:.17g}, outside the workspace box "
+_MSG_OUTSIDE = ("{who} is at {coord} = {value:.17g}, outside the workspace box "
                 "[{lo:.17g}, {hi:.17g}] in that coordinate{where}: move it inside, or "
                 "enlarge `bounds`")
-_MSG_WALL = ("{what} {point} is {dist:.6g} from the wall {coord} = {wall:.17g}{where}, closer "
-             "than radius = {radius:.6g}: move it away from the wall or use a smaller radius")
+_MSG_WALL = ("in the {name}, robot x{i} is {dist:.6g} from the wall {coord} = {wall:.17g}"
+             "{where}, closer than radius = {radius:.6g}: move it away from the wall or use a "
+             "smaller radius")
 
 
 def check_bounds(bounds, d: int) -> np.ndarray:
@@ -96,26 +99,23 @@ def check_bounds(bounds, d: int) -> np.ndarray:
     return box
 
 
-def _label(m: int, index: int) -> str:
-    return f"obstacle o{index + 1}" if index < m else f"robot x{index - m + 1}"
+def interior(points: np.ndarray, box: np.ndarray) -> np.ndarray:
+    """Whether every coordinate of ``points`` (..., d) lies strictly inside the box (2, d)."""
+    return (points > box[0]) & (points < box[1])
 
 
 def check_inside(obstacles: np.ndarray, configs: list, box: np.ndarray, batched: bool) -> None:
     """Raise an InputError naming the first point of the query (obstacle, or robot of a start,
     goal or intermediate configuration) that is not strictly inside ``box`` (2, d)."""
-    lo, hi = box
-    names = ["start", *[f"configuration {k}" for k in range(2, len(configs))], "goal"]
-    m = obstacles.shape[1]
-    for name, pts in (("", obstacles), *zip(names, configs)):
-        bad = ~((pts > lo) & (pts < hi))  # (B, P, d)
+    names = configuration_names(len(configs))
+    for name, pts in ((None, obstacles), *zip(names, configs)):
+        bad = ~interior(pts, box)  # (B, P, d)
         if bad.any():
             q, i, k = (int(v[0]) for v in np.nonzero(bad))
-            what = _label(m, i) if not name else f"in the {name}, robot"
-            point = "" if not name else f"x{i + 1}"
-            where = f" in query {q}" if batched else ""
+            who = f"obstacle o{i + 1}" if name is None else f"in the {name}, robot x{i + 1}"
             raise InputError(_MSG_OUTSIDE.format(
-                what=what.strip(), point=point, coord=f"x[{k}]", value=float(pts[q, i, k]),
-                lo=float(lo[k]), hi=float(hi[k]), where=where).replace("  ", " "))
+                who=who, coord=f"x[{k}]", value=float(pts[q, i, k]), lo=float(box[0, k]),
+                hi=float(box[1, k]), where=f" in query {q}" if batched else ""))
 
 
 def check_walls(configs: list, box: np.ndarray, radius: float, batched: bool) -> None:
@@ -124,7 +124,7 @@ def check_walls(configs: list, box: np.ndarray, radius: float, batched: bool) ->
     if radius == 0:
         return
     lo, hi = box
-    names = ["start", *[f"configuration {k}" for k in range(2, len(configs))], "goal"]
+    names = configuration_names(len(configs))
     for name, pts in zip(names, configs):
         dist = np.minimum(pts - lo, hi - pts)
         bad = dist < radius
@@ -132,7 +132,7 @@ def check_walls(configs: list, box: np.ndarray, radius: float, batched: bool) ->
             q, i, k = (int(v[0]) for v in np.nonzero(bad))
             wall = lo[k] if pts[q, i, k] - lo[k] <= hi[k] - pts[q, i, k] else hi[k]
             raise InputError(_MSG_WALL.format(
-                what=f"in the {name}, robot", point=f"x{i + 1}", dist=float(dist[q, i, k]),
+                name=name, i=i + 1, dist=float(dist[q, i, k]),
                 coord=f"x[{k}]", wall=float(wall), where=f" in query {q}" if batched else "",
                 radius=radius))
 

@@ -22,6 +22,7 @@ from ..certify import (
     exact_segment_dist2,
     radius_report,
 )
+from ..configuration import configuration_names
 from ..errors import CertificationError, CollisionError, InputError
 from ..planners.base import Stage
 from ..workspace import SQUEEZE, inside, into_box, restore, shrunk
@@ -134,8 +135,7 @@ def check_radii(obstacles: np.ndarray, configs: list, radius: float, obstacle_ra
     ``2 radius`` or a robot closer than ``radius + obstacle_radius`` to an obstacle (exact)."""
     if radius == 0 and obstacle_radius == 0:
         return
-    r = len(configs)
-    names = ["start", *[f"configuration {k}" for k in range(2, r)], "goal"]
+    names = configuration_names(len(configs))
     m = obstacles.shape[1]
     full = np.concatenate([np.concatenate([obstacles, c], axis=1) for c in configs])
     wp = np.stack([full, full], axis=1)  # constant paths, (r B, 2, P, d)

@@ -53,7 +53,7 @@ from ..errors import CertificationError, InputError, PmplanError
 from ..io import json_int, parse_query, plan_to_dict
 from ..magnitude import LIMIT, needs_scaling
 from ..refine import check_radius, check_refine_flag
-from ..workspace import check_bounds
+from ..workspace import check_bounds, interior
 from . import require_extra
 
 __all__ = ["MAX_BODY", "MAX_GRID", "MAX_POINTS", "create_app", "examples", "domain_map",
@@ -237,7 +237,7 @@ def domain_map(obj) -> dict:
     ok = ~(pts[:, None, :] == others[None]).all(axis=2).any(axis=1)
     box = None if query.get("bounds") is None else check_bounds(query["bounds"], 2)
     if box is not None:  # (the query's own points are checked by the planning call)
-        outside = ~((pts > box[0]) & (pts < box[1])).all(axis=1)
+        outside = ~interior(pts, box).all(axis=1)
         label[outside] = -4
         ok &= ~outside
     idx = np.flatnonzero(ok)

@@ -415,7 +415,7 @@
   function defaultBox() {  // a box around every point, one unit of margin, on the 1/4 grid
     const pts = [...state.obstacles, ...state.start, ...state.goal];
     const xs = pts.map((p) => p[0]), ys = pts.map((p) => p[1]);
-    const r = (v) => Math.round(v * 4) / 4;
+    const r = (v) => Math.round(v / SNAP) * SNAP;
     return [[r(Math.min(...xs) - 1), r(Math.min(...ys) - 1)],
             [r(Math.max(...xs) + 1), r(Math.max(...ys) + 1)]];
   }
