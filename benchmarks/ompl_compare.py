@@ -168,6 +168,25 @@ def _lower_bound(start: np.ndarray, goal: np.ndarray) -> float:
 
 
 # --------------------------------------------------------------------------- OMPL
+def solve(ss, start, goal, limit: float, simplify: bool, n: int, d: int):
+    """Solve the SimpleSetup ``ss`` from the OMPL state ``start`` to ``goal`` within ``limit``
+    seconds (then ``simplifySolution`` when ``simplify``): ``(seconds, robots (K, n, d))``, or
+    ``(seconds, None)`` when no exact solution was found."""
+    ss.clear()
+    ss.setStartAndGoalStates(start, goal)
+    t0 = time.perf_counter()
+    ss.solve(limit)
+    ok = ss.haveExactSolutionPath()
+    if ok and simplify:
+        ss.simplifySolution()
+    dt = time.perf_counter() - t0
+    if not ok:
+        return dt, None
+    p = ss.getSolutionPath()
+    k = p.getStateCount()
+    return dt, np.array([p.getState(i)[0 : n * d] for i in range(k)]).reshape(k, n, d)
+
+
 def set_planner(ss, optimal: bool, rrtc_limit: float, budget: float) -> float:
     """Give the SimpleSetup ``ss`` RRTConnect, or RRT* with the path-length objective
     (``optimal``), set it up, and return its time limit (``rrtc_limit`` or ``budget``)."""
@@ -223,21 +242,9 @@ class OmplRunner:
 
     def plan(self, start: np.ndarray, goal: np.ndarray):
         """Return (seconds, PiecewiseLinearPath or None)."""
-        self.ss.clear()
-        st, gl = self._state(start), self._state(goal)
-        self.ss.setStartAndGoalStates(st, gl)
-        t0 = time.perf_counter()
-        self.ss.solve(self.limit)
-        ok = self.ss.haveExactSolutionPath()
-        if ok and self.name == "RRTConnect":
-            self.ss.simplifySolution()
-        dt = time.perf_counter() - t0
-        if not ok:
-            return dt, None
-        p = self.ss.getSolutionPath()
-        k = p.getStateCount()
-        robots = np.array([p.getState(i)[0 : self.dim] for i in range(k)]).reshape(k, self.n, 2)
-        return dt, _path(_full(robots))
+        dt, robots = solve(self.ss, self._state(start), self._state(goal), self.limit,
+                           self.name == "RRTConnect", self.n, 2)
+        return dt, None if robots is None else _path(_full(robots))
 
 
 class PmplanRunner:

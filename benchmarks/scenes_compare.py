@@ -56,7 +56,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import scenes
 from _common import HERE, _fmt, _machine_md, exit_after_ompl, machine_info
-from ompl_compare import _path, _sup_distance, set_planner
+from ompl_compare import _path, _sup_distance, set_planner, solve
 from refine_continuity import _sup as _sup_times
 
 import pmplan
@@ -215,20 +215,11 @@ class OmplRunner:
     def plan(self, o, s, g):
         """(seconds, (PiecewiseLinearPath, waypoints (K, m+n, d)) or None)."""
         self.obs = np.ascontiguousarray(o, dtype=float)
-        self.ss.clear()
-        self.ss.setStartAndGoalStates(self._state(s), self._state(g))
-        t0 = time.perf_counter()
-        self.ss.solve(self.limit)
-        ok = self.ss.haveExactSolutionPath()
-        if ok and self.name == RC:
-            self.ss.simplifySolution()
-        dt = time.perf_counter() - t0
-        if not ok:
+        dt, robots = solve(self.ss, self._state(s), self._state(g), self.limit, self.name == RC,
+                           self.n, self.d)
+        if robots is None:
             return dt, None
-        p = self.ss.getSolutionPath()
-        k = p.getStateCount()
-        robots = np.array([p.getState(i)[0:self.dim] for i in range(k)]).reshape(k, self.n,
-                                                                                  self.d)
+        k = robots.shape[0]
         wp = np.concatenate([np.broadcast_to(o, (k,) + o.shape), robots], axis=1)
         return dt, (_path(wp), wp)
 
