@@ -15,10 +15,13 @@ and *room3d* (d = 3, m = 4), n = 2, 4, 8, 16. Planners:
   every robot-robot and robot-obstacle pair moving linearly along a motion is checked at its
   closed-form minimum distance (double precision, no sampling along the motion);
 * ``pmplan default``: ``pmplan.plan(o, s, g, refine=True, radius=r/2, obstacle_radius=r/2)``,
-  every other argument at its default (``lift`` = 1, an absolute length);
+  every other argument at its default: the planner ``obstacle_line_compact`` (Mathematics
+  §4.4) and the unit ``lift`` = the robots' diameter, r = 0.3 here
+  (:func:`pmplan.configuration.default_lift`);
 * ``pmplan lift L``: the same with ``lift = L * 10`` (L in 0.03, 0.1, 0.3, 1; ``lift`` is an
   absolute length, the box side is 10) and ``lift = "scene"`` (each query's obstacles' radius).
-  ``lift 0.1`` is ``lift = 1``, the default: that row is the default row, not re-run;
+  ``lift 0.03`` is ``lift = 0.3``, the default's unit here: that row is the default row, not
+  re-run;
 * ``pmplan default + box``: the default with the workspace box, ``bounds=(0, 10)``
   (:mod:`pmplan.workspace`): paths inside the box shrunk by the radius.
 
@@ -78,7 +81,7 @@ TIE = 1e-9
 NS = (2, 4, 8, 16)
 
 RC, RS, PD = "OMPL RRTConnect", "OMPL RRT*", "pmplan default"
-#: pmplan variants: label -> lift argument (None: the default). "lift 0.1" = the default's 1.
+#: pmplan variants: label -> lift argument (None: the default). "lift 0.03" = the default's unit.
 LIFTS = {PD: None, "pmplan lift 0.03": 0.3, "pmplan lift 0.1": 1.0, "pmplan lift 0.3": 3.0,
          "pmplan lift 1": 10.0, "pmplan lift scene": "scene"}
 #: pmplan default with the workspace box (``bounds=(0, SIZE)``, pmplan.workspace)
@@ -88,8 +91,10 @@ BOUNDED = {PB}
 PLANNERS = [RC, RS, *LIFTS]
 PMPLAN = list(LIFTS)
 OMPL = [RC, RS]
-#: the default lift of pmplan.plan (checked at start-up): the row equal to the default
-DEFAULT_LIFT = 1.0
+#: the default lift of pmplan.plan (checked at start-up): None, the robots' diameter when
+#: refined (pmplan.configuration.default_lift), here 2 (r/2): the row equal to the default
+DEFAULT_LIFT = None
+DEFAULT_ROW = "pmplan lift 0.03"
 
 
 # --------------------------------------------------------------------------- exact validity
@@ -425,10 +430,11 @@ start and vice versa). {count} queries per row, seed {seed}{quick}.
   objective, fixed {budget:g} s budget), both in R^(nd) bounded by the box with an exact
   closed-form motion validator (the minimum distance of every linearly moving pair along a
   motion, double precision, no sampling); pmplan refined (`refine=True, radius=r/2,
-  obstacle_radius=r/2`, so its certified distances are >= r) at its default arguments
-  (`lift` = {dlift:g}, an absolute length) and at `lift` = 0.03, 0.1, 0.3, 1 times the box
-  side (absolute 0.3, 1, 3, 10) and `"scene"` (each query's obstacles' radius). *lift 0.1* is
-  the default's lift: the same plans (marked "= default", not re-run).
+  obstacle_radius=r/2`, so its certified distances are >= r) at its default arguments (the
+  planner `obstacle_line_compact`, Mathematics §4.4; `lift` = the robots' diameter, {dunit:g})
+  and at `lift` = 0.03, 0.1, 0.3, 1 times the box side (absolute 0.3, 1, 3, 10) and `"scene"`
+  (each query's obstacles' radius). *lift 0.03* is the default's unit: the same plans (marked
+  "= default", not re-run).
 * *valid*: every robot-robot and robot-obstacle distance >= r along the whole polyline, decided
   exactly (`pmplan.certify.radius_report`, rational arithmetic near r), and every waypoint inside
   the box. *keeps r / inside / returned*: how many returned paths keep r, stay inside, were
@@ -458,7 +464,7 @@ def report(out: dict) -> str:
              _machine_md(info), "",
              EXPLAIN.format(size=SIZE, r=R, count=out["count"], seed=out["seed"],
                             quick=" (quick)" if out["quick"] else "", rrtc=RRTC_LIMIT,
-                            budget=BUDGET, dlift=DEFAULT_LIFT, drift=DRIFT, ticks=TICKS,
+                            budget=BUDGET, dunit=LIFTS[DEFAULT_ROW], drift=DRIFT, ticks=TICKS,
                             ja=JUMP_ABS, jr=JUMP_REL)]
     head = ("| row (d,n,m) | planner | valid | keeps r / inside / returned | time (ms) | len/LB | "
             "paired vs RRTC; RRT* | probe median | probe max | label changes | replanning "
@@ -534,8 +540,10 @@ def main(argv=None) -> int:
     import inspect
 
     dl = inspect.signature(pmplan.plan).parameters["lift"].default
-    if dl != DEFAULT_LIFT:
-        raise SystemExit(f"pmplan.plan's default lift is {dl!r}, not {DEFAULT_LIFT}: update LIFTS")
+    unit = pmplan.configuration.default_lift(dl, HALF, HALF, True)
+    if dl != DEFAULT_LIFT or unit != LIFTS[DEFAULT_ROW]:
+        raise SystemExit(f"pmplan.plan's default lift is {dl!r} (unit {unit}), not "
+                         f"{DEFAULT_LIFT} ({LIFTS[DEFAULT_ROW]}): update LIFTS")
     ou.setLogLevel(ou.LogLevel.LOG_NONE)
     ou.RNG.setSeed(args.seed)
     count = 4 if args.quick else args.queries
@@ -565,7 +573,7 @@ def main(argv=None) -> int:
             ticks = drift_obstacles(o0, s0, g0, [args.seed, fam.index, n, 2])
             cell, raw = {}, {}
             for name in PLANNERS:
-                if name == "pmplan lift 0.1":  # lift = 1 = the default: the same plans
+                if name == DEFAULT_ROW:  # the default's unit: the same plans
                     raw[name] = raw[PD]
                     cell[name] = dict(cell[PD], same_as=PD)
                     continue
@@ -587,7 +595,7 @@ def main(argv=None) -> int:
             wins = ompl_wins(cell)
             row = {"family": fname, "d": fam.d, "n": n, "m": fam.m, "planners": cell,
                    "per_query": {k: v["queries"] for k, v in raw.items()
-                                 if k != "pmplan lift 0.1"},
+                                 if k != DEFAULT_ROW},
                    "wins": {(f"{k[0]}|{k[1]}" if isinstance(k, tuple) else k): v
                             for k, v in wins.items()},
                    "seconds": time.perf_counter() - t_row}

@@ -21,7 +21,16 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 from refine_bench import replace_section  # noqa: E402
-from scenes_compare import OMPL, PD, RC, RS, _fmt, best_pmplan, ompl_wins  # noqa: E402
+from scenes_compare import (  # noqa: E402
+    LIFTS,
+    OMPL,
+    PD,
+    RC,
+    RS,
+    _fmt,
+    best_pmplan,
+    ompl_wins,
+)
 
 TITLE = "## Scene families against OMPL (issue 25)"
 PB = "pmplan default + box"
@@ -56,8 +65,43 @@ def section() -> str:
                        + " / ".join(_fmt(p[x]["len_lb_median"]) for x in names)
                        + f" | {', '.join(wins[(RC, b)]) or 'nothing'} |")
         out.append("")
+        out += goals(res)
     assert OMPL == [RC, RS]
     return "\n".join(out)
+
+
+#: issue 25's goals per row: valid share (box) by n, paired length vs RRTConnect by n, time
+VALID_GOAL = {2: 0.95, 4: 0.95, 8: 0.95, 16: 0.80}
+PAIRED_GOAL = {2: 1.3, 4: 1.3, 8: 1.6, 16: 1.6}
+TIME_GOAL = {8: 5.0, 16: 20.0}
+
+
+def goals(res: dict) -> list[str]:
+    """The goal table of one draw: item 2 (the default's median len/LB against the best fixed
+    lift's, all without the box), item 3 (valid share with the box), item 4 (paired length
+    with the box / RRTConnect), item 6 (median time with the box)."""
+    lines = ["Goals per row (issue 25): *unit* = default len/LB / best fixed lift's (goal <= "
+             "1.05; medians over each variant's valid paths, without the box); *valid* = "
+             "default + box (goal >= 95 %, n = 16: 80 %); *paired* = default + box / "
+             "RRTConnect over the queries both solve (goal <= 1.3, n >= 8: 1.6); *time* = "
+             "default + box, median ms per query (goal n = 8: 5, n = 16: 20).", "",
+             "| row | unit | valid | paired | time (ms) | goals met |", "|---|---|---|---|---|---|"]
+    for c in res["rows"]:
+        p, n = c["planners"], c["n"]
+        fixed = [p[k]["len_lb_median"] for k in LIFTS if k not in (PD, PB)
+                 if p[k]["valid"]]
+        unit = (p[PD]["len_lb_median"] / min(fixed)) if fixed and p[PD]["valid"] else None
+        share = p[PB]["valid"] / p[PB]["count"]
+        ratio, both = p["paired"][PB][RC]
+        ms = p[PB]["time_ms_median"]
+        met = [unit is not None and unit <= 1.05, share >= VALID_GOAL[n],
+               both > 0 and ratio <= PAIRED_GOAL[n], ms <= TIME_GOAL.get(n, float("inf"))]
+        names = ["unit", "valid", "paired", "time"]
+        out = ", ".join(k for k, ok in zip(names, met) if not ok)
+        lines.append(f"| {c['family']} n = {n} | {_fmt(unit) if unit else 'n/a'} | "
+                     f"{p[PB]['valid']}/{p[PB]['count']} | {_fmt(ratio)} ({both}) | {_fmt(ms)} | "
+                     f"{'all' if not out else 'not ' + out} |")
+    return lines + [""]
 
 
 def main() -> int:

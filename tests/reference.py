@@ -159,13 +159,16 @@ def _exact_point(p):
     return [Fraction(c) for c in p]
 
 
-def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None) -> Reference:
+def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
+                   compact: bool = False) -> Reference:
     """Return the reference plan for one query (obstacles (m, d), start, goal (n, d)).
 
     Implements Mathematics §3 (m = 2, d even), §4.1 (odd d) and §4.2 (any m >= 2) literally:
     desingularization ``x_j + j eps e`` (only when some robot shares a column), projection of the
     robots to ``L``, lift by ``i lambda nu(e)``, slide, descend, and the reverse deformation of C'.
     ``lam`` overrides lambda (to show that ``lambda = lift`` alone is not enough).
+    ``compact``: the compact lanes of Mathematics §4.4 (``obstacle_line_compact``): robot i at
+    ``+(H_+ + k lift)`` (odd i) or ``-(H_- + k lift)`` (even i), ``k = ceil(i / 2)``.
     """
     obs = [_exact_point(p) for p in obstacles]
     xs = [_exact_point(p) for p in start]
@@ -190,8 +193,16 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None) -> Re
     lam = Fraction(lift) + rmax if lam is None else Fraction(lam)
     d1, p1, eps_s = _deform(obs, xs, o1, w, norm, e)
     d2, p2, eps_g = _deform(obs, ys, o1, w, norm, e)
-    lifted1 = [_add(x, _mul((i + 1) * lam, nu)) for i, x in enumerate(p1)]
-    lifted2 = [_add(x, _mul((i + 1) * lam, nu)) for i, x in enumerate(p2)]
+    heights = [(i + 1) * lam for i in range(len(xs))]
+    if compact:  # t_k = (o_k - o_1) . nu, k >= 3
+        ts = [_dot(_sub(o, o1), nu) for o in obs[2:]]
+        hp = max([Fraction(0)] + ts)
+        hm = max([Fraction(0)] + [-t for t in ts])
+        u = Fraction(lift)
+        heights = [hp + (i // 2 + 1) * u if i % 2 == 0 else -(hm + (i // 2 + 1) * u)
+                   for i in range(len(xs))]
+    lifted1 = [_add(x, _mul(h, nu)) for h, x in zip(heights, p1)]
+    lifted2 = [_add(x, _mul(h, nu)) for h, x in zip(heights, p2)]
     robots = [xs, d1, p1, lifted1, lifted2, p2, d2, ys]
     exact = [obs + r for r in robots]
     floats = [[[float(c) for c in p] for p in conf] for conf in exact]
@@ -200,7 +211,7 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None) -> Re
                      eps_s, eps_g, lam, nu, pole)
 
 
-def reference_sequence(obstacles, configs, lift: float = 1.0):
+def reference_sequence(obstacles, configs, lift: float = 1.0, compact: bool = False):
     """Return ``(label, record, times, waypoints)`` of Mathematics §4.3 through r configurations.
 
     The two-configuration path from C_k to C_{k+1} runs on ``[(k-1)/(r-1), k/(r-1)]``;
@@ -211,7 +222,7 @@ def reference_sequence(obstacles, configs, lift: float = 1.0):
     times, wps = [], []
     cps = []
     for k in range(r - 1):
-        ref = reference_plan(obstacles, configs[k], configs[k + 1], lift)
+        ref = reference_plan(obstacles, configs[k], configs[k + 1], lift, compact=compact)
         lo = Fraction(k, r - 1)
         ts = [lo + t / (r - 1) for t in ref.times]
         start = 0 if k == 0 else 1

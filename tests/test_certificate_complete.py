@@ -186,8 +186,9 @@ class _Corrupting(Planner):
     required members of the protocol) whose output is corrupted by ``fn(times, waypoints, m)``
     (per-query breakpoints)."""
 
-    name = "obstacle_line"
+    name = "obstacle_line_compact"  # (the default planner, of its priority)
     summary = "test double"
+    priority = 1
 
     def __init__(self, fn):
         self.fn = fn
@@ -209,7 +210,7 @@ class _Corrupting(Planner):
         return out
 
     def reference(self, obstacles, configs, lift):
-        raw = obstacle_line.OBSTACLE_LINE.reference(obstacles, configs, lift)
+        raw = obstacle_line.OBSTACLE_LINE_COMPACT.reference(obstacles, configs, lift)
         b, k = raw.path.waypoints.shape[:2]
         t = np.broadcast_to(raw.path.times, (b, k)).copy()
         w = raw.path.waypoints.copy()
@@ -239,7 +240,7 @@ def fresh_fast_paths(monkeypatch):
 @pytest.mark.parametrize("clause", sorted(CORRUPT))
 def test_generic_run_loop_never_returns_a_broken_path(monkeypatch, fresh_fast_paths, entry,
                                                       clause):
-    monkeypatch.setitem(REGISTRY, "obstacle_line", _Corrupting(CORRUPT[clause]))
+    monkeypatch.setitem(REGISTRY, "obstacle_line_compact", _Corrupting(CORRUPT[clause]))
     _raises_clause(clause, _generic_entry_points()[entry])
 
 
@@ -247,14 +248,14 @@ def test_generic_run_loop_checks_the_intermediate_configurations(monkeypatch, fr
     def miss_via(t, w, m):
         w[:, 7, m, 0] = np.nextafter(w[:, 7, m, 0], np.inf)
 
-    monkeypatch.setitem(REGISTRY, "obstacle_line", _Corrupting(miss_via))
+    monkeypatch.setitem(REGISTRY, "obstacle_line_compact", _Corrupting(miss_via))
     for name in ("plan_sequence", "plan_sequence_batch"):
         _raises_clause(8, _generic_entry_points()[name])
 
 
 def test_generic_run_loop_returns_what_it_certified(monkeypatch, fresh_fast_paths):
     """The test double itself is sound: uncorrupted, every entry point answers."""
-    monkeypatch.setitem(REGISTRY, "obstacle_line", _Corrupting(lambda t, w, m: None))
+    monkeypatch.setitem(REGISTRY, "obstacle_line_compact", _Corrupting(lambda t, w, m: None))
     for name, fn in _generic_entry_points().items():
         assert fn() is not None, name
 

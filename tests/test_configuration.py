@@ -243,7 +243,7 @@ def test_bad_lift_value(lift):
         pmplan.plan_sequence(O, [S, G], lift=lift)
 
 
-@pytest.mark.parametrize("lift", ["x", None, [1.0, 2.0]])
+@pytest.mark.parametrize("lift", ["x", [1.0, 2.0]])
 def test_bad_lift_type(lift):
     with raises(InputError, match=r"`lift` must be a positive real number or 'scene'"):
         pmplan.plan(O, S, G, lift=lift)

@@ -133,7 +133,7 @@ def test_contract(name, dims, kind):
 @pytest.mark.parametrize("name, dims", [c for c in _cases() if REGISTRY[c[0]].sequential])
 def test_sequential_contract(name, dims, kind):
     obstacles, configs = _queries(dims, kind, 12, seed=7, r=3)
-    batches = {be: pmplan.plan_sequence_batch(obstacles, configs, backend=be)
+    batches = {be: pmplan.plan_sequence_batch(obstacles, configs, backend=be, planner=name)
                for be in BACKENDS}
     _assert_same_batch(batches[None], batches["numpy"])
     batch = batches[None]
@@ -143,20 +143,20 @@ def test_sequential_contract(name, dims, kind):
     for be in BACKENDS:
         for i in range(0, 12, 5):
             _assert_same_plan(pmplan.plan_sequence(obstacles[i], [c[i] for c in configs],
-                                                   backend=be), batch[i])
+                                                   backend=be, planner=name), batch[i])
 
 
 def test_default_planner_rule():
     assert default_planner(2, 1, 3) == "planar_three"
-    assert default_planner(2, 1, 3, sequential=True) == "obstacle_line"
+    assert default_planner(2, 1, 3, sequential=True) == "obstacle_line_compact"
     for dims in [(2, 1, 2), (3, 1, 3), (2, 2, 3), (9, 4, 5)]:
-        assert default_planner(*dims) == "obstacle_line"
-        assert api.choose_planner(*dims).name == "obstacle_line"
+        assert default_planner(*dims) == "obstacle_line_compact"
+        assert api.choose_planner(*dims).name == "obstacle_line_compact"
 
 
 def test_importing_the_planners_registers_both():
     """``pmplan.planners`` imports every planner (an ImportError is not swallowed)."""
-    assert {"obstacle_line", "planar_three"} <= set(REGISTRY)
+    assert {"obstacle_line", "obstacle_line_compact", "planar_three"} <= set(REGISTRY)
 
 
 # --------------------------------------------------------------------------------------------

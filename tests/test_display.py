@@ -13,8 +13,10 @@ from pmplan.strata import spec_for
 
 def test_every_planner_has_a_display():
     for name, p in REGISTRY.items():
-        assert display_for(name) is display_for(p) is DISPLAYS[type(p)]
+        own = next(DISPLAYS[c] for c in type(p).__mro__ if c in DISPLAYS)  # class or ancestor
+        assert display_for(name) is display_for(p) is own
         assert display_for(p).domain_prefix == "W_"
+    assert display_for("obstacle_line_compact") is display_for("obstacle_line")  # a subclass
     assert type(display_for("obstacle_line")) is ObstacleLineDisplay
     assert len(display_for("obstacle_line").phases) == 7
     assert type(display_for("planar_three")) is PlanarDisplay

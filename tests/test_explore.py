@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 import pmplan
 from explore_server import need_extra, request, running_server
 from pmplan.cli import main
-from pmplan.io import parse_query, plan_to_dict
+from pmplan.io import parse_query, plan_to_dict, with_unit
 from strategies import queries
 
 SRC = Path(__file__).resolve().parents[1] / "src"
@@ -102,7 +102,8 @@ def test_refined_plan_is_pmplan_plan_refine_output(base, tmp_path, capsys, radiu
     assert status == 200, body
     raw = body.pop("raw")
     assert body == cli and body["refined"] is True and body["radius"] == radius
-    unrefined = pmplan.plan_query(parse_query(REFINE_Q))
+    unrefined = pmplan.plan_query(with_unit(parse_query(REFINE_Q),
+                                            {"radius": radius, "obstacle_radius": radius}))
     assert raw == _roundtrip({"times": unrefined.path.times.tolist(),
                               "waypoints": unrefined.path.waypoints.tolist()})
     assert (body["domain"], body["stratum"]) == (unrefined.domain, unrefined.stratum)
@@ -144,7 +145,7 @@ def test_examples_cover_every_stratum_and_every_demo_domain(base):
             demo.setdefault(body["planner"], set()).add(body["domain"])
             assert ex["name"].lstrip("W_") == str(body["domain"])
     assert seen_strata == set(pmplan.planners.planar_three.STRATA)
-    assert demo == {"obstacle_line": set(range(4, 11)), "planar_three": {1, 2, 3, 4}}
+    assert demo == {"obstacle_line_compact": set(range(4, 11)), "planar_three": {1, 2, 3, 4}}
 
 
 @settings(max_examples=25)
@@ -245,7 +246,7 @@ def test_domain_map_is_plan_at_every_pixel(base, which):
     status, body = request(base, "/api/domain-map", req)
     assert status == 200, body
     lab = np.array(body["domain"])
-    assert lab.shape == (9, 13) and body["planner"] == "obstacle_line"
+    assert lab.shape == (9, 13) and body["planner"] == "obstacle_line_compact"
     counts = {}
     for j in range(9):
         for i in range(13):

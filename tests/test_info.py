@@ -54,8 +54,8 @@ def test_default_planner_213():
     assert i.domains == 4 == i.tc and i.optimal
     j = pmplan.info(2, 1, 3, planner="obstacle_line")
     assert j.planner == "obstacle_line" and j.domains == 4
-    assert pmplan.info(2, 2, 3).planner == "obstacle_line"
-    assert pmplan.info(2, 1, 3, 3).planner == "obstacle_line"  # sequential
+    assert pmplan.info(2, 2, 3).planner == "obstacle_line_compact"
+    assert pmplan.info(2, 1, 3, 3).planner == "obstacle_line_compact"  # sequential
 
 
 def test_unknown_planner_raises():

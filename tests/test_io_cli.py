@@ -109,7 +109,8 @@ def test_plan_options_from_the_query(tmp_path, capsys):
     q = dict(QUERY, lift=2.5, planner="obstacle_line")
     status, out, _ = run(capsys, "plan", write_json(tmp_path, q))
     assert status == 0
-    ref = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"], lift=2.5)
+    ref = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"], lift=2.5,
+                      planner="obstacle_line")
     np.testing.assert_array_equal(json.loads(out)["waypoints"], ref.path.waypoints)
 
 
@@ -476,7 +477,8 @@ def test_option_and_file_must_agree(tmp_path, capsys):
     assert_one_line_error(status, out, err, "--planner planar_three contradicts")
     status, out, _ = run(capsys, "plan", path, "--lift", "3", "--planner", "obstacle_line")
     assert status == 0  # the same value twice is fine
-    ref = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"], lift=3.0)
+    ref = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"], lift=3.0,
+                      planner="obstacle_line")
     np.testing.assert_array_equal(json.loads(out)["waypoints"], ref.path.waypoints)
 
 
@@ -529,7 +531,7 @@ def test_batch_of_zero_queries(tmp_path, capsys):
              goal=np.zeros((0, 3, 2)))
     status, out, err = run(capsys, "batch", str(src), "--out", str(dst), "--no-progress")
     assert status == 0 and "Traceback" not in err
-    assert out.startswith("planned 0 queries with obstacle_line;")
+    assert out.startswith("planned 0 queries with obstacle_line_compact;")
     with np.load(dst) as res:
         assert res["domain"].shape == (0,) and res["clearance"].shape == (0,)
         assert res["waypoints"].shape[0] == 0 and res["waypoints"].shape[2:] == (5, 2)
@@ -555,7 +557,7 @@ def test_batch_json_common_lift_and_planner_are_honoured(tmp_path, capsys):
              dict(QUERY2, lift=2.5, planner="obstacle_line")]
     status, _, err, dst = _batch_json(tmp_path, capsys, items)
     assert status == 0, err
-    ref = pmplan.plan_batch(*_stack(QUERY, QUERY2), lift=2.5)
+    ref = pmplan.plan_batch(*_stack(QUERY, QUERY2), lift=2.5, planner="obstacle_line")
     default = pmplan.plan_batch(*_stack(QUERY, QUERY2))
     assert not np.array_equal(ref.waypoints, default.waypoints)
     with np.load(dst) as res:
@@ -590,7 +592,7 @@ BAD_BATCH_JSON = {
     "via shape": ([dict(QUERY, via=[[[1, 2], [3, 2]]]), dict(QUERY2, via=[[[1, 2, 0], [3, 2, 0]]])],
                   "query 1 has via[0] of shape (2, 3)"),
     "via planner": ([dict(QUERY, via=[[[1, 2], [3, 2]]], planner="planar_three")] * 2,
-                    "planned by the obstacle_line planner"),
+                    "planned by the obstacle_line or obstacle_line_compact planner"),
     "empty list": ([], "holds an empty list"),
 }
 

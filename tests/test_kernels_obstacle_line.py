@@ -161,12 +161,14 @@ def test_odd_d_pole():
     o = np.array([[[1.0, 2.0, 0.0], [1.0, 2.0, 3.0]]])
     s = np.array([[[0.0, 0.0, 1.0], [2.0, 2.0, 1.0]]])  # two robots share a column
     g = np.array([[[5.0, 1.0, -1.0], [0.0, 1.0, 7.0]]])
-    fast = pmplan.plan_batch(o, s, g, backend="numba")
-    assert_same_batch(fast, pmplan.plan_batch(o, s, g, backend="numpy"))
-    assert fast.strata[0].tolist() == [3, 4, 2, 1]
-    assert fast.domain[0] == 3 + 4 - 2 + 2 - 1
-    lifted = fast.waypoints[0, 3, 2:] - fast.waypoints[0, 2, 2:]
-    assert np.array_equal(lifted, [[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])  # i lambda nu, nu = e_1
+    for planner, lanes in (("obstacle_line", [[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]),  # i lambda nu
+                           ("obstacle_line_compact", [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]])):  # +-k
+        fast = pmplan.plan_batch(o, s, g, backend="numba", planner=planner)
+        assert_same_batch(fast, pmplan.plan_batch(o, s, g, backend="numpy", planner=planner))
+        assert fast.strata[0].tolist() == [3, 4, 2, 1]
+        assert fast.domain[0] == 3 + 4 - 2 + 2 - 1
+        lifted = fast.waypoints[0, 3, 2:] - fast.waypoints[0, 2, 2:]
+        assert np.array_equal(lifted, lanes)  # nu = e_1
 
 
 def test_exact_tie_only_fractions_see_goes_to_the_reference():
@@ -270,7 +272,8 @@ def test_single_plan_equals_reference(q):
     assert np.array_equal(fast.path.times, ref.path.times)
     assert np.array_equal(fast.path.waypoints, ref.path.waypoints)
     seq = pmplan.plan_sequence(q[0], [q[1], q[2]])
-    assert np.array_equal(seq.path.waypoints, pmplan.plan(*q, planner="obstacle_line").waypoints)
+    assert np.array_equal(seq.path.waypoints,
+                          pmplan.plan(*q, planner="obstacle_line_compact").waypoints)
 
 
 O = [[0.0, 0.0], [2.0, 0.0]]
@@ -468,7 +471,7 @@ def _mixed_batch(rng, b, d, m, n, r, special):
     return o, cs
 
 
-def _run_chunk(o, cs, lift, scalar_only):
+def _run_chunk(o, cs, lift, scalar_only, compact=False):
     b, m, d = o.shape
     n, r = cs[0].shape[1], len(cs)
     middle = np.stack(cs[1:-1]) if r > 2 else np.empty((0, b, n, d))
@@ -478,17 +481,18 @@ def _run_chunk(o, cs, lift, scalar_only):
     tab = kernels_line.tables(r, m, n, d)
     with np.errstate(all="ignore"):
         if scalar_only:
-            kernels_line.plan_queries(o, cs[0], cs[-1], middle, lift, True, *out, tab, np.arange(b), b)
+            kernels_line.plan_queries(o, cs[0], cs[-1], middle, lift, True, *out, tab, np.arange(b), b,
+                                      compact)
         else:
-            kernels_line.plan_chunk(o, cs[0], cs[-1], middle, lift, True, *out, tab)
+            kernels_line.plan_chunk(o, cs[0], cs[-1], middle, lift, True, *out, tab, compact)
     return out
 
 
 @settings(max_examples=30)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3, 4, 5]), st.sampled_from([2, 3, 5]),
        st.sampled_from([1, 2, 4, 9]), st.sampled_from([2, 2, 3]), st.integers(0, 40),
-       st.sampled_from([1.0, 0.25]))
-def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
+       st.sampled_from([1.0, 0.25]), st.booleans())
+def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift, compact):
     """The SIMD path decides the generic queries of a chunk and hands every other one to the
     scalar kernel: the outputs (waypoints, labels, strata, clearances, flags -- also of invalid
     queries, validated) are identical to the scalar kernel's on every query, the lanes really
@@ -496,8 +500,8 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
     rng = np.random.default_rng(seed)
     b = int(rng.integers(kernels_line.LANES_MIN, 3 * kernels_line.lanes(r, m, n, d) + 7))
     o, cs = _mixed_batch(rng, b, d, m, n, r, special)
-    lanes = _run_chunk(o, cs, lift, scalar_only=False)
-    scalar = _run_chunk(o, cs, lift, scalar_only=True)
+    lanes = _run_chunk(o, cs, lift, scalar_only=False, compact=compact)
+    scalar = _run_chunk(o, cs, lift, scalar_only=True, compact=compact)
     flags = scalar[4]
     assert np.array_equal(lanes[4], flags)
     for a, z in zip(lanes[1:4], scalar[1:4]):
@@ -512,7 +516,7 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift):
     out = [np.empty_like(x) for x in lanes]
     with np.errstate(all="ignore"):
         nt = kernels_line._plan_lanes(o, cs[0], cs[-1], middle, lift, *out, todo,
-                                      kernels_line.lanes(r, m, n, d))
+                                      kernels_line.lanes(r, m, n, d), compact)
     decided = np.ones(b, bool)
     decided[todo[:nt]] = False
     strata = scalar[2]

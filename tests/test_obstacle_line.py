@@ -47,18 +47,22 @@ _TIMES = np.array([float(t) for t in TIMES])
 BACKENDS = [None, "numpy"]
 
 
-def _plan(q, lift=1.0, backend=None):
-    return pmplan.plan(*q, planner="obstacle_line", lift=lift, backend=backend)
+#: the paper's lanes and the compact ones (Mathematics §4.4): one construction, two sections
+PLANNERS = ["obstacle_line", "obstacle_line_compact"]
 
 
-def _batch(qs, lift=1.0, backend=None):
-    return pmplan.plan_batch(*(np.stack(a) for a in zip(*qs)), planner="obstacle_line", lift=lift,
+def _plan(q, lift=1.0, backend=None, planner="obstacle_line"):
+    return pmplan.plan(*q, planner=planner, lift=lift, backend=backend)
+
+
+def _batch(qs, lift=1.0, backend=None, planner="obstacle_line"):
+    return pmplan.plan_batch(*(np.stack(a) for a in zip(*qs)), planner=planner, lift=lift,
                              backend=backend)
 
 
 def assert_matches_reference(q, plan, record, lift=1.0):
     """Compare one library plan (and its stratum record) with the reference, and certify it."""
-    ref = reference_plan(*q, lift=lift)
+    ref = reference_plan(*q, lift=lift, compact=plan.planner == "obstacle_line_compact")
     assert plan.domain == ref.label
     assert tuple(int(v) for v in record) == ref.record
     assert plan.waypoints.shape == (8,) + (q[0].shape[0] + q[1].shape[0], q[0].shape[1])
@@ -75,11 +79,12 @@ def assert_matches_reference(q, plan, record, lift=1.0):
     return ref
 
 
-def check_queries(qs, lift=1.0, backend=None):
+def check_queries(qs, lift=1.0, backend=None, planner="obstacle_line"):
     """Plan ``qs`` singly and as a batch; compare each with the reference; batch == single."""
-    batch = _batch(qs, lift, backend)
+    batch = _batch(qs, lift, backend, planner)
     for i, q in enumerate(qs):
-        single = _plan(q, lift, backend)
+        single = _plan(q, lift, backend, planner)
+        assert single.planner == planner
         assert_matches_reference(q, single, batch.strata[i], lift)
         assert batch.domain[i] == single.domain
         assert batch.stratum[i] == single.stratum
@@ -101,17 +106,19 @@ def check_queries(qs, lift=1.0, backend=None):
     degenerate=st.booleans(),
     data=st.data(),
 )
+@pytest.mark.parametrize("planner", PLANNERS)
 @pytest.mark.parametrize("backend", BACKENDS)
-def test_matches_reference_hypothesis(backend, d, m, n, lift, degenerate, data):
+def test_matches_reference_hypothesis(backend, planner, d, m, n, lift, degenerate, data):
     q = data.draw(queries(d, m, n, degenerate=degenerate))
-    check_queries([q], lift, backend)
+    check_queries([q], lift, backend, planner)
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("d, m, n", [(d, m, n) for d in (2, 3, 4, 5) for m in (2, 3, 4, 5)
                                      for n in (1, 2, 3, 8)]
                          + [(d, m, n) for d in (8, 9) for m in (2, 4) for n in (1, 3)])
-def test_matches_reference_exact_strata(backend, d, m, n):
+@pytest.mark.parametrize("planner", PLANNERS)
+def test_matches_reference_exact_strata(backend, planner, d, m, n):
     """Exactly constructed queries of random strata (both poles for odd d), as one batch."""
     rng = np.random.default_rng(1000 * d + 100 * m + n)
     table = strata(d, n, m)
@@ -119,7 +126,7 @@ def test_matches_reference_exact_strata(backend, d, m, n):
     qs = [column_query(rng, d, n, m, table[i].cp_start, table[i].cp_goal, cp_o=table[i].cp_o,
                        pole=table[i].pole, integer=bool(i % 2)) for i in picks]
     lift = float(rng.choice([1.0, 0.5, 2.0]))
-    batch = check_queries(qs, lift, backend)
+    batch = check_queries(qs, lift, backend, planner)
     for i, q in zip(picks, qs):
         assert stratum_of(q).label == table[i].label
     assert list(batch.domain) == [table[i].label for i in picks]
@@ -396,3 +403,73 @@ def test_jump_across_labels(d, n, m):
     eps = base.waypoints[1, m, 0] - base.waypoints[0, m, 0]  # robot 1 moved by 1 * eps along e
     assert eps >= 0.5 / (n + m) * (1 - 1e-12)  # min column gap 0.5 over n + m
     assert min(sups) >= 0.5 * eps
+
+
+# --------------------------------------------------------------------------------------------
+# compact lanes (Mathematics §4.4): the default planner's section
+
+
+@settings(max_examples=60)
+@given(d=st.sampled_from([2, 3, 4]), m=st.sampled_from([2, 3, 5]), n=st.sampled_from([1, 2, 5]),
+       lift=st.sampled_from([1.0, 0.3, 0.01]), data=st.data())
+def test_compact_lanes_are_a_unit_apart_and_clear_the_obstacles(d, m, n, lift, data):
+    """During the slide (waypoints 3 and 4) the robots' nu-components are their lanes h_i:
+    odd robots above the line, even ones below, any two at least u apart, every lane at least
+    u from every obstacle's nu-component (the reference's rational waypoints, each rounded to a
+    double: up to a relative 1e-12)."""
+    q = data.draw(queries(d, m, n, degenerate=data.draw(st.booleans())))
+    ref = reference_plan(*q, lift=lift, compact=True)
+    nu, o1 = ref.nu, ref.exact[0][0]
+    scale = max(abs(c) for conf in ref.exact for p in conf for c in p)
+    u = Fraction(lift) - Fraction(1, 10**12) * scale
+
+    def height(p):
+        return sum((a - b) * c for a, b, c in zip(p, o1, nu))
+
+    ts = [height(o) for o in ref.exact[0][:m]]
+    hs = [height(x) - height(y) for x, y in zip(ref.exact[3][m:], ref.exact[2][m:])]
+    for i, h in enumerate(hs):
+        assert (h > 0) == (i % 2 == 0)
+        assert all(abs(h - t) >= u for t in ts)  # (t = 0 for o_1, o_2)
+        assert all(abs(h - g) >= u for g in hs[:i])
+        if m == 2:  # no obstacle off the line: +-k u
+            assert abs(abs(h) - lift * (i // 2 + 1)) <= 1e-12 * scale
+
+
+def test_compact_lanes_pass_where_the_papers_climb():
+    """The example of Mathematics §4.2 (o_3 far off the line): the paper's lanes climb by
+    lambda = lift + |r(o_3)| per robot, the compact ones by the unit; both are certified."""
+    o = [[0.0, 0.0], [1.0, 0.0], [5.0, 4.0]]
+    s, g = [[2.0, 3.0], [3.0, -1.0], [4.0, 1.0]], [[10.0, -3.0], [-2.0, 2.0], [6.0, -2.0]]
+    paper = pmplan.plan(o, s, g, planner="obstacle_line")
+    compact = pmplan.plan(o, s, g)
+    assert compact.planner == "obstacle_line_compact" and compact.domain == paper.domain
+    lanes = lambda p: p.path.waypoints[3, 3:, 1] - p.path.waypoints[2, 3:, 1]  # noqa: E731
+    np.testing.assert_array_equal(lanes(paper), [5.0, 10.0, 15.0])  # i (1 + 4)
+    np.testing.assert_array_equal(lanes(compact), [5.0, -1.0, 6.0])  # 4 + 1, -(0 + 1), 4 + 2
+    assert compact.path.length() < 0.6 * paper.path.length()
+    assert compact.clearance > 0 and paper.clearance > 0
+
+
+@pytest.mark.parametrize("radius, obstacle_radius, unit", [(0.1, 0.1, 0.2), (0.1, 0.3, 0.4),
+                                                           (0.2, 0.0, 0.4)])
+def test_the_default_unit_of_a_refined_plan_is_the_robots_diameter(radius, obstacle_radius,
+                                                                   unit):
+    """lift=None (the default): max(2 radius, radius + obstacle_radius) for a refined plan,
+    the paper's 1 for a raw one (pmplan.configuration.default_lift); a query scaled by a power
+    of two, radii with it, gives the scaled refined plan, bit for bit."""
+    o, s, g = [[0.0, 0.0], [4.0, 0.0], [2.0, 1.5]], [[1.0, 1.0], [3.0, -1.0]], [[3.0, -1.0],
+                                                                               [0.5, 2.0]]
+    kw = dict(refine=True, radius=radius, obstacle_radius=obstacle_radius)
+    auto = pmplan.plan(o, s, g, **kw)
+    same = pmplan.plan(o, s, g, lift=unit, **kw)
+    np.testing.assert_array_equal(auto.path.waypoints, same.path.waypoints)
+    assert not np.array_equal(auto.path.waypoints, pmplan.plan(o, s, g, lift=1.0, **kw).path.waypoints)
+    np.testing.assert_array_equal(pmplan.plan(o, s, g).path.waypoints,
+                                  pmplan.plan(o, s, g, lift=1.0).path.waypoints)
+    k = 2.0**-7
+    small = pmplan.plan(np.multiply(o, k), np.multiply(s, k), np.multiply(g, k), refine=True,
+                        radius=radius * k, obstacle_radius=obstacle_radius * k)
+    np.testing.assert_array_equal(small.path.waypoints, auto.path.waypoints * k)
+    batch = pmplan.plan_batch(*(np.array(a)[None] for a in (o, s, g)), **kw)
+    np.testing.assert_array_equal(batch.waypoints[0], auto.path.waypoints)

@@ -127,7 +127,7 @@ def test_out_refuses_what_does_not_fit():
     q = _batch()
     good = pmplan.plan_batch(*q)
     _refused(q, good.waypoints, "must be a PlanBatch")
-    _refused(q, pmplan.plan_batch(*_batch(b=11)), "needs 10 of the obstacle_line planner")
+    _refused(q, pmplan.plan_batch(*_batch(b=11)), "needs 10 of the obstacle_line_compact planner")
     _refused(q, pmplan.plan_batch(*_batch(n=3)), r"for \(2, 2, 2\)")
     _refused(q, pmplan.plan_batch(*_batch(d=3)), r"for \(2, 2, 2\)")
     rng = np.random.default_rng(1)

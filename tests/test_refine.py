@@ -217,7 +217,8 @@ def test_respects_radius_truthful_random_queries(dims, data, frac):
 
 def test_radius_zero_still_shortens_and_clears():
     o = OMPL_OBSTACLES
-    raw = pmplan.plan(o, [[0.1, 0.5], [0.2, 0.2]], [[0.9, 0.5], [0.8, 0.8]], lift=0.1)
+    raw = pmplan.plan(o, [[0.1, 0.5], [0.2, 0.2]], [[0.9, 0.5], [0.8, 0.8]], lift=0.1,
+                      planner="obstacle_line")
     ref = pmplan.refine(raw)
     assert ref.path.length() < 0.7 * raw.path.length()
     assert ref.clearance > 0.4 * raw.clearance  # KAPPA of the raw clearance, kept

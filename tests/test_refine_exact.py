@@ -73,7 +73,7 @@ def test_refined_robots_report_two_radii():
     respects_radius False (the stage's kernel measurement and the numpy reference)."""
     o = [[-3.0, 0.0], [3.0, 0.0]]
     s, g = [[-0.5, 0.0], [0.5, 0.0]], [[0.5, 0.0], [-0.5, 0.0]]
-    raw = pmplan.plan(o, s, g, lift=0.01)  # the robots pass 0.0096 apart after refinement
+    raw = pmplan.plan(o, s, g, lift=0.01, planner="obstacle_line")  # (0.0096 apart, refined)
     radius = 0.75 * pmplan.refine(raw).robot_distance
     for backend in ("numba", "numpy"):
         ref = pmplan.refine(raw, radius=radius, steps=1, backend=backend)

@@ -65,7 +65,8 @@ def test_plan_refine_radius_is_the_refined_plan(tmp_path, capsys, query):
                            "--radius", "0.05")
     assert status == 0 and err == ""
     res = json.loads(out)
-    raw = pmplan.plan_query(io.parse_query(query))
+    raw = pmplan.plan_query(io.with_unit(io.parse_query(query), {"radius": 0.05}))
+    assert raw.path.waypoints.max() < 3.0  # (lanes 0.1 apart: the default unit, 2 radius)
     ref = pmplan.refine(raw, radius=0.05)
     # the same domain and stratum as the raw plan; the refined path, bit for bit
     assert (res["domain"], res["stratum"]) == (raw.domain, raw.stratum)
@@ -106,7 +107,7 @@ def test_plan_refine_tuning_options_reach_refine(tmp_path, capsys):
                          "--obstacle-radius", "0.01")
     assert status == 0
     res = json.loads(out)
-    raw = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"])
+    raw = pmplan.plan(QUERY["obstacles"], QUERY["start"], QUERY["goal"], lift=0.01)  # (default)
     ref = pmplan.refine(raw, waypoints=8, steps=5, obstacle_radius=0.01)
     np.testing.assert_array_equal(np.array(res["waypoints"]), ref.path.waypoints)
     assert res["obstacle_radius"] == 0.01
@@ -188,9 +189,9 @@ def test_batch_refine_writes_the_refined_batch(tmp_path, capsys, via):
     assert status == 0, err
     if via:
         configs = [start, *np.moveaxis(arrays["via"], 1, 0), goal]
-        raw = pmplan.plan_sequence_batch(obstacles, configs)
+        raw = pmplan.plan_sequence_batch(obstacles, configs, lift=0.04)  # (the default unit)
     else:
-        raw = pmplan.plan_batch(obstacles, start, goal)
+        raw = pmplan.plan_batch(obstacles, start, goal, lift=0.04)
     ref = pmplan.refine(raw, radius=0.02, obstacle_radius=0.02)
     with np.load(tmp_path / "p.npz") as res:
         np.testing.assert_array_equal(res["domain"], raw.domain)
@@ -340,7 +341,7 @@ def test_demo_draws_raw_and_refined_side_by_side(tmp_path, capsys, monkeypatch):
     rows = [line.split() for line in out.splitlines()
             if line.startswith(("obstacle_line", "planar_three"))]
     labels = pmplan.info(2, 2, 2).labels
-    assert [int(r[1].removeprefix("W_")) for r in rows if r[0] == "obstacle_line"][:-1] \
+    assert [int(r[1].removeprefix("W_")) for r in rows if r[0] == "obstacle_line_compact"][:-1] \
         == list(labels)
     for r in rows:  # raw length, clearance; refined length, clearance
         raw_len, raw_clr, ref_len, ref_clr = map(float, r[-4:])

@@ -37,7 +37,7 @@ def test_plan_arrays_is_plan_batch_and_plan_sequence_batch(kind):
     o, (s, g) = _queries((2, 1, 3), kind, 10, seed=5)
     assert running.plan_arrays(o, [s, g]).planner == "planar_three"
     seq = running.plan_arrays(o, [s, g], sequential=True)
-    assert seq.planner == "obstacle_line"
+    assert seq.planner == "obstacle_line_compact"
     _assert_same_batch(seq, pmplan.plan_sequence_batch(o, [s, g]))
 
 

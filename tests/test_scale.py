@@ -224,7 +224,7 @@ def test_zarr_to_zarr_equals_numpy(tmp_path, capsys):
     assert_same(read_store(tmp_path / "out.zarr"), ref)
     grp = zarr.open_group(str(tmp_path / "out.zarr"), mode="r")
     attrs = dict(grp.attrs)
-    assert attrs["planner"] == "obstacle_line" and attrs["lift"] == "scene"
+    assert attrs["planner"] == "obstacle_line_compact" and attrs["lift"] == "scene"
     assert attrs["pmplan_version"] == pmplan.__version__ and attrs["dims"] == [2, 3, 2]
     assert attrs["complete"] is True and attrs["chunk"] == 200 and attrs["B"] == 950
     assert grp["waypoints"].chunks == (200, 8, 5, 2) and grp["done"].shape == (5,)
@@ -438,7 +438,7 @@ def test_refined_zarr_store_resume_and_errors(tmp_path, capsys):
     status, out, err = run(capsys, "batch", src, "--out", dst, "--refine", "--radius", 0.25,
                            "--steps", 24, "--no-progress")
     assert status == 0, err
-    ref = pmplan.refine(pmplan.plan_batch(o, s, g), radius=0.25, steps=24)
+    ref = pmplan.refine(pmplan.plan_batch(o, s, g, lift=0.5), radius=0.25, steps=24)  # (lift 2 r)
     assert f"refined, radii respected by {int(ref.respects_radius.sum())} of 450" in out
     assert_same_refined(read_store(dst), ref)
     grp = zarr.open_group(str(dst), mode="r")

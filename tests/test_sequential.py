@@ -18,7 +18,8 @@ ULPS = 16
 def _check_one(obstacles, configs, plan, record, lift=1.0):
     r = len(configs)
     m = obstacles.shape[0]
-    label, ref_record, times, wps = reference_sequence(obstacles, configs, lift)
+    compact = plan.planner == "obstacle_line_compact"
+    label, ref_record, times, wps = reference_sequence(obstacles, configs, lift, compact)
     assert plan.domain == label == stratum_of((obstacles, *configs)).label
     assert tuple(int(v) for v in record) == ref_record
     assert plan.waypoints.shape[0] == 7 * (r - 1) + 1
@@ -36,16 +37,19 @@ def _check_one(obstacles, configs, plan, record, lift=1.0):
 @settings(max_examples=30)
 @given(seed=st.integers(0, 2**32 - 1), d=st.sampled_from([2, 3, 4]),
        m=st.sampled_from([2, 3, 4]), n=st.sampled_from([1, 2, 3]), r=st.integers(2, 5),
-       lift=st.sampled_from([1.0, 0.5, 2.0]))
-def test_sequence_matches_reference(seed, d, m, n, r, lift):
+       lift=st.sampled_from([1.0, 0.5, 2.0]),
+       planner=st.sampled_from([None, "obstacle_line", "obstacle_line_compact"]))
+def test_sequence_matches_reference(seed, d, m, n, r, lift, planner):
     rng = np.random.default_rng(seed)
     cp_o = int(rng.integers(2, m + 1))
     cps = rng.integers(cp_o, cp_o + n + 1, size=r)
     pole = bool(d % 2 and rng.integers(2))
     obstacles, configs = column_sequence(rng, d, n, m, cps, cp_o=cp_o, pole=pole,
                                          integer=bool(rng.integers(2)))
-    p = pmplan.plan_sequence(obstacles, configs, lift=lift)
-    b = pmplan.plan_sequence_batch(obstacles[None], [c[None] for c in configs], lift=lift)
+    p = pmplan.plan_sequence(obstacles, configs, lift=lift, planner=planner)
+    b = pmplan.plan_sequence_batch(obstacles[None], [c[None] for c in configs], lift=lift,
+                                   planner=planner)
+    assert p.planner == b.planner == (planner or "obstacle_line_compact")
     _check_one(obstacles, configs, p, b.strata[0], lift)
     assert b.domain[0] == p.domain
     np.testing.assert_array_equal(b.waypoints[0], p.waypoints)
@@ -58,7 +62,7 @@ def test_r2_is_plan(d):
     for s in strata(d, 2, 3)[::3]:
         obstacles, (c1, c2) = column_sequence(rng, d, 2, 3, s.cps, cp_o=s.cp_o, pole=s.pole)
         a = pmplan.plan_sequence(obstacles, [c1, c2])
-        b = pmplan.plan(obstacles, c1, c2, planner="obstacle_line")
+        b = pmplan.plan(obstacles, c1, c2, planner="obstacle_line_compact")
         assert a.domain == b.domain
         np.testing.assert_array_equal(a.times, b.times)
         np.testing.assert_array_equal(a.waypoints, b.waypoints)

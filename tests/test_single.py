@@ -115,7 +115,7 @@ def check_sequence(obstacles, configs, **kwargs) -> bool:
     assert_same_plan(fast, _general(pmplan.plan_sequence, obstacles, configs, **kwargs))
     r = len(configs)
     o = np.asarray(obstacles, dtype=float)
-    assert fast.planner == "obstacle_line"
+    assert fast.planner == (kwargs.get("planner") or "obstacle_line_compact")
     assert fast.waypoints.shape[0] == 7 * (r - 1) + 1
     # the stratum names every configuration's cp(C_k) (paper notation T_{cp_1,...,cp_r})
     assert fast.stratum.startswith("T_{") and fast.stratum[3:].split("}")[0].count(",") == r - 1
@@ -307,6 +307,7 @@ def test_sequence_generic_takes_the_fast_path_and_agrees(seed, d, m, n, r, form)
     configs = {"list": list(stack), "tuple": tuple(stack), "array": stack,
                "lists": stack.tolist()}[form]
     assert check_sequence(obstacles, configs)
+    assert check_sequence(obstacles, configs, planner="obstacle_line")  # the paper's lanes
 
 
 def test_sequence_r2_is_plan():

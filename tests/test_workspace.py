@@ -174,7 +174,7 @@ def test_refined_plans_keep_the_radius_from_the_walls():
     assert np.array_equal(b.respects_radius, kept & ok)
     assert b.respects_radius.sum() >= 30
     assert W.inside(b.waypoints, BOX).all()
-    raw = pmplan.plan_batch(o, s, g, bounds=(0, 10))
+    raw = pmplan.plan_batch(o, s, g, bounds=(0, 10), lift=2 * r)  # (the default unit, refined)
     again = pmplan.refine(raw, radius=r, obstacle_radius=r)  # the raw batch carries its box
     assert np.array_equal(again.waypoints, b.waypoints) and (again.bounds == BOX).all()
 

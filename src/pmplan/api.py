@@ -16,7 +16,7 @@ import numpy as np
 
 from .checks import (check_sequential, choose_planner, is_dask, parametrised_tc, planner_info,
                      planner_names)
-from .configuration import as_config_list, as_points, check_same_obstacles
+from .configuration import as_config_list, as_points, check_same_obstacles, default_lift
 from .errors import InputError, ShapeError, UnsupportedError
 from .planners.base import out_of_scope
 from .refine import asks_refine
@@ -42,7 +42,7 @@ __all__ = [
 ]
 
 def plan_batch(
-    obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
+    obstacles, start, goal, *, planner: str | None = None, lift: float | str | None = None,
     progress: bool = False, backend: str | None = None, workers: int = 1,
     out: PlanBatch | None = None, refine: bool = False, radius: float = 0.0,
     obstacle_radius: float = 0.0, bounds=None,
@@ -57,9 +57,12 @@ def plan_batch(
         :func:`pmplan.scale.plan_batch`: the PlanBatch then holds dask arrays.
     planner : str, optional
         ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
-    lift : float or "scene"
-        The unit of the motion; default 1, the paper's (the height scale of the lift in the
-        obstacle-line planner, the 1 of ``H`` and ``s3`` in the planar one). ``"scene"``: the
+    lift : float or "scene", optional
+        The unit of the motion (the spacing of the lanes of the obstacle-line planners, the 1
+        of ``H`` and ``s3`` in the planar one). Default: for a refined plan (``refine=True``
+        with a positive radius) the robots' diameter ``max(2 radius, radius +
+        obstacle_radius)``, so that the lanes are as far apart as the robots need; otherwise
+        1, the paper's (:func:`pmplan.configuration.default_lift`). ``"scene"``: the
         obstacles' radius ``u(O) = max_k |o_k - o_1|`` of each query, for scenes far from
         unit size (millimetres, kilometres) and for equivariance (a scaled, translated or
         rotated query gets the scaled, translated or rotated plan). A bool or a string other
@@ -120,6 +123,7 @@ def plan_batch(
     ((5,), (5, 8, 5, 2), (8,))
     """
     refining = asks_refine(refine, radius, obstacle_radius, out)
+    lift = default_lift(lift, radius, obstacle_radius, refining)
     if is_dask(obstacles, start, goal):  # lazy plans of dask arrays (the optional extra)
         from . import scale
 
@@ -134,7 +138,7 @@ def plan_batch(
     return batch
 
 
-def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
+def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | str | None = None,
          backend: str | None = None, refine: bool = False, radius: float = 0.0,
          obstacle_radius: float = 0.0, bounds=None) -> Plan:
     """Plan one query: a certified collision-free motion from ``start`` to ``goal``.
@@ -147,9 +151,9 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
         Robot positions x_1..x_n and x'_1..x'_n.
     planner : str, optional
         ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
-    lift : float or "scene"
-        The unit of the motion (default 1, the paper's; ``"scene"``: each query's obstacles'
-        radius): see :func:`plan_batch`.
+    lift : float or "scene", optional
+        The unit of the motion (default: the robots' diameter for a refined plan, else 1, the
+        paper's; ``"scene"``: each query's obstacles' radius): see :func:`plan_batch`.
     backend : {"numba", "numpy"}, optional
         See :func:`plan_batch`.
     refine : bool
@@ -180,6 +184,7 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     (array([0., 1.]), array([ 1., -1.]))
     """
     refining = asks_refine(refine, radius, obstacle_radius)
+    lift = default_lift(lift, radius, obstacle_radius, refining)
     if bounds is not None:
         return plan_one_in_box(obstacles, [start, goal], bounds, planner, lift, backend,
                                radii=(radius, obstacle_radius) if refining else None)
@@ -213,49 +218,54 @@ def plan_configurations(c_start, c_goal, m: int = 2, **kwargs) -> Plan:
     return plan(c_start[:m], c_start[m:], c_goal[m:], **kwargs)
 
 
-def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
+def plan_sequence_batch(obstacles, configs, *, lift: float | str | None = None,
                         backend: str | None = None, progress: bool = False,
                         workers: int = 1, out: PlanBatch | None = None, refine: bool = False,
                         radius: float = 0.0, obstacle_radius: float = 0.0,
-                        bounds=None) -> PlanBatch:
+                        bounds=None, planner: str | None = None) -> PlanBatch:
     """Plan batches of motions through r >= 2 configurations (Mathematics §4.3).
 
     ``obstacles`` (B, m, d); ``configs`` a list of r arrays (B, n, d). The path passes through
     configuration k at tau = (k-1)/(r-1); labels sum_k cp(C_k) - (r-1) cp_o + 2 (- 1 when
     e == N in odd d). ``lift``, ``backend``, ``progress``, ``workers``, ``out``, ``bounds``:
-    see :func:`plan_batch`.
+    see :func:`plan_batch`. ``planner``: a sequential planner (``"obstacle_line_compact"``,
+    the default, or ``"obstacle_line"``, the paper's lanes).
     """
     refining = asks_refine(refine, radius, obstacle_radius, out)
+    lift = default_lift(lift, radius, obstacle_radius, refining)
     if isinstance(configs, (list, tuple)) and is_dask(obstacles, *configs):
         from . import scale
 
         return scale.plan_sequence_batch(obstacles, configs, lift=lift, progress=progress,
                                          backend=backend, workers=workers, out=out,
                                          refine=_radii(refining, radius, obstacle_radius),
-                                         bounds=bounds)
+                                         bounds=bounds, planner=planner)
     batch = plan_arrays(obstacles, as_config_list(configs), lift=lift, backend=backend,
                         workers=workers, progress=progress, out=out, sequential=True,
-                        bounds=bounds)
+                        bounds=bounds, planner=planner)
     if refining:
         return refine_plans(batch, radius=radius, obstacle_radius=obstacle_radius,
                             progress=progress, workers=workers, backend=backend)
     return batch
 
 
-def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
+def plan_sequence(obstacles, configs, *, lift: float | str | None = None,
                   backend: str | None = None, refine: bool = False, radius: float = 0.0,
-                  obstacle_radius: float = 0.0, bounds=None) -> Plan:
+                  obstacle_radius: float = 0.0, bounds=None, planner: str | None = None) -> Plan:
     """Plan one motion through r >= 2 robot configurations with the same obstacles (Mathematics §4.3).
 
     Parameters
     ----------
     obstacles : array_like, shape (m, d)
     configs : sequence of r array_like, each (n, d)
-    lift : float or "scene"
-        The unit of the motion (default 1, the paper's; ``"scene"``: each query's obstacles'
-        radius): see :func:`plan_batch`.
+    lift : float or "scene", optional
+        The unit of the motion (default: the robots' diameter for a refined plan, else 1, the
+        paper's; ``"scene"``: each query's obstacles' radius): see :func:`plan_batch`.
     backend : {"numba", "numpy"}, optional
         See :func:`plan_batch`.
+    planner : str, optional
+        A sequential planner: ``"obstacle_line_compact"`` (the default) or ``"obstacle_line"``
+        (the paper's lanes).
 
     Examples
     --------
@@ -266,14 +276,15 @@ def plan_sequence(obstacles, configs, *, lift: float | str = 1.0,
     array([ 1., -1.])
     """
     refining = asks_refine(refine, radius, obstacle_radius)
+    lift = default_lift(lift, radius, obstacle_radius, refining)
     if bounds is not None:
-        return plan_one_in_box(obstacles, configs, bounds, None, lift, backend, sequential=True,
+        return plan_one_in_box(obstacles, configs, bounds, planner, lift, backend, sequential=True,
                                radii=(radius, obstacle_radius) if refining else None)
     if refining:
-        raw = plan_sequence(obstacles, configs, lift=lift, backend=backend)
+        raw = plan_sequence(obstacles, configs, lift=lift, backend=backend, planner=planner)
         return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
                             backend=backend)
-    return plan_one_sequence(obstacles, configs, lift, backend)
+    return plan_one_sequence(obstacles, configs, lift, backend, planner)
 
 
 def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> PlannerInfo:
@@ -283,7 +294,7 @@ def info(d: int, n: int, m: int, r: int = 2, planner: str | None = None) -> Plan
     --------
     >>> i = info(2, 3, 2)
     >>> i.planner, i.domains, i.tc, i.optimal
-    ('obstacle_line', 7, 7, True)
+    ('obstacle_line_compact', 7, 7, True)
     >>> info(3, 1, 1).message
     'no planner covers m = 1: the planners need m >= 2 obstacles (they define the line L_C)'
     """
@@ -304,7 +315,7 @@ def plan_query(query: dict, planner: str | None = None) -> Plan:
     'T_{2,3,3}'
     """
     planner = planner or query.get("planner")
-    lift, bounds = query.get("lift", 1.0), query.get("bounds")
+    lift, bounds = query.get("lift"), query.get("bounds")
     if "via" in query:
         check_sequential(planner)
         configs = [query["start"], *query["via"], query["goal"]]

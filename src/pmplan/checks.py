@@ -56,7 +56,8 @@ def check_sequential(planner: str | None) -> None:
 
 
 def planner_names() -> list[str]:
-    """Return the documented planner names: ``obstacle_line`` and ``planar_three``."""
+    """Return the registered planner names: ``obstacle_line``, ``obstacle_line_compact`` and
+    ``planar_three``."""
     return sorted(REGISTRY)
 
 
@@ -64,7 +65,8 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None) -> Planne
     """Return the planner for (d, n, m): the named one, or the default.
 
     The default is ``planar_three`` (paper Section 4) for (d, n, m) = (2, 1, 3) and
-    ``obstacle_line`` (paper Section 3 and Mathematics §4) for every other m >= 2.
+    ``obstacle_line_compact`` (paper Section 3 and Mathematics §4, with the compact lanes of
+    Mathematics §4.4) for every other m >= 2; ``obstacle_line`` is the paper's.
     """
     if planner is None:
         planner = default_planner(d, n, m)

@@ -40,8 +40,9 @@ A command-line option and the same key in the file must agree (or give only one 
 Errors: one line on standard error, exit status 2.
 """
 
-LIFT_HELP = ("unit of the lift: a positive number (default 1, the paper's unit) or 'scene' "
-             "(a unit scaled with the obstacles)")
+LIFT_HELP = ("unit of the lift: a positive number or 'scene' (a unit scaled with the "
+             "obstacles); default: the robots' diameter for a refined motion, else 1 (the "
+             "paper's unit)")
 
 #: the options of a refined motion (``pmplan.refine``) other than ``--refine``, by dest
 REFINE_OPTIONS = ("radius", "obstacle_radius", "waypoints", "steps")
@@ -409,11 +410,11 @@ def _with_options(q: dict, args, source: str) -> dict:
 
 def cmd_plan(args) -> int:
     from .api import plan_query
-    from .io import plan_to_dict
+    from .io import plan_to_dict, with_unit
 
     q = _with_options(_read_query_arg(args.query), args, _source(args.query))
     options = _refine_options(args)
-    result = _refined(plan_query(q), options)
+    result = _refined(plan_query(with_unit(q, options)), options)
     print(json.dumps(plan_to_dict(result, samples=args.samples), indent=args.indent))
     return 0
 
@@ -421,14 +422,14 @@ def cmd_plan(args) -> int:
 def cmd_batch(args) -> int:
     from . import api
     from .checks import check_sequential
-    from .io import read_queries, write_plans
+    from .io import read_queries, with_unit, write_plans
 
     options = _refine_options(args)
     if _streams(args):  # Zarr in or out, or a dask option: chunk by chunk (pmplan.scale)
         return _cmd_batch_store(args, options)
     q = _with_options(read_queries(args.queries), args, args.queries)
-    lift = q.get("lift", 1.0)
-    common = dict(lift=lift, progress=not args.no_progress, workers=args.workers,
+    common = dict(lift=with_unit(q, options)["lift"], progress=not args.no_progress,
+                  workers=args.workers,
                   bounds=q.get("bounds"))
     if "via" in q:
         check_sequential(q.get("planner"))

@@ -217,6 +217,28 @@ def _object_reals(arr: np.ndarray, name: str, fix: str | None = None) -> np.ndar
     return out.reshape(arr.shape)
 
 
+#: the paper's unit, the default ``lift`` of a raw plan (:func:`default_lift`)
+PAPER_LIFT = 1.0
+
+
+def default_lift(lift, radius=0.0, obstacle_radius=0.0, refining: bool = False):
+    """The unit a planning function uses: ``lift`` itself when given; when it is None (the
+    default), the robots' diameter ``max(2 radius, radius + obstacle_radius)`` for a refined
+    plan with a positive radius -- the default planner's lanes are then exactly as far apart
+    as the robots need (Mathematics §4.4), and the unit scales with the query, so the plan of
+    a scaled query is the scaled plan -- and otherwise the paper's 1 (:data:`PAPER_LIFT`).
+
+    The radii are already checked (:func:`pmplan.refine.stage.check_parameters`).
+    """
+    if lift is not None:
+        return lift
+    if refining:
+        unit = max(2.0 * float(radius), float(radius) + float(obstacle_radius))
+        if 0.0 < unit < float("inf"):
+            return unit
+    return PAPER_LIFT
+
+
 def as_lift(lift) -> float | str:
     """Check ``lift``: a positive finite real number, or :data:`SCENE` (``"scene"``).
 

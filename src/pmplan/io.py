@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .configuration import as_lift, as_real
+from .configuration import as_lift, as_real, default_lift
 from .errors import InputError
 
 __all__ = [
@@ -45,8 +45,20 @@ __all__ = [
     "plan_to_dict",
     "read_queries",
     "same_value",
+    "with_unit",
     "write_plans",
 ]
+
+def with_unit(query: dict, refine: dict | None) -> dict:
+    """The query ``query`` with its unit: its own ``"lift"``, else the default of a plan refined
+    with the keywords ``refine`` (of :func:`pmplan.refine`; None: a raw plan), as the planning
+    functions choose it (:func:`pmplan.configuration.default_lift`). The faces (``pmplan plan``,
+    ``pmplan batch``, ``pmplan explore``) plan raw, then refine: this gives their raw plan the
+    unit ``pmplan.plan(..., refine=True)`` would use. The radii are checked by the refinement."""
+    radii = refine or {}
+    return dict(query, lift=default_lift(query.get("lift"), radii.get("radius", 0.0),
+                                         radii.get("obstacle_radius", 0.0), refine is not None))
+
 
 #: largest number of points (m + n) accepted in one query read from a file
 MAX_POINTS = 10_000

@@ -87,9 +87,9 @@ def plan_title(plan) -> str:
     >>> import pmplan
     >>> p = pmplan.plan([[0, 0], [2, 0]], [[1, 1]], [[1, -1]])
     >>> plan_title(p)
-    'obstacle_line  $W_{6}$: $T_{3,3}$'
+    'obstacle_line_compact  $W_{6}$: $T_{3,3}$'
     >>> plan_title(pmplan.refine(p))
-    'obstacle_line refined  $W_{6}$: $T_{3,3}$'
+    'obstacle_line_compact refined  $W_{6}$: $T_{3,3}$'
     """
     refined = " refined" if plan.refined else ""
     return f"{plan.planner}{refined}  $W_{{{plan.domain}}}$: ${plan.stratum}$"

@@ -56,6 +56,7 @@ from typing import Callable
 import numpy as np
 
 from .checks import check_backend, check_lift, check_sequential, check_workers, choose_planner
+from .configuration import default_lift
 from .errors import CertificationError, CollisionError, InputError, PmplanError, StoreError
 from .planners.base import default_planner
 from .results import PlanBatch
@@ -292,14 +293,16 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
         if c.shape[1:] != configs[0].shape[1:] or c.shape[2] != d:
             raise InputError(f"`{name}` has shape {c.shape}; expected (B, n, d) = "
                              f"({c.shape[0]}, {n}, {d})")
+    if sequential:
+        check_sequential(planner)
     p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True)
-                           if sequential else planner)
+                       if sequential and planner is None else planner)
     box = None if bounds is None else check_bounds(bounds, d)  # checked now
     template = _template(p, len(configs), m, n, d, refine)
     per_query_times = template["times"].ndim == 2
     record = _record(template, per_query_times, refine is not None)
     packed = da.map_blocks(
-        _plan_block, obstacles, *configs, planner=None if sequential else p.name,
+        _plan_block, obstacles, *configs, planner=p.name,
         lift=lift, backend=backend, workers=workers, record=record, refine=refine, bounds=box,
         dtype=record, meta=np.empty((0,), record), drop_axis=[1, 2],
         chunks=(obstacles.chunks[0],), name="pmplan-plan",
@@ -323,7 +326,7 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
     return PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
 
 
-def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: float | str = 1.0,
+def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: float | str | None = None,
                backend: str | None = None, workers: int = 1, progress: bool = False,
                out=None, refine: dict | None = None, bounds=None):
     """:func:`pmplan.plan_batch` on dask arrays: a PlanBatch of lazy dask arrays.
@@ -362,9 +365,10 @@ def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: floa
                  backend, workers, sequential=False, refine=refine, bounds=bounds)
 
 
-def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
+def plan_sequence_batch(obstacles, configs, *, lift: float | str | None = None,
                         backend: str | None = None, workers: int = 1, progress: bool = False,
-                        out=None, refine: dict | None = None, bounds=None):
+                        out=None, refine: dict | None = None, bounds=None,
+                        planner: str | None = None):
     """:func:`pmplan.plan_sequence_batch` on dask arrays (see :func:`plan_batch`)."""
     if out is not None:
         raise InputError("`out=` is for numpy batches; with dask arrays the result is lazy")
@@ -373,7 +377,7 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str = 1.0,
     if len(configs) < 2:
         raise InputError(f"expected at least r = 2 configurations, got {len(configs)}")
     return _lazy(obstacles, configs, ["obstacles"] + [f"configs[{k}]" for k in range(len(configs))],
-                 None, lift, backend, workers, sequential=True, refine=refine, bounds=bounds)
+                 planner, lift, backend, workers, sequential=True, refine=refine, bounds=bounds)
 
 
 def compute(batch, **kwargs):
@@ -875,7 +879,8 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         raise InputError(f"`chunk` must be a positive number of queries, got {chunk!r}")
     b, m, n, d, k, chunk = _check_inputs(arrays, src_name, chunk)
     refine = _refine_options(refine)
-    lift = 1.0 if lift is None else lift
+    lift = default_lift(lift, *(() if refine is None else
+                                (refine["radius"], refine["obstacle_radius"], True)))
     check_lift(lift)
     workers = check_workers(workers)
     check_backend(backend)

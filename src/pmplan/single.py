@@ -16,7 +16,7 @@ import numpy as np
 from . import backends as _backend
 from . import magnitude
 from .certify import check_times
-from .checks import check_backend, check_lift, choose_planner
+from .checks import check_backend, check_lift, check_sequential, choose_planner
 from .configuration import as_real, check_query, check_sequence, is_plain
 from .errors import InputError
 from .path import unchecked_path
@@ -63,18 +63,21 @@ def plan_one_in_box(obstacles, configs: list, bounds, planner: str | None = None
     return batch[0]
 
 
-def plan_one_sequence(obstacles, configs, lift=1.0, backend: str | None = None) -> Plan:
+def plan_one_sequence(obstacles, configs, lift=1.0, backend: str | None = None,
+                      planner: str | None = None) -> Plan:
     """:func:`pmplan.plan_sequence` of an unrefined query: the lean path, else the general
     one."""
     if backend is None or type(backend) is str and backend in _backend.REGISTRY:
-        fast = _plan_sequence_fast(obstacles, configs, lift, backend)
+        fast = _plan_sequence_fast(obstacles, configs, lift, backend, planner)
         if fast is not None:
             return fast
     lift = check_lift(lift)
     obstacles, configs = check_sequence(obstacles, configs, batched=False)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
-    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True))
+    check_sequential(planner)
+    p = choose_planner(d, n, m, planner if planner is not None else
+                       default_planner(d, n, m, sequential=True))
     check_backend(backend)
     out = run_loop(p, obstacles, configs, lift, batched=False, backend=backend)
     return single_plan(p, (d, n, m), out)
@@ -207,7 +210,7 @@ _FAST: dict = {}
 _FAST_SEQUENCE: dict = {}
 
 
-def _plan_sequence_fast(obstacles, configs, lift, backend=None) -> Plan | None:
+def _plan_sequence_fast(obstacles, configs, lift, backend=None, planner=None) -> Plan | None:
     """The lean path of :func:`plan_sequence`: one validating kernel call (the backend's
     ``sequence_query``), as :func:`_plan_fast` for :func:`plan`.
 
@@ -232,7 +235,9 @@ def _plan_sequence_fast(obstacles, configs, lift, backend=None) -> Plan | None:
     for c in cs:
         if c is None or c.shape != shape:
             return None
-    key = (len(cs), backend, o.shape, shape)
+    if planner is not None and (type(planner) is not str or planner not in REGISTRY):
+        return None
+    key = (len(cs), backend, o.shape, shape, planner)
     entry = _FAST_SEQUENCE.get(key, _UNSEEN)
     if entry is _UNSEEN:
         entry = _sequence_entry(key)
@@ -244,14 +249,14 @@ def _plan_sequence_fast(obstacles, configs, lift, backend=None) -> Plan | None:
 
 def _sequence_entry(key: tuple):
     """``(run, planner, dims, stratum names)`` of the sequential fast path for ``key = (r,
-    backend name or None, obstacles shape, configuration shape)``, or None; cached in
-    :data:`_FAST_SEQUENCE`."""
-    r, backend, oshape, cshape = key
+    backend name or None, obstacles shape, configuration shape, planner name or None)``, or
+    None; cached in :data:`_FAST_SEQUENCE`."""
+    r, backend, oshape, cshape, name = key
     entry = None
     if len(oshape) == 2 and len(cshape) == 2 and oshape[1] == cshape[1]:
         (m, d), n = oshape, cshape[0]
-        p = REGISTRY[default_planner(d, n, m, sequential=True)]
-        if p.supports(d, n, m) is None:
+        p = REGISTRY[name or default_planner(d, n, m, sequential=True)]
+        if p.sequential and p.supports(d, n, m) is None:
             run = _backend.select(backend).sequence_query(p, r, m, n, d)
             if run is not None and _times_certified(p, r):
                 entry = (run, p, (d, n, m), {})

@@ -11,11 +11,13 @@ planned by the reference.
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from ..certify import clearance as exact_clearance
 from ..planar_strata import EVEN
-from ..planners.obstacle_line import OBSTACLE_LINE, path_times
+from ..planners.obstacle_line import OBSTACLE_LINE, OBSTACLE_LINE_COMPACT, path_times
 from ..planners.planar_three import PLANAR_THREE
 from . import kernel_array, kernels, planar_kernels, shared_kernels
 from . import numpy as reference
@@ -44,7 +46,7 @@ def _obstacle_line_arrays(obstacles, configs):
 
 
 def _obstacle_line_kernel(obstacles, configs, lift: float, out: dict,
-                          validate: bool) -> np.ndarray | None:
+                          validate: bool, compact: bool = False) -> np.ndarray | None:
     """Plan a chunk with :func:`pmplan.kernels.obstacle_line.plan_chunk` into ``out``; return
     its flags.
 
@@ -64,7 +66,7 @@ def _obstacle_line_kernel(obstacles, configs, lift: float, out: dict,
     flags = np.empty(b, np.uint8)
     kern.plan_chunk(obstacles, configs[0], configs[-1], middle, lift, validate,
                     out["waypoints"], out["domain"], out["strata"], out["clearance"], flags,
-                    kern.tables(r, m, n, d))
+                    kern.tables(r, m, n, d), compact)
     return flags
 
 
@@ -73,7 +75,7 @@ def _obstacle_line_validates(d: int) -> bool:
     return d <= kernels().MAX_D
 
 
-def _obstacle_line_single(m: int, n: int, d: int):
+def _obstacle_line_single(m: int, n: int, d: int, compact: bool = False):
     """``run(obstacles, start, goal, lift) -> (times, waypoints, domain, row, clearance) |
     None`` -- the caller guarantees C-contiguous, aligned, writeable float64 arrays of shapes
     (m, d), (n, d), (n, d) and a float ``lift`` (positive, or
@@ -89,7 +91,7 @@ def _obstacle_line_single(m: int, n: int, d: int):
 
     def run(obstacles, start, goal, lift):
         wp, domain, cp1, cp2, cp_o, pole, clr, flags = kernel(obstacles, start, goal, lift,
-                                                              tab)
+                                                              tab, compact)
         if flags or not clr > 0:
             return None
         return times.copy(), wp, domain, (cp1, cp2, cp_o, pole), clr
@@ -97,7 +99,7 @@ def _obstacle_line_single(m: int, n: int, d: int):
     return run
 
 
-def _obstacle_line_sequence(r: int, m: int, n: int, d: int):
+def _obstacle_line_sequence(r: int, m: int, n: int, d: int, compact: bool = False):
     """``run(obstacles, configs, lift) -> (times, waypoints, domain, row, clearance) | None``
     for one query through ``r >= 2`` configurations -- the caller guarantees C-contiguous,
     aligned, writeable float64 arrays ``obstacles`` (m, d) and ``configs`` (a sequence of r
@@ -138,7 +140,7 @@ def _obstacle_line_sequence(r: int, m: int, n: int, d: int):
         flags = empty(1, u8)
         kernel(obstacles.reshape(oshape), configs[0].reshape(rshape),
                configs[-1].reshape(rshape), middle, lift, True, wp, domain, strata,
-               clearance, flags, tab, sel, 1)
+               clearance, flags, tab, sel, 1, compact)
         clr = clearance.item()
         if flags.item() or not clr > 0:
             return None
@@ -216,6 +218,9 @@ def _planar_single(m: int, n: int, d: int):
 PLANNERS = {
     OBSTACLE_LINE: (_obstacle_line_arrays, _obstacle_line_kernel, _obstacle_line_validates,
                     _obstacle_line_single, _obstacle_line_sequence),
+    OBSTACLE_LINE_COMPACT: (_obstacle_line_arrays, partial(_obstacle_line_kernel, compact=True),
+                            _obstacle_line_validates, partial(_obstacle_line_single, compact=True),
+                            partial(_obstacle_line_sequence, compact=True)),
     PLANAR_THREE: (_planar_arrays, _planar_kernel, _planar_validates, _planar_single, None),
 }
 

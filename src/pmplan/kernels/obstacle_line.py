@@ -770,7 +770,7 @@ def lanes(r, m, n, d):  # pragma: no cover - compiled
 #     with inline="always" +4 to +8 % on (2,1,2).
 @njit(**OPTS)
 def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
-          tab, sel, nsel):  # pragma: no cover - compiled
+          tab, sel, nsel, compact):  # pragma: no cover - compiled
     """Plan and certify a chunk of queries of the obstacle-line planner (Mathematics §3, §4.1-§4.3).
 
     Parameters
@@ -800,6 +800,9 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
     tab : int64 (:func:`_build_tables`)
     sel, nsel : int64 (>= nsel,), int
         The queries to plan: ``sel[:nsel]`` (the others are not touched).
+    compact : bool
+        The compact lanes of Mathematics §4.4 (the planner ``obstacle_line_compact``) instead of
+        the paper's ``i lambda`` (:func:`pmplan.planners.obstacle_line.lane_heights`).
 
     Notes
     -----
@@ -970,10 +973,27 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
                 if q > mx or i == 2 or math.isnan(q):
                     mx = q
             lam = unit + mx
-        for j in range(n):
-            li = lam * float(j + 1)
-            for c in range(d):
-                off[j, c] = li * nu[c]
+        if compact:  # the compact lanes (Mathematics §4.4, obstacle_line.lane_heights)
+            hp = 0.0
+            hm = 0.0
+            for i in range(2, m):
+                t = 0.0
+                for c in range(d):
+                    t += (y[0, i, c] - y[0, 0, c]) * nu[c]
+                if t > hp:
+                    hp = t
+                if -t > hm:
+                    hm = -t
+            for j in range(n):
+                kq = float(j // 2 + 1)
+                li = hp + unit * kq if j % 2 == 0 else -(hm + unit * kq)
+                for c in range(d):
+                    off[j, c] = li * nu[c]
+        else:
+            for j in range(n):
+                li = lam * float(j + 1)
+                for c in range(d):
+                    off[j, c] = li * nu[c]
         # --- the waypoints, written into wp; the certificate (pmplan.certify) reads them back:
         # finite, obstacles fixed, the configurations C_k at waypoints 7k -------------------
         amax = 0.0
@@ -1608,7 +1628,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
 #     8632269: 0.85, 0.66, 0.68.
 @njit(**OPTS)
 def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance, flags, todo,
-               L):  # pragma: no cover - compiled
+               L, compact):  # pragma: no cover - compiled
     """Plan and certify the *generic* queries of a chunk, ``L`` queries at a time (SIMD).
 
     The same computation as :func:`plan_queries`, operation for operation (so the results are bitwise
@@ -1652,7 +1672,9 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     NU = np.empty((d, L))
     H = np.empty((d, L))
     V = np.empty((p, L))
-    T = np.empty((17, L))
+    T = np.empty((19, L))
+    HP = 17  # the compact lanes' obstacle heights H_+, H_- (Mathematics §4.4)
+    HM = 18
     BAD = 3
     NORM = 4
     ACC = 5
@@ -1827,10 +1849,37 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     T[UNIT, l] = sq if (sq > z) | (i == 1) | math.isnan(sq) else z
             for l in range(L):
                 T[UNIT, l] = math.sqrt(T[UNIT, l])
-        for j in range(n):
-            for c in range(d):
+        if compact:  # (plan_queries, operation for operation)
+            for l in range(L):
+                T[HP, l] = 0.0
+                T[HM, l] = 0.0
+            for i in range(2, m):
                 for l in range(L):
-                    OFF[j * d + c, l] = ((T[UNIT, l] + T[mx, l]) * float(j + 1)) * NU[c, l]
+                    T[SC, l] = 0.0
+                for c in range(d):
+                    for l in range(L):
+                        T[SC, l] += (Y[i * d + c, l] - Y[c, l]) * NU[c, l]
+                for l in range(L):
+                    t = T[SC, l]
+                    z = T[HP, l]
+                    T[HP, l] = t if t > z else z
+                    z = T[HM, l]
+                    T[HM, l] = -t if -t > z else z
+            for j in range(n):
+                kq = float(j // 2 + 1)
+                if j % 2 == 0:
+                    for c in range(d):
+                        for l in range(L):
+                            OFF[j * d + c, l] = (T[HP, l] + T[UNIT, l] * kq) * NU[c, l]
+                else:
+                    for c in range(d):
+                        for l in range(L):
+                            OFF[j * d + c, l] = (-(T[HM, l] + T[UNIT, l] * kq)) * NU[c, l]
+        else:
+            for j in range(n):
+                for c in range(d):
+                    for l in range(L):
+                        OFF[j * d + c, l] = ((T[UNIT, l] + T[mx, l]) * float(j + 1)) * NU[c, l]
         # --- the waypoints (Remark 2.5) ------------------
         for k in range(r - 1):
             for s in range(7):
@@ -1899,7 +1948,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
 
 
 def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
-               flags, tab):
+               flags, tab, compact=False):
     """Plan and certify a chunk of queries of the obstacle-line planner (Mathematics §3, §4.1-§4.3), with
     the index tables ``tab`` of :func:`tables`.
 
@@ -1921,13 +1970,13 @@ def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strat
     nt = nb
     if nb >= LANES_MIN:
         nt = _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance,
-                         flags, todo, lanes(r, m, n, d))
+                         flags, todo, lanes(r, m, n, d), compact)
     else:
         for b in range(nb):
             todo[b] = b
     if nt:  # (so that a run whose every query is generic never compiles plan_queries)
         plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
-              flags, tab, todo, nt)
+              flags, tab, todo, nt, compact)
 
 
 _TABLES: dict = {}
@@ -1945,12 +1994,13 @@ def tables(r: int, m: int, n: int, d: int) -> np.ndarray:
 
 
 @njit(**OPTS)
-def plan_one(obstacles, start, goal, lift, tab):  # pragma: no cover - compiled
+def plan_one(obstacles, start, goal, lift, tab, compact):  # pragma: no cover - compiled
     """One query, validated, planned and certified: the lean path of ``pmplan.plan``.
 
     ``obstacles`` (m, d), ``start``, ``goal`` (n, d), C-contiguous float64; ``tab`` is
-    :func:`tables` ``(2, m, n, d)``. Returns ``(waypoints (8, m+n, d), domain, cp(C), cp(C'),
-    cp_o, [e == N], clearance, flags)`` (see :func:`plan_queries`, called with ``validate=True``).
+    :func:`tables` ``(2, m, n, d)``; ``compact`` as in :func:`plan_queries`. Returns
+    ``(waypoints (8, m+n, d), domain, cp(C), cp(C'), cp_o, [e == N], clearance, flags)`` (see
+    :func:`plan_queries`, called with ``validate=True``).
     """
     m, d = obstacles.shape
     n = start.shape[0]
@@ -1963,6 +2013,6 @@ def plan_one(obstacles, start, goal, lift, tab):  # pragma: no cover - compiled
     sel = np.zeros(1, np.int64)  # (and a run-time count, not the literal 1, for the same reason)
     plan_queries(obstacles.reshape((1, m, d)), start.reshape((1, n, d)), goal.reshape((1, n, d)),
           np.empty((0, 1, n, d)), lift, validate, wp, domain, strata, clearance, flags, tab,
-          sel, sel.shape[0])
+          sel, sel.shape[0], compact)
     return (wp[0], domain[0], strata[0, 0], strata[0, 1], strata[0, 2], strata[0, 3],
             clearance[0], flags[0])

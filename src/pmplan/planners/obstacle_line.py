@@ -58,7 +58,10 @@ __all__ = [
     "section",
     "path_times",
     "ObstacleLinePlanner",
+    "CompactLinePlanner",
     "OBSTACLE_LINE",
+    "OBSTACLE_LINE_COMPACT",
+    "lane_heights",
 ]
 
 
@@ -123,28 +126,61 @@ def lift_height(fr: Frame, obstacles: np.ndarray, lift: float) -> np.ndarray:
     return u + np.sqrt((r * r).sum(-1)).max(axis=1)
 
 
-def section(fr: Frame, x_start, x_goal, lam: np.ndarray, m: int) -> PiecewiseLinearPath:
+def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
+                 compact: bool = False) -> np.ndarray:
+    """Return the signed height ``h_i`` of every robot's lane above the line, shape (B, n):
+    robot i slides at ``h_i nu(e)``.
+
+    * The paper's lanes (``compact=False``; paper (3.8), Figure 4, and Mathematics §4.2):
+      ``h_i = i lambda`` with ``lambda`` = :func:`lift_height`, every robot on the side of
+      ``nu``.
+    * The compact lanes (``compact=True``; Mathematics §4.4): the odd robots on the side of
+      ``nu``, the even ones on the other, robot i at ``+-(H_+- + k u)``, ``k = ceil(i / 2)``,
+      where ``u`` is the unit and ``H_+ = max(0, max_k t_k)``, ``H_- = max(0, max_k -t_k)``
+      for the obstacles' heights ``t_k = (o_k - o_1).nu`` (k >= 3). Two robots' lanes differ
+      by at least ``u``; a lane is at least ``u`` above (or below) every obstacle's height.
+    """
+    i = np.arange(1, n + 1, dtype=float)
+    if not compact:
+        lam = lift_height(fr, obstacles, lift)
+        return lam[:, None] * i[None, :]
+    u = unit(obstacles, lift)
+    b, m, d = obstacles.shape
+    hp = np.zeros(b)
+    hm = np.zeros(b)
+    for k in range(2, m):  # t_k summed in the order of the kernels
+        t = np.zeros(b)
+        for c in range(d):
+            t = t + (obstacles[:, k, c] - obstacles[:, 0, c]) * fr.nu[:, c]
+        hp = np.where(t > hp, t, hp)
+        hm = np.where(-t > hm, -t, hm)
+    k = np.ceil(i / 2.0)
+    up = (i % 2.0) == 1.0
+    return np.where(up[None, :], hp[:, None] + u[:, None] * k[None, :],
+                    -(hm[:, None] + u[:, None] * k[None, :]))
+
+
+def section(fr: Frame, x_start, x_goal, heights: np.ndarray, m: int) -> PiecewiseLinearPath:
     """Return the section over collinear pairs, paper (3.8), Figure 4.
 
-    ``x_start``, ``x_goal`` are collinear configurations (B, m+n, d) with the same obstacles.
-    Robot i (1-based)::
+    ``x_start``, ``x_goal`` are collinear configurations (B, m+n, d) with the same obstacles;
+    ``heights`` (B, n) the lanes of :func:`lane_heights` (``i lambda`` in the paper). Robot i
+    (1-based)::
 
-        [0, 1/3]   X_i + 3 tau i lambda nu(e)
-        [1/3, 2/3] X_i + i lambda nu(e) + (3 tau - 1)(X'_i - X_i)
-        [2/3, 1]   X'_i + (3 - 3 tau) i lambda nu(e)
+        [0, 1/3]   X_i + 3 tau h_i nu(e)
+        [1/3, 2/3] X_i + h_i nu(e) + (3 tau - 1)(X'_i - X_i)
+        [2/3, 1]   X'_i + (3 - 3 tau) h_i nu(e)
     """
-    n = x_start.shape[1] - m
-    i = np.arange(1, n + 1, dtype=float)
     off = np.zeros_like(x_start)
-    off[:, m:] = (lam[:, None] * i[None, :])[..., None] * fr.nu[:, None, :]
+    off[:, m:] = heights[..., None] * fr.nu[:, None, :]
     wp = np.stack([x_start, x_start + off, x_goal + off, x_goal], axis=1)
     return PiecewiseLinearPath(np.array([0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0]), wp)
 
 
-def two_configuration_path(fr, obstacles, h_start, h_goal, lam) -> PiecewiseLinearPath:
+def two_configuration_path(fr, obstacles, h_start, h_goal, heights) -> PiecewiseLinearPath:
     """Compose H(C), the section and H(C') reversed (paper Remark, via the path algebra)."""
     m = obstacles.shape[1]
-    sec = section(fr, h_start.waypoints[:, -1], h_goal.waypoints[:, -1], lam, m)
+    sec = section(fr, h_start.waypoints[:, -1], h_goal.waypoints[:, -1], heights, m)
     return compose_via_deformations(h_start, sec, h_goal)
 
 
@@ -184,6 +220,9 @@ class ObstacleLinePlanner(Planner):
         "paper Section 3 (m = 2, d even) and its extensions to odd d and m >= 2 (Mathematics §4.1, §4.2): "
         "desingularize, project to the line o1o2, lift-slide-descend"
     )
+    #: the lanes of the section: the paper's ``i lambda`` (False) or the compact ones of
+    #: Mathematics §4.4 (:func:`lane_heights`)
+    compact: bool = False
     #: planning ``2**k C`` with ``lift * 2**k`` gives exactly ``2**k`` times the path of C (every
     #: length of the construction is built from the coordinates and ``lift``): queries at
     #: extreme magnitudes are planned scaled (:mod:`pmplan.magnitude`)
@@ -239,8 +278,9 @@ class ObstacleLinePlanner(Planner):
         fr = Frame(obstacles[:, 0], obstacles[:, 1])
         cols = [column_structure(fr, obstacles, c) for c in configs]
         hs = [deformation(fr, obstacles, c, cs) for c, cs in zip(configs, cols)]
-        lam = lift_height(fr, obstacles, lift)
-        legs = [two_configuration_path(fr, obstacles, hs[k], hs[k + 1], lam) for k in range(r - 1)]
+        heights = lane_heights(fr, obstacles, lift, configs[0].shape[1], self.compact)
+        legs = [two_configuration_path(fr, obstacles, hs[k], hs[k + 1], heights)
+                for k in range(r - 1)]
         path = legs[0] if r == 2 else join(legs, [k / (r - 1) for k in range(1, r - 1)])
         cp_o = cols[0].cp_o
         pole = fr.at_pole.astype(np.int64)
@@ -264,5 +304,27 @@ class ObstacleLinePlanner(Planner):
         )
 
 
+class CompactLinePlanner(ObstacleLinePlanner):
+    """The obstacle-line planner with compact lanes (Mathematics §4.4): the default for every
+    (d, n, m) but the planar three-obstacle one.
+
+    The same deformation, strata, domains and labels as :class:`ObstacleLinePlanner` (so it is
+    optimal on the same domains, paper Theorem 2.6); only the section's lanes differ
+    (:func:`lane_heights`): the robots alternate between the two sides of the line, and the
+    lanes are spaced by the unit above the obstacles' heights on each side, instead of
+    ``i lambda``. The paths are shorter and stay nearer the obstacles' line, which is what a
+    crowded workspace needs; ``planner="obstacle_line"`` gives the paper's paths.
+    """
+
+    name = "obstacle_line_compact"
+    summary = (
+        "the obstacle-line planner (same domains and labels) with compact lanes "
+        "(Mathematics §4.4): robots alternate sides of the line o1o2, lanes one unit apart above "
+        "the obstacles"
+    )
+    compact = True
+    priority = 1
+
 
 OBSTACLE_LINE = register(ObstacleLinePlanner())
+OBSTACLE_LINE_COMPACT = register(CompactLinePlanner())

@@ -418,7 +418,7 @@ class PlanarThreePlanner(Planner):
     #: the path scaled by 2**k, bit for bit (see :mod:`pmplan.magnitude`)
     equivariant = True
     #: the default for (2, 1, 3), where ``obstacle_line`` applies too
-    priority = 1
+    priority = 2
 
     def supports(self, d: int, n: int, m: int) -> str | None:
         """Return None for (d, n, m) = (2, 1, 3), else why the planner does not apply."""
