@@ -279,10 +279,10 @@ def test_refined_motion_toggle_keeps_the_domain_and_draws_the_radii(page):
     assert len(driver.find_elements("css selector", ".raw-path")) == 2
     for i in (1, 2):
         assert _polyline_length(driver, f"path-{i}") < _polyline_length(driver, f"raw-{i}")
-    want = pmplan.refine(pmplan.plan(q["obstacles"], q["start"], q["goal"]), radius=0.2,
-                         obstacle_radius=0.2)
+    want = pmplan.plan(q["obstacles"], q["start"], q["goal"], refine=True, radius=0.2,
+                       obstacle_radius=0.2)  # (the default unit of a refined plan: 0.4)
     world = json.loads(driver.find_element("id", "path-1").get_attribute("data-world"))
-    assert np.array_equal(np.array(world), want.path.waypoints[:, 2])  # what pmplan.refine gives
+    assert np.array_equal(np.array(world), want.path.waypoints[:, 2])  # what pmplan.plan gives
     radii = driver.find_element("id", "radii")
     assert radii.get_attribute("data-kept") == "true" and radii.text.startswith("kept")
     # robots and obstacles drawn as discs of the radius (screen pixels = units * scale)

@@ -545,12 +545,12 @@ def cmd_demo(args) -> int:
     print("each query raw and refined (pmplan.refine"
           + "".join(f", {k} {v:g}" for k, v in radii.items())
           + "): the same domain and stratum, certified again")
-    print(f"{'':<41} {'raw motion':^20} {'refined motion':^20}")
-    print(f"{'planner':<14} {'domain':<7} {'stratum':<18} {'length':>9} {'clearance':>10} "
+    print(f"{'':<48} {'raw motion':^20} {'refined motion':^20}")
+    print(f"{'planner':<21} {'domain':<7} {'stratum':<18} {'length':>9} {'clearance':>10} "
           f"{'length':>9} {'clearance':>10}")
     for p, r in zip(plans + extra + [room], refined + [room_refined]):
         dom = f"{display_for(p.planner).domain_prefix}{p.domain}"
-        print(f"{p.planner:<14} {dom:<7} {p.stratum[:18]:<18} {p.path.length():9.3f} "
+        print(f"{p.planner:<21} {dom:<7} {p.stratum[:18]:<18} {p.path.length():9.3f} "
               f"{p.clearance:10.4f} {r.path.length():9.3f} {r.clearance:10.4f}")
     print(f"the last row: {room.dims[1]} robots among {room.dims[2]} obstacles in the box "
           f"[0, 10]^2 (bounds=), refined with radius {room_refined.radius:g}: radii and walls "
@@ -559,7 +559,7 @@ def cmd_demo(args) -> int:
     import matplotlib
 
     matplotlib.use("Agg")
-    what = f"{args.n} robot{'s' if args.n > 1 else ''} among 2 obstacles (obstacle_line)" + (
+    what = f"{args.n} robot{'s' if args.n > 1 else ''} among 2 obstacles ({plans[0].planner})" + (
         ", 1 robot among 3 obstacles (planar_three, paper Section 4)" if extra else "")
     what += f"; a crowded room: {room.dims[1]} robots, {room.dims[2]} obstacles, box [0, 10]$^2$"
     pairs = [q for pair in zip(plans + extra + [room], refined + [room_refined]) for q in pair]
