@@ -12,8 +12,9 @@ the refinement's effort (``waypoints``, ``steps`` of :func:`pmplan.refine`). On 
 scene families of ``benchmarks/scenes.py`` (box [0, 10]^d, r = 0.3, 16 queries per row), every
 setting is measured on the same queries:
 
-* *pmplan, effort (w, s)*: ``pmplan.plan(o, s, g, bounds=(0, 10), refine=True,
-  radius=r/2, obstacle_radius=r/2, waypoints=w, steps=s)``;
+* *pmplan, effort (w, s)*: ``pmplan.refine(pmplan.plan(o, s, g, bounds=(0, 10), lift=r),
+  radius=r/2, obstacle_radius=r/2, waypoints=w, steps=s)`` (``lift=r``: the unit
+  ``pmplan.plan(..., refine=True)`` takes, the robots' diameter; 2/56 is its default effort);
 * *OMPL RRTConnect* (+ ``simplifySolution``) and *OMPL RRT\\** (0.5 s), as in
   ``scenes_compare.py``.
 
@@ -58,6 +59,8 @@ from scenes_compare import (  # noqa: E402
 #: the refinement efforts (waypoints, steps): (2, 56) is pmplan's default
 EFFORTS = [(1, 8), (1, 28), (2, 56), (4, 112), (4, 224)]
 ROWS = [("room", 4), ("room", 8), ("swap", 4), ("swap", 8), ("room3d", 8)]
+#: the default unit of a refined plan (pmplan.configuration.default_lift): here r
+UNIT = pmplan.configuration.default_lift(None, HALF, HALF, True)
 
 
 class EffortRunner(PmplanRunner):
@@ -70,7 +73,8 @@ class EffortRunner(PmplanRunner):
     def plan(self, o, s, g):
         t0 = time.perf_counter()
         try:
-            raw = pmplan.plan(o, s, g, bounds=self.kw["bounds"])
+            # (the unit pmplan.plan(..., refine=True) takes: the robots' diameter)
+            raw = pmplan.plan(o, s, g, bounds=self.kw["bounds"], lift=UNIT)
             p = pmplan.refine(raw, radius=HALF, obstacle_radius=HALF, **self.effort)
         except pmplan.PmplanError:
             return time.perf_counter() - t0, None

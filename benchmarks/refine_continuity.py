@@ -223,7 +223,9 @@ def replanning(ticks=80, seed=0):
                 hi, phi = mid, pm
             else:
                 lo, plo = mid, pm
-        return (hi - lo) * 0.02, (_sup(plo, phi) if plo.domain == phi.domain else float("nan"))
+        c_raw = pmplan.plan(o0 + lo * (o1 - o0), s, g, lift="scene").clearance
+        return ((hi - lo) * 0.02, (_sup(plo, phi) if plo.domain == phi.domain else float("nan")),
+                c_raw)
 
     prev = None
     changes, raws, jumps, labels = [], [], 0, 0
@@ -245,9 +247,9 @@ def replanning(ticks=80, seed=0):
                 raws.append(rc)
                 if c > max(10 * rc, 25):  # a jump: 0.5 units more than ten raw changes
                     jumps += 1
-                    size, change = bisect(o_before, o, prev[0], cur)
+                    size, change, c_raw = bisect(o_before, o, prev[0], cur)
                     if change > 1e-3:
-                        persisting.append((size, change))
+                        persisting.append((size, change, c_raw))
             else:
                 labels += 1
         prev = (cur, raw)
@@ -346,7 +348,9 @@ def section(seed: int, held_out: bool, args, count: int) -> list[str]:
               "bisected toward the half that moves the path more, down to an obstacle move of "
               "1e-10: "
               + (f"{len(rep['persisting'])} jump(s) persist (path change > 1e-3 across moves "
-                 + ", ".join(f"{sz:.1e} -> {ch:.3g}" for sz, ch in rep["persisting"]) + ")"
+                 + ", ".join(f"{sz:.1e} -> {ch:.3g} (the raw plan {cr:.1e} from contact, "
+                             f"target / c_raw {0.2 / cr:.1e})" for sz, ch, cr in rep["persisting"])
+                 + ")"
                  if rep["persisting"] else "none persists (every one is a steep but continuous "
                  "change)") + ".", ""]
     return lines
