@@ -62,7 +62,7 @@ def plan_batch(
         of ``H`` and ``s3`` in the planar one). Default: for a refined plan (``refine=True``
         with a positive radius) the robots' diameter ``max(2 radius, radius +
         obstacle_radius)``, so that the lanes are as far apart as the robots need; otherwise
-        1, the paper's (:func:`pmplan.configuration.default_lift`). ``"scene"``: the
+        1, the paper's (``pmplan.configuration.default_lift``). ``"scene"``: the
         obstacles' radius ``u(O) = max_k |o_k - o_1|`` of each query, for scenes far from
         unit size (millimetres, kilometres) and for equivariance (a scaled, translated or
         rotated query gets the scaled, translated or rotated plan). A bool or a string other

@@ -52,7 +52,7 @@ __all__ = [
 def with_unit(query: dict, refine: dict | None) -> dict:
     """The query ``query`` with its unit: its own ``"lift"``, else the default of a plan refined
     with the keywords ``refine`` (of :func:`pmplan.refine`; None: a raw plan), as the planning
-    functions choose it (:func:`pmplan.configuration.default_lift`). The faces (``pmplan plan``,
+    functions choose it (``pmplan.configuration.default_lift``). The faces (``pmplan plan``,
     ``pmplan batch``, ``pmplan explore``) plan raw, then refine: this gives their raw plan the
     unit ``pmplan.plan(..., refine=True)`` would use. The radii are checked by the refinement."""
     radii = refine or {}

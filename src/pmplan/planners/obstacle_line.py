@@ -132,7 +132,7 @@ def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
     robot i slides at ``h_i nu(e)``.
 
     * The paper's lanes (``compact=False``; paper (3.8), Figure 4, and Mathematics §4.2):
-      ``h_i = i lambda`` with ``lambda`` = :func:`lift_height`, every robot on the side of
+      ``h_i = i lambda`` with ``lambda`` = ``lift_height``, every robot on the side of
       ``nu``.
     * The compact lanes (``compact=True``; Mathematics §4.4): the odd robots on the side of
       ``nu``, the even ones on the other, robot i at ``+-(H_+- + k u)``, ``k = ceil(i / 2)``,
