@@ -34,6 +34,10 @@ GOAL = np.array([[1.1, 0.8, -0.6], [-0.4, -1.5, 0.9]])
 ANGLES = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
 
 
+#: the paper's lanes (robot i at i lambda): the figures of POLE_NOTE and the tutorial; the
+#: compact lanes of the default planner put the highest robot at H + ceil(n/2) lift
+PLANNER = "obstacle_line"
+
 def pole_query(angle: float, shift: float = 0.0):
     """The query with e at ``angle`` from N = e_3, o2 moved by ``shift`` along e_2."""
     obstacles = np.array([[0.0, 0.0, 0.0], [np.sin(angle), shift, np.cos(angle)]])
@@ -42,8 +46,8 @@ def pole_query(angle: float, shift: float = 0.0):
 
 def measure(angle: float, eps: float, lift: float = 1.0) -> tuple[float, int, int]:
     """Return (sup-distance of the two paths, label of Q, label of Q') at this angle."""
-    a = pmplan.plan(*pole_query(angle), lift=lift)
-    b = pmplan.plan(*pole_query(angle, eps), lift=lift)
+    a = pmplan.plan(*pole_query(angle), lift=lift, planner=PLANNER)
+    b = pmplan.plan(*pole_query(angle, eps), lift=lift, planner=PLANNER)
     pa, pb = (PiecewiseLinearPath(p.path.times, p.path.waypoints[None]) for p in (a, b))
     return float(path_distance(pa, pb)[0]), a.domain, b.domain
 

@@ -481,8 +481,8 @@ def _run_chunk(o, cs, lift, scalar_only, compact=False):
     tab = kernels_line.tables(r, m, n, d)
     with np.errstate(all="ignore"):
         if scalar_only:
-            kernels_line.plan_queries(o, cs[0], cs[-1], middle, lift, True, *out, tab, np.arange(b), b,
-                                      compact)
+            kernels_line.plan_queries(o, cs[0], cs[-1], middle, lift, True, *out, tab,
+                                      np.arange(b), b, compact)
         else:
             kernels_line.plan_chunk(o, cs[0], cs[-1], middle, lift, True, *out, tab, compact)
     return out

@@ -464,7 +464,8 @@ def test_the_default_unit_of_a_refined_plan_is_the_robots_diameter(radius, obsta
     auto = pmplan.plan(o, s, g, **kw)
     same = pmplan.plan(o, s, g, lift=unit, **kw)
     np.testing.assert_array_equal(auto.path.waypoints, same.path.waypoints)
-    assert not np.array_equal(auto.path.waypoints, pmplan.plan(o, s, g, lift=1.0, **kw).path.waypoints)
+    paper_unit = pmplan.plan(o, s, g, lift=1.0, **kw)
+    assert not np.array_equal(auto.path.waypoints, paper_unit.path.waypoints)
     np.testing.assert_array_equal(pmplan.plan(o, s, g).path.waypoints,
                                   pmplan.plan(o, s, g, lift=1.0).path.waypoints)
     k = 2.0**-7

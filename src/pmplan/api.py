@@ -42,7 +42,8 @@ __all__ = [
 ]
 
 def plan_batch(
-    obstacles, start, goal, *, planner: str | None = None, lift: float | str | None = None,
+    obstacles, start, goal, *, planner: str | None = None,
+    lift: float | str | None = None,
     progress: bool = False, backend: str | None = None, workers: int = 1,
     out: PlanBatch | None = None, refine: bool = False, radius: float = 0.0,
     obstacle_radius: float = 0.0, bounds=None,

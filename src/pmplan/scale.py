@@ -326,7 +326,8 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
     return PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
 
 
-def plan_batch(obstacles, start, goal, *, planner: str | None = None, lift: float | str | None = None,
+def plan_batch(obstacles, start, goal, *, planner: str | None = None,
+               lift: float | str | None = None,
                backend: str | None = None, workers: int = 1, progress: bool = False,
                out=None, refine: dict | None = None, bounds=None):
     """:func:`pmplan.plan_batch` on dask arrays: a PlanBatch of lazy dask arrays.

@@ -48,8 +48,9 @@ gathers the evidence for one (d, n, m):
 5. **Odd d near the pole** (Mathematics §4.1). The lift direction nu(e) is a continuous unit tangent
    field on ``S^{d-1}`` minus N = e_d; such a field must wind around N (index 2 = the Euler
    characteristic of the sphere), so close to N the modulus inside a domain grows like
-   ``2 n lambda / angle`` (measured: ``benchmarks/odd_d_pole.py``). Random and exact queries
-   rarely come near N, so the report states it as a note (:data:`POLE_NOTE`, ``Report.notes``)
+   ``2 h / angle``, h the highest lane (measured: ``benchmarks/odd_d_pole.py``). Random and
+   exact queries rarely come near N, so the report states it as a note (:data:`POLE_NOTE`,
+   ``Report.notes``)
    for odd d rather than measuring it.
 
 6. **The refined planner** (``refine=True``, ``pmplan verify --refine``; issue 14). Refinement

@@ -14,5 +14,5 @@ from .base import REGISTRY, Planner, RawPlan, default_planner
 from .obstacle_line import OBSTACLE_LINE, OBSTACLE_LINE_COMPACT
 from .planar_three import PLANAR_THREE
 
-__all__ = ["REGISTRY", "Planner", "RawPlan", "OBSTACLE_LINE", "OBSTACLE_LINE_COMPACT", "PLANAR_THREE",
-           "default_planner"]
+__all__ = ["REGISTRY", "Planner", "RawPlan", "OBSTACLE_LINE", "OBSTACLE_LINE_COMPACT",
+           "PLANAR_THREE", "default_planner"]

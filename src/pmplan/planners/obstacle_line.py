@@ -204,8 +204,10 @@ def path_times(r: int) -> np.ndarray:
 #: what ``pmplan verify`` says for odd d (:meth:`pmplan.strata.ObstacleLineStrata.notes`) (measured by ``benchmarks/odd_d_pole.py``; Mathematics §4.1)
 POLE_NOTE = (
     "odd d: near the pole N = e_d the modulus of continuity grows like 1/angle, about "
-    "2 n lambda / angle (lambda = lift + max_k |r(o_k)|); measured for d = 3, n = 2, lift 1: a "
-    "1e-9 move at 1e-8 rad from N moves the path by 0.4. Forced by topology (nu(e) is a unit "
+    "2 h / angle with h the highest lane (n lambda, lambda = lift + max_k |r(o_k)|, for the "
+    "paper's lanes; H + ceil(n/2) lift for the compact ones); measured for d = 3, n = 2, lift 1, "
+    "the paper's lanes: a 1e-9 move at 1e-8 rad from N moves the path by 0.4. Forced by "
+    "topology (nu(e) is a unit "
     "tangent field on S^(d-1) minus N and must wind around N), not a bug; the moduli above come "
     "from queries away from N."
 )
