@@ -57,7 +57,8 @@ def plan_batch(
         Dask arrays (chunked along the batch axis only) are planned lazily by
         :func:`pmplan.scale.plan_batch`: the PlanBatch then holds dask arrays.
     planner : str, optional
-        ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
+        ``"obstacle_line_compact"``, ``"obstacle_line"`` (the paper's lanes) or
+        ``"planar_three"``; default chosen from (d, n, m).
     lift : float or "scene", optional
         The unit of the motion (the spacing of the lanes of the obstacle-line planners, the 1
         of ``H`` and ``s3`` in the planar one). Default: for a refined plan (``refine=True``
@@ -151,7 +152,8 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     start, goal : array_like, shape (n, d)
         Robot positions x_1..x_n and x'_1..x'_n.
     planner : str, optional
-        ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m).
+        ``"obstacle_line_compact"``, ``"obstacle_line"`` (the paper's lanes) or
+        ``"planar_three"``; default chosen from (d, n, m).
     lift : float or "scene", optional
         The unit of the motion (default: the robots' diameter for a refined plan, else 1, the
         paper's; ``"scene"``: each query's obstacles' radius): see :func:`plan_batch`.

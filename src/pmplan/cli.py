@@ -172,7 +172,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     names = planner_names()
     planner_help = ("planner name (default: chosen from d, n, m: planar_three for one robot "
-                    "among three obstacles in the plane, obstacle_line otherwise)")
+                    "among three obstacles in the plane, obstacle_line_compact otherwise; "
+                    "obstacle_line: the paper's lanes)")
 
     _parser_plan(sub, names, planner_help)
     _parser_batch(sub, names, planner_help)

@@ -601,7 +601,8 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     Parameters
     ----------
     planner : str, optional
-        ``"obstacle_line"`` or ``"planar_three"``; default chosen from (d, n, m) as in
+        ``"obstacle_line_compact"``, ``"obstacle_line"`` (the paper's lanes) or
+        ``"planar_three"``; default chosen from (d, n, m) as in
         :func:`pmplan.plan`.
     d, n, m : int
         Dimension, robots, obstacles.
