@@ -119,3 +119,29 @@ def test_sequence_repeated_configuration():
     p = pmplan.plan_sequence(obstacles, [c, c, c])
     _check_one(obstacles, [c, c, c], p, pmplan.plan_sequence_batch(
         obstacles[None], [c[None]] * 3).strata[0])
+
+
+def test_a_named_planner_reaches_every_sequence_entry(tmp_path):
+    """``planner=`` (or a query's "planner") is honoured for sequences: the API, plan_query
+    with "via", and a Zarr store run all plan with the paper's lanes when asked."""
+    from pmplan.io import parse_query
+    from pmplan.scale import plan_store
+
+    o = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, 1.5]])
+    configs = [np.array([[0.5, 1.0], [1.5, -1.0]]), np.array([[3.0, 2.0], [-1.0, 1.0]]),
+               np.array([[1.2, -2.0], [2.5, 0.7]])]
+    paper = pmplan.plan_sequence(o, configs, planner="obstacle_line")
+    compact = pmplan.plan_sequence(o, configs)
+    assert (paper.planner, compact.planner) == ("obstacle_line", "obstacle_line_compact")
+    assert not np.array_equal(paper.waypoints, compact.waypoints)
+    q = parse_query({"obstacles": o.tolist(), "start": configs[0].tolist(),
+                     "via": [configs[1].tolist()], "goal": configs[2].tolist(),
+                     "planner": "obstacle_line"})
+    np.testing.assert_array_equal(pmplan.plan_query(q).waypoints, paper.waypoints)
+    arrays = {"obstacles": o[None], "start": configs[0][None], "via": configs[1][None, None],
+              "goal": configs[2][None]}
+    plan_store(arrays, tmp_path / "p.zarr", planner="obstacle_line")
+    import zarr
+    grp = zarr.open_group(str(tmp_path / "p.zarr"), mode="r")
+    assert grp.attrs["planner"] == "obstacle_line"
+    np.testing.assert_array_equal(grp["waypoints"][0], paper.waypoints)

@@ -322,7 +322,8 @@ def plan_query(query: dict, planner: str | None = None) -> Plan:
     if "via" in query:
         check_sequential(planner)
         configs = [query["start"], *query["via"], query["goal"]]
-        return plan_sequence(query["obstacles"], configs, lift=lift, bounds=bounds)
+        return plan_sequence(query["obstacles"], configs, lift=lift, bounds=bounds,
+                             planner=planner)
     return plan(query["obstacles"], query["start"], query["goal"], planner=planner, lift=lift,
                 bounds=bounds)
 

@@ -435,7 +435,8 @@ def cmd_batch(args) -> int:
     if "via" in q:
         check_sequential(q.get("planner"))
         configs = [q["start"], *np.moveaxis(q["via"], 1, 0), q["goal"]]
-        batch = api.plan_sequence_batch(q["obstacles"], configs, **common)
+        batch = api.plan_sequence_batch(q["obstacles"], configs, planner=q.get("planner"),
+                                        **common)
     else:
         batch = api.plan_batch(q["obstacles"], q["start"], q["goal"], planner=q.get("planner"),
                                **common)

@@ -551,7 +551,7 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
         return _chunk_stats(i, group["domain"][lo:hi], group["clearance"][lo:hi],
                             group["respects_radius"][lo:hi] if refined else None)
     obstacles, configs = rows
-    planner = spec.planner if len(configs) == 2 else None
+    planner = spec.planner  # (the store's planner, sequential when r > 2)
     try:
         batch = _plan_chunk_arrays(obstacles, configs, planner, spec.lift, spec.backend,
                                    spec.workers, spec.refine,
@@ -889,7 +889,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     if r > 2:
         check_sequential(planner)
     p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True)
-                           if r > 2 else planner)
+                       if r > 2 and planner is None else planner)
     nchunks = -(-b // chunk)
     box = None if bounds is None else check_bounds(bounds, d).tolist()
     attrs = _attrs(p.name, lift if isinstance(lift, str) else float(lift), (d, n, m), r, b,
