@@ -61,15 +61,19 @@ def planner_names() -> list[str]:
     return sorted(REGISTRY)
 
 
-def choose_planner(d: int, n: int, m: int, planner: str | None = None) -> Planner:
+def choose_planner(d: int, n: int, m: int, planner: str | None = None,
+                   sequential: bool = False) -> Planner:
     """Return the planner for (d, n, m): the named one, or the default.
 
     The default is ``planar_three`` (paper Section 4) for (d, n, m) = (2, 1, 3) and
     ``obstacle_line_compact`` (paper Section 3 and Mathematics §4, with the compact lanes of
-    Mathematics §4.4) for every other m >= 2; ``obstacle_line`` is the paper's.
+    Mathematics §4.4) for every other m >= 2; ``obstacle_line`` is the paper's. With
+    ``sequential`` (a query through intermediate configurations) the default is the sequential
+    planner of (d, n, m) (:func:`~pmplan.planners.base.default_planner`); the caller checks
+    a named one with :func:`check_sequential`.
     """
     if planner is None:
-        planner = default_planner(d, n, m)
+        planner = default_planner(d, n, m, sequential=sequential)
     if planner not in REGISTRY:
         raise UnsupportedError(
             f"unknown planner {planner!r}; choose one of {', '.join(planner_names())}"

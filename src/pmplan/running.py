@@ -30,7 +30,7 @@ from .checks import (
 from .configuration import check_query, check_sequence
 from .errors import CertificationError, InputError, PmplanError
 from .path import PiecewiseLinearPath
-from .planners.base import REGISTRY, SCENE_CODE, Planner, Stage, default_planner, scene_unit
+from .planners.base import REGISTRY, SCENE_CODE, Planner, Stage, scene_unit
 from .refine import (
     MSG_PLAN,
     MSG_REFINE_DASK,
@@ -490,8 +490,7 @@ def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.
         obstacles, configs = check_sequence(obstacles, configs, batched=True)
         _, m, d = obstacles.shape
         n = configs[0].shape[1]
-        p = choose_planner(d, n, m, planner if planner is not None else
-                           default_planner(d, n, m, sequential=True))
+        p = choose_planner(d, n, m, planner, sequential=True)
         check_backend(backend)
         deferred = False
     if bounds is not None:

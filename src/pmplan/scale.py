@@ -58,7 +58,6 @@ import numpy as np
 from .checks import check_backend, check_lift, check_sequential, check_workers, choose_planner
 from .configuration import default_lift
 from .errors import CertificationError, CollisionError, InputError, PmplanError, StoreError
-from .planners.base import default_planner
 from .results import PlanBatch
 from .running import plan_arrays, refine_plans
 from .workspace import check_bounds
@@ -295,8 +294,7 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
                              f"({c.shape[0]}, {n}, {d})")
     if sequential:
         check_sequential(planner)
-    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True)
-                       if sequential and planner is None else planner)
+    p = choose_planner(d, n, m, planner, sequential=sequential)
     box = None if bounds is None else check_bounds(bounds, d)  # checked now
     template = _template(p, len(configs), m, n, d, refine)
     per_query_times = template["times"].ndim == 2
@@ -888,8 +886,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     r = k + 2
     if r > 2:
         check_sequential(planner)
-    p = choose_planner(d, n, m, default_planner(d, n, m, sequential=True)
-                       if r > 2 and planner is None else planner)
+    p = choose_planner(d, n, m, planner, sequential=r > 2)
     nchunks = -(-b // chunk)
     box = None if bounds is None else check_bounds(bounds, d).tolist()
     attrs = _attrs(p.name, lift if isinstance(lift, str) else float(lift), (d, n, m), r, b,

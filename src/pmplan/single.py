@@ -76,8 +76,7 @@ def plan_one_sequence(obstacles, configs, lift=1.0, backend: str | None = None,
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
     check_sequential(planner)
-    p = choose_planner(d, n, m, planner if planner is not None else
-                       default_planner(d, n, m, sequential=True))
+    p = choose_planner(d, n, m, planner, sequential=True)
     check_backend(backend)
     out = run_loop(p, obstacles, configs, lift, batched=False, backend=backend)
     return single_plan(p, (d, n, m), out)
