@@ -61,3 +61,14 @@ def test_default_planner_213():
 def test_unknown_planner_raises():
     with pytest.raises(pmplan.UnsupportedError, match="unknown planner"):
         pmplan.info(2, 1, 2, planner="nope")
+
+
+def test_sequential_info_names_either_sequential_planner():
+    """r > 2: the default sequential planner, or the one named -- the paper's lanes plan
+    sequences too (plan_sequence(planner="obstacle_line")); a planner that cannot is refused
+    with the sequence entries' message."""
+    assert pmplan.info(2, 2, 2, 3).planner == "obstacle_line_compact"
+    i = pmplan.info(2, 2, 2, 3, planner="obstacle_line")
+    assert i.planner == "obstacle_line" and i.domains == i.tc == 3 * 2 + 2 - 1 and i.optimal
+    with pytest.raises(pmplan.UnsupportedError, match="'via' is planned by the obstacle_line"):
+        pmplan.info(2, 1, 3, 3, planner="planar_three")

@@ -108,12 +108,10 @@ def planner_info(d: int, n: int, m: int, r: int = 2, planner: str | None = None)
         return PlannerInfo(d, n, m, r, None, None, (), None, False, f"no planner covers {why}")
     tc = parametrised_tc(d, n, m, r)
     if r > 2:
-        name = default_planner(d, n, m, sequential=True)
-        if planner not in (None, name):
-            raise UnsupportedError(f"sequential planning (r > 2) uses the {name} planner")
-        p = REGISTRY[name]
+        check_sequential(planner)
+        p = choose_planner(d, n, m, planner, sequential=True)
         labels = tuple(p.domain_labels(d, n, m, r))
-        msg = f"sequential planner (Mathematics §4.3) on the {name} planner"
+        msg = f"sequential planner (Mathematics §4.3) on the {p.name} planner"
     else:
         p = choose_planner(d, n, m, planner)
         labels = tuple(p.domain_labels(d, n, m))
