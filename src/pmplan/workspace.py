@@ -137,37 +137,36 @@ def check_walls(configs: list, box: np.ndarray, radius: float, batched: bool) ->
                 radius=radius))
 
 
-def from_box(x: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
-    """``phi^-1``: points of the open box (..., d) to R^d (the identity on the inner box, bit
-    for bit). Computed in the box's unit coordinates ``u = (x - lo) / (hi - lo)``, where the
-    band is ``frac`` and nothing underflows at any magnitude of the box."""
+def _tails(x, box: np.ndarray, frac: float, up, dn) -> np.ndarray:
+    """``x`` (..., d) with every coordinate beyond the inner box mapped by its tail -- ``up``
+    above it, ``dn`` below, functions of the unit coordinate ``u = (x - lo) / (hi - lo)``, the
+    band's lower and upper edges ``a = frac``, ``b = 1 - frac`` and ``frac`` -- and every other
+    coordinate left as it is, bit for bit. In unit coordinates nothing underflows at any
+    magnitude of the box."""
     lo, hi = box
     w = hi - lo
     x = np.asarray(x, dtype=float)
     a, b = frac, 1.0 - frac
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         u = (x - lo) / w
-        up = b - frac + frac * frac / (1.0 - u)
-        dn = a + frac - frac * frac / u
-        out = lo + w * np.where(u > b, up, dn)
+        out = lo + w * np.where(u > b, up(u, a, b, frac), dn(u, a, b, frac))
     return np.where((u >= a) & (u <= b), x, out)
+
+
+def from_box(x: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
+    """``phi^-1``: points of the open box (..., d) to R^d (the identity on the inner box, bit
+    for bit), computed in the box's unit coordinates (:func:`_tails`)."""
+    return _tails(x, box, frac, lambda u, a, b, f: b - f + f * f / (1.0 - u),
+                  lambda u, a, b, f: a + f - f * f / u)
 
 
 def into_box(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
     """``phi``: points of R^d (..., d) into the closed box (the open one up to rounding; the
-    identity, bit for bit, on the inner box, the band ``frac (hi - lo)`` from each wall).
-    Computed in the box's unit coordinates (see :func:`from_box`)."""
-    lo, hi = box
-    w = hi - lo
-    z = np.asarray(z, dtype=float)
-    a, b = frac, 1.0 - frac
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        u = (z - lo) / w
-        up = 1.0 - frac * frac / (u - b + frac)
-        dn = frac * frac / (a - u + frac)
-        out = lo + w * np.where(u > b, up, dn)
-    out = np.where((u >= a) & (u <= b), z, out)
-    return np.clip(out, lo, hi)  # (rounding only: the tails are within [lo, hi])
+    identity, bit for bit, on the inner box, the band ``frac (hi - lo)`` from each wall),
+    computed in the box's unit coordinates (:func:`_tails`)."""
+    out = _tails(z, box, frac, lambda u, a, b, f: 1.0 - f * f / (u - b + f),
+                 lambda u, a, b, f: f * f / (a - u + f))
+    return np.clip(out, box[0], box[1])  # (rounding only: the tails are within [lo, hi])
 
 
 def restore(waypoints: np.ndarray, m: int, fixed, originals: list, obstacles: np.ndarray) -> None:
