@@ -14,8 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .checks import (check_sequential, choose_planner, is_dask, parametrised_tc, planner_info,
-                     planner_names)
+from .checks import choose_planner, is_dask, parametrised_tc, planner_info, planner_names
 from .configuration import as_config_list, as_points, check_same_obstacles, default_lift
 from .errors import InputError, ShapeError, UnsupportedError
 from .planners.base import out_of_scope
@@ -320,7 +319,6 @@ def plan_query(query: dict, planner: str | None = None) -> Plan:
     planner = planner or query.get("planner")
     lift, bounds = query.get("lift"), query.get("bounds")
     if "via" in query:
-        check_sequential(planner)
         configs = [query["start"], *query["via"], query["goal"]]
         return plan_sequence(query["obstacles"], configs, lift=lift, bounds=bounds,
                              planner=planner)

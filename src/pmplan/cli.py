@@ -422,7 +422,6 @@ def cmd_plan(args) -> int:
 
 def cmd_batch(args) -> int:
     from . import api
-    from .checks import check_sequential
     from .io import read_queries, with_unit, write_plans
 
     options = _refine_options(args)
@@ -430,10 +429,8 @@ def cmd_batch(args) -> int:
         return _cmd_batch_store(args, options)
     q = _with_options(read_queries(args.queries), args, args.queries)
     common = dict(lift=with_unit(q, options)["lift"], progress=not args.no_progress,
-                  workers=args.workers,
-                  bounds=q.get("bounds"))
+                  workers=args.workers, bounds=q.get("bounds"))
     if "via" in q:
-        check_sequential(q.get("planner"))
         configs = [q["start"], *np.moveaxis(q["via"], 1, 0), q["goal"]]
         batch = api.plan_sequence_batch(q["obstacles"], configs, planner=q.get("planner"),
                                         **common)

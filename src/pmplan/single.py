@@ -51,6 +51,7 @@ def plan_one_in_box(obstacles, configs: list, bounds, planner: str | None = None
     :mod:`pmplan.workspace`): a batch of one (the box's map runs on the batch), refined when
     ``radii`` = (radius, obstacle_radius) are given."""
     if sequential:
+        check_sequential(planner)  # (the planner first, as plan_arrays checks it)
         obstacles, configs = check_sequence(obstacles, configs, batched=False)
     else:
         obstacles, start, goal = check_query(obstacles, configs[0], configs[1], batched=False)
@@ -72,10 +73,10 @@ def plan_one_sequence(obstacles, configs, lift=1.0, backend: str | None = None,
         if fast is not None:
             return fast
     lift = check_lift(lift)
+    check_sequential(planner)  # (the planner first, as plan_arrays checks it)
     obstacles, configs = check_sequence(obstacles, configs, batched=False)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
-    check_sequential(planner)
     p = choose_planner(d, n, m, planner, sequential=True)
     check_backend(backend)
     out = run_loop(p, obstacles, configs, lift, batched=False, backend=backend)
