@@ -24,6 +24,7 @@ from refine_bench import replace_section  # noqa: E402
 from scenes_compare import (  # noqa: E402
     LIFTS,
     OMPL,
+    PB,
     PD,
     RC,
     RS,
@@ -33,7 +34,6 @@ from scenes_compare import (  # noqa: E402
 )
 
 TITLE = "## Scene families against OMPL (issue 25)"
-PB = "pmplan default + box"
 DRAWS = [("scenes_results.json", "seed 1 (design)"), ("scenes_results_seed2.json",
                                                         "seed 2 (held out)")]
 
