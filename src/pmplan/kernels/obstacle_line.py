@@ -957,23 +957,9 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
                 if sq > q or i == 1 or math.isnan(sq):
                     q = sq
             unit = math.sqrt(q)
-        # --- lambda (Mathematics §4.2) and the lift of the section of paper (3.8) -----------------
-        lam = unit
-        if m > 2:
-            mx = 0.0
-            for i in range(2, m):
-                sc = 0.0
-                for c in range(d):
-                    sc += (y[0, i, c] - y[0, 0, c]) * e[c]
-                q = 0.0
-                for c in range(d):
-                    rc = (y[0, i, c] - y[0, 0, c]) - sc * e[c]
-                    q += rc * rc
-                q = math.sqrt(q)
-                if q > mx or i == 2 or math.isnan(q):
-                    mx = q
-            lam = unit + mx
-        if compact:  # the compact lanes (Mathematics §4.4, obstacle_line.lane_heights)
+        # --- the lanes of the section of paper (3.8): the compact ones (Mathematics §4.4,
+        # obstacle_line.lane_heights) or the paper's i lambda (§4.2) ------------------------
+        if compact:
             hp = 0.0
             hm = 0.0
             for i in range(2, m):
@@ -990,6 +976,21 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
                 for c in range(d):
                     off[j, c] = li * nu[c]
         else:
+            lam = unit
+            if m > 2:
+                mx = 0.0
+                for i in range(2, m):
+                    sc = 0.0
+                    for c in range(d):
+                        sc += (y[0, i, c] - y[0, 0, c]) * e[c]
+                    q = 0.0
+                    for c in range(d):
+                        rc = (y[0, i, c] - y[0, 0, c]) - sc * e[c]
+                        q += rc * rc
+                    q = math.sqrt(q)
+                    if q > mx or i == 2 or math.isnan(q):
+                        mx = q
+                lam = unit + mx
             for j in range(n):
                 li = lam * float(j + 1)
                 for c in range(d):
@@ -1811,25 +1812,27 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                 todo[nt] = b0 + l
                 nt += 1
             continue
-        # --- lambda (Mathematics §4.2) and the lift ---------------------------------------------------
-        for l in range(L):
-            T[mx, l] = 0.0
-        for i in range(2, m):
+        # --- lambda (Mathematics §4.2), for the paper's lanes only (the rows mx, mx2 are the
+        # certificate's scratch after this, which sets them first) ------------------------------
+        if not compact:
             for l in range(L):
-                T[SC, l] = 0.0
-                T[Q, l] = 0.0
-            for c in range(d):
+                T[mx, l] = 0.0
+            for i in range(2, m):
                 for l in range(L):
-                    T[SC, l] += (Y[i * d + c, l] - Y[c, l]) * E[c, l]
-            for c in range(d):
+                    T[SC, l] = 0.0
+                    T[Q, l] = 0.0
+                for c in range(d):
+                    for l in range(L):
+                        T[SC, l] += (Y[i * d + c, l] - Y[c, l]) * E[c, l]
+                for c in range(d):
+                    for l in range(L):
+                        rc = (Y[i * d + c, l] - Y[c, l]) - T[SC, l] * E[c, l]
+                        T[Q, l] += rc * rc
                 for l in range(L):
-                    rc = (Y[i * d + c, l] - Y[c, l]) - T[SC, l] * E[c, l]
-                    T[Q, l] += rc * rc
-            for l in range(L):
-                qq = math.sqrt(T[Q, l])
-                z = T[mx, l]
-                T[mx2, l] = qq if (qq > z) | (i == 2) | math.isnan(qq) else z
-            mx, mx2 = mx2, mx
+                    qq = math.sqrt(T[Q, l])
+                    z = T[mx, l]
+                    T[mx2, l] = qq if (qq > z) | (i == 2) | math.isnan(qq) else z
+                mx, mx2 = mx2, mx
         # the unit: lift, or the obstacles' radius u(O) of every lane (lift="scene", see plan_queries)
         UNIT = 15
         if lift > 0:
