@@ -70,7 +70,7 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None,
     Mathematics §4.4) for every other m >= 2; ``obstacle_line`` is the paper's. With
     ``sequential`` (a query through intermediate configurations) the default is the sequential
     planner of (d, n, m) (:func:`~pmplan.planners.base.default_planner`); the caller checks
-    a named one with :func:`check_sequential`.
+    a named one with ``check_sequential``.
     """
     if planner is None:
         planner = default_planner(d, n, m, sequential=sequential)
