@@ -303,6 +303,31 @@ def test_refined_motion_toggle_keeps_the_domain_and_draws_the_radii(page):
     assert _shown(driver)["label"] == raw["label"]
 
 
+def test_a_refined_motion_that_misses_its_radii_says_why(page):
+    driver, shots = page
+    # robot x1's path crosses the gap between o3 and o2, narrower than a robot of radius 0.45
+    q = {"obstacles": [[2, -1], [-2, 1], [-3, 2]], "start": [[-1, 3], [-2, -1]],
+         "goal": [[3, 1], [-3, -1]]}
+    _reset(driver, q)
+    why = driver.find_element("id", "radii-why")
+    assert not why.is_displayed()
+    radius = driver.find_element("id", "radius")
+    radius.clear()
+    radius.send_keys("0.45")
+    driver.find_element("id", "refine-toggle").click()
+    _wait_ready(driver)
+    want = pmplan.plan(q["obstacles"], q["start"], q["goal"], refine=True, radius=0.45,
+                       obstacle_radius=0.45)
+    assert not want.respects_radius
+    assert driver.find_element("id", "radii").get_attribute("data-kept") == "false"
+    assert why.is_displayed() and why.text == want.radius_reason
+    assert "crosses the gap between obstacles o3 and o2" in why.text
+    driver.save_screenshot(str(shots / "8b-radii-why.png"))
+    driver.find_element("id", "refine-toggle").click()  # unrefined: nothing to explain
+    _wait_ready(driver)
+    assert not why.is_displayed()
+
+
 # --------------------------------------------------------------------------------------------
 # the domain map: on when the page opens, its boundaries continuous lines; a phone's width
 

@@ -445,6 +445,9 @@ def cmd_batch(args) -> int:
         if options is not None:
             what += (f"; refined, radii respected by {int(batch.respects_radius.sum())} of "
                      f"{len(batch)}")
+            missed = np.flatnonzero(~batch.respects_radius)
+            if missed.size:
+                what += f" (query {missed[0]}: {batch[int(missed[0])].radius_reason})"
     else:
         what = ""
     print(f"planned {len(batch)} queries with {batch.planner}{what}; wrote {written}")

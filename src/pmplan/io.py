@@ -222,6 +222,7 @@ def plan_to_dict(plan, samples: int | None = None) -> dict:
             out[key] = bool(value)
         else:  # a length: JSON has no infinity (no pair to measure: null)
             out[key] = float(value) if np.isfinite(value) else None
+    out["radius_reason"] = plan.radius_reason  # (None when the radii are kept)
     if samples is not None:
         if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) \
                 or not 2 <= samples <= MAX_SAMPLES:

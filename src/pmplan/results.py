@@ -14,6 +14,7 @@ import numpy as np
 
 from .path import PiecewiseLinearPath
 from .planners.base import REGISTRY
+from .reasons import radius_reason
 
 __all__ = ["Plan", "PlanBatch", "PlannerInfo"]
 
@@ -46,6 +47,11 @@ class Plan:
     respects_radius : bool
         ``robot_distance >= 2 radius`` and ``obstacle_distance >= radius + obstacle_radius``,
         decided exactly (always True for radii 0).
+    radius_reason : str or None
+        Why the radii are not kept, in one sentence (None when they are): the worst contact
+        (two robots, a robot and an obstacle, or a robot and a wall), where and how close, and
+        the gap of the scene it passes through when that gap is narrower than a robot
+        (:func:`pmplan.reasons.radius_reason`).
     raw_clearance : float
         The clearance of the unrefined plan (``clearance`` itself when unrefined): a refined
         plan's pair distances never drop below ``min(T, KAPPA_FLOOR D_raw)`` of the raw ones
@@ -108,6 +114,15 @@ class Plan:
         """Whether the robots, discs of ``radius``, keep off each other and off the obstacles
         (discs of ``obstacle_radius``) along the whole path -- decided exactly."""
         return self._measured[2]
+
+    @cached_property
+    def radius_reason(self) -> str | None:
+        """Why the radii are not kept, in one sentence a user can read; None when they are
+        (:func:`pmplan.reasons.radius_reason`)."""
+        if self.respects_radius:
+            return None
+        return radius_reason(self.path.times, self.path.waypoints, self.m, self.radius,
+                             self.obstacle_radius, self.bounds)
 
     @property
     def m(self) -> int:

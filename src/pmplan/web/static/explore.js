@@ -191,6 +191,8 @@
       `${p.respects_radius ? "kept" : "not kept"} (robots ${rd(p.robot_distance)}, ` +
       `obstacles ${rd(p.obstacle_distance)} apart)`;
     $("radii").dataset.kept = p && p.refined ? String(p.respects_radius) : "";
+    $("radii-why").textContent = p && p.refined && p.radius_reason ? p.radius_reason : "";
+    $("radii-why").hidden = !(p && p.refined && p.radius_reason);
     const e = $("error");
     e.hidden = !state.error;
     e.textContent = state.error || "";

@@ -1,0 +1,191 @@
+"""Why a refined plan does not keep its radii: the reason a user can read (issue 25, item 3).
+
+:func:`radius_reason` names the worst contact of the path -- the two robots, the robot and the
+obstacle, or the robot and the wall of the workspace box that come closest measured against
+what they need (``2 radius``, ``radius + obstacle_radius``, ``radius``), where on the path and
+how close -- and, when the scene itself leaves no room there, says so: in the plane, the
+robot's path crosses the segment between two obstacles, or between an obstacle and a wall,
+whose discs leave a gap narrower than a robot (``2 radius``), and no motion that crosses that
+gap keeps the radii (at the crossing point the two distances add up to less than they need).
+Otherwise the fixed number of refinement steps did not clear the contact, and the reason says
+which knob gives the refinement more steps.
+
+The decision itself (``respects_radius``) stays exact (:func:`pmplan.certify.radius_report`);
+the distances quoted here are the closed-form piece minima in floating point, evaluated in the
+path's power-of-two frame (no square underflows or overflows at any magnitude).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .certify import point_pairs
+
+__all__ = ["radius_reason"]
+
+_MSG_ROBOTS = ("robots x{i} and x{j} come {dist:.6g} apart at t = {t:.3f}, closer than "
+               "2 radius = {need:.6g}")
+_MSG_OBSTACLE = ("robot x{i} comes {dist:.6g} from obstacle o{k} at t = {t:.3f}, closer than "
+                 "radius + obstacle_radius = {need:.6g}")
+_MSG_WALL = ("robot x{i} comes {dist:.6g} from the wall x[{c}] = {wall:.6g} at t = {t:.3f}, "
+             "closer than radius = {need:.6g}")
+_MSG_GAP_OBSTACLES = ("its path crosses the gap between obstacles o{k} and o{l}, whose discs "
+                      "leave {gap:.6g}, narrower than a robot (2 radius = {width:.6g}): no "
+                      "motion that crosses that gap keeps the radii")
+_MSG_GAP_WALL = ("its path crosses the gap between obstacle o{k} and the wall x[{c}] = "
+                 "{wall:.6g}, {gap:.6g} wide, narrower than a robot (2 radius = {width:.6g}): "
+                 "no motion that crosses that gap keeps the radii")
+_MSG_EFFORT = ("the refinement's fixed steps did not clear it: more effort (larger "
+               "`waypoints` and `steps` of pmplan.refine) may")
+
+
+def _frame_exponent(wp: np.ndarray) -> int:
+    """A power of two near the path's largest |coordinate| (0 for an all-zero path)."""
+    top = float(np.abs(wp).max(initial=0.0))
+    return int(np.frexp(top)[1]) if top > 0 and np.isfinite(top) else 0
+
+
+def _piece_minima(ws: np.ndarray, pa: np.ndarray, pb: np.ndarray):
+    """Distances (K-1, Q) and piece fractions (K-1, Q) of the closest point of every pair on
+    every piece, in the frame."""
+    r0 = ws[:-1, pa] - ws[:-1, pb]
+    v = (ws[1:, pa] - ws[1:, pb]) - r0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        vv = (v * v).sum(-1)
+        s = np.where(vv > 0, np.clip(-(r0 * v).sum(-1) / vv, 0.0, 1.0), 0.0)
+    closest = r0 + s[..., None] * v
+    return np.sqrt((closest * closest).sum(-1)), s
+
+
+def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: float,
+                  bounds=None) -> str:
+    """Return why the path does not keep the radii, in one sentence a user can read.
+
+    Parameters
+    ----------
+    times : array_like, shape (K,)
+    waypoints : array_like, shape (K, m+n, d)
+        The path, obstacles first (:attr:`pmplan.Plan.path`).
+    m : int
+        Number of obstacles.
+    radius, obstacle_radius : float
+        The radii the plan was refined for.
+    bounds : array_like, shape (2, d), optional
+        The workspace box ``[lo, hi]``; the robots must keep ``radius`` from its walls.
+
+    Returns
+    -------
+    str
+        The worst contact (measured against what the pair needs), where and how close; then
+        the gap of the scene it passes through when that gap is narrower than a robot, else
+        the knob that gives the refinement more steps.
+
+    Examples
+    --------
+    A robot that must pass between two obstacles whose discs leave a gap of 0.2, with radius
+    0.2 (a robot 0.4 wide):
+
+    >>> wp = np.array([[[0.0, 0.5], [0.0, -0.5], [-1.0, 0.0]],
+    ...                [[0.0, 0.5], [0.0, -0.5], [1.0, 0.0]]])
+    >>> print(radius_reason([0.0, 1.0], wp, 2, 0.2, 0.4))
+    robot x1 comes 0.5 from obstacle o1 at t = 0.500, closer than radius + obstacle_radius = 0.6; its path crosses the gap between obstacles o1 and o2, whose discs leave 0.2, narrower than a robot (2 radius = 0.4): no motion that crosses that gap keeps the radii
+    """
+    t = np.asarray(times, dtype=float)
+    wp = np.asarray(waypoints, dtype=float)
+    _, p, d = wp.shape
+    e = _frame_exponent(wp)
+    ws = np.ldexp(wp, -e)
+    rad, orad = np.ldexp(float(radius), -e), np.ldexp(float(obstacle_radius), -e)
+    pa, pb = point_pairs(p, m)
+    need = np.where(pa >= m, 2.0 * rad, rad + orad)
+    cands = []  # (ratio, kind, data)
+    if pa.size and (need > 0).any():
+        dist, frac = _piece_minima(ws, pa, pb)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(need > 0, dist / need, np.inf)
+        j, q = np.unravel_index(int(np.argmin(ratio)), ratio.shape)
+        cands.append((float(ratio[j, q]), "pair", (j, q, float(dist[j, q]), float(frac[j, q]))))
+    box = None
+    if bounds is not None and rad > 0:
+        box = np.ldexp(np.asarray(bounds, dtype=float), -e)
+        rob = ws[:, m:]
+        slack = np.stack([rob - box[0], box[1] - rob])  # (2, K, n, d)
+        side, k, i, c = np.unravel_index(int(np.argmin(slack)), slack.shape)
+        cands.append((float(slack[side, k, i, c]) / rad, "wall", (side, k, i, c)))
+    if not cands:
+        return ""
+    _, kind, data = min(cands, key=lambda x: x[0])
+    all_walls = [(side, c) for side in (0, 1) for c in range(d)]
+    if kind == "wall":
+        side, k, i, c = data
+        dist = float(np.ldexp(slack[side, k, i, c], e))
+        head = _MSG_WALL.format(i=i + 1, dist=dist, c=c, wall=float(bounds[side][c]),
+                                t=float(t[k]), need=float(radius))
+        robot, ks, walls = m + i, range(m), [(side, c)]
+    else:
+        j, q, dist, frac = data
+        when = float(t[j] + frac * (t[j + 1] - t[j]))
+        a, b = int(pa[q]), int(pb[q])
+        if a >= m:
+            head = _MSG_ROBOTS.format(i=a - m + 1, j=b - m + 1, dist=float(np.ldexp(dist, e)),
+                                      t=when, need=2.0 * float(radius))
+            return f"{head}; {_MSG_EFFORT}"
+        head = _MSG_OBSTACLE.format(i=b - m + 1, k=a + 1, dist=float(np.ldexp(dist, e)),
+                                    t=when, need=float(radius) + float(obstacle_radius))
+        robot, ks, walls = b, [a], all_walls
+    gap = None
+    if d == 2:  # (a gap blocks only in the plane: in space a path goes around)
+        gap = _narrow_gap(ws[0, :m], ws[:, robot], rad, orad, box, ks, walls)
+    if gap is None:
+        return f"{head}; {_MSG_EFFORT}"
+    width = 2.0 * float(radius)
+    if gap[0] == "obstacle":
+        why = _MSG_GAP_OBSTACLES.format(k=gap[1] + 1, l=gap[2] + 1,
+                                        gap=float(np.ldexp(gap[3], e)), width=width)
+    else:
+        _, k, side, c, g = gap
+        why = _MSG_GAP_WALL.format(k=k + 1, c=c, wall=float(bounds[side][c]),
+                                   gap=float(np.ldexp(g, e)), width=width)
+    return f"{head}; {why}"
+
+
+def _crosses(path: np.ndarray, p: np.ndarray, q: np.ndarray) -> bool:
+    """Whether the planar polyline ``path`` (K, 2) meets the segment [p, q] (orientation
+    signs, touching included)."""
+    def orient(a, b, c):
+        return np.sign((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1])
+                       - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0]))
+
+    a, b = path[:-1], path[1:]
+    o1, o2 = orient(a, b, p), orient(a, b, q)
+    o3, o4 = orient(p, q, a), orient(p, q, b)
+    return bool(((o1 * o2 <= 0) & (o3 * o4 <= 0)).any())
+
+
+def _narrow_gap(obs: np.ndarray, path: np.ndarray, rad: float, orad: float, box, ks, walls):
+    """The narrowest gap narrower than a robot (``2 rad``) that the planar polyline ``path``
+    crosses: between an obstacle of ``ks`` and another obstacle (``("obstacle", k, l,
+    gap)``), or between an obstacle of ``ks`` and a wall of ``walls`` (``("wall", k, side,
+    coordinate, gap)``, the segment from the obstacle to its foot on the wall); None when
+    there is none. A motion that crosses such a segment comes closer than ``rad + orad`` to
+    one of its obstacles (the two distances from the crossing point add up to less than ``2
+    (rad + orad)``) or closer than ``rad`` to the wall."""
+    best = None
+    for k in ks:
+        for ell in range(obs.shape[0]):
+            if ell == k:
+                continue
+            gap = float(np.sqrt(((obs[k] - obs[ell]) ** 2).sum())) - 2.0 * orad
+            if gap < 2.0 * rad and (best is None or gap < best[-1]) \
+                    and _crosses(path, obs[k], obs[ell]):
+                best = ("obstacle", k, ell, gap)
+        if box is None:
+            continue
+        for side, c in walls:
+            gap = abs(float(box[side][c] - obs[k][c])) - orad
+            foot = obs[k].copy()
+            foot[c] = box[side][c]
+            if gap < 2.0 * rad and (best is None or gap < best[-1]) \
+                    and _crosses(path, obs[k], foot):
+                best = ("wall", k, side, c, gap)
+    return best
