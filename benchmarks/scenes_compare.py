@@ -35,7 +35,10 @@ LB over valid paths (LB = sum_i |x'_i - x_i|); the paired length ratio pmplan / 
 over the queries where both paths are valid); the continuity probe (every start moved by 1e-6
 in a random direction, replanned; sup distance between the two paths / 1e-6 -- pmplan at equal
 times, the exact sup over the union of the breakpoints; OMPL, which has no times, at 201 equal
-arc-length parameters); a replanning run (the row's first query, its obstacles drifting 0.02
+arc-length parameters); for pmplan's two defaults (without and with the box) the probe of
+issue 25 item 4 at delta = 1e-6, 1e-9 and 1e-12 (every point of the query moved, K within one
+label, K > 1e3 reported with the raw plan's clearance) and the invalid paths sorted by their
+``radius_reason`` (:mod:`pmplan.reasons`); a replanning run (the row's first query, its obstacles drifting 0.02
 per tick for 40 ticks, replanned every tick; a *jump* is a change per drift above 25 and above
 10 times the run's median change per drift).
 
@@ -73,6 +76,13 @@ BUDGET = 0.5
 #: RRTConnect's time limit, seconds (n = 16 may fail within it: reported)
 RRTC_LIMIT = 5.0
 PROBE_DELTA = 1e-6
+#: the continuity probe of issue 25 item 4 (issue 24's goals) on pmplan's two defaults: every
+#: point of the query (obstacles, starts, goals) moved by delta times a vector uniform in
+#: [-1, 1]^d, replanned; within one domain label, K = sup change / delta (goal <= CONT_GOAL);
+#: a *jump*: a change above CONT_JUMP at delta <= 1e-9
+CONT_DELTAS = (1e-6, 1e-9, 1e-12)
+CONT_GOAL = 1e3
+CONT_JUMP = 1e-3
 TICKS = 40
 DRIFT = 0.02
 JUMP_ABS, JUMP_REL = 25.0, 10.0
@@ -89,6 +99,8 @@ PB = "pmplan default + box"
 LIFTS[PB] = None
 BOUNDED = {PB}
 PLANNERS = [RC, RS, *LIFTS]
+#: the pmplan variants probed at CONT_DELTAS and whose invalid paths are sorted by their reason
+DEFAULTS = (PD, PB)
 PMPLAN = list(LIFTS)
 OMPL = [RC, RS]
 #: the default lift of pmplan.plan (checked at start-up): None, the robots' diameter when
@@ -261,9 +273,43 @@ def _label_change(a, b) -> bool:
     return isinstance(a[0], pmplan.Plan) and a[0].domain != b[0].domain
 
 
+def why_category(plan, keeps: bool, inside: bool) -> str | None:
+    """Why an invalid pmplan path is invalid, from its ``radius_reason``
+    (:mod:`pmplan.reasons`): ``"gap"`` (its path crosses a gap of the scene narrower than a
+    robot), ``"robots"``, ``"obstacle"``, ``"wall"`` (the worst contact, the refinement did not
+    clear it) or ``"outside"`` (keeps r but leaves the box: planned without it)."""
+    if keeps and inside:
+        return None
+    if keeps:
+        return "outside"
+    why = plan.radius_reason or ""
+    if "crosses the gap" in why:
+        return "gap"
+    return "robots" if why.startswith("robots") else "wall" if "from the wall" in why \
+        else "obstacle"
+
+
+def continuity(runner, o, s, g, res, rng) -> list[dict]:
+    """The probe at every CONT_DELTAS: the whole query moved, replanned, compared within one
+    label (K, the change, the raw clearance beside it)."""
+    out = []
+    for delta in CONT_DELTAS:
+        moved = [x + delta * rng.uniform(-1.0, 1.0, x.shape) for x in (o, s, g)]
+        _, res2 = runner.plan(*moved)
+        if res2 is None:
+            out.append({"delta": delta, "returned": False})
+            continue
+        change = _change(res, res2)
+        out.append({"delta": delta, "returned": True, "label_change": _label_change(res, res2),
+                    "K": change / delta, "change": change,
+                    "raw_clearance": float(res[0].raw_clearance)})
+    return out
+
+
 # --------------------------------------------------------------------------- one row
-def evaluate(runner, qs, dirs) -> dict:
-    """Per query: returned, valid (and why not), time, length / LB, the continuity probe."""
+def evaluate(runner, qs, dirs, cont_rng=None) -> dict:
+    """Per query: returned, valid (and why not), time, length / LB, the continuity probe (and,
+    with ``cont_rng``, the probe at every CONT_DELTAS and the reason of an invalid path)."""
     per = []
     for (o, s, g), u in zip(qs, dirs):
         dt, res = runner.plan(o, s, g)
@@ -275,12 +321,35 @@ def evaluate(runner, qs, dirs) -> dict:
             rec["len_lb"] = rec["length"] / _lb(s, g)
             if isinstance(res[0], pmplan.Plan):
                 rec["claims_r"] = bool(res[0].respects_radius)
+                if cont_rng is not None:
+                    rec["why"] = why_category(res[0], rec["keeps_r"], rec["inside"])
+                    rec["continuity"] = continuity(runner, o, s, g, res, cont_rng)
             _, res2 = runner.plan(o, s + PROBE_DELTA * u, g)
             if res2 is not None:
                 rec["probe"] = _change(res, res2) / PROBE_DELTA
                 rec["probe_label_change"] = _label_change(res, res2)
         per.append(rec)
     return {"queries": per}
+
+
+def continuity_summary(per: list[dict]) -> dict:
+    """Per delta: pairs compared (same label), largest K, pairs above CONT_GOAL (with their K
+    and raw clearance), jumps, label changes; and the invalid paths by reason."""
+    out = {}
+    for delta in CONT_DELTAS:
+        recs = [c for q in per for c in q.get("continuity", ()) if c["delta"] == delta]
+        same = [c for c in recs if c["returned"] and not c["label_change"]]
+        over = [[c["K"], c["raw_clearance"]] for c in same if c["K"] > CONT_GOAL]
+        out[f"{delta:g}"] = {
+            "pairs": len(same), "max": max((c["K"] for c in same), default=float("nan")),
+            "over": over, "jumps": sum(c["change"] > CONT_JUMP for c in same)
+            if delta <= 1e-9 else 0,
+            "label_changes": sum(c["returned"] and c["label_change"] for c in recs)}
+    why: dict = {}
+    for q in per:
+        if q.get("why"):
+            why[q["why"]] = why.get(q["why"], 0) + 1
+    return {"continuity": out, "why": why}
 
 
 def _drift_dirs(rng, m, d):
@@ -495,6 +564,32 @@ def report(out: dict) -> str:
     dis = sum(c["planners"][x]["claims_disagree"] or 0 for c in rows for x in PMPLAN)
     lines += ["", f"pmplan's own `respects_radius` disagrees with the harness's exact check on "
               f"{dis} returned paths (all rows and lifts; 0 expected).", ""]
+    lines += ["## Continuity at three deltas, and why paths are invalid (pmplan's defaults)", "",
+              "Every point of the query moved by delta times a vector uniform in [-1, 1]^d, "
+              "replanned; over the pairs with the same label: the largest K = sup change / delta "
+              "(pairs compared), the pairs with K > 1e3 (K at the raw plan's clearance c_raw, and "
+              "the target r over it: a pair the raw plan brings within c_raw of contact and the "
+              "refinement pushes out to r amplifies by about r / c_raw), jumps "
+              "(a change > 1e-3 at delta <= 1e-9). *invalid*: the invalid paths by their "
+              "`radius_reason` (gap: the path crosses a gap narrower than a robot; robots, "
+              "obstacle, wall: the worst contact; outside: keeps r but leaves the box).", "",
+              "| row | planner | K at 1e-6 | K at 1e-9 | K at 1e-12 | K > 1e3 (K at c_raw) | "
+              "jumps | invalid |", "|---|---|---|---|---|---|---|---|"]
+    for c in rows:
+        for name in DEFAULTS:
+            r = c["planners"].get(name, {})
+            cont = r.get("continuity")
+            if not cont:
+                continue
+            probes = [cont[f"{dl:g}"] for dl in CONT_DELTAS]
+            over = "; ".join(f"{_fmt(k)} at {_fmt(cr)} (r / c_raw {_fmt(R / cr)})"
+                             for v in probes for k, cr in v["over"])
+            lines.append(f"| {c['family']} n = {c['n']} | {name} | "
+                         + " | ".join(f"{_fmt(v['max'])} ({v['pairs']})" for v in probes)
+                         + f" | {over or 'none'} | {sum(v['jumps'] for v in probes)} | "
+                         + (", ".join(f"{k} {v}" for k, v in sorted(r["why"].items()))
+                            or "none") + " |")
+    lines.append("")
     lines += ["## Headline per row", "",
               "Best pmplan = the row's highest valid share, then lowest len/LB. len/LB over "
               "valid paths (n/a: none valid); the last columns give pmplan default's median "
@@ -580,8 +675,12 @@ def main(argv=None) -> int:
                 runner = (OmplRunner(n, fam.d, name, kernels) if name in OMPL
                           else PmplanRunner(LIFTS[name], name in BOUNDED))
                 t0 = time.perf_counter()
-                res = evaluate(runner, qs, dirs)
+                probe = (np.random.default_rng([args.seed, fam.index, n, 3])
+                         if name in DEFAULTS else None)
+                res = evaluate(runner, qs, dirs, probe)
                 summ = summarise(res)
+                if probe is not None:
+                    summ.update(continuity_summary(res["queries"]))
                 summ["replan"] = replanning(runner, s0, g0, ticks)
                 summ["seconds"] = time.perf_counter() - t0
                 raw[name], cell[name] = res, summ
@@ -591,6 +690,11 @@ def main(argv=None) -> int:
                       f"{summ['len_lb_median']:.3f}  probe {summ['probe_median']:.3g}/"
                       f"{summ['probe_max']:.3g}  jumps {summ['replan']['jumps']}/"
                       f"{summ['replan']['compared']}  [{summ['seconds']:.0f} s]", flush=True)
+                if probe is not None:
+                    print("   continuity " + "; ".join(
+                        f"{k}: max {_fmt(v['max'])}, {len(v['over'])} > 1e3, {v['jumps']} jumps"
+                        for k, v in summ["continuity"].items()) + f"; invalid: {summ['why']}",
+                        flush=True)
             cell["paired"] = {pm: {o: paired(raw[pm], raw[o]) for o in OMPL} for pm in PMPLAN}
             wins = ompl_wins(cell)
             row = {"family": fname, "d": fam.d, "n": n, "m": fam.m, "planners": cell,

@@ -18,7 +18,8 @@ FACES = {"pmplan.cli", "pmplan.io", "pmplan.plotting", "pmplan.figures", "pmplan
 CORE_PREFIXES = ("pmplan.predicates", "pmplan.frame", "pmplan.path", "pmplan.certify",
                  "pmplan.planners", "pmplan.kernels", "pmplan.refine", "pmplan.magnitude",
                  "pmplan.configuration", "pmplan.backends", "pmplan.checks", "pmplan.running",
-                 "pmplan.results", "pmplan.planar_strata", "pmplan.single", "pmplan.errors")
+                 "pmplan.results", "pmplan.planar_strata", "pmplan.single", "pmplan.errors",
+                 "pmplan.reasons")
 
 
 def _modules() -> dict[str, Path]:
