@@ -163,3 +163,18 @@ def test_the_reason_is_none_exactly_when_the_radii_are_kept():
             need = 2 * radius
             assert dist <= need * (1 + 1e-6) and 0 <= when <= 1
     assert seen[False] > 0 and seen[True] > 0
+
+
+def test_a_contact_within_rounding_of_the_bound_is_shown_with_every_digit():
+    """A robot passing an obstacle at exactly 1 with radius + obstacle_radius one ulp above 1:
+    the radii are not kept (decided exactly), and the reason shows both numbers in full, not
+    "1 ... closer than ... = 1"."""
+    wp = np.array([[[0.0, 0.0], [-1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0]]])
+    orad = float(np.nextafter(0.5, 1))
+    assert not pmplan.certify.radius_report(wp[None], 1, 0.5, orad)[2][0]
+    reason = radius_reason([0.0, 1.0], wp, 1, 0.5, orad)
+    assert reason.startswith("robot x1 comes 1 from obstacle o1 at t = 0.500, closer than "
+                             "radius + obstacle_radius = 1.0000000000000001;")
+    # far from the bound: six digits
+    assert "comes 1 from obstacle o1 at t = 0.500, closer than radius + obstacle_radius = 1.2;" \
+        in radius_reason([0.0, 1.0], wp, 1, 0.6, 0.6)

@@ -17,18 +17,21 @@ path's power-of-two frame (no square underflows or overflows at any magnitude).
 
 from __future__ import annotations
 
+from decimal import Decimal, localcontext
+from fractions import Fraction
+
 import numpy as np
 
 from .certify import point_pairs
 
 __all__ = ["radius_reason"]
 
-_MSG_ROBOTS = ("robots x{i} and x{j} come {dist:.6g} apart at t = {t:.3f}, closer than "
-               "2 radius = {need:.6g}")
-_MSG_OBSTACLE = ("robot x{i} comes {dist:.6g} from obstacle o{k} at t = {t:.3f}, closer than "
-                 "radius + obstacle_radius = {need:.6g}")
-_MSG_WALL = ("robot x{i} comes {dist:.6g} from the wall x[{c}] = {wall:.6g} at t = {t:.3f}, "
-             "closer than radius = {need:.6g}")
+_MSG_ROBOTS = ("robots x{i} and x{j} come {dist} apart at t = {t:.3f}, closer than "
+               "2 radius = {need}")
+_MSG_OBSTACLE = ("robot x{i} comes {dist} from obstacle o{k} at t = {t:.3f}, closer than "
+                 "radius + obstacle_radius = {need}")
+_MSG_WALL = ("robot x{i} comes {dist} from the wall x[{c}] = {wall:.6g} at t = {t:.3f}, "
+             "closer than radius = {need}")
 _MSG_GAP_OBSTACLES = ("its path crosses the gap between obstacles o{k} and o{l}, whose discs "
                       "leave {gap:.6g}, narrower than a robot (2 radius = {width:.6g}): no "
                       "motion that crosses that gap keeps the radii")
@@ -37,6 +40,17 @@ _MSG_GAP_WALL = ("its path crosses the gap between obstacle o{k} and the wall x[
                  "no motion that crosses that gap keeps the radii")
 _MSG_EFFORT = ("the refinement's fixed steps did not clear it: more effort (larger "
                "`waypoints` and `steps` of pmplan.refine) may")
+
+
+def _shown(dist: float, need: Fraction) -> dict:
+    """``dist`` and the exact bound ``need`` as text: six significant digits, or seventeen when
+    six would show them equal (a contact decided exactly, within rounding of the bound)."""
+    if f"{dist:.6g}" != f"{float(need):.6g}":
+        return {"dist": f"{dist:.6g}", "need": f"{float(need):.6g}"}
+    with localcontext() as ctx:
+        ctx.prec = 17
+        exact = [+Decimal(dist), Decimal(need.numerator) / Decimal(need.denominator)]
+    return {"dist": f"{exact[0]:g}", "need": f"{exact[1]:g}"}
 
 
 def _frame_exponent(wp: np.ndarray) -> int:
@@ -119,19 +133,21 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
     if kind == "wall":
         side, k, i, c = data
         dist = float(np.ldexp(slack[side, k, i, c], e))
-        head = _MSG_WALL.format(i=i + 1, dist=dist, c=c, wall=float(bounds[side][c]),
-                                t=float(t[k]), need=float(radius))
+        head = _MSG_WALL.format(i=i + 1, c=c, wall=float(bounds[side][c]), t=float(t[k]),
+                                **_shown(dist, Fraction(radius)))
         robot, ks, walls = m + i, range(m), [(side, c)]
     else:
         j, q, dist, frac = data
         when = float(t[j] + frac * (t[j + 1] - t[j]))
         a, b = int(pa[q]), int(pb[q])
         if a >= m:
-            head = _MSG_ROBOTS.format(i=a - m + 1, j=b - m + 1, dist=float(np.ldexp(dist, e)),
-                                      t=when, need=2.0 * float(radius))
+            head = _MSG_ROBOTS.format(i=a - m + 1, j=b - m + 1, t=when,
+                                      **_shown(float(np.ldexp(dist, e)), 2 * Fraction(radius)))
             return f"{head}; {_MSG_EFFORT}"
-        head = _MSG_OBSTACLE.format(i=b - m + 1, k=a + 1, dist=float(np.ldexp(dist, e)),
-                                    t=when, need=float(radius) + float(obstacle_radius))
+        head = _MSG_OBSTACLE.format(i=b - m + 1, k=a + 1,
+                                    **_shown(float(np.ldexp(dist, e)),
+                                             Fraction(radius) + Fraction(obstacle_radius)),
+                                    t=when)
         robot, ks, walls = b, [a], all_walls
     gap = None
     if d == 2:  # (a gap blocks only in the plane: in space a path goes around)
