@@ -96,6 +96,10 @@ def test_a_gap_between_two_obstacles_is_named_in_the_plane_only():
     beside = wp.copy()
     beside[:, 2, 1] = 0.9
     assert "gap" not in radius_reason([0.0, 1.0], beside, 2, 0.2, 0.4)
+    # nor moving along the pair's line beyond them (collinear, never between)
+    along = np.array([[[0.0, 0.5], [0.0, -0.5], [0.0, 0.9]],
+                      [[0.0, 0.5], [0.0, -0.5], [0.0, 2.0]]])
+    assert "gap" not in radius_reason([0.0, 1.0], along, 2, 0.2, 0.4)
 
 
 def test_a_gap_between_an_obstacle_and_a_wall_and_a_wall_contact():

@@ -175,7 +175,9 @@ def _crosses(path: np.ndarray, p: np.ndarray, q: np.ndarray) -> bool:
     a, b = path[:-1], path[1:]
     o1, o2 = orient(a, b, p), orient(a, b, q)
     o3, o4 = orient(p, q, a), orient(p, q, b)
-    return bool(((o1 * o2 <= 0) & (o3 * o4 <= 0)).any())
+    # (the boxes must overlap too: collinear segments pass the signs without meeting)
+    boxes = ((np.minimum(a, b) <= np.maximum(p, q)) & (np.minimum(p, q) <= np.maximum(a, b)))
+    return bool(((o1 * o2 <= 0) & (o3 * o4 <= 0) & boxes.all(axis=-1)).any())
 
 
 def _narrow_gap(obs: np.ndarray, path: np.ndarray, rad: float, orad: float, box, ks, walls):
