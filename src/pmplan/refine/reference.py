@@ -190,7 +190,9 @@ def _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl=None) -> np.ndarray:
                 # raised room is above 4 err too, where the ramp is 1)
                 dq = d[:, :, q]
                 room = dq * dq - f2 * f2
-                room = np.where(room < 8.0 * err, _room(r0, v, f2, al, be), room)
+                low = room < 8.0 * err
+                if low.any():
+                    room = np.where(low, _room(r0, v, f2, al, be), room)
                 with np.errstate(invalid="ignore", divide="ignore"):
                     ramp = np.minimum((room - 2.0 * err) / (2.0 * err), 1.0)
                 sd = np.where(room > 2.0 * err, sd * ramp, 0.0)
