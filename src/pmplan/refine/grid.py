@@ -140,7 +140,10 @@ MAX_SEQUENTIAL_D = 8
 #: from ``D - 4 SLACK A`` (A the largest norm of a point of the path at the substep), every
 #: directional budget from ``h - 4 SLACK e**2`` against an inward part raised by ``SLACK e
 #: |move|`` (``e = 4 A + |r0| + |v| + |move|``), with a continuous ramp from 0 where the room above
-#: F' is within 2 to 4 of that slack: the float piece minimum, the float inward part and the
+#: F' is within 2 to 4 of that slack at a point where the move is not outward (the room raised
+#: by the move's outward part, :func:`pmplan.refine.reference._room`: a move outward where the
+#: pair is pressed against its floor is not held back by a ramp whose slope, ``|move| D / (2
+#: err)``, was the 1e-12 probes' noise floor): the float piece minimum, the float inward part and the
 #: rounded moves are within far less of the exact ones (about 2**-50 e), so every floor holds
 #: for the floats computed, exactly (tests/test_refine_exact.py). Only norms and no absolute
 #: term: the map commutes with rotations and scalings (to rounding)

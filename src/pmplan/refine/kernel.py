@@ -156,6 +156,34 @@ def _budget(r0, v, f2, nterms, al, be, start, err=0.0):  # pragma: no cover - co
 
 
 @njit(**OPTS)
+def _room_at(r0, v, f2, al, be, t):  # pragma: no cover - compiled
+    """The room of :func:`pmplan.refine.reference._room` at one candidate t."""
+    t = 0.0 if math.isnan(t) else min(max(t, 0.0), 1.0)
+    s = 0.0
+    for k in range(r0.shape[0]):
+        rt = r0[k] + t * v[k]
+        s = s + rt * rt
+    return (s - f2 * f2) + max(-(al + t * be), 0.0)
+
+
+@njit(**OPTS)
+def _room(r0, v, f2, al, be):  # pragma: no cover - compiled
+    """:func:`pmplan.refine.reference._room` of one term, same arithmetic."""
+    rv = 0.0
+    vv = 0.0
+    for k in range(r0.shape[0]):
+        rv = rv + r0[k] * v[k]
+        vv = vv + v[k] * v[k]
+    a1 = 2.0 * rv
+    a2 = vv
+    s = min(_room_at(r0, v, f2, al, be, 0.0), _room_at(r0, v, f2, al, be, 1.0))
+    s = min(s, _room_at(r0, v, f2, al, be, -al / be if be != 0 else 0.0))
+    s = min(s, _room_at(r0, v, f2, al, be, -a1 / (2.0 * a2) if a2 > 0 else 0.0))
+    s = min(s, _room_at(r0, v, f2, al, be, -(a1 - be) / (2.0 * a2) if a2 > 0 else 0.0))
+    return s
+
+
+@njit(**OPTS)
 def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl):  # pragma: no cover
     """The scale of point ``pt``'s clearing move at waypoint ``j`` beyond its isotropic cap
     (:func:`pmplan.refine.reference._clear_scale`, same arithmetic); ``r0``, ``v``: (d,) scratch."""
@@ -190,11 +218,15 @@ def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl):  # pr
                 vv = vv + v[k] * v[k]
             e = (sl / kp[10] + (math.sqrt(rr) + math.sqrt(vv))) + nm
             err = (4.0 * kp[10]) * (e * e)
+            al = -sign * r0d + (kp[10] * e) * nm
+            be = -sign * vd
             dq = dmin[jp, q]
             room = dq * dq - f2 * f2
+            if room < 8.0 * err:  # (beyond, the raised room is above 4 err too: the ramp is 1)
+                room = _room(r0, v, f2, al, be)
             if room > 2.0 * err:  # (and the reference's continuous ramp above it)
-                sd = _budget(r0, v, f2, nterms, -sign * r0d + (kp[10] * e) * nm, -sign * vd,
-                             jp == j, err) * min((room - 2.0 * err) / (2.0 * err), 1.0)
+                sd = _budget(r0, v, f2, nterms, al, be, jp == j, err) * min(
+                    (room - 2.0 * err) / (2.0 * err), 1.0)
             else:
                 sd = 0.0  # (the reference's: no room above F' beyond the rounding)
             si = iso / nm if nm > iso else 1.0

@@ -125,6 +125,28 @@ def _budget(r0, v, f2, nterms: float, al, be, start: bool, err=0.0):
     return s
 
 
+def _room(r0, v, f2, al, be):
+    """The room of one end's move on one piece, ``min over t in [0, 1] of |r(t)|^2 - F'^2 +
+    max(-(al + t be), 0)``: the room above ``F'`` where the move is not outward, raised by its
+    outward part where it is (``al + t be`` the move's inward part at t, raised by its rounding
+    bound). Convex in t (a convex quadratic plus a convex ramp): its minimum is at t = 0, 1, the
+    zero of the inward part or the vertex of either quadratic, all evaluated (clipped to [0, 1])."""
+    a1 = 2.0 * dot(r0, v)
+    a2 = dot(v, v)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        cands = (np.zeros_like(al), np.ones_like(al),
+                 np.where(be != 0, -al / np.where(be != 0, be, 1.0), 0.0),
+                 np.where(a2 > 0, -a1 / np.where(a2 > 0, 2.0 * a2, 1.0), 0.0),
+                 np.where(a2 > 0, -(a1 - be) / np.where(a2 > 0, 2.0 * a2, 1.0), 0.0))
+    out = None
+    for t in cands:
+        t = np.clip(np.where(np.isnan(t), 0.0, t), 0.0, 1.0)
+        rt = r0 + t[..., None] * v
+        val = (dot(rt, rt) - f2 * f2) + np.maximum(-(al + t * be), 0.0)
+        out = val if out is None else np.minimum(out, val)
+    return out
+
+
 def _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl=None) -> np.ndarray:
     """The scale in [0, 1] of every point's clearing move, (B, W, P): 1 within the isotropic cap
     ``cap``; beyond it the smallest, over the point's pairs and the two adjacent pieces, of the
@@ -157,13 +179,20 @@ def _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl=None) -> np.ndarray:
                 # (the inward part raised by its rounding bound, so that a move the floats see
                 # as outward where the pair nearly touches is not taken as free)
                 err = (4.0 * SLACK) * (e * e)
-                sd = _budget(r0, v, f2, nterms, -sign * dot(r0, dl) + (SLACK * e) * nm,
-                             -sign * dot(v, dl), start, err)
-                # no directional allowance where the room above F' is within the rounding
-                # anywhere on the piece (its budget would be empty there), and a continuous
-                # ramp up to it (a switch would make the map jump there)
+                al = -sign * dot(r0, dl) + (SLACK * e) * nm
+                be = -sign * dot(v, dl)
+                sd = _budget(r0, v, f2, nterms, al, be, start, err)
+                # no directional allowance where the room above F' is within the rounding at
+                # a point of the piece where the move is not outward (its budget would be empty
+                # there), and a continuous ramp up to it (a switch would make the map jump
+                # there); where the move is outward the room counts its outward part too
+                # (computed where the room of the piece minimum is below 8 err: beyond, the
+                # raised room is above 4 err too, where the ramp is 1)
                 dq = d[:, :, q]
                 room = dq * dq - f2 * f2
+                low = room < 8.0 * err
+                if low.any():
+                    room = np.where(low, _room(r0, v, f2, al, be), room)
                 with np.errstate(invalid="ignore", divide="ignore"):
                     ramp = np.minimum((room - 2.0 * err) / (2.0 * err), 1.0)
                 sd = np.where(room > 2.0 * err, sd * ramp, 0.0)
