@@ -349,7 +349,11 @@ def section(seed: int, held_out: bool, args, count: int) -> list[str]:
               "1e-10: "
               + (f"{len(rep['persisting'])} jump(s) persist (path change > 1e-3 across moves "
                  + ", ".join(f"{sz:.1e} -> {ch:.3g} (the raw plan {cr:.1e} from contact, "
-                             f"target / c_raw {0.2 / cr:.1e})" for sz, ch, cr in rep["persisting"])
+                             f"target / c_raw {0.2 / cr:.1e}: K {ch / sz:.1e}, K_eff "
+                             f"{ch / sz / max(1.0, 0.2 / cr):.2g}, "
+                             f"{'within' if ch / sz / max(1.0, 0.2 / cr) <= GOAL_MAX else 'beyond'}"
+                             f" the stated bound K_eff <= {GOAL_MAX:g})"
+                             for sz, ch, cr in rep["persisting"])
                  + ")"
                  if rep["persisting"] else "none persists (every one is a steep but continuous "
                  "change)") + ".", ""]
