@@ -42,8 +42,10 @@ __all__ = [
     "check_times",
     "clearance",
     "describe",
+    "power_of_two_frame",
     "radius_report",
     "segment_clearance",
+    "segment_closest",
 ]
 
 # a float minimum below REL * (scale of the pair on that piece) is re-decided exactly
@@ -198,8 +200,9 @@ def point_pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray]:
     return i[keep], j[keep]
 
 
-def segment_clearance(r0: np.ndarray, r1: np.ndarray) -> np.ndarray:
-    """Return ``min_{t in [0,1]} |r0 + t (r1 - r0)|`` in floating point, over the last axis."""
+def segment_closest(r0: np.ndarray, r1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Return ``(min_{t in [0,1]} |r0 + t (r1 - r0)|, its t)`` in floating point, over the
+    last axis (the arithmetic of :func:`segment_clearance`, which is its first part)."""
     # overflow gives inf/nan here; such pairs are re-decided exactly by the caller
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         v = r1 - r0
@@ -207,7 +210,12 @@ def segment_clearance(r0: np.ndarray, r1: np.ndarray) -> np.ndarray:
         r0v = (r0 * v).sum(-1)
         t = np.where(vv > 0, np.clip(-r0v / np.where(vv > 0, vv, 1.0), 0.0, 1.0), 0.0)
         q = r0 + t[..., None] * v
-        return np.sqrt((q * q).sum(-1))
+        return np.sqrt((q * q).sum(-1)), t
+
+
+def segment_clearance(r0: np.ndarray, r1: np.ndarray) -> np.ndarray:
+    """Return ``min_{t in [0,1]} |r0 + t (r1 - r0)|`` in floating point, over the last axis."""
+    return segment_closest(r0, r1)[0]
 
 
 def exact_segment_dist2(a0, b0, a1, b1) -> Fraction:
@@ -525,7 +533,7 @@ BAND_ABS = 2.0**-500
 TINY_DIST = 2.0**-480
 
 
-def _frame(wp: np.ndarray):
+def power_of_two_frame(wp: np.ndarray):
     """The power-of-two frame of every path of ``wp`` (B, K, P, d): ``(scaled, e, exact)``,
     ``scaled = wp 2**-e`` with the largest ``|coordinate|`` of the path in [1/2, 1) (e = 0 for a
     path at the origin or not finite); ``exact`` (B,): the scaling lost no bit (False only for
@@ -547,7 +555,7 @@ def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius:
 
     ``respects`` is decided **exactly**, at every magnitude: the true minimum distance between
     two robots is >= ``2 radius`` and between a robot and an obstacle >= ``radius +
-    obstacle_radius`` (B,). Each path is measured in its power-of-two frame (:func:`_frame`,
+    obstacle_radius`` (B,). Each path is measured in its power-of-two frame (:func:`pmplan.certify.power_of_two_frame`,
     exact: no square underflows or overflows there); a float piece minimum decides where it is
     farther than the band of :data:`pmplan.certify.BAND_REL` and
     :data:`pmplan.certify.BAND_ABS` from the bound (it is
@@ -575,7 +583,7 @@ def radius_report(waypoints: np.ndarray, m: int, radius: float, obstacle_radius:
     if bsz == 0:
         return np.empty(0), np.empty(0), np.ones(0, dtype=bool)
     pa, pb = point_pairs(p, m)
-    ws, e, exact = _frame(wp)
+    ws, e, exact = power_of_two_frame(wp)
     with np.errstate(all="ignore"):
         d = _decided(ws[:, :-1, pa], ws[:, :-1, pb], ws[:, 1:, pa], ws[:, 1:, pb])
         A = np.maximum(np.abs(ws[:, :-1, pa]).max(-1), np.abs(ws[:, :-1, pb]).max(-1))

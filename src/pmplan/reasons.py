@@ -22,7 +22,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from .certify import point_pairs
+from .certify import point_pairs, power_of_two_frame, segment_closest
 
 __all__ = ["radius_reason"]
 
@@ -51,24 +51,6 @@ def _shown(dist: float, need: Fraction) -> dict:
         ctx.prec = 17
         exact = [+Decimal(dist), Decimal(need.numerator) / Decimal(need.denominator)]
     return {"dist": f"{exact[0]:g}", "need": f"{exact[1]:g}"}
-
-
-def _frame_exponent(wp: np.ndarray) -> int:
-    """A power of two near the path's largest |coordinate| (0 for an all-zero path)."""
-    top = float(np.abs(wp).max(initial=0.0))
-    return int(np.frexp(top)[1]) if top > 0 and np.isfinite(top) else 0
-
-
-def _piece_minima(ws: np.ndarray, pa: np.ndarray, pb: np.ndarray):
-    """Distances (K-1, Q) and piece fractions (K-1, Q) of the closest point of every pair on
-    every piece, in the frame."""
-    r0 = ws[:-1, pa] - ws[:-1, pb]
-    v = (ws[1:, pa] - ws[1:, pb]) - r0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        vv = (v * v).sum(-1)
-        s = np.where(vv > 0, np.clip(-(r0 * v).sum(-1) / vv, 0.0, 1.0), 0.0)
-    closest = r0 + s[..., None] * v
-    return np.sqrt((closest * closest).sum(-1)), s
 
 
 def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: float,
@@ -107,14 +89,14 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
     t = np.asarray(times, dtype=float)
     wp = np.asarray(waypoints, dtype=float)
     _, p, d = wp.shape
-    e = _frame_exponent(wp)
-    ws = np.ldexp(wp, -e)
+    scaled, e, _ = power_of_two_frame(wp[None])
+    ws, e = scaled[0], int(e[0])
     rad, orad = np.ldexp(float(radius), -e), np.ldexp(float(obstacle_radius), -e)
     pa, pb = point_pairs(p, m)
     need = np.where(pa >= m, 2.0 * rad, rad + orad)
     cands = []  # (ratio, kind, data)
     if pa.size and (need > 0).any():
-        dist, frac = _piece_minima(ws, pa, pb)
+        dist, frac = segment_closest(ws[:-1, pa] - ws[:-1, pb], ws[1:, pa] - ws[1:, pb])
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.where(need > 0, dist / need, np.inf)
         j, q = np.unravel_index(int(np.argmin(ratio)), ratio.shape)
