@@ -352,6 +352,22 @@ def continuity_summary(per: list[dict]) -> dict:
     return {"continuity": out, "why": why}
 
 
+def probes_of(cont: dict) -> list[dict]:
+    """A variant's continuity summary (:func:`continuity_summary`) per CONT_DELTAS, in order."""
+    return [cont[f"{dl:g}"] for dl in CONT_DELTAS]
+
+
+def over_text(probes: list[dict]) -> str:
+    """The pairs above CONT_GOAL of ``probes``: K at the raw clearance, and r / c_raw."""
+    return "; ".join(f"{_fmt(k)} at {_fmt(cr)} (r / c_raw {_fmt(R / cr)})"
+                     for v in probes for k, cr in v["over"])
+
+
+def why_text(why: dict) -> str:
+    """The invalid paths by reason, ``"gap 1, robots 3"``."""
+    return ", ".join(f"{k} {v}" for k, v in sorted(why.items()))
+
+
 def _drift_dirs(rng, m, d):
     v = rng.standard_normal((m, d))
     return DRIFT * v / np.linalg.norm(v, axis=1, keepdims=True)
@@ -581,14 +597,11 @@ def report(out: dict) -> str:
             cont = r.get("continuity")
             if not cont:
                 continue
-            probes = [cont[f"{dl:g}"] for dl in CONT_DELTAS]
-            over = "; ".join(f"{_fmt(k)} at {_fmt(cr)} (r / c_raw {_fmt(R / cr)})"
-                             for v in probes for k, cr in v["over"])
+            probes = probes_of(cont)
             lines.append(f"| {c['family']} n = {c['n']} | {name} | "
                          + " | ".join(f"{_fmt(v['max'])} ({v['pairs']})" for v in probes)
-                         + f" | {over or 'none'} | {sum(v['jumps'] for v in probes)} | "
-                         + (", ".join(f"{k} {v}" for k, v in sorted(r["why"].items()))
-                            or "none") + " |")
+                         + f" | {over_text(probes) or 'none'} | "
+                         f"{sum(v['jumps'] for v in probes)} | {why_text(r['why']) or 'none'} |")
     lines.append("")
     lines += ["## Headline per row", "",
               "Best pmplan = the row's highest valid share, then lowest len/LB. len/LB over "

@@ -24,18 +24,18 @@ sys.path.insert(0, str(HERE))
 
 from refine_bench import replace_section  # noqa: E402
 from scenes_compare import (  # noqa: E402
-    CONT_DELTAS,
-    CONT_GOAL,
     LIFTS,
     OMPL,
     PB,
     PD,
-    R,
     RC,
     RS,
     _fmt,
     best_pmplan,
     ompl_wins,
+    over_text,
+    probes_of,
+    why_text,
 )
 
 TITLE = "## Scene families against OMPL (issue 25)"
@@ -93,7 +93,7 @@ def same_queries_unit(row: dict):
     per = row["per_query"]
     worst = None
     for k in LIFTS:
-        if k in (PD, PB) or k not in per or LIFTS[k] == LIFTS[PD]:
+        if k in (PD, PB) or k not in per:  # (the default's own unit is not in per_query)
             continue
         both = [(a["len_lb"], b["len_lb"]) for a, b in zip(per[PD], per[k])
                 if a["valid"] and b["valid"]]
@@ -112,8 +112,9 @@ def goals(res: dict) -> list[str]:
     at three deltas), item 6 (median time with the box)."""
     lines = ["Goals per row (issue 25): *unit* = default len/LB against the fixed lifts' "
              "(goal <= 1.05), without the box: on the same queries, the largest over the fixed "
-             "lifts L with at least 4 queries valid for both of median(default) / median(L) over "
-             "those queries (the lift and the count in brackets; n/a: no lift has 4), the verdict; "
+             f"lifts L with at least {SAME_LEAST} queries valid for both of median(default) / "
+             "median(L) over those queries (the lift and the count in brackets; n/a: no lift has "
+             f"{SAME_LEAST}), the verdict; "
              "beside it, *own sets*: the default's median over its valid paths / the best "
              "lift's median over its own valid paths, which compares different queries (a lift "
              "with 2 valid paths against the default's 15); *valid* = "
@@ -142,18 +143,16 @@ def goals(res: dict) -> list[str]:
         ms = p[PB]["time_ms_median"]
         cont = p[PB].get("continuity")
         if cont:
-            probes = [cont[f"{dl:g}"] for dl in CONT_DELTAS]
-            over = [f"{_fmt(k)} at {_fmt(c)}, r / c_raw {_fmt(R / c)}" for v in probes
-                    for k, c in v["over"]]
+            probes = probes_of(cont)
+            over = over_text(probes)
             smooth = all(not v["over"] and not v["jumps"] for v in probes)
             ctext = " / ".join(_fmt(v["max"]) for v in probes) + \
-                f" ({probes[0]['pairs']} / {probes[1]['pairs']} / {probes[2]['pairs']})" + \
-                (f" [{'; '.join(over)}]" if over else "") + \
+                f" ({' / '.join(str(v['pairs']) for v in probes)})" + \
+                (f" [{over}]" if over else "") + \
                 ("".join(f", {v['jumps']} jumps" for v in probes if v["jumps"]))
         else:
             smooth, ctext = None, "not probed"
-        why = p[PB].get("why", {})
-        wtext = ", ".join(f"{k} {v}" for k, v in sorted(why.items()))
+        wtext = why_text(p[PB].get("why", {}))
         met = [None if same is None else same[0] <= 1.05, share >= VALID_GOAL[n],
                both > 0 and ratio <= PAIRED_GOAL[n], smooth is not False,
                ms <= TIME_GOAL.get(n, float("inf"))]
