@@ -9,7 +9,13 @@ between any two robots and between a robot and an obstacle:
   from the walls;
 * ``swap`` (d = 2, m = 6): the same obstacles and starts; robots exchange places pairwise (robot
   2k's goal is robot 2k+1's start and vice versa; n even);
-* ``room3d`` (d = 3, m = 4): as ``room`` in ``[0, SIZE]^3``.
+* ``room3d`` (d = 3, m = 4): as ``room`` in ``[0, SIZE]^3``;
+* ``room_walls`` and ``swap_walls``: as ``room`` and ``swap``, with the obstacles at least
+  ``WALL_GAP = 2 R + R/2`` from the walls: a wall keeps from an obstacle's disc the gap two
+  obstacles' discs keep from each other (2 R, two robots side by side). In ``room`` and ``swap``
+  an obstacle may sit R from a wall, and a robot of radius R/2 cannot pass between them
+  (Mathematics §8: a planner continuous on a domain cannot always go round such an obstacle
+  on the wide side).
 
 :func:`queries` draws ``count`` queries of one row from a seed; the same (family, n, count,
 seed) gives the same queries. Rows are drawn independently of each other
@@ -23,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FAMILIES", "MARGIN", "R", "SIZE", "Family", "queries"]
+__all__ = ["FAMILIES", "MARGIN", "R", "SIZE", "WALL_GAP", "Family", "queries"]
 
 #: the box side (the scene size)
 SIZE = 10.0
@@ -33,13 +39,18 @@ R = 0.3
 MARGIN = 1.1
 #: obstacles are pairwise at least this far apart (2 R + 2 (R/2))
 OBSTACLE_GAP = 2 * R + 2 * (R / 2)
+#: in the ``*_walls`` families, the obstacles are at least this far from the walls (2 R + R/2:
+#: the disc leaves 2 R to the wall, as two discs leave 2 R between them)
+WALL_GAP = 2 * R + R / 2
 
 
 class Family:
     """One scene family: its name, dimension d, number of obstacles m, and whether it swaps."""
 
-    def __init__(self, name: str, d: int, m: int, swap: bool, index: int):
+    def __init__(self, name: str, d: int, m: int, swap: bool, index: int, wall: float = R):
         self.name, self.d, self.m, self.swap, self.index = name, d, m, swap, index
+        #: the obstacles' least distance from the walls
+        self.wall = wall
 
     def __repr__(self) -> str:  # pragma: no cover
         return f"Family({self.name!r}, d={self.d}, m={self.m})"
@@ -49,6 +60,8 @@ FAMILIES = {
     "room": Family("room", 2, 6, False, 0),
     "swap": Family("swap", 2, 6, True, 1),
     "room3d": Family("room3d", 3, 4, False, 2),
+    "room_walls": Family("room_walls", 2, 6, False, 3, WALL_GAP),
+    "swap_walls": Family("swap_walls", 2, 6, True, 4, WALL_GAP),
 }
 
 
@@ -72,9 +85,10 @@ def _draw(rng: np.random.Generator, count: int, d: int, lo: float, hi: float,
 
 
 def obstacles(rng: np.random.Generator, family: Family) -> np.ndarray:
-    """m obstacles uniform in the box, pairwise >= OBSTACLE_GAP apart, >= R from the walls."""
-    return _draw(rng, family.m, family.d, R, SIZE - R, np.empty((0, family.d)), 0.0,
-                 OBSTACLE_GAP)
+    """m obstacles uniform in the box, pairwise >= OBSTACLE_GAP apart, >= ``family.wall`` (R, or
+    WALL_GAP) from the walls."""
+    return _draw(rng, family.m, family.d, family.wall, SIZE - family.wall,
+                 np.empty((0, family.d)), 0.0, OBSTACLE_GAP)
 
 
 def configuration(rng: np.random.Generator, family: Family, n: int,

@@ -7,8 +7,9 @@ Usage (from the repository root; needs ``pmplan[bench]``, i.e. ``ompl``)::
     python benchmarks/scenes_compare.py --quick         # smoke test: 4 queries per row, n <= 8
 
 Scenes (``benchmarks/scenes.py``): a box [0, 10]^d, robots and obstacles at required distance
-r = 0.3; families *room* (d = 2, m = 6), *swap* (d = 2, m = 6, robots exchange places pairwise)
-and *room3d* (d = 3, m = 4), n = 2, 4, 8, 16. Planners:
+r = 0.3; families *room* (d = 2, m = 6), *swap* (d = 2, m = 6, robots exchange places pairwise),
+*room3d* (d = 3, m = 4), and *room_walls*, *swap_walls* (as room and swap, the obstacles at
+least 2r + r/2 from the walls), n = 2, 4, 8, 16. Planners:
 
 * ``OMPL RRTConnect`` (then ``simplifySolution``) and ``OMPL RRT*`` (path-length objective,
   fixed budget), in R^(nd) bounded by the box. Their motion validator is exact in closed form:

@@ -597,3 +597,34 @@ def test_the_raw_clearance_is_reported_beside_the_refined_one():
     assert np.array_equal(refb.raw_clearance, rawb.clearance)
     assert refb[2].raw_clearance == rawb.clearance[2]
     assert np.array_equal(refb[1:4].raw_clearance, rawb.clearance[1:4])
+
+
+@pytest.mark.parametrize("n", [8, 9, 16])
+def test_a_crowd_gets_the_crowds_default_effort(n):
+    """More than CROWD robots: the defaults are (CROWD_WAYPOINTS, CROWD_STEPS), bit for bit the
+    same refinement as asking for them; up to CROWD, (DEFAULT_WAYPOINTS, DEFAULT_STEPS). The
+    batch, the single plan and the refine() call agree."""
+    from pmplan.refine import (CROWD, CROWD_STEPS, CROWD_WAYPOINTS, DEFAULT_STEPS,
+                               DEFAULT_WAYPOINTS, default_effort)
+
+    crowd = n > CROWD
+    s, k = (CROWD_WAYPOINTS, CROWD_STEPS) if crowd else (DEFAULT_WAYPOINTS, DEFAULT_STEPS)
+    assert default_effort(n) == (s, k) and (s, k) != (DEFAULT_WAYPOINTS // 2, DEFAULT_STEPS)
+    rng = np.random.default_rng(n)
+    o, x, y = (rng.uniform(0, 10, size=(3, 6, 2)), rng.uniform(0, 10, size=(3, n, 2)),
+               rng.uniform(0, 10, size=(3, n, 2)))
+    kw = dict(radius=1e-3, obstacle_radius=1e-3)
+    raw = pmplan.plan_batch(o, x, y, lift=2e-3)  # the refined plans' default unit
+    default = pmplan.refine(raw, **kw)
+    asked = pmplan.refine(raw, waypoints=s, steps=k, **kw)
+    other = pmplan.refine(raw, waypoints=2 * s, steps=k, **kw)
+    assert default.waypoints.shape[1] == (raw.waypoints.shape[1] - 1) * s + 1
+    assert default.waypoints.tobytes() == asked.waypoints.tobytes()
+    assert default.waypoints.shape != other.waypoints.shape
+    full = pmplan.plan_batch(o, x, y, refine=True, **kw)
+    assert full.waypoints.tobytes() == default.waypoints.tobytes()
+    one = pmplan.plan(o[0], x[0], y[0], refine=True, **kw)
+    assert one.path.waypoints.tobytes() == pmplan.refine(
+        pmplan.plan(o[0], x[0], y[0], lift=2e-3), waypoints=s, steps=k, **kw).path.waypoints.tobytes()
+    # a steps-only request keeps the crowd's waypoints, and the reverse
+    assert pmplan.refine(raw, steps=3, **kw).waypoints.shape == default.waypoints.shape

@@ -577,3 +577,16 @@ def test_compute_plans_every_block_once(monkeypatch):
     assert calls == []  # lazy
     assert_same(scale.compute(batch, scheduler="sync"), pmplan.plan_batch(o, s, g))
     assert sorted(calls) == [100, 300, 300, 300]
+
+
+def test_dask_refined_crowd_gets_the_crowds_default_effort():
+    """More than pmplan.refine.CROWD robots: the lazy batch is refined with the crowd's default
+    effort, bit for bit the in-memory one (its breakpoints say which effort it was)."""
+    from pmplan.refine import CROWD, CROWD_WAYPOINTS
+
+    o, s, g = random_queries(40, m=3, n=CROWD + 1, seed=5)
+    ref = pmplan.plan_batch(o, s, g, refine=True, radius=1e-3)
+    assert ref.times.shape[-1] == 7 * CROWD_WAYPOINTS + 1
+    batch = pmplan.plan_batch(*lazy(o, s, g, chunks=16), refine=True, radius=1e-3)
+    assert batch.times.shape == ref.times.shape
+    assert_same_refined(scale.compute(batch, scheduler="threads"), ref)

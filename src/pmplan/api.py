@@ -346,11 +346,16 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
     waypoints : int, optional
         Sub-pieces per piece of the raw path at the finest level, a power of two (default
         :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 2: 14 pieces per leg of the obstacle-line
-        planner). The refined path has ``(K - 1) waypoints + 1`` breakpoints.
+        planner; for a crowd of more than :data:`pmplan.refine.CROWD` = 8 robots
+        :data:`pmplan.refine.CROWD_WAYPOINTS` = 4). The refined path has ``(K - 1) waypoints +
+        1`` breakpoints.
     steps : int, optional
-        Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 56), split over the
-        coarse-to-fine levels 1, 2, 4, .., ``waypoints``. The defaults were chosen from the
-        length / time measurements of ``benchmarks/refine_bench.py``.
+        Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 56, for a crowd
+        :data:`pmplan.refine.CROWD_STEPS` = 112), split over the coarse-to-fine levels 1, 2, 4,
+        .., ``waypoints``. The defaults were chosen from the length / time measurements of
+        ``benchmarks/refine_bench.py``, the crowd's from ``benchmarks/scenes_effort.py``; they
+        depend on the number of robots alone, so the refinement stays continuous on every
+        domain (:func:`pmplan.refine.default_effort`).
     workers : int
         Threads refining separate chunks (-1: one per CPU); the result does not depend on it.
     progress : bool, optional

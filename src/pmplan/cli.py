@@ -100,7 +100,8 @@ def _integer(text: str) -> int:
 
 def _add_refine_options(p) -> None:
     """``--refine``, ``--radius``, ``--obstacle-radius`` (and ``--waypoints``, ``--steps``)."""
-    from .refine import DEFAULT_STEPS, DEFAULT_WAYPOINTS, MAX_STEPS, MAX_WAYPOINTS
+    from .refine import (CROWD, CROWD_STEPS, CROWD_WAYPOINTS, DEFAULT_STEPS, DEFAULT_WAYPOINTS,
+                         MAX_STEPS, MAX_WAYPOINTS)
 
     p.add_argument("--refine", action="store_true",
                    help="refine the planned path (pmplan.refine): a fixed number of continuous, "
@@ -115,10 +116,11 @@ def _add_refine_options(p) -> None:
                    "kept radius + R from them where the refinement can (default 0)")
     p.add_argument("--waypoints", type=_integer, default=None, metavar="S",
                    help="with --refine: sub-pieces per piece of the raw path, a power of two "
-                   f"from 1 to {MAX_WAYPOINTS} (default {DEFAULT_WAYPOINTS})")
+                   f"from 1 to {MAX_WAYPOINTS} (default {DEFAULT_WAYPOINTS}; {CROWD_WAYPOINTS} for "
+                   f"more than {CROWD} robots)")
     p.add_argument("--steps", type=_integer, default=None, metavar="K",
                    help=f"with --refine: number of refinement steps, 1 to {MAX_STEPS:,} "
-                   f"(default {DEFAULT_STEPS})")
+                   f"(default {DEFAULT_STEPS}; {CROWD_STEPS} for more than {CROWD} robots)")
 
 
 def _refine_options(args) -> dict | None:

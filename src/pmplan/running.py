@@ -536,6 +536,7 @@ def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float =
     run loop (:func:`run_stage`), the start, intermediate and goal configurations
     checked against the radii first; a :class:`~pmplan.results.Plan` or a
     :class:`~pmplan.results.PlanBatch` as given."""
+    steps_given = steps
     radius, obstacle_radius, s, steps = check_parameters(radius, obstacle_radius, waypoints,
                                                          steps)
     workers = check_workers(workers)
@@ -563,6 +564,9 @@ def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float =
         raise InputError(MSG_REFINED.format(radius=f"{float(np.max(batch.radius)):g}"))
     p = REGISTRY[batch.planner]
     m = batch.dims[2]
+    # the defaults for the plans' number of robots (the parameters were checked above)
+    _, _, s, steps = check_parameters(radius, obstacle_radius, waypoints, steps_given,
+                                      n=batch.dims[1])
     fixed = p.fixed_waypoints(np.asarray(times))  # start, intermediate configurations, goal
     box = batch.bounds if single or batch.bounds is None else batch.bounds[0]
     stage = RefineStage(times, wp, clearance, m, fixed, radius, obstacle_radius, s, steps, backend,

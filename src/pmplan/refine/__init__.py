@@ -76,11 +76,15 @@ from __future__ import annotations
 from ..certify import radius_report
 from .frame import from_frame, to_frame  # noqa: F401
 from .grid import (  # noqa: F401 (the limits, for the faces)
+    CROWD,
+    CROWD_STEPS,
+    CROWD_WAYPOINTS,
     DEFAULT_STEPS,
     DEFAULT_WAYPOINTS,
     KAPPA,
     MAX_STEPS,
     MAX_WAYPOINTS,
+    default_effort,
     schedule,
     subdivide_times,
 )
@@ -100,10 +104,14 @@ from .stage import (  # noqa: F401 (the stage and its checks, for the run loop a
 )
 
 __all__ = [
+    "CROWD",
+    "CROWD_STEPS",
+    "CROWD_WAYPOINTS",
     "DEFAULT_STEPS",
     "DEFAULT_WAYPOINTS",
     "check_parameters",
     "check_radii",
+    "default_effort",
     "radius_report",
     "refine_paths",
     "schedule",

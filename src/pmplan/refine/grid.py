@@ -19,9 +19,13 @@ __all__ = [
     "ALPHA",
     "BETA",
     "DECAY",
+    "CROWD",
+    "CROWD_STEPS",
+    "CROWD_WAYPOINTS",
     "DEFAULT_STEPS",
     "DEFAULT_WAYPOINTS",
     "ETA",
+    "default_effort",
     "FINAL",
     "GAMMA",
     "GROWTH",
@@ -86,6 +90,17 @@ KAPPA_FLOOR = 0.125
 DEFAULT_WAYPOINTS = 2
 #: default number of steps (each a clearing and a shortening substep), split over the levels
 DEFAULT_STEPS = 56
+#: a crowd: more robots than this get the crowd's default effort (``CROWD_WAYPOINTS``,
+#: ``CROWD_STEPS``). The effort depends on n alone, which every query of a batch and every
+#: query of a domain shares, so the refinement stays continuous on the same domains. Measured
+#: by benchmarks/scenes_effort.py (rooms and swaps of 10 x 10, r = 0.3, in the box): with 16
+#: robots twice the effort keeps the radii on 2 to 7 more queries of 16 per row, within the
+#: 20 ms per query of issue 25; with 8 it gains at most one query and costs more than the 5 ms
+CROWD = 8
+#: default ``waypoints`` for more than ``CROWD`` robots
+CROWD_WAYPOINTS = 4
+#: default ``steps`` for more than ``CROWD`` robots
+CROWD_STEPS = 112
 #: the largest ``waypoints`` accepted
 MAX_WAYPOINTS = 64
 #: the largest ``steps`` accepted
@@ -196,6 +211,17 @@ def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 # --- the grid ------------------------------------------------------------------------------
+
+def default_effort(n: int) -> tuple[int, int]:
+    """The default ``(waypoints, steps)`` of a refinement of plans with ``n`` robots:
+    ``(DEFAULT_WAYPOINTS, DEFAULT_STEPS)`` = (2, 56), and for a crowd of more than ``CROWD`` =
+    8 robots ``(CROWD_WAYPOINTS, CROWD_STEPS)`` = (4, 112).
+
+    >>> default_effort(8), default_effort(16)
+    ((2, 56), (4, 112))
+    """
+    return (CROWD_WAYPOINTS, CROWD_STEPS) if n > CROWD else (DEFAULT_WAYPOINTS, DEFAULT_STEPS)
+
 
 def subdivide_times(times: np.ndarray, s: int) -> np.ndarray:
     """Breakpoints of every piece cut into ``s`` equal sub-pieces: ``t_k + (j/s)(t_{k+1} -

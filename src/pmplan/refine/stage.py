@@ -28,11 +28,10 @@ from ..planners.base import Stage
 from ..workspace import SQUEEZE, inside, into_box, restore, shrunk
 from .frame import from_frame, to_frame
 from .grid import (
-    DEFAULT_STEPS,
-    DEFAULT_WAYPOINTS,
     KAPPA,
     MAX_STEPS,
     MAX_WAYPOINTS,
+    default_effort,
     pairs,
     subdivide_times,
 )
@@ -74,15 +73,18 @@ def check_radius(value, name: str) -> float:
     return float(value)
 
 
-def check_parameters(radius, obstacle_radius, waypoints, steps):
+def check_parameters(radius, obstacle_radius, waypoints, steps, n: int = 1):
     """Validate the refinement parameters; return ``(radius, obstacle_radius, waypoints,
-    steps)`` with the defaults filled in. Raises :class:`~pmplan.errors.InputError` naming the
+    steps)`` with the defaults for plans of ``n`` robots filled in
+    (:func:`~pmplan.refine.grid.default_effort`). Raises :class:`~pmplan.errors.InputError` naming the
     parameter and what it must be.
 
     Examples
     --------
     >>> check_parameters(0, 0.5, None, None)
     (0.0, 0.5, 2, 56)
+    >>> check_parameters(0, 0.5, None, None, n=16)
+    (0.0, 0.5, 4, 112)
     >>> check_parameters(-1.0, 0, None, None)
     Traceback (most recent call last):
     ...
@@ -90,13 +92,14 @@ def check_parameters(radius, obstacle_radius, waypoints, steps):
     """
     radius = check_radius(radius, "radius")
     obstacle_radius = check_radius(obstacle_radius, "obstacle_radius")
+    default_waypoints, default_steps = default_effort(n)
     if waypoints is None:
-        waypoints = DEFAULT_WAYPOINTS
+        waypoints = default_waypoints
     elif (isinstance(waypoints, (bool, np.bool_)) or not isinstance(waypoints, (int, np.integer))
           or not 1 <= waypoints <= MAX_WAYPOINTS or waypoints & (waypoints - 1)):
         raise InputError(_MSG_WAYPOINTS.format(max=MAX_WAYPOINTS, value=waypoints))
     if steps is None:
-        steps = DEFAULT_STEPS
+        steps = default_steps
     elif (isinstance(steps, (bool, np.bool_)) or not isinstance(steps, (int, np.integer))
           or not 1 <= steps <= MAX_STEPS):
         raise InputError(_MSG_STEPS.format(max=MAX_STEPS, value=steps))
