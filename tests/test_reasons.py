@@ -10,6 +10,7 @@ import re
 from fractions import Fraction
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -182,3 +183,21 @@ def test_a_contact_within_rounding_of_the_bound_is_shown_with_every_digit():
     # far from the bound: six digits
     assert "comes 1 from obstacle o1 at t = 0.500, closer than radius + obstacle_radius = 1.2;" \
         in radius_reason([0.0, 1.0], wp, 1, 0.6, 0.6)
+
+
+@pytest.mark.parametrize("planner", [None, "obstacle_line_compact", "obstacle_line"])
+def test_a_continuous_planner_squeezes_past_an_obstacle_near_a_wall_at_one_end(planner):
+    """Mathematics §8, the Proposition: o3 moves on the line x = 5 from 0.3 above the floor to
+    0.3 below the ceiling (closer than 2 radius + obstacle_radius = 0.45), which changes no
+    column, so both ends lie in one domain; the robot's start and goal are on opposite sides
+    of that line. Whichever planner, one end's path crosses the narrow gap, and says so."""
+    plans = []
+    for y in (0.3, 9.7):
+        o = np.array([[2.0, 5.0], [8.0, 5.0], [5.0, y]])
+        plans.append(pmplan.plan(o, [[3.0, 2.0]], [[7.0, 8.0]], planner=planner, refine=True,
+                                 radius=0.15, obstacle_radius=0.15, bounds=(0, 10)))
+    assert plans[0].domain == plans[1].domain
+    missed = [p for p in plans if not p.respects_radius]
+    assert missed
+    for p in missed:
+        assert "crosses the gap between obstacle o3 and the wall x[1]" in p.radius_reason
