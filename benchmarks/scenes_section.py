@@ -75,8 +75,27 @@ def section() -> str:
                        + f" | {', '.join(wins[(RC, b)]) or 'nothing'} |")
         out.append("")
         out += goals(res)
+    out += tally()
     assert OMPL == [RC, RS]
     return "\n".join(out)
+
+
+def tally() -> list[str]:
+    """Over the 2-D rows of every draw: in how many RRTConnect finds more valid paths than
+    pmplan default + box, as many, fewer (the README's summary)."""
+    more = same = fewer = 0
+    for name, _ in DRAWS:
+        path = HERE / name
+        if not path.exists():
+            continue
+        for c in json.loads(path.read_text())["rows"]:
+            if c["d"] != 2:
+                continue
+            rc, box = c["planners"][RC]["valid"], c["planners"][PB]["valid"]
+            more, same, fewer = more + (rc > box), same + (rc == box), fewer + (rc < box)
+    return [f"Valid paths over the 2-D rows of both draws ({more + same + fewer} rows): "
+            f"RRTConnect finds more than pmplan default + box in {more}, as many in {same}, "
+            f"fewer in {fewer}.", ""]
 
 
 #: issue 25's goals per row: valid share (box) by n, paired length vs RRTConnect by n, time

@@ -93,9 +93,10 @@ DEFAULT_STEPS = 56
 #: a crowd: more robots than this get the crowd's default effort (``CROWD_WAYPOINTS``,
 #: ``CROWD_STEPS``). The effort depends on n alone, which every query of a batch and every
 #: query of a domain shares, so the refinement stays continuous on the same domains. Measured
-#: by benchmarks/scenes_effort.py (rooms and swaps of 10 x 10, r = 0.3, in the box): with 16
-#: robots twice the effort keeps the radii on 2 to 7 more queries of 16 per row, within the
-#: 20 ms per query of issue 25; with 8 it gains at most one query and costs more than the 5 ms
+#: by benchmarks/scenes_effort.py (rooms and swaps of 10 x 10, r = 0.3, in the box; seed 1,
+#: held out 2 and 4): with 16 robots twice the effort keeps the radii on 1 to 8 more queries of
+#: 16 in each of the 12 rows, at 13-20 ms per query (issue 25 asks <= 20); with 8 it gains 0 to
+#: 2 and costs 5-8 ms, more than the 5 ms asked
 CROWD = 8
 #: default ``waypoints`` for more than ``CROWD`` robots
 CROWD_WAYPOINTS = 4
