@@ -146,6 +146,14 @@ def test_a_plan_gives_its_reason_in_the_api_the_json_and_the_cli(capsys, tmp_pat
                             "--no-progress"]) == 0
     out = capsys.readouterr().out
     assert f"radii respected by 0 of 2 (query 0: {boxed.radius_reason})" in out
+    with np.load(tmp_path / "out.npz") as res:  # every query's reason, in the npz
+        assert res["radius_reason"].tolist() == [boxed.radius_reason] * 2
+    # the batch's reasons: None where the radii are kept
+    both = pmplan.plan_batch(np.stack([o, o]), np.stack([s, s]), np.stack([g, g]), **kw)
+    assert both.respects_radius.all() and both.radius_reason.tolist() == [None, None]
+    twice = pmplan.plan_batch(np.stack([o, o]), np.stack([s, s]), np.stack([g, g]),
+                              bounds=(0, 10), **kw)
+    assert twice.radius_reason.tolist() == [boxed.radius_reason] * 2
 
 
 def test_the_reason_is_none_exactly_when_the_radii_are_kept():

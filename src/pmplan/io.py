@@ -15,7 +15,9 @@ Batch npz (``pmplan batch``): arrays ``obstacles`` (B, m, d), ``start`` (B, n, d
 ``waypoints`` (B, K, m+n, d), ``strata`` (B, S) and ``stratum`` (B,) names, and the fields of
 refined motions (:data:`REFINE_FIELDS`, issue 14): ``refined``, ``radius``, ``obstacle_radius``
 (B,) always; for a refined batch also ``respects_radius`` (B,), the exact minima
-``robot_distance``, ``obstacle_distance`` (B,) and the unrefined plans' ``raw_clearance`` (B,)
+``robot_distance``, ``obstacle_distance`` (B,), ``radius_reason`` (B,) strings (why a plan
+misses its radii, :mod:`pmplan.reasons`; empty where it keeps them) and the unrefined plans'
+``raw_clearance`` (B,)
 (an unrefined batch has radius 0, and its minimum distance is ``clearance``: measuring the two
 minima apart would cost a pass over all pairs, so ``pmplan batch`` without ``--refine`` stays
 as fast as before); ``bounds`` (B, 2, d) for a batch planned in a workspace box.
@@ -415,6 +417,8 @@ def write_plans(path: str | Path, batch) -> Path:
         planner=np.array(batch.planner),
         **{key: np.asarray(getattr(batch, key))
            for key in (REFINE_FIELDS if batch.refined.any() else REFINE_FIELDS[:3])},
+        **({"radius_reason": np.array([r or "" for r in batch.radius_reason], dtype=str)}
+           if batch.refined.any() else {}),
         **({} if batch.bounds is None else {"bounds": np.asarray(batch.bounds)}),
     )
     return path

@@ -229,6 +229,16 @@ class PlanBatch:
     respects_radius = _recorded("respects_radius",
                                 "Whether every path keeps the radii (B,) bool, decided exactly.")
 
+    @property
+    def radius_reason(self) -> np.ndarray:
+        """Why each plan misses its radii (B,) object array: the sentence of
+        :attr:`Plan.radius_reason` where ``respects_radius`` is False, None where it holds
+        (computed for the missing rows only, on each access)."""
+        out = np.full(len(self), None, dtype=object)
+        for i in np.flatnonzero(~np.asarray(self.respects_radius, dtype=bool)):
+            out[i] = self._plan(int(i)).radius_reason
+        return out
+
     def __len__(self) -> int:
         return self.domain.shape[0]
 
