@@ -624,7 +624,8 @@ def test_a_crowd_gets_the_crowds_default_effort(n):
     full = pmplan.plan_batch(o, x, y, refine=True, **kw)
     assert full.waypoints.tobytes() == default.waypoints.tobytes()
     one = pmplan.plan(o[0], x[0], y[0], refine=True, **kw)
-    assert one.path.waypoints.tobytes() == pmplan.refine(
-        pmplan.plan(o[0], x[0], y[0], lift=2e-3), waypoints=s, steps=k, **kw).path.waypoints.tobytes()
+    asked_one = pmplan.refine(pmplan.plan(o[0], x[0], y[0], lift=2e-3), waypoints=s, steps=k,
+                              **kw)
+    assert one.path.waypoints.tobytes() == asked_one.path.waypoints.tobytes()
     # a steps-only request keeps the crowd's waypoints, and the reverse
     assert pmplan.refine(raw, steps=3, **kw).waypoints.shape == default.waypoints.shape

@@ -76,8 +76,8 @@ def check_radius(value, name: str) -> float:
 def check_parameters(radius, obstacle_radius, waypoints, steps, n: int = 1):
     """Validate the refinement parameters; return ``(radius, obstacle_radius, waypoints,
     steps)`` with the defaults for plans of ``n`` robots filled in
-    (:func:`~pmplan.refine.grid.default_effort`). Raises :class:`~pmplan.errors.InputError` naming the
-    parameter and what it must be.
+    (:func:`~pmplan.refine.grid.default_effort`). Raises :class:`~pmplan.errors.InputError`
+    naming the parameter and what it must be.
 
     Examples
     --------
