@@ -406,6 +406,7 @@ def write_plans(path: str | Path, batch) -> Path:
     path = Path(path)
     if path.suffix != ".npz":
         path = path.with_name(path.name + ".npz")
+    refined = bool(batch.refined.any())
     np.savez(
         path,
         domain=batch.domain,
@@ -416,9 +417,9 @@ def write_plans(path: str | Path, batch) -> Path:
         stratum=batch.stratum.astype(str),
         planner=np.array(batch.planner),
         **{key: np.asarray(getattr(batch, key))
-           for key in (REFINE_FIELDS if batch.refined.any() else REFINE_FIELDS[:3])},
+           for key in (REFINE_FIELDS if refined else REFINE_FIELDS[:3])},
         **({"radius_reason": np.array([r or "" for r in batch.radius_reason], dtype=str)}
-           if batch.refined.any() else {}),
+           if refined else {}),
         **({} if batch.bounds is None else {"bounds": np.asarray(batch.bounds)}),
     )
     return path

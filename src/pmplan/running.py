@@ -536,9 +536,10 @@ def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float =
     run loop (:func:`run_stage`), the start, intermediate and goal configurations
     checked against the radii first; a :class:`~pmplan.results.Plan` or a
     :class:`~pmplan.results.PlanBatch` as given."""
-    steps_given = steps
+    # (the defaults depend on the plans' number of robots; a wrong type is refused below)
+    n = plan_or_batch.dims[1] if isinstance(plan_or_batch, (Plan, PlanBatch)) else 1
     radius, obstacle_radius, s, steps = check_parameters(radius, obstacle_radius, waypoints,
-                                                         steps)
+                                                         steps, n=n)
     workers = check_workers(workers)
     if progress is None:
         progress = False
@@ -564,9 +565,6 @@ def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float =
         raise InputError(MSG_REFINED.format(radius=f"{float(np.max(batch.radius)):g}"))
     p = REGISTRY[batch.planner]
     m = batch.dims[2]
-    # the defaults for the plans' number of robots (the parameters were checked above)
-    _, _, s, steps = check_parameters(radius, obstacle_radius, waypoints, steps_given,
-                                      n=batch.dims[1])
     fixed = p.fixed_waypoints(np.asarray(times))  # start, intermediate configurations, goal
     box = batch.bounds if single or batch.bounds is None else batch.bounds[0]
     stage = RefineStage(times, wp, clearance, m, fixed, radius, obstacle_radius, s, steps, backend,
