@@ -28,7 +28,8 @@ from pmplan.refine import (
     refine_paths,
     schedule,
 )
-from pmplan.refine.grid import pairs
+from pmplan.refine.grid import WALL_SLIDE, pairs
+from pmplan.refine.reference import _wall_scale
 
 R = reference  # the map's reference (its substeps; the grid's constants through it)
 OMPL_OBSTACLES = np.array([[0.35, 0.5], [0.65, 0.5]])
@@ -346,6 +347,53 @@ def test_kernel_equals_reference_bitwise(dims, wp, steps):
     t1, x1 = refine_paths(b.times, b.waypoints, m, 2, target, wp, steps)
     t2, x2 = refine_batch(b.times, b.waypoints, m, 2, target, wp, steps)
     assert np.array_equal(t1, t2) and np.array_equal(x1, x2)
+
+
+@pytest.mark.parametrize("dims", [(2, 4, 2), (3, 3, 3), (2, 8, 4)])
+@pytest.mark.parametrize("wp,steps", [(1, 3), (2, 10)])
+def test_kernel_equals_reference_bitwise_with_walls(dims, wp, steps):
+    """With a workspace's walls (limits that cut through the raw paths, so that both the walls'
+    pushes and their holds act) the kernel is the reference, bit for bit."""
+    d, n, m = dims
+    rng = np.random.default_rng(10 * sum(dims) + wp)
+    b = pmplan.plan_batch(rng.normal(size=(5, m, d)), rng.normal(size=(5, n, d)),
+                          rng.normal(size=(5, n, d)))
+    target = np.stack([b.clearance * 0.7, b.clearance * 1.5], axis=1)
+    lo = b.waypoints.min(axis=(1, 2))
+    hi = b.waypoints.max(axis=(1, 2))
+    walls = np.stack([lo + 0.2 * (hi - lo), hi - 0.2 * (hi - lo)], axis=1)  # (5, 2, d)
+    zone = np.full(5, 0.3)
+    t1, x1 = refine_paths(b.times, b.waypoints, m, 2, target, wp, steps, walls, zone)
+    t2, x2 = refine_batch(b.times, b.waypoints, m, 2, target, wp, steps, walls, zone)
+    assert np.array_equal(t1, t2) and np.array_equal(x1, x2)
+    _, free = refine_paths(b.times, b.waypoints, m, 2, target, wp, steps)
+    assert not np.array_equal(free, x1)  # (the walls acted)
+
+
+@settings(max_examples=200, deadline=None)
+@given(x=st.floats(-4, 4), dx=st.floats(-4, 4), other=st.floats(-4, 4),
+       lo=st.floats(-3, 0), width=st.floats(0.5, 6), e=st.sampled_from([1e-6, 1e-9, 1e-12]))
+def test_the_walls_hold_is_a_continuous_scale_that_keeps_a_share_of_the_room(x, dx, other, lo,
+                                                                              width, e):
+    """The walls' scale of a clearing move: in [WALL_SLIDE, 1]; the held move goes toward a
+    limit at most the room it has there plus WALL_SLIDE times its largest coordinate (no
+    underflow for a tiny move); and it is Lipschitz
+    (a move of the point or of its push by e changes the held move by O(e), at every size)."""
+    walls = np.array([[[lo, -10.0], [lo + width, 10.0]]])  # (1, 2, d)
+
+    def held(px, pdx):
+        xx = np.array([[[0.0, 0.0], [px, 0.0]]])[None]  # (B, W, P, d): one obstacle, one robot
+        delta = np.array([[[0.0, 0.0], [pdx, other]]])[None]
+        sc = _wall_scale(xx, delta, 1, walls)[0, 0, 0]
+        return sc, sc * np.array([pdx, other])
+
+    sc, move = held(x, dx)
+    assert WALL_SLIDE <= sc <= 1.0
+    slide = WALL_SLIDE * max(abs(dx), abs(other))
+    assert -move[0] <= max(x - lo, 0.0) + slide + 1e-12
+    assert move[0] <= max(lo + width - x, 0.0) + slide + 1e-12
+    for px, pdx in ((x + e, dx), (x, dx + e)):
+        assert np.abs(held(px, pdx)[1] - move).max() <= 20.0 * e + 1e-15
 
 
 @settings(max_examples=10, deadline=None)

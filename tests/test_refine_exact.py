@@ -333,14 +333,15 @@ def _near_contact_path(data, d, robots, w, closeness):
 @given(data=st.data(), d=st.sampled_from([2, 3]), robots=st.integers(1, 3), w=st.integers(3, 6),
        e=st.integers(3, 15), mag=st.sampled_from([-1070, -1000, -500, -200, 0, 200, 500, 1000]),
        at_waypoints=st.booleans(), tfrac=st.sampled_from([0.5, 2.0, 50.0]),
-       level=st.integers(0, 2))
+       level=st.integers(0, 2), walls=st.booleans())
 def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, at_waypoints,
-                                                    tfrac, level):
+                                                    tfrac, level, walls):
     """One clearing pass, in the frame of a path scaled by 2**mag whose robot nearly touches
     another point (D/L = 1e-3 .. 1e-15): every pair on every piece ends at or above its floor
     (:func:`pmplan.refine.clear_floor`, with the no-squeezing level ``HOLD min(T (1 +
     MARGIN), D_raw)``) in rational arithmetic -- not one ulp below; the kernel's pass gives the
-    same bits."""
+    same bits. With ``walls`` (limits that cut through the path: the walls push and hold the
+    moves) too: a held move is a smaller move, which keeps every floor."""
     from pmplan.refine.kernel import _clear as kernel_clear
     from pmplan.refine.kernel import constants
 
@@ -364,13 +365,19 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
     eta = R.overshoot(level)
     floor = R.clear_floor(dy, tq, hold, R.PHI_WAYPOINT if at_waypoints else R.PHI, eta)
     before = y.copy()
-    R._clear(y, m, a, b, c, tq, mob, eta, at_waypoints, hold)
+    lim = zone = None
+    if walls:  # limits a quarter of the path's extent in from its bounding box
+        lo, hi = y[0].min(axis=(0, 1)), y[0].max(axis=(0, 1))
+        lim = np.array([[lo + 0.25 * (hi - lo), hi - 0.25 * (hi - lo)]])
+        zone = 0.5 * tgt[:, 0]
+    R._clear(y, m, a, b, c, tq, mob, eta, at_waypoints, hold, lim, zone)
     yk = before[0].copy()
     npair = a.size
     kernel_clear(yk, m, a, b, c, tq[0], hold[0], mob[0], np.empty((w - 1, npair)),
                  np.empty((w - 1, npair)), np.empty((w - 1, npair)), np.empty((w, p)),
                  np.empty((w, p, d)), np.empty((w, d)), np.empty((d, w)), constants(), eta,
-                 at_waypoints)
+                 at_waypoints, lim[0] if walls else np.zeros((2, d)),
+                 zone[0] if walls else 0.0, walls)
     assert np.array_equal(yk, y[0])
     for j in range(w - 1):
         for q, (pa, pb) in enumerate(zip(a, b)):

@@ -19,11 +19,12 @@ is the polyline through the mapped waypoints, which stays in the box (a box is c
 certified like every plan (collision-free, exactly); the obstacles and the configurations it
 passes through are restored bit for bit.
 
-A refined motion (:func:`pmplan.refine`) must keep a robot of ``radius`` inside the box:
-after the refinement, a second map of the same form into the box shrunk by ``radius``, with
-the narrow band ``SQUEEZE (hi - lo)``, brings back the few points the clearing pushed out (the
-identity wherever the refined path already keeps that distance from the walls), and
-``respects_radius`` includes the walls, decided exactly.
+A refined motion (:func:`pmplan.refine`) must keep a robot of ``radius`` inside the box: the
+refinement pushes the robots back from the limits of :func:`identity_box` of the box shrunk by
+``radius`` and holds its moves toward them (``docs/refinement.md``, Walls); after it, a second
+map of the same form into the box shrunk by ``radius``, with the narrow band ``SQUEEZE (hi -
+lo)``, brings back the few points still outside (the identity wherever the refined path keeps
+to those limits), and ``respects_radius`` includes the walls, decided exactly.
 
 Both maps are computed in the box's unit coordinates ``u = (x - lo) / (hi - lo)`` (the band is
 ``BAND`` there): nothing underflows or overflows at any magnitude of the box, and a query and
@@ -45,6 +46,7 @@ __all__ = [
     "check_inside",
     "check_walls",
     "from_box",
+    "identity_box",
     "inside",
     "interior",
     "into_box",
@@ -59,9 +61,10 @@ __all__ = [
 #: 1/8 lies between and was not tuned further
 BAND = 0.125
 #: the band of the map that brings a refined path into the box shrunk by ``radius``, as a
-#: fraction of the side (about the radius of the scene benchmark, 0.15 in a room of 10: the
-#: identity wherever the refined path keeps that much more from the walls)
-SQUEEZE = 1.0 / 64.0
+#: fraction of the side: the identity wherever the refined path keeps that much more from the
+#: walls, the limits the refinement keeps its robots to. Narrow, since the refinement sees the
+#: walls (benchmarks/walls_ab.py: 1/256 against the 1/64 of the refinement without walls)
+SQUEEZE = 1.0 / 256.0
 
 _MSG_BOUNDS = ("`bounds` must be a pair (lo, hi) of numbers or of length-{d} sequences with "
                "lo < hi in every coordinate (the workspace box), got {value!r}")
@@ -185,6 +188,13 @@ def inside(waypoints: np.ndarray, box: np.ndarray, margin: float = 0.0) -> np.nd
     b = waypoints.shape[0]
     ok = (waypoints >= lo + margin) & (waypoints <= hi - margin)
     return ok.reshape(b, -1).all(axis=1)
+
+
+def identity_box(box: np.ndarray, frac: float = BAND) -> np.ndarray:
+    """The inner box (2, d) where :func:`into_box` and :func:`from_box` with the band ``frac``
+    are the identity: ``frac (hi - lo)`` in from every wall (up to rounding at its edge)."""
+    w = box[1] - box[0]
+    return np.array([box[0] + frac * w, box[1] - frac * w])
 
 
 def shrunk(box: np.ndarray, radius: float) -> np.ndarray:

@@ -10,7 +10,7 @@ import numpy as np
 
 from .grid import MAX_TARGET, dot
 
-__all__ = ["from_frame", "to_frame"]
+__all__ = ["from_frame", "limits_to_frame", "to_frame"]
 
 
 # --- the frame -------------------------------------------------------------------------------
@@ -58,3 +58,13 @@ def from_frame(y: np.ndarray, back) -> np.ndarray:
     with np.errstate(over="ignore", under="ignore"):
         z = np.ldexp(y, e2[:, None, None, None]) + c
         return np.ldexp(z, e1[:, None, None, None])
+
+
+def limits_to_frame(limits: np.ndarray, back) -> np.ndarray:
+    """Coordinates (B, 2, d) -- a workspace's limits -- in the frame of :func:`to_frame`
+    (``back``), by the same operations as the points (the frame is a scaling by powers of two
+    and a translation)."""
+    e1, e2, c = back
+    with np.errstate(under="ignore"):
+        z = np.ldexp(limits, -e1[:, None, None]) - c[:, 0]
+        return np.ldexp(z, -e2[:, None, None])

@@ -43,6 +43,7 @@ __all__ = [
     "PHI_WAYPOINT",
     "SHARE",
     "SLACK",
+    "WALL_SLIDE",
     "chord_fraction",
     "default_effort",
     "final_steps",
@@ -108,6 +109,10 @@ MAX_WAYPOINTS = 64
 MAX_STEPS = 100_000
 #: shortening gain: the fraction of the way to the chord point moved per step
 ALPHA = 1.0
+#: the walls of a workspace: a clearing move goes toward a wall's limit at most the room left
+#: there plus WALL_SLIDE times its length (pmplan.refine.reference._wall_scale): a move is
+#: never held back below this scale, so the hold is continuous
+WALL_SLIDE = 0.25
 #: clearing gain: the fraction of the deficit pushed per step
 BETA = 0.5
 #: clearing floor: a pair below its target may lose at most 1 - PHI of its distance per step

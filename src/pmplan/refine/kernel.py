@@ -34,7 +34,7 @@ from .grid import (
 __all__ = ["constants", "refine_batch"]
 
 # the map's constants are passed as ``kp`` = (ALPHA, BETA, PHI, ETA, MARGIN, LAMBDA, OMEGA,
-# SHARE, GAMMA, PHI_WAYPOINT, SLACK) and the overshoot ``eta`` of the level, read from
+# SHARE, GAMMA, PHI_WAYPOINT, SLACK, WALL_SLIDE) and the overshoot ``eta`` of the level, read from
 # pmplan.refine.grid at every call (a module global would be compiled in, and cached on disk,
 # as a constant: a change of pmplan.refine.grid would not reach the kernel)
 
@@ -235,6 +235,31 @@ def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl):  # pr
 
 
 @njit(**OPTS)
+def _wall_scale(x, delta, walls, j, i, slide_k):  # pragma: no cover - compiled
+    """:func:`pmplan.refine.reference._wall_scale` of point ``i`` at waypoint ``j``, same
+    arithmetic."""
+    big = 0.0
+    for k in range(x.shape[2]):
+        big = max(big, abs(delta[j, i, k]))
+    slide = slide_k * big
+    s = 1.0
+    for k in range(x.shape[2]):
+        dk = delta[j, i, k]
+        xk = x[j, i, k]
+        for side in range(2):
+            if side == 0:
+                out = -dk
+                room = xk - walls[0, k]
+            else:
+                out = dk
+                room = walls[1, k] - xk
+            allow = max(room, 0.0) + slide
+            if out > allow:
+                s = min(s, allow / out)
+    return s
+
+
+@njit(**OPTS)
 def _turned(rel, j, k, ein, eout):  # pragma: no cover - compiled
     """Coordinate k of the waypoint push direction ``u`` at waypoint j of
     :func:`pmplan.refine.reference._clear`: the relative position plus the turn of the relative path
@@ -246,8 +271,9 @@ def _turned(rel, j, k, ein, eout):  # pragma: no cover - compiled
 
 @njit(**OPTS)
 def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta,
-           at_waypoints):  # pragma: no cover - compiled
-    """One clearing pass of :func:`pmplan.refine.reference._clear` (same arithmetic, same order)."""
+           at_waypoints, walls, zone, has_walls):  # pragma: no cover - compiled
+    """One clearing pass of :func:`pmplan.refine.reference._clear` (same arithmetic, same order;
+    ``walls`` (2, d) and ``zone`` of this query where ``has_walls``)."""
     w, p, dd = x.shape
     phi = kp[9] if at_waypoints else kp[2]
     delta[:, :, :] = 0.0  # the push
@@ -344,6 +370,14 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
                 if pa >= m:
                     delta[j + 1, pa, k] = delta[j + 1, pa, k] + f1
                     delta[j, pa, k] = delta[j, pa, k] + f0
+    if has_walls:  # pmplan.refine.reference._wall_push
+        zw = zone * eta
+        for j in range(w):
+            for i in range(m, p):
+                for k in range(dd):
+                    xk = x[j, i, k]
+                    delta[j, i, k] = delta[j, i, k] + max((walls[0, k] + zw) - xk, 0.0)
+                    delta[j, i, k] = delta[j, i, k] - max(xk - (walls[1, k] - zw), 0.0)
     _caps(a, b, free, cap)
     for j in range(w):
         wgt = kp[1] * mob[j]
@@ -359,6 +393,8 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
             nm = math.sqrt(s)
             cap[j, i] = _dir_scale(x, m, a, b, c, dmin, gap, delta, j, i, nm, kp, rel[0],
                                    rel[1], sl) if nm > cap[j, i] else 1.0
+            if has_walls:
+                cap[j, i] = min(cap[j, i], _wall_scale(x, delta, walls, j, i, kp[11]))
     for j in range(w):
         for i in range(m, p):
             sc = cap[j, i]
@@ -368,11 +404,11 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
 
 @njit(**OPTS)
 def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
-           waypoint_pass):  # pragma: no cover - compiled
+           waypoint_pass, walls, zone, has_walls):  # pragma: no cover - compiled
     """``steps`` steps (clear, shorten) then ``clear_only`` clearing steps on every query of
     the batch ``x`` (B, W, P, d), in place; ``frac`` (B, W-2), ``mob`` (B, W), ``tgt`` (B,
     pairs); ``waypoint_pass``: the steps' clearing begins with the waypoint pass (the coarsest
-    level)."""
+    level); ``walls`` (B, 2, d) and ``zone`` (B,) where ``has_walls`` (else one unused row)."""
     bsz, w, p, dd = x.shape
     npair = a.shape[0]
     dmin = np.empty((w - 1, npair))
@@ -385,12 +421,13 @@ def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
     for i in range(bsz):
         xi = x[i]
         g = i if mob.shape[0] > 1 else 0  # shared times: one row of mobility and fractions
+        wi = i if has_walls else 0
         for k in range(steps + clear_only):
             if waypoint_pass and k < steps:  # the clearing substep: the waypoint pass first
                 _clear(xi, m, a, b, c, tgt[i], hold[i], mob[g], dmin, free, gap, cap, delta, rel,
-                       rel_t, kp, eta, True)
+                       rel_t, kp, eta, True, walls[wi], zone[wi], has_walls)
             _clear(xi, m, a, b, c, tgt[i], hold[i], mob[g], dmin, free, gap, cap, delta, rel,
-                   rel_t, kp, eta, False)
+                   rel_t, kp, eta, False, walls[wi], zone[wi], has_walls)
             if k < steps:
                 _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel_t,
                          kp)
@@ -401,7 +438,7 @@ def constants() -> np.ndarray:
     too), as the kernel reads them at every call."""
     g = grid
     return np.array([g.ALPHA, g.BETA, g.PHI, g.ETA, g.MARGIN, g.LAMBDA, g.OMEGA, g.SHARE,
-                     g.GAMMA, g.PHI_WAYPOINT, g.SLACK])
+                     g.GAMMA, g.PHI_WAYPOINT, g.SLACK, g.WALL_SLIDE])
 
 
 def _grids(times: np.ndarray, r: int, waypoints_per_piece: int, steps: int, b: int):
@@ -428,7 +465,8 @@ _GRIDS: dict = {}
 
 
 def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
-                 waypoints_per_piece: int, steps: int) -> tuple[np.ndarray, np.ndarray]:
+                 waypoints_per_piece: int, steps: int, walls: np.ndarray | None = None,
+                 zone: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`pmplan.refine.reference.refine_paths` by the kernel: same arguments, same (bitwise) result."""
     times = np.asarray(times, dtype=float)
     x = np.array(waypoints, dtype=float)
@@ -438,6 +476,12 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     hold = np.ascontiguousarray(hold_levels(x, a, b, tgt))
     levels = _grids(times, r, waypoints_per_piece, steps, x.shape[0])
     kp = constants()
+    has_walls = walls is not None
+    if has_walls:
+        walls = np.ascontiguousarray(walls, dtype=float)
+        zone = np.ascontiguousarray(zone, dtype=float)
+    else:  # (one unused row: numba compiles one signature)
+        walls, zone = np.zeros((1, 2, x.shape[3])), np.zeros(1)
     t = times
     for level, (s, n_steps, t, mob, frac) in enumerate(levels):
         if level:
@@ -445,5 +489,5 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         if x.shape[0]:
             _level(x, m, a, b, c, tgt, hold, frac, mob, n_steps,
                    final_steps(steps) if level == len(levels) - 1 else 0, kp, overshoot(level),
-                   level == 0)
+                   level == 0, walls, zone, has_walls)
     return t, x

@@ -22,6 +22,7 @@ from .grid import (
     PHI_WAYPOINT,
     SHARE,
     SLACK,
+    WALL_SLIDE,
     chord_fraction,
     dot,
     final_steps,
@@ -219,11 +220,48 @@ def clear_floor(d, tgt, hold, phi, eta):
     return np.maximum(floor, hold[:, None, :])
 
 
-def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None) -> None:
+def _wall_push(x, push, m, walls, zone) -> None:
+    """The walls' pushes, added to ``push`` (B, W, P, d) in place: a robot closer than
+    ``zone`` (B,) to a wall's limit (``walls`` (B, 2, d): the lowest and highest coordinates it
+    should keep) is pushed back by the deficit, coordinate by coordinate (continuous: a ramp)."""
+    for k in range(x.shape[-1]):
+        xk = x[:, :, m:, k]
+        lo = (walls[:, 0, k] + zone)[:, None, None]
+        hi = (walls[:, 1, k] - zone)[:, None, None]
+        push[:, :, m:, k] = push[:, :, m:, k] + np.maximum(lo - xk, 0.0)
+        push[:, :, m:, k] = push[:, :, m:, k] - np.maximum(xk - hi, 0.0)
+
+
+def _wall_scale(x, delta, m, walls) -> np.ndarray:
+    """The walls' scale in [WALL_SLIDE, 1] of every robot's clearing move, (B, W, n): a move
+    goes toward a wall's limit at most the room it has left there plus ``WALL_SLIDE`` times its
+    largest coordinate, ``min(1, (max(room, 0) + WALL_SLIDE max_k |move_k|) / outward part)``
+    (continuous: the allowance grows with the move, so the scale never switches between 0 and
+    1; the largest coordinate, not the length, which would underflow for a tiny move). A smaller
+    scale of a clearing move keeps it collision-free (every budget of :func:`_clear_scale` bounds
+    the scale from above)."""
+    dr = delta[:, :, m:]
+    xr = x[:, :, m:]
+    slide = WALL_SLIDE * np.abs(dr).max(axis=-1)
+    s = np.ones(xr.shape[:3])
+    for k in range(x.shape[-1]):
+        for out, room in ((-dr[..., k], xr[..., k] - walls[:, 0, k][:, None, None]),
+                          (dr[..., k], walls[:, 1, k][:, None, None] - xr[..., k])):
+            allow = np.maximum(room, 0.0) + slide
+            with np.errstate(invalid="ignore", divide="ignore"):
+                s = np.where(out > allow, np.minimum(s, allow / np.where(out > allow, out, 1.0)),
+                             s)
+    return s
+
+
+def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None, walls=None,
+           zone=None) -> None:
     """One clearing pass: the pushes at the waypoints (``at_waypoints``, floor factor
     :data:`~pmplan.refine.grid.PHI_WAYPOINT`) or at the soft closest points of the pieces (floor factor
     :data:`~pmplan.refine.grid.PHI`), each point's move scaled by :func:`_clear_scale`; no pair below its floor
-    (:func:`clear_floor`; ``hold``: (B, pairs), 0 when not given)."""
+    (:func:`clear_floor`; ``hold``: (B, pairs), 0 when not given). With ``walls`` (B, 2, d) the
+    robots are pushed from the walls' limits too (:func:`_wall_push`, within ``zone`` (B,) times
+    ``eta`` of them) and their moves toward them held back (:func:`_wall_scale`)."""
     phi = PHI_WAYPOINT if at_waypoints else PHI
     d = piece_minima(x, a, b)
     star = tgt * (1.0 + eta)
@@ -275,13 +313,18 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None) -> None:
         if pa >= m:
             push[:, 1:, pa] = push[:, 1:, pa] + f1
             push[:, :-1, pa] = push[:, :-1, pa] + f0
+    if walls is not None:
+        _wall_push(x, push, m, walls, zone * eta)
     delta = (BETA * mob)[..., None, None] * push
     scale = _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl)
+    if walls is not None:
+        scale[:, :, m:] = np.minimum(scale[:, :, m:], _wall_scale(x, delta, m, walls))
     x[:, :, m:] = x[:, :, m:] + delta[:, :, m:] * scale[:, :, m:, None]
 
 
 def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
-                 waypoints_per_piece: int = DEFAULT_WAYPOINTS, steps: int = DEFAULT_STEPS
+                 waypoints_per_piece: int = DEFAULT_WAYPOINTS, steps: int = DEFAULT_STEPS,
+                 walls: np.ndarray | None = None, zone: np.ndarray | None = None
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Apply the refinement map R to a batch of certified paths (the numpy reference).
 
@@ -298,6 +341,12 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         (positive).
     waypoints_per_piece, steps : int
         ``S`` (a power of two) and the number of steps (see the module docstring).
+    walls : ndarray, shape (B, 2, d), optional
+        A workspace: the lowest and highest coordinates the robots should keep (the clearing
+        pushes them back from these limits and holds its moves toward them; the caller maps
+        the result into the box). None: no walls.
+    zone : ndarray, shape (B,)
+        With ``walls``: the pushes begin ``zone`` times the level's overshoot from the limits.
 
     Returns
     -------
@@ -321,9 +370,9 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         eta = overshoot(level)
         for _ in range(n_steps):
             if level == 0:  # the waypoint pass: at the coarsest level (PHI_WAYPOINT)
-                _clear(x, m, a, b, c, tgt, mob, eta, True, hold)
-            _clear(x, m, a, b, c, tgt, mob, eta, False, hold)
+                _clear(x, m, a, b, c, tgt, mob, eta, True, hold, walls, zone)
+            _clear(x, m, a, b, c, tgt, mob, eta, False, hold, walls, zone)
             _shorten(x, m, a, b, c, tgt, frac, mob)
     for _ in range(final_steps(steps)):
-        _clear(x, m, a, b, c, tgt, mob, eta, False, hold)
+        _clear(x, m, a, b, c, tgt, mob, eta, False, hold, walls, zone)
     return t, x

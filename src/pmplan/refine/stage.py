@@ -25,8 +25,8 @@ from ..certify import (
 from ..configuration import configuration_names
 from ..errors import CertificationError, CollisionError, InputError
 from ..planners.base import Stage
-from ..workspace import SQUEEZE, inside, into_box, restore, shrunk
-from .frame import from_frame, to_frame
+from ..workspace import SQUEEZE, identity_box, inside, into_box, restore, shrunk
+from .frame import from_frame, limits_to_frame, to_frame
 from .grid import (
     KAPPA,
     MAX_STEPS,
@@ -238,16 +238,28 @@ class RefineStage(Stage):
         self.respects = np.empty(b, dtype=bool)
         self.clause = np.zeros(b, np.uint8)
 
-    def _refine(self, times, wp, target):
+    def _refine(self, times, wp, target, walls=None, zone=None):
         """The map in the frame, by the backend (:func:`pmplan.backends.select`)."""
-        return self.backend.refine(times, wp, self.m, self.r, target, self.s, self.steps)
+        return self.backend.refine(times, wp, self.m, self.r, target, self.s, self.steps,
+                                   walls, zone)
+
+    def _walls(self, b: int, back, tgt):
+        """The workspace's limits in the frame (B, 2, d) and the walls' push zone (B,): the
+        robots should keep to the inner box where the final map into the box is the identity
+        (:func:`pmplan.workspace.identity_box`); the zone is the robots' radius in the frame
+        (half the robot-robot target)."""
+        if self.box is None:
+            return None, None
+        inner = identity_box(shrunk(self.box, self.radius), SQUEEZE)
+        walls = limits_to_frame(np.broadcast_to(inner, (b,) + inner.shape), back)
+        return np.ascontiguousarray(walls), np.ascontiguousarray(0.5 * tgt[:, 0])
 
     def run(self, lo: int, hi: int) -> np.ndarray:
         raw = self.raw[lo:hi]
         times = self.raw_times if self.raw_times.ndim == 1 else self.raw_times[lo:hi]
         y, tgt, back = to_frame(raw, self.target[lo:hi])
         out = self.waypoints[lo:hi]
-        ref = self._refine(times, y, tgt)[1]
+        ref = self._refine(times, y, tgt, *self._walls(hi - lo, back, tgt))[1]
         out[...] = from_frame(ref, back)
         # the obstacles, and every raw waypoint the refinement left in place (the fixed
         # configurations, a padded row's repeated goal), exactly: the frame rounds them
