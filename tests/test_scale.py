@@ -19,6 +19,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import pmplan
+from pmplan.refine import DEFAULT_WAYPOINTS
 from pmplan import scale
 from pmplan.cli import main
 
@@ -443,9 +444,9 @@ def test_refined_zarr_store_resume_and_errors(tmp_path, capsys):
     assert_same_refined(read_store(dst), ref)
     grp = zarr.open_group(str(dst), mode="r")
     assert dict(grp.attrs)["refine"] == {"radius": 0.25, "obstacle_radius": 0.0,
-                                         "waypoints": 2, "steps": 24}
+                                         "waypoints": DEFAULT_WAYPOINTS, "steps": 24}
     assert set(scale.REFINED_OUTPUTS) <= set(grp.array_keys())
-    assert grp["respects_radius"].dtype == bool and grp["waypoints"].shape == (450, 15, 5, 2)
+    assert grp["respects_radius"].dtype == bool and grp["waypoints"].shape == (450, 7 * DEFAULT_WAYPOINTS + 1, 5, 2)
     # a resume must ask for the same refinement (or none, for a raw store)
     before = {p: p.stat().st_mtime_ns for p in dst.rglob("*")}
     for extra in (["--refine", "--radius", 0.5], [], ["--refine", "--radius", 0.25]):

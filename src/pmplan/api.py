@@ -345,7 +345,7 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
         The obstacles' radius.
     waypoints : int, optional
         Sub-pieces per piece of the raw path at the finest level, a power of two (default
-        :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 2: 14 pieces per leg of the obstacle-line
+        :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 4: 28 pieces per leg of the obstacle-line
         planner; for a crowd of more than :data:`pmplan.refine.CROWD` = 8 robots
         :data:`pmplan.refine.CROWD_WAYPOINTS` = 4). The refined path has ``(K - 1) waypoints +
         1`` breakpoints.

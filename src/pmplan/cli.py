@@ -116,8 +116,9 @@ def _add_refine_options(p) -> None:
                    "kept radius + R from them where the refinement can (default 0)")
     p.add_argument("--waypoints", type=_integer, default=None, metavar="S",
                    help="with --refine: sub-pieces per piece of the raw path, a power of two "
-                   f"from 1 to {MAX_WAYPOINTS} (default {DEFAULT_WAYPOINTS}; {CROWD_WAYPOINTS} for "
-                   f"more than {CROWD} robots)")
+                   f"from 1 to {MAX_WAYPOINTS} (default {DEFAULT_WAYPOINTS}"
+                   + ("" if CROWD_WAYPOINTS == DEFAULT_WAYPOINTS else
+                      f"; {CROWD_WAYPOINTS} for more than {CROWD} robots") + ")")
     p.add_argument("--steps", type=_integer, default=None, metavar="K",
                    help=f"with --refine: number of refinement steps, 1 to {MAX_STEPS:,} "
                    f"(default {DEFAULT_STEPS}; {CROWD_STEPS} for more than {CROWD} robots)")

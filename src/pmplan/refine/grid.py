@@ -87,17 +87,21 @@ KAPPA_FLOOR = 0.125
 # --- the map's gains, floors and slack (the reference and the kernel read them here) ----------
 
 #: default sub-pieces per raw piece at the finest level (a power of two): 7 raw pieces per leg
-#: of the obstacle-line planner give 14 pieces per leg (measured: benchmarks/refine_bench.py)
-DEFAULT_WAYPOINTS = 2
+#: of the obstacle-line planner give 28 pieces per leg. 4 rather than the 2 of
+#: benchmarks/refine_bench.py's length / time trade-off on the unit square: with the same steps
+#: the finer level costs about as much (the steps are split over the levels, the coarse ones
+#: cheap), and on the scene families in the box (rooms and swaps of 10 x 10 with 2, 4 and 8
+#: robots, r = 0.3, seeds 1, 2, 4; benchmarks/scenes_effort.py) it keeps the radii on more
+#: queries in total at each n and on fewer in no row of 8 robots
+DEFAULT_WAYPOINTS = 4
 #: default number of steps (each a clearing and a shortening substep), split over the levels
 DEFAULT_STEPS = 56
 #: a crowd: more robots than this get the crowd's default effort (``CROWD_WAYPOINTS``,
 #: ``CROWD_STEPS``). The effort depends on n alone, which every query of a batch and every
 #: query of a domain shares, so the refinement stays continuous on the same domains. Measured
 #: by benchmarks/scenes_effort.py (rooms and swaps of 10 x 10, r = 0.3, in the box; seed 1,
-#: held out 2 and 4): with 16 robots twice the effort keeps the radii on 1 to 8 more queries of
-#: 16 in each of the 12 rows, at 13-20 ms per query (issue 25 asks <= 20); with 8 it gains 0 to
-#: 2 and costs 5-8 ms, more than the 5 ms asked
+#: held out 2 and 4): with 16 robots twice the steps keep the radii on more queries, at 13-20
+#: ms per query (issue 25 asks <= 20); with 8 they cost 5-8 ms, more than the 5 ms asked
 CROWD = 8
 #: default ``waypoints`` for more than ``CROWD`` robots
 CROWD_WAYPOINTS = 4
@@ -220,11 +224,11 @@ def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def default_effort(n: int) -> tuple[int, int]:
     """The default ``(waypoints, steps)`` of a refinement of plans with ``n`` robots:
-    ``(DEFAULT_WAYPOINTS, DEFAULT_STEPS)`` = (2, 56), and for a crowd of more than ``CROWD`` =
+    ``(DEFAULT_WAYPOINTS, DEFAULT_STEPS)`` = (4, 56), and for a crowd of more than ``CROWD`` =
     8 robots ``(CROWD_WAYPOINTS, CROWD_STEPS)`` = (4, 112).
 
     >>> default_effort(8), default_effort(16)
-    ((2, 56), (4, 112))
+    ((4, 56), (4, 112))
     """
     return (CROWD_WAYPOINTS, CROWD_STEPS) if n > CROWD else (DEFAULT_WAYPOINTS, DEFAULT_STEPS)
 
