@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FAMILIES", "MARGIN", "R", "SIZE", "WALL_GAP", "Family", "queries"]
+__all__ = ["FAMILIES", "MARGIN", "R", "SIZE", "WALL_GAP", "Family", "queries", "rows_main"]
 
 #: the box side (the scene size)
 SIZE = 10.0
@@ -130,3 +130,32 @@ def check(o: np.ndarray, s: np.ndarray, g: np.ndarray) -> bool:
         if dist[m:].min() < R or np.any(c < 0) or np.any(c > SIZE):
             return False
     return True
+
+
+def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv=None) -> int:
+    """The command line of a per-row scene benchmark (``benchmarks/<name>.py``): ``--seeds``
+    (default ``seeds``) and ``--queries``; one warm-up plan, then ``row(family, n, seed, count)``
+    for every seed, family and n, written to ``benchmarks/<name>.json`` and, through
+    ``markdown(result)``, ``.md``."""
+    import argparse
+    import datetime as _dt
+    import json
+    import sys
+    from pathlib import Path
+
+    import pmplan
+
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--seeds", default=seeds)
+    ap.add_argument("--queries", type=int, default=16)
+    args = ap.parse_args(argv)
+    o, s, g = queries("room", 2, 1, 0)[0]  # warm-up / JIT
+    pmplan.plan(o, s, g, bounds=(0.0, SIZE), refine=True, radius=R / 2)
+    rows = [row(f, n, int(seed), args.queries) for seed in args.seeds.split(",")
+            for f in families for n in ns]
+    res = {"command": f"python benchmarks/{name}.py " + " ".join(argv or sys.argv[1:]),
+           "date": _dt.date.today().isoformat(), "count": args.queries, "rows": rows}
+    here = Path(__file__).resolve().parent
+    (here / f"{name}.json").write_text(json.dumps(res, indent=1))
+    (here / f"{name}.md").write_text(markdown(res))
+    return 0

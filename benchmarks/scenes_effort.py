@@ -19,9 +19,6 @@ Writes ``benchmarks/scenes_effort.json`` and ``.md``. Not a test module.
 
 from __future__ import annotations
 
-import argparse
-import datetime as _dt
-import json
 import sys
 import time
 from pathlib import Path
@@ -82,19 +79,7 @@ def markdown(res: dict) -> str:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", default="1,2,4,5,6")
-    ap.add_argument("--queries", type=int, default=16)
-    args = ap.parse_args(argv)
-    o, s, g = scenes.queries("room", 2, 1, 0)[0]  # warm-up / JIT
-    pmplan.refine(pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE)), radius=HALF)
-    rows = [row(f, n, int(seed), args.queries) for seed in args.seeds.split(",")
-            for f in FAMILIES for n in NS]
-    res = {"command": "python benchmarks/scenes_effort.py " + " ".join(argv or sys.argv[1:]),
-           "date": _dt.date.today().isoformat(), "count": args.queries, "rows": rows}
-    (HERE / "scenes_effort.json").write_text(json.dumps(res, indent=1))
-    (HERE / "scenes_effort.md").write_text(markdown(res))
-    return 0
+    return scenes.rows_main("scenes_effort", __doc__, row, markdown, FAMILIES, NS, "1,2,4,5,6", argv)
 
 
 if __name__ == "__main__":

@@ -26,10 +26,7 @@ Writes ``benchmarks/walls_ab.json`` and ``.md``. Not a test module.
 
 from __future__ import annotations
 
-import argparse
-import datetime as _dt
 import importlib
-import json
 import sys
 import time
 from pathlib import Path
@@ -116,19 +113,7 @@ def markdown(res: dict) -> str:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", default="1,2,4")
-    ap.add_argument("--queries", type=int, default=16)
-    args = ap.parse_args(argv)
-    o, s, g = scenes.queries("room", 2, 1, 0)[0]  # warm-up / JIT
-    pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), refine=True, radius=HALF)
-    rows = [row(f, n, int(seed), args.queries) for seed in args.seeds.split(",")
-            for f in FAMILIES for n in NS]
-    res = {"command": "python benchmarks/walls_ab.py " + " ".join(argv or sys.argv[1:]),
-           "date": _dt.date.today().isoformat(), "count": args.queries, "rows": rows}
-    (HERE / "walls_ab.json").write_text(json.dumps(res, indent=1))
-    (HERE / "walls_ab.md").write_text(markdown(res))
-    return 0
+    return scenes.rows_main("walls_ab", __doc__, row, markdown, FAMILIES, NS, "1,2,4", argv)
 
 
 if __name__ == "__main__":
