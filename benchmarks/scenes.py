@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FAMILIES", "MARGIN", "R", "SIZE", "WALL_GAP", "Family", "queries", "rows_main"]
+__all__ = ["FAMILIES", "MARGIN", "R", "SIZE", "WALL_GAP", "Family", "queries", "rows_main", "summary"]
 
 #: the box side (the scene size)
 SIZE = 10.0
@@ -159,3 +159,25 @@ def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv
     (here / f"{name}.json").write_text(json.dumps(res, indent=1))
     (here / f"{name}.md").write_text(markdown(res))
     return 0
+
+
+def summary(label: str, qs: list, plan) -> dict:
+    """One cell of a per-row scene benchmark: ``plan(o, s, g)`` (a refined pmplan.Plan) on
+    every query of ``qs``; the valid count (``respects_radius``, the walls included), the
+    median time per query (ms) and the median length / LB, printed after ``label``."""
+    import time
+
+    import numpy as np
+
+    ok, times, ratios = 0, [], []
+    for o, s, g in qs:
+        t0 = time.perf_counter()
+        p = plan(o, s, g)
+        times.append(time.perf_counter() - t0)
+        ok += bool(p.respects_radius)
+        ratios.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
+    out = {"valid": ok, "count": len(times), "time_ms": 1e3 * float(np.median(times)),
+           "len_lb": float(np.median(ratios))}
+    print(f"{label}: {ok}/{len(times)} {out['time_ms']:.1f} ms len/LB {out['len_lb']:.2f}",
+          flush=True)
+    return out

@@ -20,10 +20,7 @@ Writes ``benchmarks/scenes_effort.json`` and ``.md``. Not a test module.
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
-
-import numpy as np
 
 import pmplan
 
@@ -41,19 +38,11 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
     qs = scenes.queries(fam, n, count, seed)
     out = {"family": fam, "n": n, "seed": seed, "efforts": {}}
     for w, k in EFFORTS:
-        ok, ts, ratio = 0, [], []
-        for o, s, g in qs:
-            t0 = time.perf_counter()
-            raw = pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), lift=scenes.R)
-            p = pmplan.refine(raw, radius=HALF, obstacle_radius=HALF, waypoints=w, steps=k)
-            ts.append(time.perf_counter() - t0)
-            ok += bool(p.respects_radius)
-            ratio.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
-        out["efforts"][f"{w}/{k}"] = {"valid": ok, "count": len(qs),
-                                      "time_ms": 1e3 * float(np.median(ts)),
-                                      "len_lb": float(np.median(ratio))}
-        print(f"seed {seed} {fam} n={n} {w}/{k}: {ok}/{len(qs)} "
-              f"{1e3 * np.median(ts):.1f} ms len/LB {np.median(ratio):.2f}", flush=True)
+        out["efforts"][f"{w}/{k}"] = scenes.summary(
+            f"seed {seed} {fam} n={n} {w}/{k}", qs,
+            lambda o, s, g, w=w, k=k: pmplan.refine(
+                pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), lift=scenes.R), radius=HALF,
+                obstacle_radius=HALF, waypoints=w, steps=k))
     return out
 
 

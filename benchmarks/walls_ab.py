@@ -28,10 +28,7 @@ from __future__ import annotations
 
 import importlib
 import sys
-import time
 from pathlib import Path
-
-import numpy as np
 
 import pmplan
 
@@ -63,19 +60,10 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
     out = {"family": fam, "n": n, "seed": seed, "variants": {}}
     for name in VARIANTS:
         variant(name)
-        ok, ts, ratio = 0, [], []
-        for o, s, g in qs:
-            t0 = time.perf_counter()
-            p = pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), refine=True, radius=HALF,
-                            obstacle_radius=HALF)
-            ts.append(time.perf_counter() - t0)
-            ok += bool(p.respects_radius)  # (the walls included: pmplan.workspace)
-            ratio.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
-        out["variants"][name] = {"valid": ok, "count": len(qs),
-                                 "time_ms": 1e3 * float(np.median(ts)),
-                                 "len_lb": float(np.median(ratio))}
-        print(f"seed {seed} {fam} n={n} {name}: {ok}/{len(qs)} "
-              f"{1e3 * np.median(ts):.1f} ms len/LB {np.median(ratio):.2f}", flush=True)
+        out["variants"][name] = scenes.summary(
+            f"seed {seed} {fam} n={n} {name}", qs,
+            lambda o, s, g: pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), refine=True,
+                                        radius=HALF, obstacle_radius=HALF))
     variant("walls")
     return out
 
