@@ -31,6 +31,7 @@ from .grid import (
     KAPPA,
     MAX_STEPS,
     MAX_WAYPOINTS,
+    WALL_ZONE,
     default_effort,
     pairs,
     subdivide_times,
@@ -246,13 +247,13 @@ class RefineStage(Stage):
     def _walls(self, b: int, back, tgt):
         """The workspace's limits in the frame (B, 2, d) and the walls' push zone (B,): the
         robots should keep to the inner box where the final map into the box is the identity
-        (:func:`pmplan.workspace.identity_box`); the zone is the robots' radius in the frame
-        (half the robot-robot target)."""
+        (:func:`pmplan.workspace.identity_box`); the zone is ``WALL_ZONE`` times the robots'
+        radius in the frame (half the robot-robot target)."""
         if self.box is None:
             return None, None
         inner = identity_box(shrunk(self.box, self.radius), SQUEEZE)
         walls = limits_to_frame(np.broadcast_to(inner, (b,) + inner.shape), back)
-        return np.ascontiguousarray(walls), np.ascontiguousarray(0.5 * tgt[:, 0])
+        return np.ascontiguousarray(walls), np.ascontiguousarray((WALL_ZONE * 0.5) * tgt[:, 0])
 
     def run(self, lo: int, hi: int) -> np.ndarray:
         raw = self.raw[lo:hi]
