@@ -45,8 +45,8 @@ _WALLS = STAGE.RefineStage._walls
 _SQUEEZE = STAGE.SQUEEZE
 
 
-def _no_walls(self, b, back, tgt):
-    return None, None
+def _no_walls(self, b, back):
+    return None
 
 
 def variant(name: str) -> None:

@@ -365,19 +365,17 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
     eta = R.overshoot(level)
     floor = R.clear_floor(dy, tq, hold, R.PHI_WAYPOINT if at_waypoints else R.PHI, eta)
     before = y.copy()
-    lim = zone = None
+    lim = None
     if walls:  # limits a quarter of the path's extent in from its bounding box
         lo, hi = y[0].min(axis=(0, 1)), y[0].max(axis=(0, 1))
         lim = np.array([[lo + 0.25 * (hi - lo), hi - 0.25 * (hi - lo)]])
-        zone = 0.5 * tgt[:, 0]
-    R._clear(y, m, a, b, c, tq, mob, eta, at_waypoints, hold, lim, zone)
+    R._clear(y, m, a, b, c, tq, mob, eta, at_waypoints, hold, lim)
     yk = before[0].copy()
     npair = a.size
     kernel_clear(yk, m, a, b, c, tq[0], hold[0], mob[0], np.empty((w - 1, npair)),
                  np.empty((w - 1, npair)), np.empty((w - 1, npair)), np.empty((w, p)),
                  np.empty((w, p, d)), np.empty((w, d)), np.empty((d, w)), constants(), eta,
-                 at_waypoints, lim[0] if walls else np.zeros((2, d)),
-                 zone[0] if walls else 0.0, walls)
+                 at_waypoints, lim[0] if walls else np.zeros((2, d)), walls)
     assert np.array_equal(yk, y[0])
     for j in range(w - 1):
         for q, (pa, pb) in enumerate(zip(a, b)):

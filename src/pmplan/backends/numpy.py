@@ -83,9 +83,8 @@ def measure(waypoints, m: int, need):
     return None
 
 
-def refine(times, waypoints, m: int, r: int, target, s: int, steps: int, walls=None,
-           zone=None):
+def refine(times, waypoints, m: int, r: int, target, s: int, steps: int, walls=None):
     """The refinement's map, the reference (:func:`pmplan.refine.reference.refine_paths`)."""
     from ..refine.reference import refine_paths  # (the refinement imports the backends: not at import)
 
-    return refine_paths(times, waypoints, m, r, target, s, steps, walls, zone)
+    return refine_paths(times, waypoints, m, r, target, s, steps, walls)

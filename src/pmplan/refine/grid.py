@@ -44,7 +44,6 @@ __all__ = [
     "SHARE",
     "SLACK",
     "WALL_SLIDE",
-    "WALL_ZONE",
     "chord_fraction",
     "default_effort",
     "final_steps",
@@ -118,12 +117,6 @@ ALPHA = 1.0
 #: there plus WALL_SLIDE times its length (pmplan.refine.reference._wall_scale): a move is
 #: never held back below this scale, so the hold is continuous
 WALL_SLIDE = 0.25
-#: the walls' pushes begin WALL_ZONE times the robots' radius times the level's overshoot in
-#: front of a wall's limit (pmplan.refine.reference._wall_push). 0: only a robot beyond a limit
-#: is pushed back. A zone of 1 (like the pairs' overshoot) kept as many scene paths valid (311
-#: against 312 of 384: rooms and swaps of 8 and 16 robots, seeds 1, 2, 4) but amplified the
-#: modulus of continuity up to 2,140 against 212 (room_walls n = 16, seed 1)
-WALL_ZONE = 0.0
 #: clearing gain: the fraction of the deficit pushed per step
 BETA = 0.5
 #: clearing floor: a pair below its target may lose at most 1 - PHI of its distance per step

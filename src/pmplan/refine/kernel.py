@@ -271,9 +271,9 @@ def _turned(rel, j, k, ein, eout):  # pragma: no cover - compiled
 
 @njit(**OPTS)
 def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta,
-           at_waypoints, walls, zone, has_walls):  # pragma: no cover - compiled
+           at_waypoints, walls, has_walls):  # pragma: no cover - compiled
     """One clearing pass of :func:`pmplan.refine.reference._clear` (same arithmetic, same order;
-    ``walls`` (2, d) and ``zone`` of this query where ``has_walls``)."""
+    ``walls`` (2, d) of this query where ``has_walls``)."""
     w, p, dd = x.shape
     phi = kp[9] if at_waypoints else kp[2]
     delta[:, :, :] = 0.0  # the push
@@ -371,13 +371,12 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
                     delta[j + 1, pa, k] = delta[j + 1, pa, k] + f1
                     delta[j, pa, k] = delta[j, pa, k] + f0
     if has_walls:  # pmplan.refine.reference._wall_push
-        zw = zone * eta
         for j in range(w):
             for i in range(m, p):
                 for k in range(dd):
                     xk = x[j, i, k]
-                    delta[j, i, k] = delta[j, i, k] + max((walls[0, k] + zw) - xk, 0.0)
-                    delta[j, i, k] = delta[j, i, k] - max(xk - (walls[1, k] - zw), 0.0)
+                    delta[j, i, k] = delta[j, i, k] + max(walls[0, k] - xk, 0.0)
+                    delta[j, i, k] = delta[j, i, k] - max(xk - walls[1, k], 0.0)
     _caps(a, b, free, cap)
     for j in range(w):
         wgt = kp[1] * mob[j]
@@ -404,11 +403,11 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
 
 @njit(**OPTS)
 def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
-           waypoint_pass, walls, zone, has_walls):  # pragma: no cover - compiled
+           waypoint_pass, walls, has_walls):  # pragma: no cover - compiled
     """``steps`` steps (clear, shorten) then ``clear_only`` clearing steps on every query of
     the batch ``x`` (B, W, P, d), in place; ``frac`` (B, W-2), ``mob`` (B, W), ``tgt`` (B,
     pairs); ``waypoint_pass``: the steps' clearing begins with the waypoint pass (the coarsest
-    level); ``walls`` (B, 2, d) and ``zone`` (B,) where ``has_walls`` (else one unused row)."""
+    level); ``walls`` (B, 2, d) where ``has_walls`` (else one unused row)."""
     bsz, w, p, dd = x.shape
     npair = a.shape[0]
     dmin = np.empty((w - 1, npair))
@@ -425,9 +424,9 @@ def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
         for k in range(steps + clear_only):
             if waypoint_pass and k < steps:  # the clearing substep: the waypoint pass first
                 _clear(xi, m, a, b, c, tgt[i], hold[i], mob[g], dmin, free, gap, cap, delta, rel,
-                       rel_t, kp, eta, True, walls[wi], zone[wi], has_walls)
+                       rel_t, kp, eta, True, walls[wi], has_walls)
             _clear(xi, m, a, b, c, tgt[i], hold[i], mob[g], dmin, free, gap, cap, delta, rel,
-                   rel_t, kp, eta, False, walls[wi], zone[wi], has_walls)
+                   rel_t, kp, eta, False, walls[wi], has_walls)
             if k < steps:
                 _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel_t,
                          kp)
@@ -465,8 +464,8 @@ _GRIDS: dict = {}
 
 
 def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
-                 waypoints_per_piece: int, steps: int, walls: np.ndarray | None = None,
-                 zone: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                 waypoints_per_piece: int, steps: int,
+                 walls: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`pmplan.refine.reference.refine_paths` by the kernel: same arguments, same (bitwise) result."""
     times = np.asarray(times, dtype=float)
     x = np.array(waypoints, dtype=float)
@@ -477,11 +476,8 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     levels = _grids(times, r, waypoints_per_piece, steps, x.shape[0])
     kp = constants()
     has_walls = walls is not None
-    if has_walls:
-        walls = np.ascontiguousarray(walls, dtype=float)
-        zone = np.ascontiguousarray(zone, dtype=float)
-    else:  # (one unused row: numba compiles one signature)
-        walls, zone = np.zeros((1, 2, x.shape[3])), np.zeros(1)
+    # (no walls: one unused row, numba compiles one signature)
+    walls = np.ascontiguousarray(walls, dtype=float) if has_walls else np.zeros((1, 2, x.shape[3]))
     t = times
     for level, (s, n_steps, t, mob, frac) in enumerate(levels):
         if level:
@@ -489,5 +485,5 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         if x.shape[0]:
             _level(x, m, a, b, c, tgt, hold, frac, mob, n_steps,
                    final_steps(steps) if level == len(levels) - 1 else 0, kp, overshoot(level),
-                   level == 0, walls, zone, has_walls)
+                   level == 0, walls, has_walls)
     return t, x

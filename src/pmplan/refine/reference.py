@@ -220,14 +220,18 @@ def clear_floor(d, tgt, hold, phi, eta):
     return np.maximum(floor, hold[:, None, :])
 
 
-def _wall_push(x, push, m, walls, zone) -> None:
-    """The walls' pushes, added to ``push`` (B, W, P, d) in place: a robot closer than
-    ``zone`` (B,) to a wall's limit (``walls`` (B, 2, d): the lowest and highest coordinates it
-    should keep) is pushed back by the deficit, coordinate by coordinate (continuous: a ramp)."""
+def _wall_push(x, push, m, walls) -> None:
+    """The walls' pushes, added to ``push`` (B, W, P, d) in place: a robot beyond a wall's
+    limit (``walls`` (B, 2, d): the lowest and highest coordinates it should keep) is pushed
+    back by how far it is beyond, coordinate by coordinate (continuous: a ramp). Only beyond: a
+    push zone in front of the limits (the robots' radius times the overshoot, as the pairs')
+    kept as many scene paths valid (311 against 312 of 384: rooms and swaps of 8 and 16
+    robots, seeds 1, 2, 4) and amplified the modulus of continuity up to 2,140 against 212
+    (room_walls n = 16, seed 1)."""
     for k in range(x.shape[-1]):
         xk = x[:, :, m:, k]
-        lo = (walls[:, 0, k] + zone)[:, None, None]
-        hi = (walls[:, 1, k] - zone)[:, None, None]
+        lo = walls[:, 0, k][:, None, None]
+        hi = walls[:, 1, k][:, None, None]
         push[:, :, m:, k] = push[:, :, m:, k] + np.maximum(lo - xk, 0.0)
         push[:, :, m:, k] = push[:, :, m:, k] - np.maximum(xk - hi, 0.0)
 
@@ -254,14 +258,13 @@ def _wall_scale(x, delta, m, walls) -> np.ndarray:
     return s
 
 
-def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None, walls=None,
-           zone=None) -> None:
+def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None, walls=None) -> None:
     """One clearing pass: the pushes at the waypoints (``at_waypoints``, floor factor
     :data:`~pmplan.refine.grid.PHI_WAYPOINT`) or at the soft closest points of the pieces (floor factor
     :data:`~pmplan.refine.grid.PHI`), each point's move scaled by :func:`_clear_scale`; no pair below its floor
     (:func:`clear_floor`; ``hold``: (B, pairs), 0 when not given). With ``walls`` (B, 2, d) the
-    robots are pushed from the walls' limits too (:func:`_wall_push`, within ``zone`` (B,) times
-    ``eta`` of them) and their moves toward them held back (:func:`_wall_scale`)."""
+    robots beyond the walls' limits are pushed back too (:func:`_wall_push`) and their moves
+    toward them held back (:func:`_wall_scale`)."""
     phi = PHI_WAYPOINT if at_waypoints else PHI
     d = piece_minima(x, a, b)
     star = tgt * (1.0 + eta)
@@ -314,7 +317,7 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None, walls=No
             push[:, 1:, pa] = push[:, 1:, pa] + f1
             push[:, :-1, pa] = push[:, :-1, pa] + f0
     if walls is not None:
-        _wall_push(x, push, m, walls, zone * eta)
+        _wall_push(x, push, m, walls)
     delta = (BETA * mob)[..., None, None] * push
     scale = _clear_scale(x, delta, m, a, b, c, d, gap, cap, sl)
     if walls is not None:
@@ -324,8 +327,7 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None, walls=No
 
 def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
                  waypoints_per_piece: int = DEFAULT_WAYPOINTS, steps: int = DEFAULT_STEPS,
-                 walls: np.ndarray | None = None, zone: np.ndarray | None = None
-                 ) -> tuple[np.ndarray, np.ndarray]:
+                 walls: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Apply the refinement map R to a batch of certified paths (the numpy reference).
 
     Parameters
@@ -345,8 +347,6 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         A workspace: the lowest and highest coordinates the robots should keep (the clearing
         pushes them back from these limits and holds its moves toward them; the caller maps
         the result into the box). None: no walls.
-    zone : ndarray, shape (B,)
-        With ``walls``: the pushes begin ``zone`` times the level's overshoot from the limits.
 
     Returns
     -------
@@ -370,9 +370,9 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         eta = overshoot(level)
         for _ in range(n_steps):
             if level == 0:  # the waypoint pass: at the coarsest level (PHI_WAYPOINT)
-                _clear(x, m, a, b, c, tgt, mob, eta, True, hold, walls, zone)
-            _clear(x, m, a, b, c, tgt, mob, eta, False, hold, walls, zone)
+                _clear(x, m, a, b, c, tgt, mob, eta, True, hold, walls)
+            _clear(x, m, a, b, c, tgt, mob, eta, False, hold, walls)
             _shorten(x, m, a, b, c, tgt, frac, mob)
     for _ in range(final_steps(steps)):
-        _clear(x, m, a, b, c, tgt, mob, eta, False, hold, walls, zone)
+        _clear(x, m, a, b, c, tgt, mob, eta, False, hold, walls)
     return t, x

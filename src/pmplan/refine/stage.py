@@ -31,7 +31,6 @@ from .grid import (
     KAPPA,
     MAX_STEPS,
     MAX_WAYPOINTS,
-    WALL_ZONE,
     default_effort,
     pairs,
     subdivide_times,
@@ -239,28 +238,26 @@ class RefineStage(Stage):
         self.respects = np.empty(b, dtype=bool)
         self.clause = np.zeros(b, np.uint8)
 
-    def _refine(self, times, wp, target, walls=None, zone=None):
+    def _refine(self, times, wp, target, walls=None):
         """The map in the frame, by the backend (:func:`pmplan.backends.select`)."""
-        return self.backend.refine(times, wp, self.m, self.r, target, self.s, self.steps,
-                                   walls, zone)
+        return self.backend.refine(times, wp, self.m, self.r, target, self.s, self.steps, walls)
 
-    def _walls(self, b: int, back, tgt):
-        """The workspace's limits in the frame (B, 2, d) and the walls' push zone (B,): the
-        robots should keep to the inner box where the final map into the box is the identity
-        (:func:`pmplan.workspace.identity_box`); the zone is ``WALL_ZONE`` times the robots'
-        radius in the frame (half the robot-robot target)."""
+    def _walls(self, b: int, back):
+        """The workspace's limits in the frame (B, 2, d), or None: the robots should keep to
+        the inner box where the final map into the box is the identity
+        (:func:`pmplan.workspace.identity_box`)."""
         if self.box is None:
-            return None, None
+            return None
         inner = identity_box(shrunk(self.box, self.radius), SQUEEZE)
-        walls = limits_to_frame(np.broadcast_to(inner, (b,) + inner.shape), back)
-        return np.ascontiguousarray(walls), np.ascontiguousarray((WALL_ZONE * 0.5) * tgt[:, 0])
+        return np.ascontiguousarray(
+            limits_to_frame(np.broadcast_to(inner, (b,) + inner.shape), back))
 
     def run(self, lo: int, hi: int) -> np.ndarray:
         raw = self.raw[lo:hi]
         times = self.raw_times if self.raw_times.ndim == 1 else self.raw_times[lo:hi]
         y, tgt, back = to_frame(raw, self.target[lo:hi])
         out = self.waypoints[lo:hi]
-        ref = self._refine(times, y, tgt, *self._walls(hi - lo, back, tgt))[1]
+        ref = self._refine(times, y, tgt, self._walls(hi - lo, back))[1]
         out[...] = from_frame(ref, back)
         # the obstacles, and every raw waypoint the refinement left in place (the fixed
         # configurations, a padded row's repeated goal), exactly: the frame rounds them
