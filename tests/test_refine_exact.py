@@ -74,7 +74,9 @@ def test_refined_robots_report_two_radii():
     o = [[-3.0, 0.0], [3.0, 0.0]]
     s, g = [[-0.5, 0.0], [0.5, 0.0]], [[0.5, 0.0], [-0.5, 0.0]]
     raw = pmplan.plan(o, s, g, lift=0.01, planner="obstacle_line")  # (0.0096 apart, refined)
-    radius = 0.75 * pmplan.refine(raw).robot_distance
+    # 2 radius = 0.6 is 60 times the raw clearance: one step pushes the robots past radius but
+    # not to 2 radius (a smaller radius is cleared in one step)
+    radius = 0.3
     for backend in ("numba", "numpy"):
         ref = pmplan.refine(raw, radius=radius, steps=1, backend=backend)
         assert radius <= ref.robot_distance < 2 * radius

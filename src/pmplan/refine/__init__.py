@@ -19,15 +19,17 @@ numbers, no discrete choice (only min, max and clip of continuous quantities):
    their times.
 2. *Steps.* At each level, ``steps`` are split evenly; a step is a *clearing* substep followed
    by a *shortening* substep. At the coarsest level the clearing substep has two passes, the
-   pushes at the waypoints then those at the soft closest points; at the finer levels and in
+   pushes at the waypoints then those at the closest points of the pieces; at the finer levels and in
    the final clearing-only steps, the second only. Shortening moves every interior
    waypoint a fraction
    :data:`ALPHA` toward the point of the chord of its two neighbours at its time (red-black:
    the odd waypoints first, then the even ones toward the moved odd ones); clearing
    pushes the two points of a pair apart at the waypoints (weight :data:`OMEGA`) and at the
-   *soft closest point* of every piece (the push shared by the two ends of the piece in
-   proportion), by :data:`BETA` times the deficit ``max(T* - |x_a - x_b|, 0)`` below the push
-   target
+   closest point of every piece, along the pair's relative position there (the projection of
+   the origin onto the piece of the relative path: continuous in its ends, and outward at every
+   point of the piece), the push shared by the two ends of the piece in the proportions of its
+   *soft closest point* (:data:`LAMBDA`), by :data:`BETA` times the deficit ``max(T* - |x_a -
+   x_b|, 0)`` below the push target
    ``T* = (1 + ETA) T``. Both moves are multiplied by a *mobility* in [0, 1], a continuous
    function of the times that is 0 at the fixed times (start, goal, intermediate
    configurations) and at zero-duration pieces.
