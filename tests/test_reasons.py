@@ -117,6 +117,23 @@ def test_a_gap_between_an_obstacle_and_a_wall_and_a_wall_contact():
     assert reason.startswith("robot x1 comes 0.05 from the wall x[1] = 10 at t = 1.000")
 
 
+def test_two_robots_pressed_together_in_a_gap_no_robot_passes():
+    """The worst contact is two robots, and one of them crosses a gap narrower than a robot:
+    the reason names the contact and that robot's gap (more steps cannot help there)."""
+    box = np.array([[0.0, 0.0], [10.0, 10.0]])
+    wp = np.array([[[5.0, 0.3], [4.0, 0.2], [3.97, 0.2]],
+                   [[5.0, 0.3], [6.0, 0.2], [5.97, 0.2]]])  # under the obstacle, x2 just behind
+    reason = radius_reason([0.0, 1.0], wp, 1, 0.15, 0.15, box)
+    assert reason.startswith("robots x1 and x2 come 0.03 apart")
+    assert ("robot x1's path crosses the gap between obstacle o1 and the wall x[1] = 0, 0.15 "
+            "wide") in reason
+    # the obstacle lifted out of the way: the same contact, no gap, the effort's knob
+    wp[:, 0] = [5.0, 3.0]
+    reason = radius_reason([0.0, 1.0], wp, 1, 0.15, 0.15, box)
+    assert reason.startswith("robots x1 and x2 come 0.03 apart") and "gap" not in reason
+    assert "more effort" in reason
+
+
 def test_a_plan_gives_its_reason_in_the_api_the_json_and_the_cli(capsys, tmp_path):
     o, s, g = (np.array(ROOM[k]) for k in ("obstacles", "start", "goal"))
     kw = dict(refine=True, radius=0.15, obstacle_radius=0.15)

@@ -4,7 +4,8 @@
 obstacle, or the robot and the wall of the workspace box that come closest measured against
 what they need (``2 radius``, ``radius + obstacle_radius``, ``radius``), where on the path and
 how close -- and, when the scene itself leaves no room there, says so: in the plane, the
-robot's path crosses the segment between two obstacles, or between an obstacle and a wall,
+robot's path (either robot's, for two robots pressed together) crosses the segment between two
+obstacles, or between an obstacle and a wall,
 whose discs leave a gap narrower than a robot (``2 radius``), and no motion that crosses that
 gap keeps the radii (at the crossing point the two distances add up to less than they need).
 Otherwise the fixed number of refinement steps did not clear the contact, and the reason says
@@ -32,10 +33,10 @@ _MSG_OBSTACLE = ("robot x{i} comes {dist} from obstacle o{k} at t = {t:.3f}, clo
                  "radius + obstacle_radius = {need}")
 _MSG_WALL = ("robot x{i} comes {dist} from the wall x[{c}] = {wall:.6g} at t = {t:.3f}, "
              "closer than radius = {need}")
-_MSG_GAP_OBSTACLES = ("its path crosses the gap between obstacles o{k} and o{l}, whose discs "
-                      "leave {gap:.6g}, narrower than a robot (2 radius = {width:.6g}): no "
-                      "motion that crosses that gap keeps the radii")
-_MSG_GAP_WALL = ("its path crosses the gap between obstacle o{k} and the wall x[{c}] = "
+_MSG_GAP_OBSTACLES = ("{whose} path crosses the gap between obstacles o{k} and o{l}, whose "
+                      "discs leave {gap:.6g}, narrower than a robot (2 radius = {width:.6g}): "
+                      "no motion that crosses that gap keeps the radii")
+_MSG_GAP_WALL = ("{whose} path crosses the gap between obstacle o{k} and the wall x[{c}] = "
                  "{wall:.6g}, {gap:.6g} wide, narrower than a robot (2 radius = {width:.6g}): "
                  "no motion that crosses that gap keeps the radii")
 _MSG_EFFORT = ("the refinement's fixed steps did not clear it: more effort (larger "
@@ -117,7 +118,7 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
         dist = float(np.ldexp(slack[side, k, i, c], e))
         head = _MSG_WALL.format(i=i + 1, c=c, wall=float(bounds[side][c]), t=float(t[k]),
                                 **_shown(dist, Fraction(radius)))
-        robot, ks, walls = m + i, range(m), [(side, c)]
+        robots, ks, walls = (m + i,), range(m), [(side, c)]
     else:
         j, q, dist, frac = data
         when = float(t[j] + frac * (t[j + 1] - t[j]))
@@ -125,24 +126,31 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
         if a >= m:
             head = _MSG_ROBOTS.format(i=a - m + 1, j=b - m + 1, t=when,
                                       **_shown(float(np.ldexp(dist, e)), 2 * Fraction(radius)))
-            return f"{head}; {_MSG_EFFORT}"
-        head = _MSG_OBSTACLE.format(i=b - m + 1, k=a + 1,
-                                    **_shown(float(np.ldexp(dist, e)),
-                                             Fraction(radius) + Fraction(obstacle_radius)),
-                                    t=when)
-        robot, ks, walls = b, [a], all_walls
-    gap = None
+            # two robots pressed together: either one's path may cross a gap no robot passes
+            # (then its own radii are lost there too, whatever the refinement does)
+            robots, ks, walls = (a, b), range(m), all_walls
+        else:
+            head = _MSG_OBSTACLE.format(i=b - m + 1, k=a + 1,
+                                        **_shown(float(np.ldexp(dist, e)),
+                                                 Fraction(radius) + Fraction(obstacle_radius)),
+                                        t=when)
+            robots, ks, walls = (b,), [a], all_walls
+    gap, whose = None, "its"
     if d == 2:  # (a gap blocks only in the plane: in space a path goes around)
-        gap = _narrow_gap(ws[0, :m], ws[:, robot], rad, orad, box, ks, walls)
+        for robot in robots:
+            gap = _narrow_gap(ws[0, :m], ws[:, robot], rad, orad, box, ks, walls)
+            if gap is not None:
+                whose = "its" if len(robots) == 1 else f"robot x{robot - m + 1}'s"
+                break
     if gap is None:
         return f"{head}; {_MSG_EFFORT}"
     width = 2.0 * float(radius)
     if gap[0] == "obstacle":
-        why = _MSG_GAP_OBSTACLES.format(k=gap[1] + 1, l=gap[2] + 1,
+        why = _MSG_GAP_OBSTACLES.format(whose=whose, k=gap[1] + 1, l=gap[2] + 1,
                                         gap=float(np.ldexp(gap[3], e)), width=width)
     else:
         _, k, side, c, g = gap
-        why = _MSG_GAP_WALL.format(k=k + 1, c=c, wall=float(bounds[side][c]),
+        why = _MSG_GAP_WALL.format(whose=whose, k=k + 1, c=c, wall=float(bounds[side][c]),
                                    gap=float(np.ldexp(g, e)), width=width)
     return f"{head}; {why}"
 
