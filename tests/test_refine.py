@@ -28,7 +28,7 @@ from pmplan.refine import (
     refine_paths,
     schedule,
 )
-from pmplan.refine.grid import WALL_SLIDE, pairs
+from pmplan.refine.grid import DEFAULT_STEPS, DEFAULT_WAYPOINTS, WALL_SLIDE, pairs, piece_minima
 from pmplan.refine.reference import _wall_scale
 
 R = reference  # the map's reference (its substeps; the grid's constants through it)
@@ -367,6 +367,30 @@ def test_kernel_equals_reference_bitwise_with_walls(dims, wp, steps):
     assert np.array_equal(t1, t2) and np.array_equal(x1, x2)
     _, free = refine_paths(b.times, b.waypoints, m, 2, target, wp, steps)
     assert not np.array_equal(free, x1)  # (the walls acted)
+
+
+@pytest.mark.parametrize("c", [1e-3, 1e-6, 1e-9, 1e-12])
+@pytest.mark.parametrize("shift", [0.0, 0.1])
+def test_a_pair_that_nearly_touches_mid_piece_is_pushed_out(c, shift):
+    """Two robots that pass each other head-on, ``c`` apart in the middle of long pieces (0.5
+    apart at the pieces' ends), are pushed out to their target by both backends at the default
+    effort: the push of a piece goes along its exact closest point, outward at every point of
+    the piece. (Along the soft closest point, a few per cent of the piece away, the push was
+    nearly along the piece and the pair's own directional budget held it at c for c <= 1e-6.)"""
+    wp = np.zeros((1, 4, 4, 2))
+    wp[0, :, 0], wp[0, :, 1] = [0.0, 0.9], [0.0, -0.9]  # two obstacles far off
+    wp[0, :, 2] = [[-0.5, 0.0], [-0.25, 0.0], [0.25, 0.0], [0.5, 0.0]]
+    mid = np.array([shift, c])
+    wp[0, :, 3] = [mid + [0.9, 0.0], mid + [0.45, 0.0], mid - [0.3, 0.0], mid - [0.6, 0.0]]
+    times = np.array([0.0, 1 / 3, 2 / 3, 1.0])
+    a, b, _ = pairs(4, 2)
+    assert piece_minima(wp, a, b).min(axis=1)[0, -1] == pytest.approx(c, rel=0.02)
+    target = np.array([[0.1, 0.05]])
+    _, x1 = refine_paths(times, wp, 2, 2, target, DEFAULT_WAYPOINTS, DEFAULT_STEPS)
+    _, x2 = refine_batch(times, wp, 2, 2, target, DEFAULT_WAYPOINTS, DEFAULT_STEPS)
+    assert np.array_equal(x1, x2)
+    dmin = piece_minima(x1, a, b).min(axis=1)[0]
+    assert dmin[-1] >= 0.1 and dmin[:-1].min() >= 0.05
 
 
 @settings(max_examples=200, deadline=None)
