@@ -28,7 +28,7 @@ numbers, no discrete choice (only min, max and clip of continuous quantities):
    closest point of every piece, along the pair's relative position there (the projection of
    the origin onto the piece of the relative path: continuous in its ends, and outward at every
    point of the piece), the push shared by the two ends of the piece in the proportions of its
-   *soft closest point* (:data:`LAMBDA`), by :data:`BETA` times the deficit ``max(T* - |x_a -
+   *soft closest point* (:data:`~pmplan.refine.grid.LAMBDA`), by :data:`BETA` times the deficit ``max(T* - |x_a -
    x_b|, 0)`` below the push target
    ``T* = (1 + ETA) T``. Both moves are multiplied by a *mobility* in [0, 1], a continuous
    function of the times that is 0 at the fixed times (start, goal, intermediate
