@@ -29,7 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FAMILIES", "MARGIN", "R", "SIZE", "WALL_GAP", "Family", "queries", "rows_main", "summary"]
+__all__ = ["FAMILIES", "MARGIN", "R", "SIZE", "WALL_GAP", "Family", "queries", "rows_main", "summary",
+           "variants_markdown", "variants_row"]
 
 #: the box side (the scene size)
 SIZE = 10.0
@@ -181,3 +182,53 @@ def summary(label: str, qs: list, plan) -> dict:
     print(f"{label}: {ok}/{len(times)} {out['time_ms']:.1f} ms len/LB {out['len_lb']:.2f}",
           flush=True)
     return out
+
+
+def variants_row(fam: str, n: int, seed: int, count: int, variants: dict) -> dict:
+    """One row of an A/B scene benchmark: pmplan's default plan in the box (``bounds=(0,
+    SIZE)``) refined at its default effort with radius = obstacle_radius = R/2, under every
+    variant of ``variants`` (name -> a function that switches pmplan to it; the first is
+    switched back at the end), on the same queries (:func:`summary` per variant)."""
+    import pmplan
+
+    qs = queries(fam, n, count, seed)
+    out = {"family": fam, "n": n, "seed": seed, "variants": {}}
+    for name, switch in variants.items():
+        switch()
+        out["variants"][name] = summary(
+            f"seed {seed} {fam} n={n} {name}", qs,
+            lambda o, s, g: pmplan.plan(o, s, g, bounds=(0.0, SIZE), refine=True,
+                                        radius=R / 2, obstacle_radius=R / 2))
+    next(iter(variants.values()))()
+    return out
+
+
+def variants_markdown(res: dict, title: str, prose: str, names: list, new: str,
+                      base: str) -> str:
+    """The report of an A/B scene benchmark (rows of :func:`variants_row`): per row and
+    variant the valid count, median ms and median length / LB; per seed the totals and the
+    rows where ``new`` keeps the radii on more / fewer queries than ``base``."""
+    lines = [f"# {title}", "", f"Command: `{res['command']}` ({res['date']}). Rooms 10 x 10, "
+             f"r = {R}, {res['count']} queries per row, pmplan's default plan in the box "
+             "refined at its default effort, radius = obstacle_radius = r/2. " + prose
+             + " valid = keeps the radii and the walls (decided exactly); time = median ms per "
+             "query (plan + refinement, one core; a shared machine: compare within a row); "
+             "len/LB = median length / sum of the straight distances.", "",
+             "| seed | row | " + " | ".join(f"{v}: valid, ms, len/LB" for v in names) + " |",
+             "|---|---|" + "---|" * len(names)]
+    for r in res["rows"]:
+        cells = [f"{e['valid']}/{e['count']}, {e['time_ms']:.1f}, {e['len_lb']:.2f}"
+                 for e in r["variants"].values()]
+        lines.append(f"| {r['seed']} | {r['family']} n = {r['n']} | " + " | ".join(cells) + " |")
+    lines += ["", "Totals (valid queries of all rows of a seed):", "",
+              "| seed | " + " | ".join(names) + f" | rows where {new} beats {base} / loses |",
+              "|---|" + "---|" * (len(names) + 1)]
+    for seed in sorted({r["seed"] for r in res["rows"]}):
+        rows = [r for r in res["rows"] if r["seed"] == seed]
+        tot = [sum(r["variants"][v]["valid"] for r in rows) for v in names]
+        den = sum(r["variants"][new]["count"] for r in rows)
+        gain = sum(r["variants"][new]["valid"] > r["variants"][base]["valid"] for r in rows)
+        loss = sum(r["variants"][new]["valid"] < r["variants"][base]["valid"] for r in rows)
+        lines.append(f"| {seed} | " + " | ".join(f"{t}/{den}" for t in tot)
+                     + f" | {gain} / {loss} |")
+    return "\n".join(lines) + "\n"

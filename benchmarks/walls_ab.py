@@ -30,15 +30,12 @@ import importlib
 import sys
 from pathlib import Path
 
-import pmplan
-
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 FAMILIES = ["room", "swap", "room_walls", "swap_walls"]
 NS = [2, 4, 8, 16]
-HALF = scenes.R / 2
 VARIANTS = ["walls", "band", "before"]
 STAGE = importlib.import_module("pmplan.refine.stage")
 _WALLS = STAGE.RefineStage._walls
@@ -56,48 +53,16 @@ def variant(name: str) -> None:
 
 
 def row(fam: str, n: int, seed: int, count: int) -> dict:
-    qs = scenes.queries(fam, n, count, seed)
-    out = {"family": fam, "n": n, "seed": seed, "variants": {}}
-    for name in VARIANTS:
-        variant(name)
-        out["variants"][name] = scenes.summary(
-            f"seed {seed} {fam} n={n} {name}", qs,
-            lambda o, s, g: pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), refine=True,
-                                        radius=HALF, obstacle_radius=HALF))
-    variant("walls")
-    return out
+    return scenes.variants_row(fam, n, seed, count,
+                               {name: (lambda name=name: variant(name)) for name in VARIANTS})
 
 
 def markdown(res: dict) -> str:
-    lines = ["# Walls in the refinement: valid share, time, length", "",
-             f"Command: `{res['command']}` ({res['date']}). Rooms 10 x 10, r = {scenes.R}, "
-             f"{res['count']} queries per row, pmplan's default plan in the box refined at its "
-             "default effort, radius = obstacle_radius = r/2. *walls*: pmplan's default (the "
-             "refinement sees the walls, band 1/256); *band*: no walls in the refinement, the "
-             "same band; *before*: no walls, band 1/64. valid = keeps the radii and the walls "
-             "(decided exactly); time = median ms per query (plan + refinement, one core; a "
-             "shared machine: compare within a row); len/LB = median length / sum of the "
-             "straight distances. Seed 1 is the design draw; the others are held out.", "",
-             "| seed | row | " + " | ".join(f"{v}: valid, ms, len/LB" for v in VARIANTS)
-             + " |", "|---|---|" + "---|" * len(VARIANTS)]
-    for r in res["rows"]:
-        cells = [f"{e['valid']}/{e['count']}, {e['time_ms']:.1f}, {e['len_lb']:.2f}"
-                 for e in r["variants"].values()]
-        lines.append(f"| {r['seed']} | {r['family']} n = {r['n']} | " + " | ".join(cells) + " |")
-    lines += ["", "Totals (valid queries of all rows of a seed):", "",
-              "| seed | " + " | ".join(VARIANTS) + " | rows where walls beat before / lose |",
-              "|---|" + "---|" * (len(VARIANTS) + 1)]
-    for seed in sorted({r["seed"] for r in res["rows"]}):
-        rows = [r for r in res["rows"] if r["seed"] == seed]
-        tot = [sum(r["variants"][v]["valid"] for r in rows) for v in VARIANTS]
-        den = sum(r["variants"]["walls"]["count"] for r in rows)
-        gain = sum(r["variants"]["walls"]["valid"] > r["variants"]["before"]["valid"]
-                   for r in rows)
-        loss = sum(r["variants"]["walls"]["valid"] < r["variants"]["before"]["valid"]
-                   for r in rows)
-        lines.append(f"| {seed} | " + " | ".join(f"{t}/{den}" for t in tot)
-                     + f" | {gain} / {loss} |")
-    return "\n".join(lines) + "\n"
+    return scenes.variants_markdown(
+        res, "Walls in the refinement: valid share, time, length",
+        "*walls*: pmplan's default (the refinement sees the walls, band 1/256); *band*: no "
+        "walls in the refinement, the same band; *before*: no walls, band 1/64. Seed 1 is the "
+        "design draw; the others are held out.", VARIANTS, "walls", "before")
 
 
 def main(argv=None) -> int:
