@@ -353,14 +353,16 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
                 r00 = r00 + rel[j, k] * rel[j, k]
                 r11 = r11 + rel[j + 1, k] * rel[j + 1, k]
             soft = min(max(-r0v / (vv + kp[5] * (r00 + r11)), 0.0), 1.0)
-            # the push along the exact closest point, in the soft point's weights
-            # (pmplan.refine.reference._clear; its norm is dmin[j, q], bit for bit)
-            num = -r0v
-            qe = num / vv if vv > 0 else 0.0
-            qe = 1.0 if num >= vv else qe
-            qe = 0.0 if num <= 0 else qe
-            qe = qe if vv > 0 else 0.0
-            distm = dmin[j, q]
+            # the push along the push point, in the soft point's weights
+            # (pmplan.refine.grid.push_points, pmplan.refine.reference._clear)
+            gram = max(r00 * vv - r0v * r0v, 0.0)
+            den = vv * vv + kp[5] * gram
+            qe = min(max((-r0v) * vv / den, 0.0), 1.0) if den > 0 else 0.0
+            s = 0.0
+            for k in range(dd):
+                rm = rel[j, k] + qe * (rel[j + 1, k] - rel[j, k])
+                s = s + rm * rm
+            distm = math.sqrt(s)
             facm = cq * max(sq - distm, 0.0) / distm if distm > 0 else 0.0
             g1 = facm * soft
             g0 = facm - facm * soft

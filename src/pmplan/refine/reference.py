@@ -24,7 +24,6 @@ from .grid import (
     SLACK,
     WALL_SLIDE,
     chord_fraction,
-    closest_points,
     dot,
     final_steps,
     hold_levels,
@@ -32,6 +31,7 @@ from .grid import (
     overshoot,
     pairs,
     piece_minima,
+    push_points,
     schedule,
     subdivide,
     subdivide_times,
@@ -301,13 +301,13 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None, walls=No
             if pa >= m:
                 push[:, :, pa] = push[:, :, pa] + fw
             continue
-        # the push: along the piece's exact closest point (continuous in the piece's ends,
-        # the projection of the origin onto the segment; outward at every point of the
-        # piece), shared by its ends in the weights of its soft closest point (continuous even
-        # where v -> 0, where the exact parameter jumps)
+        # the push: along the piece's push point (its closest point where the line passes
+        # close to the origin: outward along the piece; Lipschitz in the piece's ends,
+        # grid.push_points), shared by its ends in the weights of its soft closest point
+        # (continuous even where v -> 0, where the exact parameter jumps)
         soft = np.clip(-dot(r0, v) / (dot(v, v) + LAMBDA * (dot(r0, r0) + dot(r1, r1))),
                        0.0, 1.0)
-        relm = closest_points(r0, v)
+        relm = push_points(r0, v)
         distm = np.sqrt(dot(relm, relm))
         with np.errstate(invalid="ignore", divide="ignore"):
             facm = np.where(distm > 0, cq * np.maximum(sq - distm, 0.0) / distm, 0.0)
