@@ -316,10 +316,10 @@ def push_points(r0: np.ndarray, v: np.ndarray) -> np.ndarray:
     v``, ``q = clip(-(r0.v) |v|^2 / (|v|^4 + LAMBDA G), 0, 1)``, ``G = max(|r0|^2 |v|^2 -
     (r0.v)^2, 0)`` (``|v|^2`` times the squared distance h^2 from the origin to the segment's
     line; q = 0 where v = 0). Where the line passes close to the origin (h small against
-    |v|) q is the exact closest parameter to within ``LAMBDA h^2 / |v|^2``, and the push is
-    outward along the whole piece (``r(t).p >= (1 - LAMBDA) h^2``); where the piece is short
-    against its distance q varies slowly, so that ``q v`` is Lipschitz in the ends with a
-    constant of order 1 (the exact closest point, whose parameter jumps as v -> 0, is only
+    ``|v|``) q is the exact closest parameter to within ``LAMBDA h^2 / |v|^2``, and the push
+    is outward along the whole piece (``r(t).p >= (1 - LAMBDA) h^2``); where the piece is
+    short against its distance q varies slowly, so that ``q v`` is Lipschitz in the ends with
+    a constant of order 1 (the exact closest point, whose parameter jumps as v -> 0, is only
     continuous there: it moved by up to ``delta |r0| / |v|`` under a move delta of the
     ends). Continuous: ``|q v| <= |v|``."""
     vv = dot(v, v)
