@@ -29,8 +29,19 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FAMILIES", "MARGIN", "R", "SIZE", "WALL_GAP", "Family", "queries", "rows_main", "summary",
-           "variants_markdown", "variants_row"]
+__all__ = [
+    "FAMILIES",
+    "MARGIN",
+    "SIZE",
+    "WALL_GAP",
+    "Family",
+    "R",
+    "queries",
+    "rows_main",
+    "summary",
+    "variants_markdown",
+    "variants_row",
+]
 
 #: the box side (the scene size)
 SIZE = 10.0

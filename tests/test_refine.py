@@ -28,7 +28,7 @@ from pmplan.refine import (
     refine_paths,
     schedule,
 )
-from pmplan.refine.grid import DEFAULT_STEPS, DEFAULT_WAYPOINTS, WALL_SLIDE, pairs, piece_minima
+from pmplan.refine.grid import WALL_SLIDE, pairs, piece_minima
 from pmplan.refine.reference import _wall_scale
 
 R = reference  # the map's reference (its substeps; the grid's constants through it)
