@@ -179,8 +179,6 @@ def summary(label: str, qs: list, plan) -> dict:
     median time per query (ms) and the median length / LB, printed after ``label``."""
     import time
 
-    import numpy as np
-
     ok, times, ratios = 0, [], []
     for o, s, g in qs:
         t0 = time.perf_counter()

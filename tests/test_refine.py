@@ -374,8 +374,8 @@ def test_kernel_equals_reference_bitwise_with_walls(dims, wp, steps):
 def test_a_pair_that_nearly_touches_mid_piece_is_pushed_out(c, shift):
     """Two robots that pass each other head-on, ``c`` apart in the middle of long pieces (0.5
     apart at the pieces' ends), are pushed out to their target by both backends at the default
-    effort: the push of a piece goes along its exact closest point, outward at every point of
-    the piece. (Along the soft closest point, a few per cent of the piece away, the push was
+    effort: the push of a piece goes along its push point, the closest point to within
+    LAMBDA h^2 / |v|^2 here, outward along the piece. (Along the soft closest point, a few per cent of the piece away, the push was
     nearly along the piece and the pair's own directional budget held it at c for c <= 1e-6.)"""
     wp = np.zeros((1, 4, 4, 2))
     wp[0, :, 0], wp[0, :, 1] = [0.0, 0.9], [0.0, -0.9]  # two obstacles far off

@@ -25,9 +25,10 @@ numbers, no discrete choice (only min, max and clip of continuous quantities):
    :data:`ALPHA` toward the point of the chord of its two neighbours at its time (red-black:
    the odd waypoints first, then the even ones toward the moved odd ones); clearing
    pushes the two points of a pair apart at the waypoints (weight :data:`OMEGA`) and at the
-   closest point of every piece, along the pair's relative position there (the projection of
-   the origin onto the piece of the relative path: continuous in its ends, and outward at every
-   point of the piece), the push shared by the two ends of the piece in the proportions of its
+   *push point* of every piece, along the pair's relative position there
+   (:func:`~pmplan.refine.grid.push_points`: the closest point where the pair nearly touches
+   mid-piece, so that the push is outward along the piece; Lipschitz in the piece's ends),
+   the push shared by the two ends of the piece in the proportions of its
    *soft closest point* (:data:`~pmplan.refine.grid.LAMBDA`), by :data:`BETA` times the deficit ``max(T* - |x_a -
    x_b|, 0)`` below the push target
    ``T* = (1 + ETA) T``. Both moves are multiplied by a *mobility* in [0, 1], a continuous

@@ -45,7 +45,6 @@ __all__ = [
     "SLACK",
     "WALL_SLIDE",
     "chord_fraction",
-    "closest_points",
     "default_effort",
     "final_steps",
     "hold_levels",
@@ -72,8 +71,8 @@ DECAY = 2.0
 #: shortening pressed below their target). 1/4 rather than 1/8: on the scene families in the
 #: box (rooms and swaps of 10 x 10, n = 2 to 16, r = 0.3) two n = 8 queries of the design draw
 #: (seed 1) ended 0.98-0.99 of their target in a crowd still settling; on the held-out draws
-#: (seeds 2, 4, 5, 6; 64 rows) 1/4 kept the radii on 10 more queries, on fewer in no row, at
-#: the same lengths and 5-15 % more time (docs/refinement.md, "The push at the closest point")
+#: (seeds 2, 4, 5, 6; 64 rows) 1/4 keeps the radii on 9 more queries, in 6 rows, on fewer in
+#: no row, at the same lengths (benchmarks/final_ab.py)
 FINAL = 0.25
 #: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
 MOBILITY = 4.0
@@ -307,7 +306,15 @@ def piece_minima(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     the arithmetic of :func:`pmplan.certify.segment_clearance` (the kernels' order)."""
     rel = x[:, :, a, :] - x[:, :, b, :]
     r0, r1 = rel[:, :-1], rel[:, 1:]
-    qx = closest_points(r0, r1 - r0)
+    v = r1 - r0
+    vv = dot(v, v)
+    num = -dot(r0, v)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q = num / vv
+    q = np.where(num >= vv, 1.0, q)
+    q = np.where(num <= 0, 0.0, q)
+    q = np.where(vv > 0, q, 0.0)
+    qx = r0 + q[..., None] * v
     return np.sqrt(dot(qx, qx))
 
 
@@ -329,21 +336,6 @@ def push_points(r0: np.ndarray, v: np.ndarray) -> np.ndarray:
     with np.errstate(invalid="ignore", divide="ignore"):
         q = np.where(den > 0, -rv * vv / np.where(den > 0, den, 1.0), 0.0)
     return r0 + np.clip(q, 0.0, 1.0)[..., None] * v
-
-
-def closest_points(r0: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """The point of every segment ``r0 + t v``, t in [0, 1], closest to the origin (..., d), in
-    the arithmetic of :func:`piece_minima` (the kernels'): a continuous function of the
-    segment's ends (the projection of the origin onto a convex set), whose norm is the
-    segment's exact closed-form minimum."""
-    vv = dot(v, v)
-    num = -dot(r0, v)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        q = num / vv
-    q = np.where(num >= vv, 1.0, q)
-    q = np.where(num <= 0, 0.0, q)
-    q = np.where(vv > 0, q, 0.0)
-    return r0 + q[..., None] * v
 
 
 def hold_levels(x, a, b, tgt) -> np.ndarray:

@@ -339,7 +339,7 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
                 delta[j, pb, k] = delta[j, pb, k] - fw
                 if pa >= m:
                     delta[j, pa, k] = delta[j, pa, k] + fw
-        for j in range(0 if at_waypoints else w - 1):  # at the closest point of every piece
+        for j in range(0 if at_waypoints else w - 1):  # at the push point of every piece
             if not dmin[j, q] < sq:
                 continue  # no point of the piece is closer than sq: no push (exactly)
             r0v = 0.0

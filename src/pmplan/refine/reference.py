@@ -261,7 +261,7 @@ def _wall_scale(x, delta, m, walls) -> np.ndarray:
 
 def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None, walls=None) -> None:
     """One clearing pass: the pushes at the waypoints (``at_waypoints``, floor factor
-    :data:`~pmplan.refine.grid.PHI_WAYPOINT`) or at the closest points of the pieces (floor factor
+    :data:`~pmplan.refine.grid.PHI_WAYPOINT`) or at the push points of the pieces (floor factor
     :data:`~pmplan.refine.grid.PHI`), each point's move scaled by :func:`_clear_scale`; no pair below its floor
     (:func:`clear_floor`; ``hold``: (B, pairs), 0 when not given). With ``walls`` (B, 2, d) the
     robots beyond the walls' limits are pushed back too (:func:`_wall_push`) and their moves
