@@ -225,7 +225,8 @@ class Stage:
     so chunks may run in parallel threads) and returns their certificate (bool, (hi - lo,)).
     """
 
-    #: rows per chunk
+    #: rows per chunk, at most (with several workers :func:`pmplan.running.run_stage` cuts a
+    #: batch into smaller chunks, :func:`pmplan.running.stage_chunk`)
     chunk: ClassVar[int] = 1024
     #: what the progress bar says
     label: ClassVar[str] = "processing"
