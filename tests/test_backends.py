@@ -170,3 +170,41 @@ def test_every_backend_measures_as_the_exact_reference(name):
     np.testing.assert_array_equal(kept[sure], ok[sure])
     np.testing.assert_allclose(vals[sure, 1], rd[sure], rtol=1e-12)
     np.testing.assert_allclose(vals[sure, 2], od[sure], rtol=1e-12)
+
+
+@pytest.mark.parametrize("kind", ["random", "integer"])
+@pytest.mark.parametrize("dims", [(2, 3, 2), (3, 2, 3), (2, 8, 6)])
+@pytest.mark.parametrize("name", sorted(backends.REGISTRY))
+def test_every_backend_certifies_as_the_reference(name, dims, kind):
+    """``certify``: the reference's clearance and clauses, bit for bit, on paths made apart
+    from the planner (a workspace box's: the plans mapped into [0, 10]^d), on the same paths
+    with a robot moved onto an obstacle (clearance 0) or 1e-300 off it, with a waypoint made
+    NaN, and with every coordinate rounded (exact degeneracies: touching, collinear pieces)."""
+    from pmplan.certify import certificate
+    from pmplan.workspace import into_box
+
+    be = _backend(name)
+    d, n, m = dims
+    obstacles, (start, goal) = _queries(dims, kind, 12, seed=_seed(name, "certify", dims, kind))
+    p = REGISTRY["obstacle_line"]
+    out = p.allocate(12, 2, m, n, d)
+    backends.select("numpy").plan(p, obstacles, [start, goal], 1.0, out)
+    box = np.array([[0.0] * d, [10.0] * d])
+    wp = into_box(out["waypoints"], box)
+    times = out["times"]
+    paths = [wp]
+    touch = wp.copy()
+    mid = wp.shape[1] // 2
+    touch[0::2, mid, m] = touch[0::2, mid, 0]
+    touch[1::2, mid, m] = touch[1::2, mid, 0] + np.array([1e-300] + [0.0] * (d - 1))
+    paths.append(touch)
+    nan = wp.copy()
+    nan[0, mid, m, 0] = np.nan
+    paths.append(nan)
+    paths.append(np.round(wp))
+    for w in paths:
+        s, g = w[:, 0], w[:, -1]
+        got = be.certify(w, s, g, m, times=times)
+        want = certificate(w, s, g, m, times=times)
+        np.testing.assert_array_equal(got[0], want[0])
+        np.testing.assert_array_equal(got[1], want[1])

@@ -15,6 +15,7 @@ from functools import partial
 
 import numpy as np
 
+from ..certify import CLEARANCE, check_paths
 from ..certify import clearance as exact_clearance
 from ..planar_strata import EVEN
 from ..planners.obstacle_line import OBSTACLE_LINE, OBSTACLE_LINE_COMPACT, path_times
@@ -27,7 +28,29 @@ __all__ = ["NAME", "arrays", "available", "certify", "measure", "plan", "redecid
 
 NAME = "numba"
 
-certify = reference.certify  # the kernels certify inside plan; rows certified apart, exactly
+
+
+def certify(waypoints, start, goal, m: int, *, times=None, via=()):
+    """The certificate of paths, ``(clearance, codes)`` (:func:`pmplan.certify.certificate`'s
+    contract, bit for bit): clauses 1-9 by :func:`pmplan.certify.check_paths`, the clearance
+    (clause 10) by the kernel's measure in the certificate's arithmetic (:func:`measure`),
+    the rows it flags re-decided by :func:`pmplan.certify.clearance`, exactly; the reference's
+    where the kernel does not measure. The kernels certify inside :func:`plan`; this is the
+    certificate of paths made apart (a workspace box's, :mod:`pmplan.workspace`)."""
+    wp = np.asarray(waypoints, dtype=float)
+    measured = measure(np.ascontiguousarray(wp), m, (0.0, 0.0)) if wp.shape[0] else None
+    if measured is None:
+        return reference.certify(wp, start, goal, m, times=times, via=via)
+    if times is None:
+        times = np.linspace(0.0, 1.0, wp.shape[1])
+    clause = check_paths(times, wp, start, goal, m, via)
+    values, _, close = measured
+    clr = np.array(values[:, 0])
+    redo = np.flatnonzero(close)
+    if redo.size:
+        clr[redo] = exact_clearance(wp[redo], m)
+    clause[(clause == 0) & ~(clr > 0)] = CLEARANCE
+    return clr, clause
 
 
 def available() -> bool:
