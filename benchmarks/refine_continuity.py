@@ -209,15 +209,16 @@ def replanning(ticks=80, seed=0):
     def at(obst):
         return pmplan.plan(obst, s, g, lift="scene", refine=True, radius=0.1)
 
-    def bisect(o0, o1, c0, c1):
-        """The jump of a flagged tick, bisected: halve the drift toward the half that moves
-        the path more, down to an obstacle move of 1e-10 (or a label change); returns (that
-        move's size, the path change across it)."""
-        lo, hi, plo, phi = 0.0, 1.0, c0, c1
-        while (hi - lo) * 0.02 > 1e-10:
+    def halve(base, span, size, floor, plo, phi):
+        """Bisect the obstacle move ``base -> base + span`` (its largest point move ``size``)
+        toward the half that moves the path more, down to a move of ``floor`` (or a label
+        change, or a refused query); returns ``(lo, hi, plan at lo, plan at hi)``, lo and hi
+        fractions of ``span``."""
+        lo, hi = 0.0, 1.0
+        while (hi - lo) * size > floor:
             mid = 0.5 * (lo + hi)
             try:
-                pm = at(o0 + mid * (o1 - o0))
+                pm = at(base + mid * span)
             except PmplanError:
                 break
             if pm.domain != plo.domain and pm.domain != phi.domain:
@@ -228,25 +229,22 @@ def replanning(ticks=80, seed=0):
                 hi, phi = mid, pm
             else:
                 lo, plo = mid, pm
+        return lo, hi, plo, phi
+
+    def bisect(o0, o1, c0, c1):
+        """The jump of a flagged tick, bisected: halve the drift toward the half that moves
+        the path more, down to an obstacle move of 1e-10 (or a label change), and a jump that
+        persists there on down to DEEP; returns (that move's size, the path change across it,
+        the raw plan's clearance, (the DEEP move's size, the path change and the raw plan's
+        change across it))."""
+        lo, hi, plo, phi = halve(o0, o1 - o0, 0.02, 1e-10, c0, c1)
         c_raw = pmplan.plan(o0 + lo * (o1 - o0), s, g, lift="scene").clearance
         change = _sup(plo, phi) if plo.domain == phi.domain else float("nan")
         deep = (float("nan"),) * 3
         if change > 1e-3:  # on, down to DEEP: a steep map or a jump in floating point?
             base, span = o0 + lo * (o1 - o0), (hi - lo) * (o1 - o0)
             size = float(np.linalg.norm(span, axis=-1).max())
-            a0, a1, pa, pb = 0.0, 1.0, plo, phi
-            while (a1 - a0) * size > DEEP:
-                mid = 0.5 * (a0 + a1)
-                try:
-                    pm = at(base + mid * span)
-                except PmplanError:
-                    break
-                if pm.domain != pa.domain or pm.domain != pb.domain:
-                    break
-                if _sup(pa, pm) >= _sup(pm, pb):
-                    a1, pb = mid, pm
-                else:
-                    a0, pa = mid, pm
+            a0, a1, pa, pb = halve(base, span, size, DEEP, plo, phi)
             raw = [pmplan.plan(base + t * span, s, g, lift="scene") for t in (a0, a1)]
             deep = ((a1 - a0) * size, _sup(pa, pb), _sup(*raw))
         return (hi - lo) * 0.02, change, c_raw, deep

@@ -33,9 +33,9 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import scenes  # noqa: E402
+import scenes
 
-import pmplan  # noqa: E402
+import pmplan
 
 HERE = Path(__file__).resolve().parent
 TITLE = "## Time per refined query, measured alone (issue 25, item 6)"
@@ -98,8 +98,10 @@ def measure(keys: list[tuple[str, int, int]], count: int) -> list[dict]:
 
 
 def markdown(rows: list[dict], command: str) -> str:
+    """The section (RESULTS.md, scenes_time.md): one line per row, and the rows meeting the
+    goal."""
     lines = [TITLE, "",
-             f"`{command}` ({_dt.date.today().isoformat()}; one process, nothing else running). "
+             (f"`{command}` ({_dt.date.today().isoformat()}; one process, nothing else running). "
              "pmplan's default plan in the box, refined at radius = obstacle_radius = r/2 at the "
              f"default effort, 16 queries per row; *per query*: the range over {ROUNDS} rounds of "
              "the median wall time of one `pmplan.plan` call (plan, refinement, certificates); "
@@ -107,9 +109,9 @@ def markdown(rows: list[dict], command: str) -> str:
              "shared: other tenants slow some rounds, never speed one up), judged against issue "
              "25's goal (n = 8: 5 ms, n = 16: 20 ms); *batch*: the row as one "
              "`pmplan.plan_batch` call, ms per query, with `workers=1` and `workers=2` (the "
-             "machine has two virtual cores).", "",
-             "| seed | row | per query, rounds (ms) | best (ms) | goal | batch, workers = 1 / 2 "
-             "(ms per query) |",
+             "machine has two virtual cores)."), "",
+             ("| seed | row | per query, rounds (ms) | best (ms) | goal | batch, workers = 1 / 2 "
+              "(ms per query) |"),
              "|---|---|---|---|---|---|"]
     for r in rows:
         lo, hi = min(r["rounds"]), max(r["rounds"])
@@ -125,10 +127,10 @@ def markdown(rows: list[dict], command: str) -> str:
               if r["best"] > GOAL_MS[r["n"]]]
     ratio = [r["batch_ms"]["1"] / r["batch_ms"]["2"] for r in rows
              if np.isfinite(r["batch_ms"]["1"]) and np.isfinite(r["batch_ms"]["2"])]
-    lines += ["", f"Rows meeting the goal (best): {met} of {len(rows)}; in every round's median: "
-              f"{every}; missed: {', '.join(missed) if missed else 'none'}. Batch, workers = 2 "
-              f"against 1 (same run): {min(ratio):.2f}x to {max(ratio):.2f}x faster "
-              f"(median {float(np.median(ratio)):.2f}x).", ""]
+    lines += ["", (f"Rows meeting the goal (best): {met} of {len(rows)}; in every round's "
+                   f"median: {every}; missed: {', '.join(missed) if missed else 'none'}. Batch, "
+                   f"workers = 2 against 1 (same run): {min(ratio):.2f}x to {max(ratio):.2f}x "
+                   f"faster (median {float(np.median(ratio)):.2f}x)."), ""]
     return "\n".join(lines)
 
 
@@ -143,13 +145,14 @@ def main(argv=None) -> int:
     rows = measure(keys, args.count)
     command = "python benchmarks/scenes_time.py" + \
         (f" --seeds {args.seeds}" if args.seeds != "1,2,4,5" else "")
+    text = markdown(rows, command)
     Path(args.out + ".json").write_text(json.dumps({"command": command, "rows": rows}, indent=1))
-    Path(args.out + ".md").write_text(markdown(rows, command))
-    print(markdown(rows, command))
+    Path(args.out + ".md").write_text(text)
+    print(text)
     if args.out == str(HERE / "scenes_time"):
         from refine_bench import replace_section
 
-        replace_section(HERE / "RESULTS.md", TITLE, markdown(rows, command))
+        replace_section(HERE / "RESULTS.md", TITLE, text)
     return 0
 
 

@@ -29,7 +29,6 @@ __all__ = ["NAME", "arrays", "available", "certify", "measure", "plan", "redecid
 NAME = "numba"
 
 
-
 def certify(waypoints, start, goal, m: int, *, times=None, via=()):
     """The certificate of paths, ``(clearance, codes)`` (:func:`pmplan.certify.certificate`'s
     contract, bit for bit): clauses 1-9 by :func:`pmplan.certify.check_paths`, the clearance
