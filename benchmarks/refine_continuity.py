@@ -24,7 +24,11 @@ replanned and refined every tick (80 ticks); the jumps (a change per drift above
 times the raw plan's, with the same label), each bisected down to an obstacle move of 1e-10,
 and those still above 1e-3 there bisected on down to ``DEEP`` (1e-14): a change that stays
 above 1e-3 across such a move is a jump of the map in floating point; and the median change
-per drift.
+per drift. For each persisting jump: whether its tick's drift carries a robot's column across
+another point's (a wall of a lower label, Mathematics 4.2, between two queries with one
+label; decided by the exact signs of the column differences), how far from that wall the
+bisection stops, and, near the first such wall of the draw, the largest K at the distances
+``WALL_DISTANCES`` from it.
 
 Writes ``benchmarks/refine_continuity.md`` (linked from RESULTS.md). Not a test module.
 """
@@ -42,6 +46,7 @@ import numpy as np
 import pmplan
 from refine_bench import replace_section
 from pmplan.errors import PmplanError
+from pmplan.predicates import exact_projection_difference_sign
 
 HERE = Path(__file__).resolve().parent
 DELTAS = (1e-6, 1e-9, 1e-12)
@@ -51,6 +56,10 @@ GOAL_P999, GOAL_MAX = 1e3, 1e4
 #: a persisting jump of the replanning run is bisected on down to an obstacle move this small
 #: (a few units in the last place of the room's coordinates, which reach 10)
 DEEP = 1e-14
+#: the distances from a domain wall (scene units) at which the map is probed near a persisting
+#: jump, and the moves of the probe there
+WALL_DISTANCES = (1e-7, 1e-6, 1e-5, 1e-4, 1e-3)
+WALL_DELTAS = (1e-9, 1e-12)
 
 
 def _points(rng, k: int, d: int, size: float, gap: float):
@@ -198,6 +207,44 @@ def pooled(results) -> tuple[int, int]:
     return (sum(r["eff_over1e3"] for r in results), sum(r["pairs"] for r in results))
 
 
+def _column_pairs(o, configs):
+    """Every (configuration, robot point, other point) of a query: the pairs whose column tie
+    is a wall of a lower label (Mathematics 4.2: a robot's column meeting another point's)."""
+    m = len(o)
+    return [(c, j, k) for c in range(len(configs)) for j in range(m, m + len(configs[c]))
+            for k in range(m + len(configs[c])) if k != j and (k < m or k > j)]
+
+
+def _ties(o, configs) -> np.ndarray:
+    """The exact sign of every column difference of :func:`_column_pairs`: two queries with
+    the same label whose signs differ lie on two sides of a wall of a lower label."""
+    pairs = _column_pairs(o, configs)
+    full = [np.concatenate([o, c]) for c in configs]
+    ya = np.array([full[c][j] for c, j, _ in pairs])
+    yb = np.array([full[c][k] for c, _, k in pairs])
+    o1 = np.broadcast_to(o[0], ya.shape)
+    o2 = np.broadcast_to(o[1], ya.shape)
+    return exact_projection_difference_sign(ya, yb, o1, o2)
+
+
+def _wall(o, configs):
+    """The nearest wall of a lower label: ``(distance, configuration, robot point, other
+    point)``, the distance the smallest |column difference| of :func:`_column_pairs` (in the
+    scene's units; floats, to a few units in the last place)."""
+    e = (o[1] - o[0]) / np.linalg.norm(o[1] - o[0])
+    best = (np.inf, 0, 0, 0)
+    for c, j, k in _column_pairs(o, configs):
+        full = np.concatenate([o, configs[c]])
+        gap = abs(float((full[j] - full[k]) @ e))
+        if gap < best[0]:
+            best = (gap, c, j, k)
+    return best
+
+
+def _point_name(i: int, m: int, c: int) -> str:
+    return f"o{i + 1}" if i < m else ("x" if c == 0 else "x'") + str(i - m + 1)
+
+
 def replanning(ticks=80, seed=0):
     """4 robots swapping in a 10 x 10 room, 6 obstacles drifting 0.02 per tick."""
     rng = np.random.default_rng(seed)
@@ -241,17 +288,46 @@ def replanning(ticks=80, seed=0):
         c_raw = pmplan.plan(o0 + lo * (o1 - o0), s, g, lift="scene").clearance
         change = _sup(plo, phi) if plo.domain == phi.domain else float("nan")
         deep = (float("nan"),) * 3
+        wall = {"crosses": bool((_ties(o0, (s, g)) != _ties(o1, (s, g))).any())}
         if change > 1e-3:  # on, down to DEEP: a steep map or a jump in floating point?
             base, span = o0 + lo * (o1 - o0), (hi - lo) * (o1 - o0)
             size = float(np.linalg.norm(span, axis=-1).max())
             a0, a1, pa, pb = halve(base, span, size, DEEP, plo, phi)
             raw = [pmplan.plan(base + t * span, s, g, lift="scene") for t in (a0, a1)]
             deep = ((a1 - a0) * size, _sup(pa, pb), _sup(*raw))
-        return (hi - lo) * 0.02, change, c_raw, deep
+            qa, qb = base + a0 * span, base + a1 * span
+            dist, cw, j, k = _wall(qa, (s, g))
+            wall.update(distance=min(dist, _wall(qb, (s, g))[0]), c_raw=raw[0].clearance,
+                        between=bool((_ties(qa, (s, g)) != _ties(qb, (s, g))).any()),
+                        pair=f"{_point_name(j, len(o), cw)} and {_point_name(k, len(o), cw)}",
+                        probe=near_wall(qa, (dist, cw, j, k)) if k < len(o) else [])
+        return (hi - lo) * 0.02, change, c_raw, deep, wall
+
+    def near_wall(q, nearest):
+        """The map probed at the distances WALL_DISTANCES from the wall ``nearest`` of the
+        query ``q`` (its obstacle moved along the line's direction): per distance the
+        largest K over 4 moves of the obstacles by each of WALL_DELTAS (same label)."""
+        dist, cw, j, k = nearest
+        e = (q[1] - q[0]) / np.linalg.norm(q[1] - q[0])
+        side = np.sign(float((np.concatenate([q, (s, g)[cw]])[j] - q[k]) @ e))
+        prng = np.random.default_rng(0)
+        out = []
+        for target in WALL_DISTANCES:
+            qd = q.copy()
+            qd[k] = q[k] - side * (target - dist) * e
+            ref = at(qd)
+            worst = 0.0
+            for dl in WALL_DELTAS:
+                for _ in range(4):
+                    other = at(qd + dl * prng.uniform(-1.0, 1.0, qd.shape))
+                    if other.domain == ref.domain:
+                        worst = max(worst, _sup(ref, other) / dl)
+            out.append((_wall(qd, (s, g))[0], worst))
+        return out
 
     prev = None
     changes, raws, jumps, labels = [], [], 0, 0
-    persisting = []
+    persisting, walls, crossing = [], [], 0
     for _ in range(ticks):
         o_before = o
         o = o + vel
@@ -269,16 +345,18 @@ def replanning(ticks=80, seed=0):
                 raws.append(rc)
                 if c > max(10 * rc, 25):  # a jump: 0.5 units more than ten raw changes
                     jumps += 1
-                    size, change, c_raw, deep = bisect(o_before, o, prev[0], cur)
+                    size, change, c_raw, deep, wall = bisect(o_before, o, prev[0], cur)
+                    crossing += wall["crosses"]
                     if change > 1e-3:
                         persisting.append((size, change, c_raw, *deep))
+                        walls.append(wall)
             else:
                 labels += 1
         prev = (cur, raw)
     return {"ticks": ticks, "compared": len(changes), "jumps": jumps, "label_changes": labels,
             "median": float(np.median(changes)) if changes else float("nan"),
             "max": float(max(changes)) if changes else float("nan"),
-            "persisting": persisting,
+            "persisting": persisting, "walls": walls, "crossing": crossing,
             "raw_median": float(np.median(raws)) if raws else float("nan"),
             "raw_max": float(max(raws)) if raws else float("nan")}
 
@@ -382,7 +460,37 @@ def section(seed: int, held_out: bool, args, count: int) -> list[str]:
                  f"change the path by more than 1e-3 across an obstacle move of {DEEP:g} or less"
                  if rep["persisting"] else "none persists (every one is a steep but continuous "
                  "change)") + ".", ""]
+    if rep["persisting"]:
+        lines += [_walls_paragraph(rep), ""]
     return lines
+
+
+def _walls_paragraph(rep) -> str:
+    """Where the persisting jumps of a replanning run lie: next to a wall of a lower label."""
+    walls = rep["walls"]
+    near = [w for w in walls if w["crosses"]]
+    text = (f"*Where they lie.* {rep['crossing']} of the {rep['jumps']} flagged ticks carry a "
+            "robot's column across another point's (the exact signs of the column differences "
+            "differ between the two ticks): the drift crosses a wall of a lower label "
+            "(Mathematics 4.2) between two queries with one label. "
+            f"{len(near)} of the {len(walls)} persisting jumps are in such ticks; their last "
+            "bisection step stops on one side of the wall ("
+            + "; ".join(f"{w['pair']}: {w['distance']:.1e} from it, "
+                        + ("across it" if w["between"] else "not across it")
+                        + f", the raw plan {w['c_raw']:.1e} from contact"
+                        for w in walls)
+            + "; a wall's distance is the columns' distance, in the room's units): the raw "
+            "plan's robot runs past that point at about the columns' distance, on one side of "
+            "it on one side of the wall and on the other beyond.")
+    probed = next((w for w in walls if w.get("probe")), None)
+    if probed is not None:
+        text += (f" The map near the wall of {probed['pair']} (the obstacle moved along the "
+                 "line so that the nearest wall is at the distance given; largest K over 4 "
+                 "moves of the obstacles by each of "
+                 + " and ".join(f"{dl:g}" for dl in WALL_DELTAS) + ", same label): "
+                 + "; ".join(f"{dist:.1e} from the wall, K {_fmt(k)}"
+                             for dist, k in probed["probe"]) + ".")
+    return text
 
 
 def main(argv=None):
@@ -413,8 +521,8 @@ TITLE = "## Refined continuity in floating point (issue 24)"
 
 
 def results_section(lines: list[str]) -> str:
-    """The section of RESULTS.md: per draw its summary and its replanning line (the per-row
-    tables stay in refine_continuity.md)."""
+    """The section of RESULTS.md: per draw its summary, its replanning line and where its
+    persisting jumps lie (the per-row tables stay in refine_continuity.md)."""
     out = [TITLE, "", "Generated by `python benchmarks/refine_continuity.py` with the tables: per row "
            "(d, n, m, lift, family) the amplification K at delta = 1e-6, 1e-9, 1e-12, the raw "
            "plan's own K, c_raw and target / c_raw beside K, the refined / raw pair distances "
@@ -422,7 +530,7 @@ def results_section(lines: list[str]) -> str:
     for ln in lines:
         if ln.startswith("## Seed"):
             out.append(f"- **{ln[3:]}.**")
-        elif ln.startswith("**Rows that miss") or ln.startswith("Replanning"):
+        elif ln.startswith(("**Rows that miss", "Replanning", "*Where they lie.*")):
             out.append(f"  {ln}")
     return "\n".join(out) + "\n"
 
