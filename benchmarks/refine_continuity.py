@@ -438,28 +438,33 @@ def section(seed: int, held_out: bool, args, count: int) -> list[str]:
               "change is what it starts from): largest "
               f"{_fmt(max(r['factor_max'] for r in results))}, 99.9th percentile "
               f"{_fmt(float(np.quantile(sum((r['factors'] for r in results), []), 0.999)))}."]
-    lines += ["", "Replanning (4 robots swapping in a 10 x 10 room, 6 obstacles drifting 0.02 "
-              "per tick, radius 0.1, lift scene): "
-              f"{rep['compared']} ticks compared, {rep['jumps']} jumps (a change per drift "
-              "above 25 and above ten times the raw plan's), "
-              f"{rep['label_changes']} label changes; change per drift: median "
-              f"{_fmt(rep['median'])}, largest {_fmt(rep['max'])} (raw plans: median "
-              f"{_fmt(rep['raw_median'])}, largest {_fmt(rep['raw_max'])}). Each flagged tick "
-              "bisected toward the half that moves the path more, down to an obstacle move of "
-              "1e-10: "
-              + (f"{len(rep['persisting'])} jump(s) persist (path change > 1e-3 across moves "
-                 + ", ".join(f"{sz:.1e} -> {ch:.3g} (the raw plan {cr:.1e} from contact, "
-                             f"target / c_raw {0.2 / cr:.1e}: K {ch / sz:.1e}, K_eff "
-                             f"{ch / sz / max(1.0, 0.2 / cr):.2g}, "
-                             f"{'within' if ch / sz / max(1.0, 0.2 / cr) <= GOAL_MAX else 'beyond'}"
-                             f" the stated bound K_eff <= {GOAL_MAX:g}; bisected on: "
-                             f"{dch:.3g} across {dsz:.1e}, the raw plan {_fmt(draw)}, "
-                             f"{'a jump in floating point' if dch > 1e-3 else 'steep but continuous'})"
-                             for sz, ch, cr, dsz, dch, draw in rep["persisting"])
-                 + f"). {sum(1 for *_, dch, _ in rep['persisting'] if dch > 1e-3)} of them still "
-                 f"change the path by more than 1e-3 across an obstacle move of {DEEP:g} or less"
-                 if rep["persisting"] else "none persists (every one is a steep but continuous "
-                 "change)") + ".", ""]
+    return lines + [""] + _replanning_lines(rep)
+
+
+def _replanning_lines(rep) -> list[str]:
+    """The replanning run's line and, where jumps persist, where they lie."""
+    lines = ["Replanning (4 robots swapping in a 10 x 10 room, 6 obstacles drifting 0.02 "
+             "per tick, radius 0.1, lift scene): "
+             f"{rep['compared']} ticks compared, {rep['jumps']} jumps (a change per drift "
+             "above 25 and above ten times the raw plan's), "
+             f"{rep['label_changes']} label changes; change per drift: median "
+             f"{_fmt(rep['median'])}, largest {_fmt(rep['max'])} (raw plans: median "
+             f"{_fmt(rep['raw_median'])}, largest {_fmt(rep['raw_max'])}). Each flagged tick "
+             "bisected toward the half that moves the path more, down to an obstacle move of "
+             "1e-10: "
+             + (f"{len(rep['persisting'])} jump(s) persist (path change > 1e-3 across moves "
+                + ", ".join(f"{sz:.1e} -> {ch:.3g} (the raw plan {cr:.1e} from contact, "
+                            f"target / c_raw {0.2 / cr:.1e}: K {ch / sz:.1e}, K_eff "
+                            f"{ch / sz / max(1.0, 0.2 / cr):.2g}, "
+                            f"{'within' if ch / sz / max(1.0, 0.2 / cr) <= GOAL_MAX else 'beyond'}"
+                            f" the stated bound K_eff <= {GOAL_MAX:g}; bisected on: "
+                            f"{dch:.3g} across {dsz:.1e}, the raw plan {_fmt(draw)}, "
+                            f"{'a jump in floating point' if dch > 1e-3 else 'steep but continuous'})"
+                            for sz, ch, cr, dsz, dch, draw in rep["persisting"])
+                + f"). {sum(1 for *_, dch, _ in rep['persisting'] if dch > 1e-3)} of them still "
+                f"change the path by more than 1e-3 across an obstacle move of {DEEP:g} or less"
+                if rep["persisting"] else "none persists (every one is a steep but continuous "
+                "change)") + ".", ""]
     if rep["persisting"]:
         lines += [_walls_paragraph(rep), ""]
     return lines
@@ -498,6 +503,8 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--seeds", default="1,2", help="the design draws (comma-separated)")
     ap.add_argument("--held-out", default="5", help="draws not looked at while designing")
+    ap.add_argument("--replanning-held-out", default="3,4,6,7,8,9",
+                    help="more held-out draws of the replanning run alone")
     ap.add_argument("--count", type=int, default=None)
     ap.add_argument("--rows", default=None, help="substring filter on the row names")
     ap.add_argument("--out", default=str(HERE / "refine_continuity.md"))
@@ -511,6 +518,11 @@ def main(argv=None):
              f"held-out draws {held} (run once, after).", ""]
     for seed in design + held:
         lines += section(seed, seed in held, args, count)
+    for seed in [int(x) for x in args.replanning_held_out.split(",") if x]:
+        rep = replanning(ticks=20 if args.quick else 80, seed=seed)
+        print("replanning", seed, rep, flush=True)
+        lines += [f"## Seed {seed} (held out, the replanning run alone)", ""]
+        lines += _replanning_lines(rep)
     Path(args.out).write_text("\n".join(lines))
     print("\n".join(lines))
     if args.out == str(HERE / "refine_continuity.md") and not (args.quick or args.rows):
