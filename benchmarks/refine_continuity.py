@@ -493,8 +493,12 @@ def _walls_paragraph(rep) -> str:
                  "line so that the nearest wall is at the distance given; largest K over 4 "
                  "moves of the obstacles by each of "
                  + " and ".join(f"{dl:g}" for dl in WALL_DELTAS) + ", same label): "
-                 + "; ".join(f"{dist:.1e} from the wall, K {_fmt(k)}"
-                             for dist, k in probed["probe"]) + ".")
+                 + "; ".join(f"{dist:.1e} from the wall, K {_fmt(k)} (K_eff "
+                             f"{_fmt(k / max(1.0, 0.2 / dist))})"
+                             for dist, k in probed["probe"])
+                 + ("; at every one of them within the stated bound K_eff <= " if all(
+                     k / max(1.0, 0.2 / dist) <= GOAL_MAX for dist, k in probed["probe"])
+                    else "; at one of them beyond the stated bound K_eff <= ") + f"{GOAL_MAX:g}.")
     return text
 
 
