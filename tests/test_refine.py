@@ -700,3 +700,26 @@ def test_a_crowd_gets_the_crowds_default_effort(n):
     assert one.path.waypoints.tobytes() == asked_one.path.waypoints.tobytes()
     # a steps-only request keeps the crowd's waypoints, and the reverse
     assert pmplan.refine(raw, steps=3, **kw).waypoints.shape == default.waypoints.shape
+
+
+@pytest.mark.parametrize("d", [2, 3, 4, 5])
+def test_the_kernels_piece_minima_are_the_references(d):
+    """``kernels.measure.minima`` (one loop over every piece of every pair, d = 2 and 3 written
+    out) gives :func:`~pmplan.refine.grid.piece_minima` bit for bit: random paths, a pair at
+    rest (v = 0), a piece through contact, integer paths (exact ties) and tiny and huge
+    magnitudes."""
+    from pmplan.kernels.measure import minima
+
+    rng = np.random.default_rng(d)
+    for w, p, m in ((2, 3, 1), (8, 14, 6), (15, 9, 4)):
+        a, b, _ = pairs(p, m)
+        for scale in (1.0, 1e-150, 1e150):
+            x = rng.normal(size=(w, p, d)) * scale
+            x[:, 1] = x[0, 1]  # a point at rest
+            x[:, 2] = x[:, 0] if p > 2 else x[:, 2]  # a pair at rest, touching
+            xi = rng.integers(-2, 3, size=(w, p, d)).astype(float)
+            for path in (x, xi):
+                got = np.empty((w - 1, a.shape[0]))
+                minima(path, a, b, got, np.empty((d + 1, a.shape[0] * w)))
+                want = piece_minima(path[None], a, b)[0]
+                assert np.array_equal(got.view(np.int64), want.view(np.int64))

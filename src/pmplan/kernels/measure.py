@@ -30,48 +30,82 @@ def pair_rel(x, pa, pb, rel):  # pragma: no cover - compiled
 def minima(x, a, b, dmin, rel_t):  # pragma: no cover - compiled
     """The closed-form minimum distance of every pair on every piece into ``dmin`` (W-1,
     pairs), in :func:`pmplan.refine.grid.piece_minima`'s (and :func:`pmplan.certify.clearance`'s)
-    arithmetic, bit for bit; the relative positions are held coordinate-major in ``rel_t``
-    (d, W), so that the loop over the pieces vectorises (2.2x faster than one piece at a time
-    with the positions point-major, W = 15, 14 pairs)."""
+    arithmetic, bit for bit. ``rel_t`` (d + 1, pairs W) is scratch: the relative positions of
+    every pair, pair after pair, coordinate-major, then the minima, so that one loop runs over
+    every piece of every pair (and one step across each pair's boundary, whose value is not
+    used) and vectorises; d = 2 and 3 written out (the sums in the same order as the general
+    loop). 1.3-2.5x faster than a loop over the pieces of one pair at a time (W = 8 to 29,
+    14 to 22 points)."""
     w, _, dd = x.shape
-    for q in range(a.shape[0]):
+    npair = a.shape[0]
+    for q in range(npair):
         pa, pb = a[q], b[q]
+        base = q * w
         for k in range(dd):
             for j in range(w):
-                rel_t[k, j] = x[j, pa, k] - x[j, pb, k]
-        if dd == 2:
-            for j in range(w - 1):
-                r0x = rel_t[0, j]
-                r0y = rel_t[1, j]
-                vx = rel_t[0, j + 1] - r0x
-                vy = rel_t[1, j + 1] - r0y
-                vv = (0.0 + vx * vx) + vy * vy
-                num = -((0.0 + r0x * vx) + r0y * vy)
-                qq = num / vv  # (vv = 0: replaced below)
-                qq = 1.0 if num >= vv else qq
-                qq = 0.0 if num <= 0 else qq
-                qq = qq if vv > 0 else 0.0
-                qx = r0x + qq * vx
-                qy = r0y + qq * vy
-                dmin[j, q] = math.sqrt((0.0 + qx * qx) + qy * qy)
-        else:
-            for j in range(w - 1):
-                vv = 0.0
-                r0v = 0.0
-                for k in range(dd):
-                    v = rel_t[k, j + 1] - rel_t[k, j]
-                    vv = vv + v * v
-                    r0v = r0v + rel_t[k, j] * v
-                num = -r0v
-                qq = num / vv
-                qq = 1.0 if num >= vv else qq
-                qq = 0.0 if num <= 0 else qq
-                qq = qq if vv > 0 else 0.0
-                sq = 0.0
-                for k in range(dd):
-                    qx = rel_t[k, j] + qq * (rel_t[k, j + 1] - rel_t[k, j])
-                    sq = sq + qx * qx
-                dmin[j, q] = math.sqrt(sq)
+                rel_t[k, base + j] = x[j, pa, k] - x[j, pb, k]
+    nf = npair * w - 1
+    out = rel_t[dd]
+    if dd == 2:
+        xs = rel_t[0]
+        ys = rel_t[1]
+        for f in range(nf):
+            r0x = xs[f]
+            r0y = ys[f]
+            vx = xs[f + 1] - r0x
+            vy = ys[f + 1] - r0y
+            vv = (0.0 + vx * vx) + vy * vy
+            num = -((0.0 + r0x * vx) + r0y * vy)
+            qq = num / vv  # (vv = 0: replaced below)
+            qq = 1.0 if num >= vv else qq
+            qq = 0.0 if num <= 0 else qq
+            qq = qq if vv > 0 else 0.0
+            qx = r0x + qq * vx
+            qy = r0y + qq * vy
+            out[f] = math.sqrt((0.0 + qx * qx) + qy * qy)
+    elif dd == 3:
+        xs = rel_t[0]
+        ys = rel_t[1]
+        zs = rel_t[2]
+        for f in range(nf):
+            r0x = xs[f]
+            r0y = ys[f]
+            r0z = zs[f]
+            vx = xs[f + 1] - r0x
+            vy = ys[f + 1] - r0y
+            vz = zs[f + 1] - r0z
+            vv = ((0.0 + vx * vx) + vy * vy) + vz * vz
+            num = -(((0.0 + r0x * vx) + r0y * vy) + r0z * vz)
+            qq = num / vv
+            qq = 1.0 if num >= vv else qq
+            qq = 0.0 if num <= 0 else qq
+            qq = qq if vv > 0 else 0.0
+            qx = r0x + qq * vx
+            qy = r0y + qq * vy
+            qz = r0z + qq * vz
+            out[f] = math.sqrt(((0.0 + qx * qx) + qy * qy) + qz * qz)
+    else:
+        for f in range(nf):
+            vv = 0.0
+            r0v = 0.0
+            for k in range(dd):
+                v = rel_t[k, f + 1] - rel_t[k, f]
+                vv = vv + v * v
+                r0v = r0v + rel_t[k, f] * v
+            num = -r0v
+            qq = num / vv
+            qq = 1.0 if num >= vv else qq
+            qq = 0.0 if num <= 0 else qq
+            qq = qq if vv > 0 else 0.0
+            sq = 0.0
+            for k in range(dd):
+                qx = rel_t[k, f] + qq * (rel_t[k, f + 1] - rel_t[k, f])
+                sq = sq + qx * qx
+            out[f] = math.sqrt(sq)
+    for q in range(npair):
+        base = q * w
+        for j in range(w - 1):
+            dmin[j, q] = out[base + j]
 
 
 #: flags of :func:`measure_batch`: the certificate's exact re-decision is needed (a piece
@@ -90,7 +124,7 @@ def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
     sequential) and the flags above; ``need`` = (2 radius, radius + obstacle_radius)."""
     bsz, w, _p, dd = x.shape
     rel = np.empty((w, dd))
-    rel_t = np.empty((dd, w))
+    rel_t = np.empty((dd + 1, max(a.shape[0] * w, 1)))  # (the scratch of minima)
     dmin = np.empty((w - 1, a.shape[0]))
     for i in range(bsz):
         xi = x[i]

@@ -184,27 +184,27 @@ def _room(r0, v, f2, al, be):  # pragma: no cover - compiled
 
 
 @njit(**OPTS)
-def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl):  # pragma: no cover
+def _dir_scale(x, m, a, b, c, dmin, gap, delta, j, pt, nm, kp, r0, v, sl, start,
+               members):  # pragma: no cover - compiled
     """The scale of point ``pt``'s clearing move at waypoint ``j`` beyond its isotropic cap
-    (:func:`pmplan.refine.reference._clear_scale`, same arithmetic); ``r0``, ``v``: (d,) scratch."""
+    (:func:`pmplan.refine.reference._clear_scale`, same arithmetic); ``r0``, ``v``: (d,) scratch;
+    the pairs of ``pt`` are ``members[start[pt]:start[pt + 1]]`` (:func:`_members`)."""
     w, _, dd = x.shape
     share_k = kp[7]
     s = 1.0
-    for q in range(a.shape[0]):
+    for u in range(start[pt], start[pt + 1]):
+        q = members[u]
         pa, pb = a[q], b[q]
-        if pb == pt:
-            sign = -1.0
-        elif pa == pt and pa >= m:
-            sign = 1.0
-        else:
-            continue
+        sign = -1.0 if pb == pt else 1.0
         nterms = 4.0 if pa >= m else 2.0
         for jp in (j, j - 1):  # the piece starting at j, then the piece ending at j
             if jp < 0 or jp >= w - 1:
                 continue
             gq = gap[jp, q]
-            f2 = dmin[jp, q] - share_k * gq
             iso = (share_k * c[q]) * gq
+            if not nm > iso:
+                continue  # (the isotropic scale is 1 here: max(sd, 1) = 1 leaves s as it is)
+            f2 = dmin[jp, q] - share_k * gq
             r0d = 0.0
             vd = 0.0
             rr = 0.0
@@ -271,9 +271,10 @@ def _turned(rel, j, k, ein, eout):  # pragma: no cover - compiled
 
 @njit(**OPTS)
 def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_t, kp, eta,
-           at_waypoints, walls, has_walls):  # pragma: no cover - compiled
+           at_waypoints, walls, has_walls, start, members):  # pragma: no cover - compiled
     """One clearing pass of :func:`pmplan.refine.reference._clear` (same arithmetic, same order;
-    ``walls`` (2, d) of this query where ``has_walls``)."""
+    ``walls`` (2, d) of this query where ``has_walls``; ``start``, ``members``: every robot's
+    pairs, :func:`_members`)."""
     w, p, dd = x.shape
     phi = kp[9] if at_waypoints else kp[2]
     delta[:, :, :] = 0.0  # the push
@@ -396,7 +397,7 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
                 s = s + delta[j, i, k] * delta[j, i, k]
             nm = math.sqrt(s)
             cap[j, i] = _dir_scale(x, m, a, b, c, dmin, gap, delta, j, i, nm, kp, rel[0],
-                                   rel[1], sl) if nm > cap[j, i] else 1.0
+                                   rel[1], sl, start, members) if nm > cap[j, i] else 1.0
             if has_walls:
                 cap[j, i] = min(cap[j, i], _wall_scale(x, delta, walls, j, i, kp[11]))
     for j in range(w):
@@ -408,11 +409,12 @@ def _clear(x, m, a, b, c, tgt, hold, mob, dmin, free, gap, cap, delta, rel, rel_
 
 @njit(**OPTS)
 def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
-           waypoint_pass, walls, has_walls):  # pragma: no cover - compiled
+           waypoint_pass, walls, has_walls, start, members):  # pragma: no cover - compiled
     """``steps`` steps (clear, shorten) then ``clear_only`` clearing steps on every query of
     the batch ``x`` (B, W, P, d), in place; ``frac`` (B, W-2), ``mob`` (B, W), ``tgt`` (B,
     pairs); ``waypoint_pass``: the steps' clearing begins with the waypoint pass (the coarsest
-    level); ``walls`` (B, 2, d) where ``has_walls`` (else one unused row)."""
+    level); ``walls`` (B, 2, d) where ``has_walls`` (else one unused row); ``start``,
+    ``members``: every robot's pairs (:func:`_members`)."""
     bsz, w, p, dd = x.shape
     npair = a.shape[0]
     dmin = np.empty((w - 1, npair))
@@ -421,7 +423,7 @@ def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
     cap = np.empty((w, p))
     delta = np.empty((w, p, dd))
     rel = np.empty((w, dd))
-    rel_t = np.empty((dd, w))
+    rel_t = np.empty((dd + 1, max(npair * w, 1)))  # (the scratch of minima)
     for i in range(bsz):
         xi = x[i]
         g = i if mob.shape[0] > 1 else 0  # shared times: one row of mobility and fractions
@@ -429,12 +431,27 @@ def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
         for k in range(steps + clear_only):
             if waypoint_pass and k < steps:  # the clearing substep: the waypoint pass first
                 _clear(xi, m, a, b, c, tgt[i], hold[i], mob[g], dmin, free, gap, cap, delta, rel,
-                       rel_t, kp, eta, True, walls[wi], has_walls)
+                       rel_t, kp, eta, True, walls[wi], has_walls, start, members)
             _clear(xi, m, a, b, c, tgt[i], hold[i], mob[g], dmin, free, gap, cap, delta, rel,
-                   rel_t, kp, eta, False, walls[wi], has_walls)
+                   rel_t, kp, eta, False, walls[wi], has_walls, start, members)
             if k < steps:
                 _shorten(xi, m, a, b, c, tgt[i], frac[g], mob[g], dmin, free, cap, delta, rel_t,
                          kp)
+
+
+def _members(a: np.ndarray, b: np.ndarray, m: int, p: int) -> tuple[np.ndarray, np.ndarray]:
+    """Every robot's pairs, the ones whose clearing budget bounds its move (a robot is ``b`` of
+    its pairs with an obstacle and ``a`` or ``b`` of its pairs with another robot), in the
+    order of the pairs: robot ``pt``'s are ``members[start[pt]:start[pt + 1]]``."""
+    lists = [[] for _ in range(p)]
+    for q in range(a.shape[0]):
+        lists[b[q]].append(q)
+        if a[q] >= m:
+            lists[a[q]].append(q)
+    start = np.zeros(p + 1, dtype=np.int64)
+    start[1:] = np.cumsum([len(x) for x in lists])
+    members = np.array([q for x in lists for q in sorted(x)], dtype=np.int64)
+    return start, members
 
 
 def constants() -> np.ndarray:
@@ -480,6 +497,7 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     hold = np.ascontiguousarray(hold_levels(x, a, b, tgt))
     levels = _grids(times, r, waypoints_per_piece, steps, x.shape[0])
     kp = constants()
+    start, members = _members(a, b, m, p)
     has_walls = walls is not None
     # (no walls: one unused row, numba compiles one signature)
     walls = np.ascontiguousarray(walls, dtype=float) if has_walls else np.zeros((1, 2, x.shape[3]))
@@ -490,5 +508,5 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         if x.shape[0]:
             _level(x, m, a, b, c, tgt, hold, frac, mob, n_steps,
                    final_steps(steps) if level == len(levels) - 1 else 0, kp, overshoot(level),
-                   level == 0, walls, has_walls)
+                   level == 0, walls, has_walls, start, members)
     return t, x
