@@ -723,3 +723,5 @@ def test_the_kernels_piece_minima_are_the_references(d):
                 minima(path, a, b, got, np.empty((d + 1, a.shape[0] * w)))
                 want = piece_minima(path[None], a, b)[0]
                 assert np.array_equal(got.view(np.int64), want.view(np.int64))
+        with pytest.raises(ValueError, match="scratch"):  # (not a write beyond it)
+            minima(x, a, b, got, np.empty((d, w)))

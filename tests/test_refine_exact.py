@@ -161,7 +161,7 @@ def _kernel_shorten(x, m, tgt, frac, mob):
     npair = a.size
     tq = np.ascontiguousarray(np.where(a >= m, tgt[0], tgt[1]))
     _shorten(x, m, a, b, c, tq, frac, mob, np.empty((w - 1, npair)), np.empty((w - 1, npair)),
-             np.empty((w, p)), np.empty((w, p, dd)), np.empty((dd, w)), constants())
+             np.empty((w, p)), np.empty((w, p, dd)), np.empty((dd + 1, npair * w)), constants())
 
 
 @settings(max_examples=120, deadline=None)
@@ -345,6 +345,7 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
     same bits. With ``walls`` (limits that cut through the path: the walls push and hold the
     moves) too: a held move is a smaller move, which keeps every floor."""
     from pmplan.refine.kernel import _clear as kernel_clear
+    from pmplan.refine.kernel import _members as kernel_members
     from pmplan.refine.kernel import constants
 
     x = _near_contact_path(data, d, robots, w, 10.0**-e)
@@ -376,8 +377,9 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
     npair = a.size
     kernel_clear(yk, m, a, b, c, tq[0], hold[0], mob[0], np.empty((w - 1, npair)),
                  np.empty((w - 1, npair)), np.empty((w - 1, npair)), np.empty((w, p)),
-                 np.empty((w, p, d)), np.empty((w, d)), np.empty((d, w)), constants(), eta,
-                 at_waypoints, lim[0] if walls else np.zeros((2, d)), walls)
+                 np.empty((w, p, d)), np.empty((w, d)), np.empty((d + 1, npair * w)), constants(),
+                 eta, at_waypoints, lim[0] if walls else np.zeros((2, d)), walls,
+                 *kernel_members(a, b, m, p))
     assert np.array_equal(yk, y[0])
     for j in range(w - 1):
         for q, (pa, pb) in enumerate(zip(a, b)):

@@ -38,6 +38,8 @@ def minima(x, a, b, dmin, rel_t):  # pragma: no cover - compiled
     14 to 22 points)."""
     w, _, dd = x.shape
     npair = a.shape[0]
+    if rel_t.shape[0] < dd + 1 or rel_t.shape[1] < npair * w:
+        raise ValueError("minima: the scratch rel_t must be (d + 1, pairs W)")
     for q in range(npair):
         pa, pb = a[q], b[q]
         base = q * w
