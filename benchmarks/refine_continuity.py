@@ -56,6 +56,10 @@ GOAL_P999, GOAL_MAX = 1e3, 1e4
 #: a persisting jump of the replanning run is bisected on down to an obstacle move this small
 #: (a few units in the last place of the room's coordinates, which reach 10)
 DEEP = 1e-14
+#: the replanning run: the obstacles' drift per tick and the robots' radius (target 2 radius)
+DRIFT = 0.02
+REPLAN_RADIUS = 0.1
+REPLAN_TARGET = 2 * REPLAN_RADIUS
 #: the distances from a domain wall (scene units) at which the map is probed near a persisting
 #: jump, and the moves of the probe there
 WALL_DISTANCES = (1e-7, 1e-6, 1e-5, 1e-4, 1e-3)
@@ -252,9 +256,9 @@ def replanning(ticks=80, seed=0):
     s = np.array([[1.0, 1.0], [9.0, 1.0], [1.0, 9.0], [9.0, 9.0]])
     g = s[::-1].copy()
     vel = rng.normal(size=o.shape)
-    vel *= 0.02 / np.linalg.norm(vel, axis=-1, keepdims=True)
+    vel *= DRIFT / np.linalg.norm(vel, axis=-1, keepdims=True)
     def at(obst):
-        return pmplan.plan(obst, s, g, lift="scene", refine=True, radius=0.1)
+        return pmplan.plan(obst, s, g, lift="scene", refine=True, radius=REPLAN_RADIUS)
 
     def halve(base, span, size, floor, plo, phi):
         """Bisect the obstacle move ``base -> base + span`` (its largest point move ``size``)
@@ -284,7 +288,7 @@ def replanning(ticks=80, seed=0):
         persists there on down to DEEP; returns (that move's size, the path change across it,
         the raw plan's clearance, (the DEEP move's size, the path change and the raw plan's
         change across it))."""
-        lo, hi, plo, phi = halve(o0, o1 - o0, 0.02, 1e-10, c0, c1)
+        lo, hi, plo, phi = halve(o0, o1 - o0, DRIFT, 1e-10, c0, c1)
         c_raw = pmplan.plan(o0 + lo * (o1 - o0), s, g, lift="scene").clearance
         change = _sup(plo, phi) if plo.domain == phi.domain else float("nan")
         deep = (float("nan"),) * 3
@@ -301,7 +305,7 @@ def replanning(ticks=80, seed=0):
                         between=bool((_ties(qa, (s, g)) != _ties(qb, (s, g))).any()),
                         pair=f"{_point_name(j, len(o), cw)} and {_point_name(k, len(o), cw)}",
                         probe=near_wall(qa, (dist, cw, j, k)) if k < len(o) else [])
-        return (hi - lo) * 0.02, change, c_raw, deep, wall
+        return (hi - lo) * DRIFT, change, c_raw, deep, wall
 
     def near_wall(q, nearest):
         """The map probed at the distances WALL_DISTANCES from the wall ``nearest`` of the
@@ -339,8 +343,8 @@ def replanning(ticks=80, seed=0):
             continue
         if prev is not None:
             if prev[0].domain == cur.domain:
-                c = _sup(prev[0], cur) / 0.02
-                rc = _sup(prev[1], raw) / 0.02
+                c = _sup(prev[0], cur) / DRIFT
+                rc = _sup(prev[1], raw) / DRIFT
                 changes.append(c)
                 raws.append(rc)
                 if c > max(10 * rc, 25):  # a jump: 0.5 units more than ten raw changes
@@ -443,8 +447,8 @@ def section(seed: int, held_out: bool, args, count: int) -> list[str]:
 
 def _replanning_lines(rep) -> list[str]:
     """The replanning run's line and, where jumps persist, where they lie."""
-    lines = ["Replanning (4 robots swapping in a 10 x 10 room, 6 obstacles drifting 0.02 "
-             "per tick, radius 0.1, lift scene): "
+    lines = ["Replanning (4 robots swapping in a 10 x 10 room, 6 obstacles drifting "
+             f"{DRIFT:g} per tick, radius {REPLAN_RADIUS:g}, lift scene): "
              f"{rep['compared']} ticks compared, {rep['jumps']} jumps (a change per drift "
              "above 25 and above ten times the raw plan's), "
              f"{rep['label_changes']} label changes; change per drift: median "
@@ -454,9 +458,9 @@ def _replanning_lines(rep) -> list[str]:
              "1e-10: "
              + (f"{len(rep['persisting'])} jump(s) persist (path change > 1e-3 across moves "
                 + ", ".join(f"{sz:.1e} -> {ch:.3g} (the raw plan {cr:.1e} from contact, "
-                            f"target / c_raw {0.2 / cr:.1e}: K {ch / sz:.1e}, K_eff "
-                            f"{ch / sz / max(1.0, 0.2 / cr):.2g}, "
-                            f"{'within' if ch / sz / max(1.0, 0.2 / cr) <= GOAL_MAX else 'beyond'}"
+                            f"target / c_raw {REPLAN_TARGET / cr:.1e}: K {ch / sz:.1e}, K_eff "
+                            f"{ch / sz / max(1.0, REPLAN_TARGET / cr):.2g}, "
+                            f"{'within' if ch / sz / max(1.0, REPLAN_TARGET / cr) <= GOAL_MAX else 'beyond'}"
                             f" the stated bound K_eff <= {GOAL_MAX:g}; bisected on: "
                             f"{dch:.3g} across {dsz:.1e}, the raw plan {_fmt(draw)}, "
                             f"{'a jump in floating point' if dch > 1e-3 else 'steep but continuous'})"
@@ -494,10 +498,10 @@ def _walls_paragraph(rep) -> str:
                  "moves of the obstacles by each of "
                  + " and ".join(f"{dl:g}" for dl in WALL_DELTAS) + ", same label): "
                  + "; ".join(f"{dist:.1e} from the wall, K {_fmt(k)} (K_eff "
-                             f"{_fmt(k / max(1.0, 0.2 / dist))})"
+                             f"{_fmt(k / max(1.0, REPLAN_TARGET / dist))})"
                              for dist, k in probed["probe"])
                  + ("; at every one of them within the stated bound K_eff <= " if all(
-                     k / max(1.0, 0.2 / dist) <= GOAL_MAX for dist, k in probed["probe"])
+                     k / max(1.0, REPLAN_TARGET / dist) <= GOAL_MAX for dist, k in probed["probe"])
                     else "; at one of them beyond the stated bound K_eff <= ") + f"{GOAL_MAX:g}.")
     return text
 
