@@ -708,7 +708,7 @@ def test_the_kernels_piece_minima_are_the_references(d):
     out) gives :func:`~pmplan.refine.grid.piece_minima` bit for bit: random paths, a pair at
     rest (v = 0), a piece through contact, integer paths (exact ties) and tiny and huge
     magnitudes."""
-    from pmplan.kernels.measure import minima
+    from pmplan.kernels.measure import minima, minima_scratch
 
     rng = np.random.default_rng(d)
     for w, p, m in ((2, 3, 1), (8, 14, 6), (15, 9, 4)):
@@ -720,7 +720,7 @@ def test_the_kernels_piece_minima_are_the_references(d):
             xi = rng.integers(-2, 3, size=(w, p, d)).astype(float)
             for path in (x, xi):
                 got = np.empty((w - 1, a.shape[0]))
-                minima(path, a, b, got, np.empty((d + 1, a.shape[0] * w)))
+                minima(path, a, b, got, minima_scratch(w, d, a.shape[0]))
                 want = piece_minima(path[None], a, b)[0]
                 assert np.array_equal(got.view(np.int64), want.view(np.int64))
         with pytest.raises(ValueError, match="scratch"):  # (not a write beyond it)

@@ -154,6 +154,7 @@ def test_refined_queries_at_every_magnitude_are_reported_exactly(seed, mag, frac
 
 def _kernel_shorten(x, m, tgt, frac, mob):
     """The kernel's shortening substep on one path (W, P, d), in place."""
+    from pmplan.kernels.measure import minima_scratch
     from pmplan.refine.kernel import _shorten, constants
 
     w, p, dd = x.shape
@@ -161,7 +162,7 @@ def _kernel_shorten(x, m, tgt, frac, mob):
     npair = a.size
     tq = np.ascontiguousarray(np.where(a >= m, tgt[0], tgt[1]))
     _shorten(x, m, a, b, c, tq, frac, mob, np.empty((w - 1, npair)), np.empty((w - 1, npair)),
-             np.empty((w, p)), np.empty((w, p, dd)), np.empty((dd + 1, npair * w)), constants())
+             np.empty((w, p)), np.empty((w, p, dd)), minima_scratch(w, dd, npair), constants())
 
 
 @settings(max_examples=120, deadline=None)
@@ -344,6 +345,7 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
     MARGIN), D_raw)``) in rational arithmetic -- not one ulp below; the kernel's pass gives the
     same bits. With ``walls`` (limits that cut through the path: the walls push and hold the
     moves) too: a held move is a smaller move, which keeps every floor."""
+    from pmplan.kernels.measure import minima_scratch
     from pmplan.refine.kernel import _clear as kernel_clear
     from pmplan.refine.kernel import _members as kernel_members
     from pmplan.refine.kernel import constants
@@ -377,9 +379,9 @@ def test_clearing_substep_keeps_every_floor_exactly(data, d, robots, w, e, mag, 
     npair = a.size
     kernel_clear(yk, m, a, b, c, tq[0], hold[0], mob[0], np.empty((w - 1, npair)),
                  np.empty((w - 1, npair)), np.empty((w - 1, npair)), np.empty((w, p)),
-                 np.empty((w, p, d)), np.empty((w, d)), np.empty((d + 1, npair * w)), constants(),
+                 np.empty((w, p, d)), np.empty((w, d)), minima_scratch(w, d, npair), constants(),
                  eta, at_waypoints, lim[0] if walls else np.zeros((2, d)), walls,
-                 *kernel_members(a, b, m, p))
+                 *kernel_members(p, m))
     assert np.array_equal(yk, y[0])
     for j in range(w - 1):
         for q, (pa, pb) in enumerate(zip(a, b)):

@@ -14,7 +14,7 @@ import numpy as np
 from ..certify import point_pairs
 from .common import BAND_ABS, BAND_REL, OBSTACLE_TINY2, OPTS, REL, TINY_DIST, njit
 
-__all__ = ["CLOSE", "SHORT", "SUSPECT", "measure_batch", "minima", "pair_rel"]
+__all__ = ["CLOSE", "SHORT", "SUSPECT", "measure_batch", "minima", "minima_scratch", "pair_rel"]
 
 
 @njit(**OPTS)
@@ -24,6 +24,13 @@ def pair_rel(x, pa, pb, rel):  # pragma: no cover - compiled
     for j in range(w):
         for k in range(dd):
             rel[j, k] = x[j, pa, k] - x[j, pb, k]
+
+
+@njit(**OPTS)
+def minima_scratch(w, d, npair):  # pragma: no cover - compiled
+    """The scratch ``rel_t`` of :func:`minima` for paths of ``w`` waypoints in dimension ``d``
+    and ``npair`` pairs: (d + 1, pairs W)."""
+    return np.empty((d + 1, max(npair * w, 1)))
 
 
 @njit(**OPTS)
@@ -39,7 +46,7 @@ def minima(x, a, b, dmin, rel_t):  # pragma: no cover - compiled
     w, _, dd = x.shape
     npair = a.shape[0]
     if rel_t.shape[0] < dd + 1 or rel_t.shape[1] < npair * w:
-        raise ValueError("minima: the scratch rel_t must be (d + 1, pairs W)")
+        raise ValueError("minima: the scratch rel_t must be (d + 1, pairs W), as minima_scratch makes it")
     for q in range(npair):
         pa, pb = a[q], b[q]
         base = q * w
@@ -126,7 +133,7 @@ def _measure(x, m, a, b, need, out, flags):  # pragma: no cover - compiled
     sequential) and the flags above; ``need`` = (2 radius, radius + obstacle_radius)."""
     bsz, w, _p, dd = x.shape
     rel = np.empty((w, dd))
-    rel_t = np.empty((dd + 1, max(a.shape[0] * w, 1)))  # (the scratch of minima)
+    rel_t = minima_scratch(w, dd, a.shape[0])
     dmin = np.empty((w - 1, a.shape[0]))
     for i in range(bsz):
         xi = x[i]

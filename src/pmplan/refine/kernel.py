@@ -13,11 +13,12 @@ which it shares with the reference (neither imports the other).
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
 from ..kernels.common import OPTS, njit
-from ..kernels.measure import minima, pair_rel
+from ..kernels.measure import minima, minima_scratch, pair_rel
 from . import grid
 from .grid import (
     chord_fraction,
@@ -423,7 +424,7 @@ def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
     cap = np.empty((w, p))
     delta = np.empty((w, p, dd))
     rel = np.empty((w, dd))
-    rel_t = np.empty((dd + 1, max(npair * w, 1)))  # (the scratch of minima)
+    rel_t = minima_scratch(w, dd, npair)
     for i in range(bsz):
         xi = x[i]
         g = i if mob.shape[0] > 1 else 0  # shared times: one row of mobility and fractions
@@ -439,18 +440,21 @@ def _level(x, m, a, b, c, tgt, hold, frac, mob, steps, clear_only, kp, eta,
                          kp)
 
 
-def _members(a: np.ndarray, b: np.ndarray, m: int, p: int) -> tuple[np.ndarray, np.ndarray]:
-    """Every robot's pairs, the ones whose clearing budget bounds its move (a robot is ``b`` of
-    its pairs with an obstacle and ``a`` or ``b`` of its pairs with another robot), in the
-    order of the pairs: robot ``pt``'s are ``members[start[pt]:start[pt + 1]]``."""
+@lru_cache(maxsize=256)
+def _members(p: int, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """Every robot's pairs of :func:`~pmplan.refine.grid.pairs` ``(p, m)``, the ones whose
+    clearing budget bounds its move (a robot is ``b`` of its pairs with an obstacle and ``a``
+    or ``b`` of its pairs with another robot), in the order of the pairs: robot ``pt``'s are
+    ``members[start[pt]:start[pt + 1]]`` (cached, as the pairs are: one per query shape)."""
+    a, b, _ = pairs(p, m)
     lists = [[] for _ in range(p)]
-    for q in range(a.shape[0]):
+    for q in range(a.shape[0]):  # (in the order of the pairs: every list ascends)
         lists[b[q]].append(q)
         if a[q] >= m:
             lists[a[q]].append(q)
     start = np.zeros(p + 1, dtype=np.int64)
     start[1:] = np.cumsum([len(x) for x in lists])
-    members = np.array([q for x in lists for q in sorted(x)], dtype=np.int64)
+    members = np.array([q for x in lists for q in x], dtype=np.int64)
     return start, members
 
 
@@ -497,7 +501,7 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     hold = np.ascontiguousarray(hold_levels(x, a, b, tgt))
     levels = _grids(times, r, waypoints_per_piece, steps, x.shape[0])
     kp = constants()
-    start, members = _members(a, b, m, p)
+    start, members = _members(p, m)
     has_walls = walls is not None
     # (no walls: one unused row, numba compiles one signature)
     walls = np.ascontiguousarray(walls, dtype=float) if has_walls else np.zeros((1, 2, x.shape[3]))
