@@ -236,10 +236,10 @@ def _wall(o, configs):
     point)``, the distance the smallest |column difference| of :func:`_column_pairs` (in the
     scene's units; floats, to a few units in the last place)."""
     e = (o[1] - o[0]) / np.linalg.norm(o[1] - o[0])
+    full = [np.concatenate([o, c]) for c in configs]
     best = (np.inf, 0, 0, 0)
     for c, j, k in _column_pairs(o, configs):
-        full = np.concatenate([o, configs[c]])
-        gap = abs(float((full[j] - full[k]) @ e))
+        gap = abs(float((full[c][j] - full[c][k]) @ e))
         if gap < best[0]:
             best = (gap, c, j, k)
     return best
