@@ -61,9 +61,10 @@ DRIFT = 0.02
 REPLAN_RADIUS = 0.1
 REPLAN_TARGET = 2 * REPLAN_RADIUS
 #: the distances from a domain wall (scene units) at which the map is probed near a persisting
-#: jump, and the moves of the probe there
+#: jump, and the moves of the probe there: the deltas of the rows (DELTAS), each where it is at
+#: most WALL_REACH of the distance (a larger move may cross the wall, where the path must jump)
 WALL_DISTANCES = (1e-7, 1e-6, 1e-5, 1e-4, 1e-3)
-WALL_DELTAS = (1e-9, 1e-12)
+WALL_REACH = 0.1
 
 
 def _points(rng, k: int, d: int, size: float, gap: float):
@@ -310,7 +311,8 @@ def replanning(ticks=80, seed=0):
     def near_wall(q, nearest):
         """The map probed at the distances WALL_DISTANCES from the wall ``nearest`` of the
         query ``q`` (its obstacle moved along the line's direction): per distance the
-        largest K over 4 moves of the obstacles by each of WALL_DELTAS (same label)."""
+        largest K over 4 moves of the obstacles by each delta of DELTAS at most WALL_REACH of the
+        distance (same label)."""
         dist, cw, j, k = nearest
         e = (q[1] - q[0]) / np.linalg.norm(q[1] - q[0])
         side = np.sign(float((np.concatenate([q, (s, g)[cw]])[j] - q[k]) @ e))
@@ -321,7 +323,7 @@ def replanning(ticks=80, seed=0):
             qd[k] = q[k] - side * (target - dist) * e
             ref = at(qd)
             worst = 0.0
-            for dl in WALL_DELTAS:
+            for dl in (dl for dl in DELTAS if dl <= WALL_REACH * target):
                 for _ in range(4):
                     other = at(qd + dl * prng.uniform(-1.0, 1.0, qd.shape))
                     if other.domain == ref.domain:
@@ -496,7 +498,8 @@ def _walls_paragraph(rep) -> str:
         text += (f" The map near the wall of {probed['pair']} (the obstacle moved along the "
                  "line so that the nearest wall is at the distance given; largest K over 4 "
                  "moves of the obstacles by each of "
-                 + " and ".join(f"{dl:g}" for dl in WALL_DELTAS) + ", same label): "
+                 + ", ".join(f"{dl:g}" for dl in DELTAS) + f" up to {WALL_REACH:g} of the "
+                 "distance, same label): "
                  + "; ".join(f"{dist:.1e} from the wall, K {_fmt(k)} (K_eff "
                              f"{_fmt(k / max(1.0, REPLAN_TARGET / dist))})"
                              for dist, k in probed["probe"])

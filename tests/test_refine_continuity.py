@@ -247,8 +247,8 @@ def test_no_noise_floor_at_1e_12(case, backend):
 #: two obstacle configurations 1.8e-15 apart (the held-out replanning run of
 #: benchmarks/refine_continuity.py, seed 5, tick 77, bisected on), exactly, in hex; the robots
 #: (lift "scene", radius 0.1) swap corners of a 10 x 10 room. The raw plan passes 7e-8 from
-#: contact (a corner of robot 6's path near obstacle 0): robot 4's start and robot 1's goal
-#: share a corner whose column is 7e-8 from obstacle 1's, next to a wall of the domain.
+#: contact (a corner of robot x1's path near obstacle o1): robot x4's start and robot x1's goal
+#: share a corner whose column is 7e-8 from o1's, next to a wall of the domain.
 JUMP_OBSTACLES = [
     [["0x1.d00d6e72aa4f5p+2", "0x1.2d3e4467adb82p+3"], ["0x1.5563aa25dec4ap+2", "0x1.5027ec53d3abdp+0"],
      ["0x1.b5f0f92175ff5p-2", "0x1.24203c37b9e0cp+1"], ["0x1.6d82f7eb12b5dp+1", "-0x1.003bfc08c711bp-1"],
@@ -295,11 +295,11 @@ def _column_gap(o, y) -> float:
 
 
 def _moved_o1(o, gap):
-    """The obstacles with o1 moved along the line so that the corner (9, 9)'s column is ``gap``
-    from o1's (to within rounding)."""
+    """The obstacles with o1 moved along the line so that the corner JUMP_STARTS[3]'s column is
+    ``gap`` from o1's (to within rounding)."""
     e = (o[1] - o[0]) / np.linalg.norm(o[1] - o[0])
     out = o.copy()
-    out[0] = o[0] - (gap - _column_gap(o, np.array([9.0, 9.0]))) * e
+    out[0] = o[0] - (gap - _column_gap(o, np.array(JUMP_STARTS[3]))) * e
     return out
 
 
@@ -308,7 +308,8 @@ def test_the_known_float_jump_lies_next_to_a_wall_of_its_domain():
     jump is a column near-tie (the raw plan exactly as far from contact as the columns are
     apart); across the tie, with the same label, the raw plan barely moves and the refined path
     passes obstacle 1 on its other side, so it moves by more than the clearance it keeps; and
-    1e-5 from the tie the refined map is Lipschitz again at 1e-9 and 1e-12."""
+    1e-5 from the tie the refined map is Lipschitz again at 1e-6, 1e-9 and 1e-12 (moves that
+    stay on its side)."""
     o, s, g = _jump_query(0)
     gap = _column_gap(o, s[3])
     assert 6e-8 < gap < 8e-8 and gap == _column_gap(o, g[0])
@@ -327,7 +328,7 @@ def test_the_known_float_jump_lies_next_to_a_wall_of_its_domain():
     ob = _moved_o1(o, 1e-5)
     far = pmplan.plan(ob, s, g, **kw)
     rng = np.random.default_rng(3)
-    for dl in (1e-9, 1e-12):
+    for dl in DELTAS:
         for _ in range(3):
             moved = pmplan.plan(ob + dl * rng.uniform(-1, 1, ob.shape), s, g, **kw)
             assert moved.domain == far.domain
