@@ -37,6 +37,7 @@ __all__ = [
     "Family",
     "R",
     "queries",
+    "reason_category",
     "rows_main",
     "summary",
     "variants_markdown",
@@ -173,21 +174,36 @@ def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv
     return 0
 
 
+def reason_category(reason: str) -> str:
+    """Why a refined plan misses the radii, from its ``radius_reason``
+    (:mod:`pmplan.reasons`): ``"gap"`` (its path crosses a gap of the scene narrower than a
+    robot), else the worst contact the refinement did not clear: ``"robots"``, ``"wall"`` or
+    ``"obstacle"``."""
+    if "crosses the gap" in reason:
+        return "gap"
+    return "robots" if reason.startswith("robots") else "wall" if "from the wall" in reason \
+        else "obstacle"
+
+
 def summary(label: str, qs: list, plan) -> dict:
     """One cell of a per-row scene benchmark: ``plan(o, s, g)`` (a refined pmplan.Plan) on
     every query of ``qs``; the valid count (``respects_radius``, the walls included), the
-    median time per query (ms) and the median length / LB, printed after ``label``."""
+    median time per query (ms), the median length / LB and the invalid ones per
+    :func:`reason_category`, printed after ``label``."""
     import time
 
-    ok, times, ratios = 0, [], []
+    ok, times, ratios, why = 0, [], [], {}
     for o, s, g in qs:
         t0 = time.perf_counter()
         p = plan(o, s, g)
         times.append(time.perf_counter() - t0)
         ok += bool(p.respects_radius)
+        if not p.respects_radius:
+            cat = reason_category(p.radius_reason or "")
+            why[cat] = why.get(cat, 0) + 1
         ratios.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
     out = {"valid": ok, "count": len(times), "time_ms": 1e3 * float(np.median(times)),
-           "len_lb": float(np.median(ratios))}
+           "len_lb": float(np.median(ratios)), "why": why}
     print(f"{label}: {ok}/{len(times)} {out['time_ms']:.1f} ms len/LB {out['len_lb']:.2f}",
           flush=True)
     return out

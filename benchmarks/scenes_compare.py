@@ -275,19 +275,13 @@ def _label_change(a, b) -> bool:
 
 
 def why_category(plan, keeps: bool, inside: bool) -> str | None:
-    """Why an invalid pmplan path is invalid, from its ``radius_reason``
-    (:mod:`pmplan.reasons`): ``"gap"`` (its path crosses a gap of the scene narrower than a
-    robot), ``"robots"``, ``"obstacle"``, ``"wall"`` (the worst contact, the refinement did not
-    clear it) or ``"outside"`` (keeps r but leaves the box: planned without it)."""
+    """Why an invalid pmplan path is invalid: :func:`scenes.reason_category` of its
+    ``radius_reason``, or ``"outside"`` (keeps r but leaves the box: planned without it)."""
     if keeps and inside:
         return None
     if keeps:
         return "outside"
-    why = plan.radius_reason or ""
-    if "crosses the gap" in why:
-        return "gap"
-    return "robots" if why.startswith("robots") else "wall" if "from the wall" in why \
-        else "obstacle"
+    return scenes.reason_category(plan.radius_reason or "")
 
 
 def continuity(runner, o, s, g, res, rng) -> list[dict]:
