@@ -55,11 +55,13 @@ __all__ = [
 ]
 
 #: the width of the band along each wall where the map into the box is not the identity, as a
-#: fraction of the box's side. Measured on seed 3 of the scene families of
-#: benchmarks/scenes.py (12 rows of 16 queries, refined): 1/10 and 1/4 give the same valid
-#: shares within one query in ten rows, 1/10 three more in two (swap n = 8, 3-D room n = 16);
-#: 1/8 lies between and was not tuned further
-BAND = 0.125
+#: fraction of the box's side. Every width in (0, 1/2) keeps the domains and the labels; which
+#: paths cross a gap narrower than a robot depends on it (Mathematics §8). Chosen with
+#: benchmarks/band_ab.py (docs: The band of the box's map): on the scene families, wider bands
+#: than the 1/8 used before send fewer paths through such gaps and keep the radii on more
+#: queries, the gain flat from 1/4 to 7/16 on the design seeds; 5/16 was then confirmed on
+#: seeds not looked at, at a length about 1 % longer on the median row
+BAND = 0.3125
 #: the band of the map that brings a refined path into the box shrunk by ``radius``, as a
 #: fraction of the side: the identity wherever the refined path keeps that much more from the
 #: walls, the limits the refinement keeps its robots to. Narrow, since the refinement sees the
