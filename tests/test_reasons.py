@@ -20,13 +20,13 @@ from pmplan.io import plan_to_dict
 from pmplan.certify import exact_segment_dist2, point_pairs
 from pmplan.reasons import radius_reason
 
-#: a room query (rounded from benchmarks/scenes.py's room family, seed 3, n = 4, query 14): in
-#: the box [0, 10]^2 robot x1 crosses the gap between obstacle o3 and the wall y = 10, 0.18
+#: a room query (rounded from benchmarks/scenes.py's room family, seed 1, n = 4, query 4): in
+#: the box [0, 10]^2 robot x4 crosses the gap between obstacle o6 and the wall y = 0, 0.17
 #: wide; without the box the same refined plan keeps the radii
-ROOM = {"obstacles": [[3.73, 8.14], [8.61, 6.36], [8.86, 9.67], [7.16, 4.68], [7.35, 2.95],
-                      [1.36, 5.42]],
-        "start": [[4.62, 1.84], [4.49, 6.47], [5.83, 2.67], [0.62, 2.47]],
-        "goal": [[1.97, 7.03], [3.76, 9.12], [2.46, 2.61], [4.76, 2.83]]}
+ROOM = {"obstacles": [[3.72, 5.76], [4.92, 8.49], [7.06, 1.15], [1.38, 8.68], [5.92, 8.13],
+                      [8.8, 0.32]],
+        "start": [[3.43, 1.62], [8.57, 1.76], [3.29, 8.75], [2.22, 0.57]],
+        "goal": [[0.92, 9.06], [0.49, 2.08], [6.04, 3.95], [2.5, 8.29]]}
 NUMBER = r"([0-9.e+-]+)"
 
 
@@ -141,8 +141,8 @@ def test_a_plan_gives_its_reason_in_the_api_the_json_and_the_cli(capsys, tmp_pat
     assert not boxed.respects_radius
     assert boxed.radius_reason == radius_reason(boxed.path.times, boxed.path.waypoints, 6,
                                                 0.15, 0.15, boxed.bounds)
-    assert "robot x1 comes" in boxed.radius_reason
-    assert "crosses the gap between obstacle o3 and the wall x[1] = 10, 0.18 wide" \
+    assert "robot x4 comes" in boxed.radius_reason
+    assert "crosses the gap between obstacle o6 and the wall x[1] = 0, 0.17 wide" \
         in boxed.radius_reason
     free = pmplan.plan(o, s, g, **kw)
     assert free.respects_radius and free.radius_reason is None

@@ -55,13 +55,13 @@ __all__ = [
 ]
 
 #: the width of the band along each wall where the map into the box is not the identity, as a
-#: fraction of the box's side. Every width in (0, 1/2) keeps the domains and the labels; which
-#: paths cross a gap narrower than a robot depends on it (Mathematics §8). Chosen with
-#: benchmarks/band_ab.py (docs: The band of the box's map): on the scene families, wider bands
-#: than the 1/8 used before send fewer paths through such gaps and keep the radii on more
-#: queries, the gain flat from 1/4 to 7/16 on the design seeds; 5/16 was then confirmed on
-#: seeds not looked at, at a length about 1 % longer on the median row
-BAND = 0.3125
+#: fraction of the box's side. Every width in (0, 1/2) keeps the domains and the labels.
+#: benchmarks/band_ab.py (docs: The band of the box's map) measures 1/8 against 3/16, 1/4 and
+#: 5/16 on the scene families: the wider bands send fewer paths through gaps narrower than a
+#: robot and keep the radii on a few more queries, but raise the modulus of continuity (an
+#: obstacle near a wall is sent farther out, so a small move of it moves the lanes more); 1/8
+#: keeps the modulus the refinement's bound allows
+BAND = 0.125
 #: the band of the map that brings a refined path into the box shrunk by ``radius``, as a
 #: fraction of the side: the identity wherever the refined path keeps that much more from the
 #: walls, the limits the refinement keeps its robots to. Narrow, since the refinement sees the
