@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -65,6 +66,25 @@ def test_a_box_at_every_magnitude_is_bitwise_equivariant(k):
     assert np.array_equal(b.domain, a.domain)
     assert np.array_equal(b.waypoints, a.waypoints * f)
     assert np.array_equal(b.respects_radius, a.respects_radius) and a.respects_radius.sum() >= 10
+
+
+@pytest.mark.parametrize("band", [W.BAND, 3 / 16, 5 / 16])
+@pytest.mark.parametrize("w", [0.5, 0.1, 1e-3])
+def test_the_map_out_of_the_box_stretches_by_mu_over_w_squared(band, w):
+    """Mathematics §8: at a distance ``w`` (a fraction of the band) from a wall, ``phi^-1``
+    stretches by ``(mu / w)^2``, so an obstacle near a wall moves that much more in R^d: the
+    difference quotient over a step of 1e-6 w, against the closed form in exact arithmetic."""
+    box = np.array([[0.0], [10.0]])
+    mu = band * 10.0
+    y = 10.0 - w * mu
+    h = 1e-6 * w * mu
+    x = W.from_box(np.array([y, y + h]), box, band)
+    quotient = (x[1] - x[0]) / h
+    # the closed form, exactly: (psi^-1)'(y) = mu^2 / (hi - y)^2, and the secant's own error
+    # (the second derivative is 2 mu^2 / (hi - y)^3) is below h / (hi - y - h) of it
+    exact = Fraction(mu) ** 2 / (Fraction(10.0) - Fraction(y)) ** 2
+    assert abs(Fraction(quotient) / exact - 1) < 1e-5
+    assert float(exact) == pytest.approx((1.0 / w) ** 2, rel=1e-9)  # (y = hi - w mu, rounded)
 
 
 def test_far_points_stay_apart():
@@ -226,6 +246,7 @@ def test_json_and_cli(tmp_path):
 
 def test_dask_arrays_and_stores_in_a_box(tmp_path):
     import dask.array as da
+
     from pmplan import scale
 
     rng = np.random.default_rng(4)

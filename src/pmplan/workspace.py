@@ -58,9 +58,10 @@ __all__ = [
 #: fraction of the box's side. Every width in (0, 1/2) keeps the domains and the labels.
 #: benchmarks/band_ab.py (docs: The band of the box's map) measures 1/8 against 3/16, 1/4 and
 #: 5/16 on the scene families: the wider bands send fewer paths through gaps narrower than a
-#: robot and keep the radii on a few more queries, but raise the modulus of continuity (an
-#: obstacle near a wall is sent farther out, so a small move of it moves the lanes more); 1/8
-#: keeps the modulus the refinement's bound allows
+#: robot and keep the radii on a few more queries, but raise the modulus of continuity (at a
+#: distance w from a wall the map out of the box stretches by (mu / w)^2, so a small move of an
+#: obstacle there can move the lanes that much more); 1/8 keeps the most rows within issue 25's
+#: continuity goal of the four
 BAND = 0.125
 #: the band of the map that brings a refined path into the box shrunk by ``radius``, as a
 #: fraction of the side: the identity wherever the refined path keeps that much more from the
