@@ -4,7 +4,8 @@ ones, per row.
 
 Usage (from the repository root)::
 
-    python benchmarks/band_ab.py        # seeds 1, 2, 4-21, about 15 minutes
+    python benchmarks/band_ab.py                  # seeds 1, 2, 4-21, about 10 minutes
+    python benchmarks/band_ab.py --picture-only   # redraw docs/band_ab.png from the JSON
 
 A plan in a box is the plan of the query mapped out of the box by a homeomorphism that is the
 identity on the inner box and stretches a band of ``BAND`` times the side along each wall to
@@ -29,7 +30,9 @@ and 5 were looked at while choosing the variants; 6 to 21 were held out then, an
 shares and lengths (14 to 21: for 1/8 and 5/16, in total) seen before the modulus was
 measured, which was seen before this run on seeds 1 and 2 alone.
 
-Writes ``benchmarks/band_ab.json`` and ``.md``. Not a test module.
+Writes ``benchmarks/band_ab.json`` and ``.md``, and ``docs/band_ab.png``: per seed group and
+band, the share of rows meeting the valid share against the share meeting the continuity goal.
+Not a test module.
 """
 
 from __future__ import annotations
@@ -157,12 +160,7 @@ def markdown(res: dict) -> str:
                    "every delta; in brackets the largest K); the geometric mean over the rows of "
                    "the row's median len/LB over the band 1/8's (in brackets the largest)."), "",
               "| seeds | n | " + " | ".join(VARIANTS) + " |", "|---|---|" + "---|" * len(VARIANTS)]
-    seeds = sorted({r["seed"] for r in res["rows"]})
-    groups = [("design " + ", ".join(str(s) for s in seeds if s in DESIGN), DESIGN),
-              ("held out " + ", ".join(str(s) for s in seeds if s in SEEN), SEEN),
-              ("held out " + ", ".join(str(s) for s in seeds if s not in DESIGN | SEEN),
-               set(seeds) - DESIGN - SEEN)]
-    for name, group in groups:
+    for name, group in _groups(sorted({r["seed"] for r in res["rows"]})):
         for label, ns in (("2, 4", {2, 4}), ("8, 16", {8, 16}), ("all", set(NS))):
             rows = [r for r in res["rows"] if r["seed"] in group and r["n"] in ns]
             if rows:
@@ -170,9 +168,60 @@ def markdown(res: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _groups(seeds: list) -> list[tuple[str, set]]:
+    """The seed groups of the report: design, held out then (seen), held out."""
+    return [("design " + ", ".join(str(s) for s in seeds if s in DESIGN), DESIGN),
+            ("held out " + ", ".join(str(s) for s in seeds if s in SEEN), SEEN),
+            ("held out " + ", ".join(str(s) for s in seeds if s not in DESIGN | SEEN),
+             set(seeds) - DESIGN - SEEN)]
+
+
+def picture(res: dict, out: Path) -> None:
+    """Per seed group and band: the share of rows meeting issue 25's valid share against the
+    share meeting its continuity goal (``docs/band_ab.png``)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.6), layout="constrained")
+    seeds = sorted({r["seed"] for r in res["rows"]})
+    for (name, group), color in zip(_groups(seeds), ("tab:blue", "tab:orange", "tab:green")):
+        rows = [r for r in res["rows"] if r["seed"] in group]
+        if not rows:
+            continue
+        xs = [100 * np.mean([r["variants"][v]["k_over"] == 0 for r in rows]) for v in VARIANTS]
+        ys = [100 * np.mean([_meets(r["variants"][v], r["n"]) for r in rows]) for v in VARIANTS]
+        ax.plot(xs, ys, "-", color=color, lw=1, alpha=0.6)
+        for v, x, y in zip(VARIANTS, xs, ys):
+            ax.scatter(x, y, color=color, s=60 if v == VARIANTS[0] else 25, zorder=3,
+                       edgecolor="black", linewidth=0.5)
+            ax.annotate(v, (x, y), textcoords="offset points", xytext=(5, 4), fontsize=8)
+        ax.scatter([], [], color=color, label=f"seeds: {name} ({len(rows)} rows)")
+    ax.set_xlabel("rows meeting the continuity goal, K <= 1e3 at 1e-6, 1e-9, 1e-12 (%)")
+    ax.set_ylabel("rows meeting the valid share (%)")
+    ax.set_title("The band of the box's map (pmplan: 1/8, large dot): validity against "
+                 "continuity", fontsize=10)
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3)
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+
+
 def main(argv=None) -> int:
-    return scenes.rows_main("band_ab", __doc__, row, markdown, FAMILIES, NS,
-                            ",".join(str(s) for s in [1, 2, *range(4, 22)]), argv)
+    """Run the rows (``scenes.rows_main``) and draw the picture; ``--picture-only`` redraws it
+    from ``benchmarks/band_ab.json``."""
+    import json
+
+    here = Path(__file__).resolve().parent
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if "--picture-only" not in argv:
+        rc = scenes.rows_main("band_ab", __doc__, row, markdown, FAMILIES, NS,
+                              ",".join(str(s) for s in [1, 2, *range(4, 22)]), argv)
+        if rc:
+            return rc
+    picture(json.loads((here / "band_ab.json").read_text()), here.parent / "docs" / "band_ab.png")
+    return 0
 
 
 if __name__ == "__main__":
