@@ -39,7 +39,6 @@ from __future__ import annotations
 
 import functools
 import importlib
-import math
 import sys
 from pathlib import Path
 
@@ -47,6 +46,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes
+import scenes_compare
+from scenes_section import VALID_GOAL
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls", "room3d"]
 NS = [2, 4, 8, 16]
@@ -55,11 +56,10 @@ VARIANTS = list(BANDS)
 #: the seeds looked at while choosing the variants, and those held out then
 DESIGN = {1, 2, 4, 5}
 SEEN = set(range(6, 14))
-#: the moves of the continuity probe (scenes_compare.CONT_DELTAS) and its goal
-DELTAS = (1e-6, 1e-9, 1e-12)
-K_GOAL = 1e3
 RUNNING = importlib.import_module("pmplan.running")
 _FROM, _INTO = RUNNING.from_box, RUNNING.into_box
+#: the moved queries of the continuity probe: scenes_compare's pmplan default in the box
+_PROBE = scenes_compare.PmplanRunner(None, bounded=True)
 
 
 def variant(name: str) -> None:
@@ -69,34 +69,26 @@ def variant(name: str) -> None:
     RUNNING.into_box = _INTO if band is None else functools.partial(_INTO, frac=band)
 
 
-def _plan(o, s, g):
-    import pmplan
-
-    return pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), refine=True, radius=scenes.R / 2,
-                       obstacle_radius=scenes.R / 2)
-
-
 def row(fam: str, n: int, seed: int, count: int) -> dict:
-    """One row: every variant on the same queries and the same probe moves."""
-    from refine_continuity import _sup
-
+    """One row: every variant on the same queries and the same probe moves
+    (:func:`scenes_compare.continuity` from the same seed), each query planned once."""
     qs = scenes.queries(fam, n, count, seed)
-    rng = np.random.default_rng([seed, scenes.FAMILIES[fam].index, n, 99])
-    moves = [[[delta * rng.uniform(-1.0, 1.0, x.shape) for x in q] for delta in DELTAS]
-             for q in qs]
     out = {"family": fam, "n": n, "seed": seed, "variants": {}}
     for name in VARIANTS:
         variant(name)
-        cell = scenes.summary(f"seed {seed} {fam} n={n} band {name}", qs, _plan)
-        ks = []
-        for q, mq in zip(qs, moves):
-            p = _plan(*q)
-            for delta, mv in zip(DELTAS, mq):
-                p2 = _plan(*(x + dx for x, dx in zip(q, mv)))
-                if p2.domain == p.domain:
-                    ks.append(_sup(p, p2) / delta)
+        plans = []
+
+        def plan(o, s, g, plans=plans):
+            plans.append(scenes.refined_in_box(o, s, g))
+            return plans[-1]
+
+        cell = scenes.summary(f"seed {seed} {fam} n={n} band {name}", qs, plan)
+        rng = np.random.default_rng([seed, scenes.FAMILIES[fam].index, n, 99])
+        ks = [c["K"] for q, p in zip(qs, plans)
+              for c in scenes_compare.continuity(_PROBE, *q, (p, p.path.waypoints), rng)
+              if c["returned"] and not c["label_change"]]
         cell["k_max"] = float(max(ks)) if ks else float("nan")
-        cell["k_over"] = int(sum(k > K_GOAL for k in ks))
+        cell["k_over"] = int(sum(k > scenes_compare.CONT_GOAL for k in ks))
         cell["probes"] = len(ks)
         out["variants"][name] = cell
     variant(VARIANTS[0])
@@ -104,13 +96,13 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
 
 
 def _meets(cell: dict, n: int) -> bool:
-    """Issue 25's valid share: >= 95 % of the row for n <= 8, >= 80 % for n = 16."""
-    return cell["valid"] >= math.ceil((0.8 if n >= 16 else 0.95) * cell["count"])
+    """Issue 25's valid share (:data:`scenes_section.VALID_GOAL`)."""
+    return cell["valid"] / cell["count"] >= VALID_GOAL[n]
 
 
 def _totals(rows: list) -> list[str]:
     """Per variant over ``rows``: valid, gap / contact counts, rows meeting the valid share,
-    rows with every K <= K_GOAL, the geometric mean and the largest of the row's median len/LB
+    rows with every K <= the goal, the geometric mean and the largest of the row's median len/LB
     over the band 1/8's."""
     out = []
     for v in VARIANTS:

@@ -38,6 +38,7 @@ __all__ = [
     "R",
     "queries",
     "reason_category",
+    "refined_in_box",
     "rows_main",
     "summary",
     "variants_markdown",
@@ -211,21 +212,26 @@ def summary(label: str, qs: list, plan) -> dict:
 
 def variants_row(fam: str, n: int, seed: int, count: int, variants: dict) -> dict:
     """One row of an A/B scene benchmark: pmplan's default plan in the box (``bounds=(0,
-    SIZE)``) refined at its default effort with radius = obstacle_radius = R/2, under every
-    variant of ``variants`` (name -> a function that switches pmplan to it; the first is
-    switched back at the end), on the same queries (:func:`summary` per variant)."""
-    import pmplan
-
+    SIZE)``) refined at its default effort with radius = obstacle_radius = R/2
+    (:func:`refined_in_box`), under every variant of ``variants`` (name -> a function that
+    switches pmplan to it; the first is switched back at the end), on the same queries
+    (:func:`summary` per variant)."""
     qs = queries(fam, n, count, seed)
     out = {"family": fam, "n": n, "seed": seed, "variants": {}}
     for name, switch in variants.items():
         switch()
-        out["variants"][name] = summary(
-            f"seed {seed} {fam} n={n} {name}", qs,
-            lambda o, s, g: pmplan.plan(o, s, g, bounds=(0.0, SIZE), refine=True,
-                                        radius=R / 2, obstacle_radius=R / 2))
+        out["variants"][name] = summary(f"seed {seed} {fam} n={n} {name}", qs, refined_in_box)
     next(iter(variants.values()))()
     return out
+
+
+def refined_in_box(o: np.ndarray, s: np.ndarray, g: np.ndarray):
+    """pmplan's default plan of one query in the box ``(0, SIZE)``, refined at its default
+    effort with radius = obstacle_radius = R/2: the plan the per-row scene benchmarks measure."""
+    import pmplan
+
+    return pmplan.plan(o, s, g, bounds=(0.0, SIZE), refine=True, radius=R / 2,
+                       obstacle_radius=R / 2)
 
 
 def variants_markdown(res: dict, title: str, prose: str, names: list, new: str,
