@@ -137,8 +137,10 @@ def _cp(points, o1, w) -> int:
     return len({_dot(_sub(y, o1), w) for y in points})
 
 
-def _deform(obstacles, robots, o1, w, norm, e):
-    """Return (H(C, 1/2), H(C, 1), eps) for one configuration (robots only move)."""
+def _deform(obstacles, robots, o1, w, norm, e, offsets=None):
+    """Return (H(C, 1/2), H(C, 1), eps) for one configuration (robots only move); with
+    ``offsets`` = nu(e) (the compact lanes, d >= 3) every robot keeps its offset, the part of
+    its perpendicular part orthogonal to nu (Mathematics §4.4)."""
     n, m = len(robots), len(obstacles)
     allp = obstacles + robots
     cols = [_dot(_sub(y, o1), w) for y in allp]  # |w| * s(y), exact
@@ -152,6 +154,9 @@ def _deform(obstacles, robots, o1, w, norm, e):
         desing = [list(x) for x in robots]
     # projection p(y) = o1 + s(y) e, s(y) = (y - o1).e
     proj = [_add(o1, _mul(_round(_dot(_sub(x, o1), e)), e)) for x in desing]
+    if offsets is not None and len(o1) > 2:
+        rs = [_sub(x, p) for x, p in zip(desing, proj)]
+        proj = [_add(p, _sub(r, _mul(_dot(r, offsets), offsets))) for p, r in zip(proj, rs)]
     return desing, proj, eps
 
 
@@ -168,7 +173,8 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
     robots to ``L``, lift by ``i lambda nu(e)``, slide, descend, and the reverse deformation of C'.
     ``lam`` overrides lambda (to show that ``lambda = lift`` alone is not enough).
     ``compact``: the compact lanes of Mathematics §4.4 (``obstacle_line_compact``): robot i at
-    ``+(H_+ + k lift)`` (odd i) or ``-(H_- + k lift)`` (even i), ``k = ceil(i / 2)``.
+    ``+(H_+ + k lift)`` (odd i) or ``-(H_- + k lift)`` (even i), ``k = ceil(i / 2)``, and in
+    d >= 3 the projection keeps the robots' offsets.
     """
     obs = [_exact_point(p) for p in obstacles]
     xs = [_exact_point(p) for p in start]
@@ -191,8 +197,8 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
         r = _sub(rel, _mul(s, w))
         rmax = max(rmax, frac_sqrt(_dot(r, r)))
     lam = Fraction(lift) + rmax if lam is None else Fraction(lam)
-    d1, p1, eps_s = _deform(obs, xs, o1, w, norm, e)
-    d2, p2, eps_g = _deform(obs, ys, o1, w, norm, e)
+    d1, p1, eps_s = _deform(obs, xs, o1, w, norm, e, nu if compact else None)
+    d2, p2, eps_g = _deform(obs, ys, o1, w, norm, e, nu if compact else None)
     heights = [(i + 1) * lam for i in range(len(xs))]
     if compact:  # t_k = (o_k - o_1) . nu, k >= 3
         ts = [_dot(_sub(o, o1), nu) for o in obs[2:]]

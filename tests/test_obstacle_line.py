@@ -451,6 +451,65 @@ def test_compact_lanes_pass_where_the_papers_climb():
     assert compact.clearance > 0 and paper.clearance > 0
 
 
+@settings(max_examples=60)
+@given(d=st.sampled_from([2, 3, 4, 5]), m=st.sampled_from([2, 3, 5]),
+       n=st.sampled_from([1, 2, 5]), data=st.data())
+def test_compact_lanes_keep_the_offsets_in_space(d, m, n, data):
+    """Mathematics §4.4, offsets: at the end of the projection (waypoints 2 and 5) a robot of
+    the compact planner has the column and the offset of its desingularized position
+    (waypoints 1 and 6) and no component along nu: in the plane that is the paper's projection
+    onto the line, bit for bit; in d >= 3 the offset is kept (the rational reference, within a
+    relative 1e-12), so the robots are not all on the line, unless every offset is 0."""
+    q = data.draw(queries(d, m, n, degenerate=data.draw(st.booleans())))
+    compact = pmplan.plan(*q, planner="obstacle_line_compact")
+    paper = pmplan.plan(*q, planner="obstacle_line")
+    w = compact.path.waypoints
+    assert compact.domain == paper.domain and compact.stratum == paper.stratum
+    if d == 2:
+        np.testing.assert_array_equal(w[[1, 2, 5, 6]], paper.path.waypoints[[1, 2, 5, 6]])
+        return
+    ref = reference_plan(*q, compact=True)
+    nu, o1 = ref.nu, ref.exact[0][0]
+    o2 = ref.exact[0][1]
+    e = [b - a for a, b in zip(o1, o2)]
+    ee = sum(c * c for c in e)
+    scale = max(abs(c) for conf in ref.exact for p in conf for c in p)
+
+    def parts(p):  # column (times |w|), nu-component, offset
+        rel = [a - b for a, b in zip(p, o1)]
+        s = sum(a * b for a, b in zip(rel, e))
+        r = [a - s / ee * b for a, b in zip(rel, e)]
+        t = sum(a * b for a, b in zip(r, nu))
+        return s, t, [a - t * b for a, b in zip(r, nu)]
+
+    tol = Fraction(1, 10**12) * scale
+    for k_des, k_proj in ((1, 2), (6, 5)):
+        for x, y, yf in zip(ref.exact[k_des][m:], ref.exact[k_proj][m:], w[k_proj, m:]):
+            (s1, _, p1), (s2, t2, p2) = parts(x), parts(y)
+            assert abs(s1 - s2) <= tol * ee ** 0.5 and abs(t2) <= tol
+            assert max(abs(a - b) for a, b in zip(p1, p2)) <= tol
+            assert np.abs(yf - np.array([float(c) for c in y])).max() <= 1e-12 * float(scale)
+
+
+def test_offsets_keep_robots_of_close_columns_apart():
+    """Two robots whose columns differ by 1e-6 but whose offsets differ by 2 (d = 3): the
+    paper's projection brings them 1e-6 apart on the obstacle line at tau = 1/3; with the
+    offsets (the default planner, Mathematics §4.4) they stay about 2 apart, and the plan's
+    clearance is that of its lanes, not that of the columns."""
+    o = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
+    nu = pmplan.frame.nu(np.array([[1.0, 0.0, 0.0]]))[0][0]
+    off = np.cross([1.0, 0.0, 0.0], nu)  # orthogonal to e and to nu
+    s = [np.array([0.5, 0.0, 0.0]) + off + 0.5 * nu, np.array([0.5 + 1e-6, 0, 0]) - off - 0.5 * nu]
+    g = [np.array([3.0, 0.0, 0.0]) + off, np.array([-2.0, 0.0, 0.0]) - off]
+    paper = pmplan.plan(o, s, g, planner="obstacle_line")
+    compact = pmplan.plan(o, s, g)
+    assert compact.domain == paper.domain
+    assert paper.clearance < 2e-6
+    assert compact.clearance > 0.5
+    at_line = compact.path.waypoints[2]  # tau = 1/3: the projection's end
+    np.testing.assert_allclose(np.linalg.norm(at_line[2] - at_line[3]), 2.0, rtol=1e-6)
+
+
 @pytest.mark.parametrize("radius, obstacle_radius, unit", [(0.1, 0.1, 0.2), (0.1, 0.3, 0.4),
                                                            (0.2, 0.0, 0.4)])
 def test_the_default_unit_of_a_refined_plan_is_the_robots_diameter(radius, obstacle_radius,

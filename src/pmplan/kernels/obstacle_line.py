@@ -14,7 +14,8 @@ without any temporary larger than a few rows, exactly what that reference comput
   ``e == N`` case) and ``lambda = lift + max_k |r(o_k)|`` (Mathematics §4.2), where ``lift`` is the
   unit, or for ``lift="scene"`` the obstacles' radius ``u(O) = max_k |o_k - o_1|`` of each query;
 * the ``7 (r - 1) + 1`` waypoints of paper Remark 2.5 -- desingularization of paper (3.2),
-  projection of paper (3.6), section of paper (3.8) -- written directly
+  projection of paper (3.6) (for the compact lanes in d >= 3 keeping the robots' offsets,
+  Mathematics §4.4), section of paper (3.8) -- written directly
   into the caller's output array (Mathematics §4.3 for r > 2);
 * the certificate of Mathematics §6: endpoints, obstacles fixed, finiteness, and the clearance
   (closed-form minimum distance per piece and pair, as :func:`pmplan.certify.clearance`).
@@ -488,8 +489,9 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
     skipped is never below the minimum: the result is bitwise the unpruned one.
 
     ``best`` starts as the float distance on the piece 1 -> 2 of the neighbours in the first
-    group's order closest at waypoint 2, where the robots lie on the obstacle line and the
-    columns' gaps make it small.
+    group's order closest at waypoint 2, where the robots lie on the obstacle line (the compact
+    lanes in d >= 3: in its hyperplane orthogonal to ``nu``) and the columns' gaps make it
+    small.
     """
     row = p * d
     _directions(w, p, m, d, amax, aux)
@@ -941,6 +943,12 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
                     s1 += (xc - y[k, 0, c]) * e[c]
                 for c in range(d):
                     x2[k, j, c] = y[k, 0, c] + s1 * e[c]
+                if compact and d > 2:  # the offsets (obstacle_line.offset, Mathematics §4.4)
+                    tn = 0.0
+                    for c in range(d):
+                        tn += (x1[k, j, c] - x2[k, j, c]) * nu[c]
+                    for c in range(d):
+                        x2[k, j, c] = x2[k, j, c] + ((x1[k, j, c] - x2[k, j, c]) - tn * nu[c])
         if fl:
             flags[b] = fl
             continue
@@ -1802,6 +1810,17 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     x2 = (k * n + j) * d + c
                     for l in range(L):
                         X2[x2, l] = Y[yk + c, l] + T[ACC, l] * E[c, l]
+                if compact and d > 2:  # the offsets (plan_queries, operation for operation)
+                    for l in range(L):
+                        T[ACC, l] = 0.0
+                    for c in range(d):
+                        x2 = (k * n + j) * d + c
+                        for l in range(L):
+                            T[ACC, l] += (X1[x2, l] - X2[x2, l]) * NU[c, l]
+                    for c in range(d):
+                        x2 = (k * n + j) * d + c
+                        for l in range(L):
+                            X2[x2, l] = X2[x2, l] + ((X1[x2, l] - X2[x2, l]) - T[ACC, l] * NU[c, l])
         # a block with few generic queries (a degenerate batch) goes to the scalar kernel at
         # once: finishing the block costs about what the scalar kernel takes for L / 3 queries
         ngood = 0

@@ -15,7 +15,8 @@ unit normal of :mod:`pmplan.frame`.
   ``x_j -> x_j + t j eps(C) e``; it is the identity when no robot shares its column with another
   point (``cp(C) = cp_o + n``; for m = 2, ``cp(C) = n+2``).
 * Projection of paper (3.6), Figure 3: robots ``x -> x - t r(x)``;
-  obstacles never move.
+  obstacles never move. (The compact lanes, d >= 3: ``x -> x - t (r(x).nu) nu``, the robot
+  keeps its offset ``r(x) - (r(x).nu) nu``, Mathematics §4.4.)
 * ``H(C, s)``: the desingularization at 2s on [0, 1/2], then the projection at 2s - 1.
 * Section over collinear pairs of paper (3.8), Figure 4: robot i is lifted by
   ``i lambda nu(e)``, slides from X_i to X'_i, and descends, with
@@ -55,6 +56,7 @@ __all__ = [
     "ColumnStructure",
     "column_structure",
     "deformation",
+    "offset",
     "section",
     "path_times",
     "ObstacleLinePlanner",
@@ -94,11 +96,16 @@ def column_structure(fr: Frame, obstacles: np.ndarray, robots: np.ndarray) -> Co
     return ColumnStructure(cp=cp, cp_o=cp_o, desingularize=cp < cp_o + n, eps=eps)
 
 
-def deformation(fr: Frame, obstacles, robots, cols: ColumnStructure) -> PiecewiseLinearPath:
-    """Return ``H(C, .)``: desingularization on [0, 1/2], projection to L_C on [1/2, 1].
+def deformation(fr: Frame, obstacles, robots, cols: ColumnStructure,
+                offsets: bool = False) -> PiecewiseLinearPath:
+    """Return ``H(C, .)``: desingularization on [0, 1/2], projection on [1/2, 1].
 
     Waypoints C, C1 = F(C, 1) (paper (3.2)), C2 = phi(C1, 1) (paper
-    (3.6)), shape (B, 3, m+n, d).
+    (3.6)), shape (B, 3, m+n, d). With ``offsets`` (the compact lanes, Mathematics §4.4, for
+    d >= 3) the projection removes only the ``nu(e)`` part of every robot's perpendicular part
+    ``r(x)``: C2 keeps the *offset* ``r(x) - (r(x).nu) nu``, and lies in the hyperplane through
+    the obstacle line orthogonal to ``nu``, not on the line (in the plane the offset is 0: the
+    projection is paper (3.6)).
     """
     n = robots.shape[1]
     j = np.arange(1, n + 1, dtype=float)
@@ -106,10 +113,21 @@ def deformation(fr: Frame, obstacles, robots, cols: ColumnStructure) -> Piecewis
     x1 = robots + shift[..., None] * fr.e[:, None, :]
     s1 = ((x1 - fr.o1[:, None, :]) * fr.e[:, None, :]).sum(-1)
     x2 = fr.o1[:, None, :] + s1[..., None] * fr.e[:, None, :]
+    if offsets and robots.shape[2] > 2:
+        x2 = x2 + offset(fr, x1 - x2)
     c0 = np.concatenate([obstacles, robots], axis=1)
     c1 = np.concatenate([obstacles, x1], axis=1)
     c2 = np.concatenate([obstacles, x2], axis=1)
     return linear(c0, c1).join(linear(c1, c2), at=[0.5])
+
+
+def offset(fr: Frame, r: np.ndarray) -> np.ndarray:
+    """The offsets ``r - (r.nu(e)) nu(e)`` of perpendicular parts ``r`` (B, n, d) (Mathematics
+    §4.4), the sums over the coordinates in order (as the kernels compute them)."""
+    t = np.zeros(r.shape[:2])
+    for c in range(r.shape[2]):
+        t = t + r[..., c] * fr.nu[:, None, c]
+    return r - t[..., None] * fr.nu[:, None, :]
 
 
 def lift_height(fr: Frame, obstacles: np.ndarray, lift: float) -> np.ndarray:
@@ -279,7 +297,7 @@ class ObstacleLinePlanner(Planner):
         r = len(configs)
         fr = Frame(obstacles[:, 0], obstacles[:, 1])
         cols = [column_structure(fr, obstacles, c) for c in configs]
-        hs = [deformation(fr, obstacles, c, cs) for c, cs in zip(configs, cols)]
+        hs = [deformation(fr, obstacles, c, cs, self.compact) for c, cs in zip(configs, cols)]
         heights = lane_heights(fr, obstacles, lift, configs[0].shape[1], self.compact)
         legs = [two_configuration_path(fr, obstacles, hs[k], hs[k + 1], heights)
                 for k in range(r - 1)]
@@ -314,7 +332,10 @@ class CompactLinePlanner(ObstacleLinePlanner):
     optimal on the same domains, paper Theorem 2.6); only the section's lanes differ
     (:func:`lane_heights`): the robots alternate between the two sides of the line, and the
     lanes are spaced by the unit above the obstacles' heights on each side, instead of
-    ``i lambda``. The paths are shorter and stay nearer the obstacles' line, which is what a
+    ``i lambda``; and in d >= 3 the projection keeps every robot's *offset*, the part of its
+    perpendicular part orthogonal to ``nu(e)`` (:func:`offset`), so that the robots do not all
+    meet the obstacle line at once (in the plane the paths are those of the paper's projection,
+    bit for bit). The paths are shorter and stay nearer the obstacles' line, which is what a
     crowded workspace needs; ``planner="obstacle_line"`` gives the paper's paths.
     """
 
