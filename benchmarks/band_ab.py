@@ -107,22 +107,14 @@ def _totals(rows: list) -> list[str]:
     out = []
     for v in VARIANTS:
         cells = [(r["variants"][v], r["n"], r["variants"]["1/8"]) for r in rows]
-        valid = sum(c["valid"] for c, _, _ in cells)
-        count = sum(c["count"] for c, _, _ in cells)
         gap = sum(c["why"].get("gap", 0) for c, _, _ in cells)
         contact = sum(sum(c["why"].values()) for c, _, _ in cells) - gap
         meets = sum(_meets(c, n) for c, n, _ in cells)
-        smooth = sum(c["k_over"] == 0 for c, _, _ in cells)
-        kmax = max(c["k_max"] for c, _, _ in cells)
-        ratio = np.array([c["len_lb"] / b["len_lb"] for c, _, b in cells])
-        out.append(f"{valid}/{count}, {gap} / {contact}, {meets}/{len(cells)}, "
-                   f"{smooth}/{len(cells)} ({_fmt_k(kmax)}), "
-                   f"{float(np.exp(np.log(ratio).mean())):.3f} ({ratio.max():.2f})")
+        out.append(f"{scenes.valid_total([c for c, _, _ in cells])}, {gap} / {contact}, "
+                   f"{meets}/{len(cells)}, "
+                   f"{scenes.continuity_total([c for c, _, _ in cells])}, "
+                   f"{scenes.length_total([(c, b) for c, _, b in cells])}")
     return out
-
-
-def _fmt_k(k: float) -> str:
-    return f"{k:,.0f}" if k < 1e5 else f"{k:.1e}"
 
 
 def markdown(res: dict) -> str:
@@ -138,13 +130,9 @@ def markdown(res: dict) -> str:
              "while choosing the variants, 6 to 21 for their valid shares and lengths before "
              "this run; the modulus was seen before on seeds 1 and 2 alone.")
     lines = ["# The band of the box's map: valid share, length, continuity", "", prose, "",
-             "| seed | row | " + " | ".join(f"{v}: valid, len/LB, K" for v in VARIANTS) + " |",
-             "|---|---|" + "---|" * len(VARIANTS)]
-    for r in res["rows"]:
-        cells = [f"{e['valid']}/{e['count']}, {e['len_lb']:.2f}, {_fmt_k(e['k_max'])}"
-                 + (f" ({e['k_over']})" if e["k_over"] else "")
-                 for e in r["variants"].values()]
-        lines.append(f"| {r['seed']} | {r['family']} n = {r['n']} | " + " | ".join(cells) + " |")
+             *scenes.variant_rows(res, "valid, len/LB, K",
+                                  lambda e: f"{e['valid']}/{e['count']}, {e['len_lb']:.2f}, "
+                                            f"{scenes.fmt_k(e['k_max'])}")]
     lines += ["", ("Per variant and group of rows: valid queries; invalid ones crossing a gap "
                    "narrower than a robot / with a contact the refinement did not clear "
                    "(`Plan.radius_reason`); rows meeting issue 25's valid share (>= 95 % for "

@@ -109,10 +109,6 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
     return out
 
 
-def _fmt_k(k: float) -> str:
-    return f"{k:,.0f}" if k < 1e5 else f"{k:.1e}"
-
-
 def _totals(rows: list) -> list[str]:
     """Per variant over ``rows``: valid queries, rows meeting the continuity goal (the largest
     K), the geometric mean of the row's median raw clearance and of its median len/LB over the
@@ -120,14 +116,10 @@ def _totals(rows: list) -> list[str]:
     out = []
     for v in VARIANTS:
         cells = [(r["variants"][v], r["variants"]["line"]) for r in rows]
-        valid = sum(c["valid"] for c, _ in cells)
-        count = sum(c["count"] for c, _ in cells)
-        smooth = sum(c["k_over"] == 0 for c, _ in cells)
-        kmax = max(c["k_max"] for c, _ in cells)
-        craw = float(np.exp(np.mean([np.log(c["c_raw_median"]) for c, _ in cells])))
-        ratio = np.array([c["len_lb"] / b["len_lb"] for c, b in cells])
-        out.append(f"{valid}/{count}, {smooth}/{len(cells)} ({_fmt_k(kmax)}), {craw:.3g}, "
-                   f"{float(np.exp(np.log(ratio).mean())):.3f} ({ratio.max():.2f})")
+        own = [c for c, _ in cells]
+        craw = float(np.exp(np.mean([np.log(c["c_raw_median"]) for c in own])))
+        out.append(f"{scenes.valid_total(own)}, {scenes.continuity_total(own)}, {craw:.3g}, "
+                   f"{scenes.length_total(cells)}")
     return out
 
 
@@ -145,14 +137,10 @@ def markdown(res: dict) -> str:
              "while designing the offsets, the others were not.")
     lines = ["# The offsets of the compact lanes: clearance, length, continuity (3-D)", "",
              prose, "",
-             "| seed | row | " + " | ".join(f"{v}: valid, len/LB, c_raw, K" for v in VARIANTS)
-             + " |", "|---|---|" + "---|" * len(VARIANTS)]
-    for r in res["rows"]:
-        cells = [f"{e['valid']}/{e['count']}, {e['len_lb']:.3f}, {e['c_raw_median']:.3g} "
-                 f"({e['c_raw_min']:.2g}), {_fmt_k(e['k_max'])}"
-                 + (f" ({e['k_over']})" if e["k_over"] else "")
-                 for e in r["variants"].values()]
-        lines.append(f"| {r['seed']} | {r['family']} n = {r['n']} | " + " | ".join(cells) + " |")
+             *scenes.variant_rows(res, "valid, len/LB, c_raw, K",
+                                  lambda e: f"{e['valid']}/{e['count']}, {e['len_lb']:.3f}, "
+                                            f"{e['c_raw_median']:.3g} ({e['c_raw_min']:.2g}), "
+                                            f"{scenes.fmt_k(e['k_max'])}")]
     lines += ["", ("Per variant and group of rows: valid queries; rows meeting issue 25's "
                    "continuity goal (K <= 1e3 at every delta; in brackets the largest K); the "
                    "geometric mean over the rows of the row's median raw clearance; the "

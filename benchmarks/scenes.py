@@ -36,11 +36,16 @@ __all__ = [
     "WALL_GAP",
     "Family",
     "R",
+    "continuity_total",
+    "fmt_k",
+    "length_total",
     "queries",
     "reason_category",
     "refined_in_box",
     "rows_main",
     "summary",
+    "valid_total",
+    "variant_rows",
     "variants_markdown",
     "variants_row",
 ]
@@ -234,6 +239,44 @@ def refined_in_box(o: np.ndarray, s: np.ndarray, g: np.ndarray):
                        obstacle_radius=R / 2)
 
 
+def fmt_k(k: float) -> str:
+    """A modulus of continuity K in a report: ``4,489``, or ``4.7e+05`` from 1e5 on."""
+    return f"{k:,.0f}" if k < 1e5 else f"{k:.1e}"
+
+
+def valid_total(cells: list) -> str:
+    """Over the cells of a group of rows: the valid queries over the queries."""
+    return f"{sum(c['valid'] for c in cells)}/{sum(c['count'] for c in cells)}"
+
+
+def continuity_total(cells: list) -> str:
+    """Over the cells of a group of rows: those meeting issue 25's continuity goal (no probe
+    above it, ``k_over``) and, in brackets, the largest K."""
+    kmax = max(c["k_max"] for c in cells)
+    return f"{sum(c['k_over'] == 0 for c in cells)}/{len(cells)} ({fmt_k(kmax)})"
+
+
+def length_total(pairs: list) -> str:
+    """Over the (cell, base cell) pairs of a group of rows: the geometric mean of the cell's
+    median len/LB over the base's and, in brackets, the largest ratio."""
+    ratio = np.array([c["len_lb"] / b["len_lb"] for c, b in pairs])
+    return f"{float(np.exp(np.log(ratio).mean())):.3f} ({ratio.max():.2f})"
+
+
+def variant_rows(res: dict, columns: str, cell) -> list[str]:
+    """The per-row table of an A/B scene benchmark: per row (seed, family, n) and variant
+    ``cell(entry)`` under ``"<variant>: <columns>"``, followed by the entry's probes above the
+    continuity goal in brackets when it counts some (``k_over``)."""
+    names = list(res["rows"][0]["variants"])
+    lines = ["| seed | row | " + " | ".join(f"{v}: {columns}" for v in names) + " |",
+             "|---|---|" + "---|" * len(names)]
+    for r in res["rows"]:
+        cells = [cell(e) + (f" ({e['k_over']})" if e.get("k_over") else "")
+                 for e in r["variants"].values()]
+        lines.append(f"| {r['seed']} | {r['family']} n = {r['n']} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def variants_markdown(res: dict, title: str, prose: str, names: list, new: str,
                       base: str) -> str:
     """The report of an A/B scene benchmark (rows of :func:`variants_row`): per row and
@@ -245,12 +288,9 @@ def variants_markdown(res: dict, title: str, prose: str, names: list, new: str,
              + " valid = keeps the radii and the walls (decided exactly); time = median ms per "
              "query (plan + refinement, one core; a shared machine: compare within a row); "
              "len/LB = median length / sum of the straight distances.", "",
-             "| seed | row | " + " | ".join(f"{v}: valid, ms, len/LB" for v in names) + " |",
-             "|---|---|" + "---|" * len(names)]
-    for r in res["rows"]:
-        cells = [f"{e['valid']}/{e['count']}, {e['time_ms']:.1f}, {e['len_lb']:.2f}"
-                 for e in r["variants"].values()]
-        lines.append(f"| {r['seed']} | {r['family']} n = {r['n']} | " + " | ".join(cells) + " |")
+             *variant_rows(res, "valid, ms, len/LB",
+                           lambda e: f"{e['valid']}/{e['count']}, {e['time_ms']:.1f}, "
+                                     f"{e['len_lb']:.2f}")]
     lines += ["", "Totals (valid queries of all rows of a seed):", "",
               "| seed | " + " | ".join(names) + f" | rows where {new} beats {base} / loses |",
               "|---|" + "---|" * (len(names) + 1)]
