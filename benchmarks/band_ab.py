@@ -84,12 +84,9 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
 
         cell = scenes.summary(f"seed {seed} {fam} n={n} band {name}", qs, plan)
         rng = np.random.default_rng([seed, scenes.FAMILIES[fam].index, n, 99])
-        ks = [c["K"] for q, p in zip(qs, plans)
-              for c in scenes_compare.continuity(_PROBE, *q, (p, p.path.waypoints), rng)
-              if c["returned"] and not c["label_change"]]
-        cell["k_max"] = float(max(ks)) if ks else float("nan")
-        cell["k_over"] = int(sum(k > scenes_compare.CONT_GOAL for k in ks))
-        cell["probes"] = len(ks)
+        cell.update(scenes_compare.probe_summary(
+            [c for q, p in zip(qs, plans)
+             for c in scenes_compare.continuity(_PROBE, *q, (p, p.path.waypoints), rng)]))
         out["variants"][name] = cell
     variant(VARIANTS[0])
     return out
@@ -139,12 +136,8 @@ def markdown(res: dict) -> str:
                    "n <= 8, >= 80 % for n = 16); rows meeting its continuity goal (K <= 1e3 at "
                    "every delta; in brackets the largest K); the geometric mean over the rows of "
                    "the row's median len/LB over the band 1/8's (in brackets the largest)."), "",
-              "| seeds | n | " + " | ".join(VARIANTS) + " |", "|---|---|" + "---|" * len(VARIANTS)]
-    for name, group in _groups(sorted({r["seed"] for r in res["rows"]})):
-        for label, ns in (("2, 4", {2, 4}), ("8, 16", {8, 16}), ("all", set(NS))):
-            rows = [r for r in res["rows"] if r["seed"] in group and r["n"] in ns]
-            if rows:
-                lines.append(f"| {name} | {label} | " + " | ".join(_totals(rows)) + " |")
+              *scenes.group_table(res, _groups(sorted({r["seed"] for r in res["rows"]})),
+                                  _totals, VARIANTS)]
     return "\n".join(lines) + "\n"
 
 

@@ -88,19 +88,17 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
     for name in VARIANTS:
         variant(name)
         rng = np.random.default_rng([seed, scenes.FAMILIES[fam].index, n, 99])
-        valid, lens, craw, ks = 0, [], [], []
+        valid, lens, craw, probes = 0, [], [], []
         for o, s, g in qs:
             _, res = runner.plan(o, s, g)
             p = res[0]
             valid += bool(p.respects_radius)
             lens.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
             craw.append(p.raw_clearance)
-            ks += [c["K"] for c in scenes_compare.continuity(runner, o, s, g, res, rng)
-                   if c["returned"] and not c["label_change"]]
+            probes += scenes_compare.continuity(runner, o, s, g, res, rng)
         cell = {"valid": valid, "count": len(qs), "len_lb": float(np.median(lens)),
                 "c_raw_median": float(np.median(craw)), "c_raw_min": float(min(craw)),
-                "k_max": float(max(ks)) if ks else float("nan"),
-                "k_over": int(sum(k > scenes_compare.CONT_GOAL for k in ks)), "probes": len(ks)}
+                **scenes_compare.probe_summary(probes)}
         print(f"seed {seed} {fam} n={n} {name}: {valid}/{len(qs)} len/LB {cell['len_lb']:.3f} "
               f"c_raw {cell['c_raw_median']:.3g} (min {cell['c_raw_min']:.2g}) "
               f"K {cell['k_max']:.0f} ({cell['k_over']})", flush=True)
@@ -145,17 +143,12 @@ def markdown(res: dict) -> str:
                    "continuity goal (K <= 1e3 at every delta; in brackets the largest K); the "
                    "geometric mean over the rows of the row's median raw clearance; the "
                    "geometric mean of the row's median len/LB over the line's (in brackets the "
-                   "largest)."), "",
-              "| seeds | n | " + " | ".join(VARIANTS) + " |", "|---|---|" + "---|" * len(VARIANTS)]
+                   "largest)."), ""]
     seeds = sorted({r["seed"] for r in res["rows"]})
     groups = [("design " + ", ".join(str(s) for s in seeds if s in DESIGN), DESIGN),
               ("held out " + ", ".join(str(s) for s in seeds if s not in DESIGN),
                set(seeds) - DESIGN)]
-    for name, group in groups:
-        for label, ns in (("2, 4", {2, 4}), ("8, 16", {8, 16}), ("all", set(NS))):
-            rows = [r for r in res["rows"] if r["seed"] in group and r["n"] in ns]
-            if rows:
-                lines.append(f"| {name} | {label} | " + " | ".join(_totals(rows)) + " |")
+    lines += scenes.group_table(res, groups, _totals, VARIANTS)
     return "\n".join(lines) + "\n"
 
 

@@ -38,6 +38,7 @@ __all__ = [
     "R",
     "continuity_total",
     "fmt_k",
+    "group_table",
     "length_total",
     "queries",
     "reason_category",
@@ -274,6 +275,19 @@ def variant_rows(res: dict, columns: str, cell) -> list[str]:
         cells = [cell(e) + (f" ({e['k_over']})" if e.get("k_over") else "")
                  for e in r["variants"].values()]
         lines.append(f"| {r['seed']} | {r['family']} n = {r['n']} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def group_table(res: dict, groups: list, totals, names: list) -> list[str]:
+    """The totals table of an A/B scene benchmark: per group of seeds ``(name, seeds)`` and
+    group of robot counts (n = 2 and 4, 8 and 16, all), ``totals(rows)`` -- one text per variant
+    of ``names`` -- over the rows of ``res`` in both."""
+    lines = ["| seeds | n | " + " | ".join(names) + " |", "|---|---|" + "---|" * len(names)]
+    for name, group in groups:
+        for label, ns in (("2, 4", {2, 4}), ("8, 16", {8, 16}), ("all", None)):
+            rows = [r for r in res["rows"] if r["seed"] in group and (ns is None or r["n"] in ns)]
+            if rows:
+                lines.append(f"| {name} | {label} | " + " | ".join(totals(rows)) + " |")
     return lines
 
 

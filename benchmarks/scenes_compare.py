@@ -301,6 +301,15 @@ def continuity(runner, o, s, g, res, rng) -> list[dict]:
     return out
 
 
+def probe_summary(probes: list[dict]) -> dict:
+    """Over the records of :func:`continuity` (any queries, any deltas) that kept the label:
+    the largest K (``k_max``, NaN without one), how many are above :data:`CONT_GOAL`
+    (``k_over``) and how many there are (``probes``)."""
+    ks = [c["K"] for c in probes if c["returned"] and not c["label_change"]]
+    return {"k_max": float(max(ks)) if ks else float("nan"),
+            "k_over": int(sum(k > CONT_GOAL for k in ks)), "probes": len(ks)}
+
+
 # --------------------------------------------------------------------------- one row
 def evaluate(runner, qs, dirs, cont_rng=None) -> dict:
     """Per query: returned, valid (and why not), time, length / LB, the continuity probe (and,
