@@ -168,6 +168,10 @@ PRUNE_LANES = (16, 128)
 #: the distance of the closed form's float point to an exact point of the piece, a float
 #: projection's error per coordinate, and a relative slack for every other rounding
 _PRUNE_Q = 1e-14
+#: an offset below this times the largest |coordinate| is rounding (the paper's projection puts
+#: every robot on the obstacle line): no direction of the offsets is taken from it (it would
+#: prune nothing and cost its projections)
+_OFFSET_MIN = 1e-9
 _PRUNE_P = 1e-15
 _PRUNE_REL = 1e-9
 
@@ -413,6 +417,108 @@ def _directions(w, p, m, d, amax, aux):  # pragma: no cover - compiled
         aux[2 * d + 2 + k] = _PRUNE_Q * amax * w2 + 2.0 * _PRUNE_P * d * amax * w1 + 1e-300
 
 
+@njit(**OPTS)
+def _sweep_sizes(p, d):  # pragma: no cover - compiled
+    """The sizes of the scratch ``lo`` (and ``hi``) and ``aux`` of :func:`_sweep_min` for p
+    points in dimension d (:func:`_offset_direction`'s included)."""
+    return 2 * p, 5 * d + 6
+
+
+@njit(**OPTS)
+def _offset_direction(w, p, m, d, amax, aux):  # pragma: no cover - compiled
+    """The direction of the robots' offsets of :func:`_sweep_min` in space, after the two of
+    :func:`_directions` in ``aux``: at ``aux[2 d + 4 : 3 d + 4]``, its norm at ``aux[3 d + 4]``
+    and its margin at ``aux[3 d + 5]`` (as :func:`_directions`); ``aux[3 d + 6 : 5 d + 6]`` is
+    scratch. Returns whether there is one.
+
+    The compact lanes keep every robot's offset from the obstacle line, the part of its
+    position orthogonal to the line and to ``nu`` (Mathematics §4.4): during the projection, the
+    lift, the slide and their inverses a robot moves in the plane of ``e`` and ``nu``, so its
+    offset is fixed there, and robots whose columns are close are apart along it. The direction
+    is the largest offset at waypoint 2 (a robot's position minus ``o1``, its parts along the
+    two directions of :func:`_directions` removed in floating point): any direction gives a
+    correct bound, this one makes it tight. None in the plane, or where every offset is below
+    ``_OFFSET_MIN amax`` (the paper's projection).
+
+    One direction, though the offsets span d - 2: each costs a projection of every point in
+    every group, what the sweep mostly spends. The sweep alone in a compiled loop over 2,000
+    generic paths of the compact lanes (d, n, 2), us per path, two runs, one direction / d - 2
+    of them / none: (4,30) 9.2-11.5 / 13.8-14.1 / 14.5-16.2, (7,24) 30.3-30.6 / 37.6 /
+    50.0-51.9; (3,64) 11.7 / - / 10.8-12.3 (the pieces it saves, 187-574 to 4-22 on seeds
+    4-8, cost about what its projections do there)."""
+    if d < 3:
+        return False
+    fb = 2 * d + 4
+    eh = 3 * d + 6  # unit vectors along the line and along the lift (its part off the line)
+    nh = 4 * d + 6
+    e2 = 0.0
+    for c in range(d):
+        e2 += aux[c] * aux[c]
+    if not (e2 > 0 and e2 < np.inf):
+        return False
+    e1 = math.sqrt(e2)
+    for c in range(d):
+        aux[eh + c] = aux[c] / e1
+    ed = 0.0
+    for c in range(d):
+        ed += aux[d + c] * aux[eh + c]
+    n2 = 0.0
+    for c in range(d):
+        x = aux[d + c] - ed * aux[eh + c]
+        aux[nh + c] = x
+        n2 += x * x
+    if not (n2 > 0 and n2 < np.inf):
+        return False
+    n1 = math.sqrt(n2)
+    for c in range(d):
+        aux[nh + c] /= n1
+    row = p * d
+    big = 0.0
+    pick = -1
+    for i in range(m, p):
+        s2 = _offset(w, 2 * row + i * d, d, aux, eh, nh, fb)
+        if s2 > big and s2 < np.inf:
+            big = s2
+            pick = i
+    if pick < 0 or not big > (_OFFSET_MIN * amax) ** 2:
+        return False
+    _offset(w, 2 * row + pick * d, d, aux, eh, nh, fb)
+    top = 0.0
+    for c in range(d):
+        a = abs(aux[fb + c])
+        top = a if a > top else top  # noqa: FURB136
+    w1 = 0.0
+    w2 = 0.0
+    for c in range(d):
+        x = aux[fb + c] / top
+        aux[fb + c] = x
+        w1 += abs(x)
+        w2 += x * x
+    w2 = math.sqrt(w2)
+    aux[3 * d + 4] = w2
+    aux[3 * d + 5] = _PRUNE_Q * amax * w2 + 2.0 * _PRUNE_P * d * amax * w1 + 1e-300
+    return True
+
+
+@njit(**OPTS)
+def _offset(w, at, d, aux, eh, nh, fb):  # pragma: no cover - compiled
+    """Point ``w[at : at + d]`` minus ``o1`` without its parts along the unit vectors at
+    ``eh`` and ``nh``, into ``aux[fb : fb + d]``; returns its squared norm (of the components:
+    a difference of squares would keep the rounding of the parts removed)."""
+    for c in range(d):
+        aux[fb + c] = w[at + c] - w[c]
+    for u in (eh, nh):
+        dot = 0.0
+        for c in range(d):
+            dot += (w[at + c] - w[c]) * aux[u + c]
+        for c in range(d):
+            aux[fb + c] -= dot * aux[u + c]
+    s2 = 0.0
+    for c in range(d):
+        s2 += aux[fb + c] * aux[fb + c]
+    return s2
+
+
 @njit(**INLINE)
 def _sort_by(key, order, p):  # pragma: no cover - compiled
     """Insertion sort of ``order[:p]`` by ``key`` (ascending; fast when nearly sorted)."""
@@ -462,11 +568,11 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
     square overflows, no margin underflows). Returns exactly the minimum over every piece and
     every pair with a moving point of the float squared distance :func:`_piece_dist2` (the
     arithmetic of :func:`pmplan.certify.segment_clearance`), computing it only for the pairs
-    that may reach the minimum found so far. Scratch: ``lo``, ``hi`` (p,), ``order`` int64
-    (4 p + 1,), ``aux`` (2 d + 4,). With ``cap`` finite, every pair that may be at most ``cap``
-    is computed too, and decided as :func:`_clearance_exact` decides it: returns ``(minimum,
-    suspect)``, ``suspect`` True when some float minimum at most ``cap`` is not above certify's
-    threshold (``cap = -inf``: only the minimum).
+    that may reach the minimum found so far. Scratch: ``lo``, ``hi``, ``order`` int64 (4 p +
+    1,) and ``aux`` of the sizes :func:`_sweep_sizes` gives. With ``cap`` finite, every pair
+    that may be at most ``cap`` is computed too, and decided as :func:`_clearance_exact`
+    decides it: returns ``(minimum, suspect)``, ``suspect`` True when some float minimum at
+    most ``cap`` is not above certify's threshold (``cap = -inf``: only the minimum).
 
     The pieces of a leg C_k -> C_k+1 come in three groups: 7k -> 7k + 3 (desingularization,
     projection onto the obstacle line, lift: the points move across the line's direction u0,
@@ -477,7 +583,10 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
     columns, otherwise the previous order fixed by :func:`_sort_by`), and for each point the
     later ones are visited until the gap ``lo_b - hi_a`` exceeds
     ``(sqrt(best) |u| + margin) (1 + _PRUNE_REL)``: every later point is at least that far along
-    u on all the group's pieces, and its float distance is above ``best``.
+    u on all the group's pieces, and its float distance is above ``best``. In space a visited
+    pair is skipped too where the same holds along the direction of the robots' offsets
+    (:func:`_offset_direction`; spans ``[lo[p + i], hi[p + i]]``): the compact lanes keep them
+    apart there, however close their columns.
 
     Why the margin is rigorous (``eps = 2**-53``): a float projection is within
     ``1.0001 d eps amax |u|_1`` of the exact one (``_PRUNE_P d amax |u|_1``, ``_PRUNE_P = 1e-15``,
@@ -495,6 +604,9 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
     """
     row = p * d
     _directions(w, p, m, d, amax, aux)
+    off = _offset_direction(w, p, m, d, amax, aux)  # (in space: the offsets prune too)
+    nf = aux[3 * d + 4]
+    mf = np.inf
     suspect = False
     oe = order[:p]
     on = order[p:2 * p]
@@ -530,6 +642,8 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
             ok &= abs(lo[i]) + abs(hi[i]) <= MAXF  # (False for NaN: never with amax in range)
         if not ok:
             mg = np.inf  # every pair of the group is visited
+        if off:
+            mf = _offset_spans(w, ts, te, p, d, aux, lo, hi)
         if g == 0:  # the seed
             near = np.inf
             ia = 0
@@ -547,7 +661,9 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
                     ib = b * d
             if ib:
                 best = _piece_dist2(w, row, ia, ib, row, d)
-        thr = (math.sqrt(max(best, cap)) * wn + mg) * (1.0 + _PRUNE_REL)
+        reach = math.sqrt(max(best, cap))
+        thr = (reach * wn + mg) * (1.0 + _PRUNE_REL)
+        thf = (reach * nf + mf) * (1.0 + _PRUNE_REL)
         for x in range(p - 1):
             a = o[x]
             ha = hi[a]
@@ -557,6 +673,8 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
                     break
                 if a < m and b < m:
                     continue
+                if off and (lo[p + b] - hi[p + a] > thf or lo[p + a] - hi[p + b] > thf):
+                    continue
                 ia = min(a, b) * d
                 ib = max(a, b) * d
                 for t in range(ts, te):
@@ -565,8 +683,34 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
                         suspect |= _suspect(w, t * row, ia, ib, row, d, dist2)
                     if dist2 < best:
                         best = dist2
-                        thr = (math.sqrt(max(best, cap)) * wn + mg) * (1.0 + _PRUNE_REL)
+                        reach = math.sqrt(max(best, cap))
+                        thr = (reach * wn + mg) * (1.0 + _PRUNE_REL)
+                        thf = (reach * nf + mf) * (1.0 + _PRUNE_REL)
     return best, suspect
+
+
+@njit(**OPTS)
+def _offset_spans(w, ts, te, p, d, aux, lo, hi):  # pragma: no cover - compiled
+    """For :func:`_sweep_min`: every point's span along the direction of the offsets
+    (:func:`_offset_direction`) over the waypoints ts..te, into ``lo[p:]``/``hi[p:]``; returns
+    the direction's margin (infinite where a span is not finite or too large: it prunes
+    nothing)."""
+    row = p * d
+    f = 2 * d + 4
+    ok = True
+    for i in range(p):
+        a0 = np.inf
+        a1 = -np.inf
+        for t in range(ts, te + 1):
+            v = 0.0
+            for c in range(d):
+                v += w[t * row + i * d + c] * aux[f + c]
+            a0 = v if v < a0 else a0  # noqa: FURB136
+            a1 = v if v > a1 else a1  # noqa: FURB136
+        lo[p + i] = a0
+        hi[p + i] = a1
+        ok &= abs(a0) + abs(a1) <= MAXF  # (False for NaN)
+    return aux[3 * d + 5] if ok else np.inf
 
 
 @njit(**INLINE)
@@ -630,10 +774,11 @@ def _certify_one(wf, b, ddf, dd, ia, ja, kk, p, m, d, npairs, amax, best_k, vv, 
         thr2 = (SURE * amax) * (SURE * amax)
         # a fast pass; if some minimum is small, the exact loop decides as certify
         if _sweeps(p, d):
-            lo = np.empty(p)
-            hi = np.empty(p)
+            nlo, naux = _sweep_sizes(p, d)
+            lo = np.empty(nlo)
+            hi = np.empty(nlo)
             order = np.empty(4 * p + 1, np.int64)
-            aux = np.empty(2 * d + 4)
+            aux = np.empty(naux)
             best, _ = _sweep_min(wf[b], kk, p, m, d, amax, lo, hi, order, aux, -np.inf)
             if not best > thr2:  # the pairs that may be below thr2, as _clearance_exact
                 best, suspect = _sweep_min(wf[b], kk, p, m, d, amax, lo, hi, order, aux, thr2)
@@ -1436,10 +1581,11 @@ def _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d):  # pragma: no cover
     (row ``BAD`` zero) with the largest |coordinate| (row ``mx``) in range (row ``THR2``
     finite); the other lanes go to the scalar kernel anyway (inf: not above THR2)."""
     L = T.shape[1]
-    lo = np.empty(p)
-    hi = np.empty(p)
+    nlo, naux = _sweep_sizes(p, d)
+    lo = np.empty(nlo)
+    hi = np.empty(nlo)
     order = np.empty(4 * p + 1, np.int64)
-    aux = np.empty(2 * d + 4)
+    aux = np.empty(naux)
     for l in range(L):
         T[mn, l] = np.inf
         if T[BAD, l] == 0 and T[THR2, l] < np.inf:
