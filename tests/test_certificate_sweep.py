@@ -207,8 +207,7 @@ def test_the_direction_of_the_offsets_is_taken_only_from_offsets(d):
     n, m = 24, 2
     p = n + m
     o, s, g = (rng.normal(size=(20, k, d)) for k in (m, n, n))
-    nlo, naux = kernels_line._sweep_sizes(p, d)
-    aux = np.empty(naux)
+    aux = np.empty(kernels_line._sweep_sizes(p, d)[1])
     for planner, expected in (("obstacle_line", False), ("obstacle_line_compact", True)):
         wp = pmplan.plan_batch(o, s, g, planner=planner).waypoints
         for w in np.ascontiguousarray(wp).reshape(len(wp), -1):
