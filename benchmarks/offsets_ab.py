@@ -33,7 +33,6 @@ Writes ``benchmarks/offsets_ab.json`` and ``.md``. Not a test module.
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -42,8 +41,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes
 import scenes_compare
 
-import pmplan
-from pmplan.configuration import default_lift
 from pmplan.planners import obstacle_line
 
 FAMILIES = ["room3d"]
@@ -52,27 +49,10 @@ VARIANTS = ["offsets", "line"]
 #: the seeds looked at while designing the offsets
 DESIGN = {1, 2, 4, 5, 7, 9}
 _OFFSET = obstacle_line.offset
-#: the unit of pmplan's refined plan with radius = obstacle_radius = r/2
-LIFT = default_lift(None, scenes.R / 2, scenes.R / 2, refining=True)
 
 
 def _no_offset(fr, r):
     return np.zeros_like(r)
-
-
-class Runner:
-    """``scenes_compare``'s runner protocol: pmplan's default plan in the box, refined at the
-    default effort with radius = obstacle_radius = r/2, the raw plan from the numpy reference
-    (whose offsets the variant sets)."""
-
-    def plan(self, o, s, g):
-        t0 = time.perf_counter()
-        try:
-            raw = pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), backend="numpy", lift=LIFT)
-            p = pmplan.refine(raw, radius=scenes.R / 2, obstacle_radius=scenes.R / 2)
-        except pmplan.PmplanError:
-            return time.perf_counter() - t0, None
-        return time.perf_counter() - t0, (p, p.path.waypoints)
 
 
 def variant(name: str) -> None:
@@ -81,44 +61,10 @@ def variant(name: str) -> None:
 
 
 def row(fam: str, n: int, seed: int, count: int) -> dict:
-    """One row: both variants on the same queries and the same probe moves."""
-    qs = scenes.queries(fam, n, count, seed)
-    runner = Runner()
-    out = {"family": fam, "n": n, "seed": seed, "variants": {}}
-    for name in VARIANTS:
-        variant(name)
-        rng = np.random.default_rng([seed, scenes.FAMILIES[fam].index, n, 99])
-        valid, lens, craw, probes = 0, [], [], []
-        for o, s, g in qs:
-            _, res = runner.plan(o, s, g)
-            p = res[0]
-            valid += bool(p.respects_radius)
-            lens.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
-            craw.append(p.raw_clearance)
-            probes += scenes_compare.continuity(runner, o, s, g, res, rng)
-        cell = {"valid": valid, "count": len(qs), "len_lb": float(np.median(lens)),
-                "c_raw_median": float(np.median(craw)), "c_raw_min": float(min(craw)),
-                **scenes_compare.probe_summary(probes)}
-        print(f"seed {seed} {fam} n={n} {name}: {valid}/{len(qs)} len/LB {cell['len_lb']:.3f} "
-              f"c_raw {cell['c_raw_median']:.3g} (min {cell['c_raw_min']:.2g}) "
-              f"K {cell['k_max']:.0f} ({cell['k_over']})", flush=True)
-        out["variants"][name] = cell
-    variant(VARIANTS[0])
-    return out
-
-
-def _totals(rows: list) -> list[str]:
-    """Per variant over ``rows``: valid queries, rows meeting the continuity goal (the largest
-    K), the geometric mean of the row's median raw clearance and of its median len/LB over the
-    line's."""
-    out = []
-    for v in VARIANTS:
-        cells = [(r["variants"][v], r["variants"]["line"]) for r in rows]
-        own = [c for c, _ in cells]
-        craw = float(np.exp(np.mean([np.log(c["c_raw_median"]) for c in own])))
-        out.append(f"{scenes.valid_total(own)}, {scenes.continuity_total(own)}, {craw:.3g}, "
-                   f"{scenes.length_total(cells)}")
-    return out
+    """One row: both variants on the same queries and the same probe moves
+    (:func:`scenes_compare.ab_row`)."""
+    return scenes_compare.ab_row(fam, n, seed, count,
+                                 {v: (lambda v=v: variant(v)) for v in VARIANTS})
 
 
 def markdown(res: dict) -> str:
@@ -133,23 +79,9 @@ def markdown(res: dict) -> str:
              "and 1e-12 (the same moves for both variants; moves that change the label left "
              "out), in brackets the probes above 1e3. Seeds 1, 2, 4, 5, 7 and 9 were looked at "
              "while designing the offsets, the others were not.")
-    lines = ["# The offsets of the compact lanes: clearance, length, continuity (3-D)", "",
-             prose, "",
-             *scenes.variant_rows(res, "valid, len/LB, c_raw, K",
-                                  lambda e: f"{e['valid']}/{e['count']}, {e['len_lb']:.3f}, "
-                                            f"{e['c_raw_median']:.3g} ({e['c_raw_min']:.2g}), "
-                                            f"{scenes.fmt_k(e['k_max'])}")]
-    lines += ["", ("Per variant and group of rows: valid queries; rows meeting issue 25's "
-                   "continuity goal (K <= 1e3 at every delta; in brackets the largest K); the "
-                   "geometric mean over the rows of the row's median raw clearance; the "
-                   "geometric mean of the row's median len/LB over the line's (in brackets the "
-                   "largest)."), ""]
-    seeds = sorted({r["seed"] for r in res["rows"]})
-    groups = [("design " + ", ".join(str(s) for s in seeds if s in DESIGN), DESIGN),
-              ("held out " + ", ".join(str(s) for s in seeds if s not in DESIGN),
-               set(seeds) - DESIGN)]
-    lines += scenes.group_table(res, groups, _totals, VARIANTS)
-    return "\n".join(lines) + "\n"
+    return scenes_compare.ab_markdown(
+        res, "The offsets of the compact lanes: clearance, length, continuity (3-D)", prose,
+        DESIGN, "line")
 
 
 def main(argv=None) -> int:

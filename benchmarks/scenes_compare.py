@@ -310,6 +310,96 @@ def probe_summary(probes: list[dict]) -> dict:
             "k_over": int(sum(k > CONT_GOAL for k in ks)), "probes": len(ks)}
 
 
+class ReferenceRunner:
+    """The runner of the A/B benchmarks that switch a part of the raw construction
+    (``offsets_ab``, ``direct_ab``): pmplan's default plan in the box at the unit of its refined
+    plan, the raw plan from the numpy reference (bitwise the numba kernel's, and the one a
+    variant can replace), refined at the default effort with radius = obstacle_radius = r/2."""
+
+    def __init__(self):
+        from pmplan.configuration import default_lift
+
+        self.lift = default_lift(None, HALF, HALF, refining=True)
+
+    def plan(self, o, s, g):
+        t0 = time.perf_counter()
+        try:
+            raw = pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), backend="numpy",
+                              lift=self.lift)
+            p = pmplan.refine(raw, radius=HALF, obstacle_radius=HALF)
+        except pmplan.PmplanError:
+            return time.perf_counter() - t0, None
+        return time.perf_counter() - t0, (p, p.path.waypoints)
+
+
+def ab_row(fam: str, n: int, seed: int, count: int, switches: dict) -> dict:
+    """One row of an A/B of the raw construction: every variant of ``switches`` (name -> a
+    function that switches pmplan to it; the first is switched back at the end) on the same
+    queries and the same probe moves (:class:`ReferenceRunner`, :func:`continuity`): the valid
+    queries, the median len/LB, the raw clearance (median, smallest) and
+    :func:`probe_summary`."""
+    qs = scenes.queries(fam, n, count, seed)
+    runner = ReferenceRunner()
+    out = {"family": fam, "n": n, "seed": seed, "variants": {}}
+    for name, switch in switches.items():
+        switch()
+        rng = np.random.default_rng([seed, scenes.FAMILIES[fam].index, n, 99])
+        valid, lens, craw, probes = 0, [], [], []
+        for o, s, g in qs:
+            _, res = runner.plan(o, s, g)
+            p = res[0]
+            valid += bool(p.respects_radius)
+            lens.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
+            craw.append(p.raw_clearance)
+            probes += continuity(runner, o, s, g, res, rng)
+        cell = {"valid": valid, "count": len(qs), "len_lb": float(np.median(lens)),
+                "c_raw_median": float(np.median(craw)), "c_raw_min": float(min(craw)),
+                **probe_summary(probes)}
+        print(f"seed {seed} {fam} n={n} {name}: {valid}/{len(qs)} len/LB {cell['len_lb']:.3f} "
+              f"c_raw {cell['c_raw_median']:.3g} (min {cell['c_raw_min']:.2g}) "
+              f"K {cell['k_max']:.0f} ({cell['k_over']})", flush=True)
+        out["variants"][name] = cell
+    next(iter(switches.values()))()
+    return out
+
+
+def ab_totals(rows: list, names: list, base: str) -> list[str]:
+    """Per variant of ``names`` over the rows of :func:`ab_row`: valid queries, rows meeting
+    the continuity goal (the largest K), the geometric mean of the row's median raw clearance
+    and of its median len/LB over ``base``'s."""
+    out = []
+    for v in names:
+        cells = [(r["variants"][v], r["variants"][base]) for r in rows]
+        own = [c for c, _ in cells]
+        craw = float(np.exp(np.mean([np.log(c["c_raw_median"]) for c in own])))
+        out.append(f"{scenes.valid_total(own)}, {scenes.continuity_total(own)}, {craw:.3g}, "
+                   f"{scenes.length_total(cells)}")
+    return out
+
+
+def ab_markdown(res: dict, title: str, prose: str, design: set, base: str) -> str:
+    """The report of an A/B of :func:`ab_row`: per row and variant valid, len/LB, c_raw and K;
+    per group of seeds (``design``: those looked at while designing; the others held out) and
+    of robot counts the totals of :func:`ab_totals`, lengths against ``base``."""
+    names = list(res["rows"][0]["variants"])
+    lines = [f"# {title}", "", prose, "",
+             *scenes.variant_rows(res, "valid, len/LB, c_raw, K",
+                                  lambda e: f"{e['valid']}/{e['count']}, {e['len_lb']:.3f}, "
+                                            f"{e['c_raw_median']:.3g} ({e['c_raw_min']:.2g}), "
+                                            f"{scenes.fmt_k(e['k_max'])}")]
+    lines += ["", ("Per variant and group of rows: valid queries; rows meeting issue 25's "
+                   "continuity goal (K <= 1e3 at every delta; in brackets the largest K); the "
+                   "geometric mean over the rows of the row's median raw clearance; the "
+                   f"geometric mean of the row's median len/LB over the {base}'s (in brackets "
+                   "the largest)."), ""]
+    seeds = sorted({r["seed"] for r in res["rows"]})
+    groups = [("design " + ", ".join(str(s) for s in seeds if s in design), design),
+              ("held out " + ", ".join(str(s) for s in seeds if s not in design),
+               set(seeds) - design)]
+    lines += scenes.group_table(res, groups, lambda rows: ab_totals(rows, names, base), names)
+    return "\n".join(lines) + "\n"
+
+
 # --------------------------------------------------------------------------- one row
 def evaluate(runner, qs, dirs, cont_rng=None) -> dict:
     """Per query: returned, valid (and why not), time, length / LB, the continuity probe (and,
