@@ -620,17 +620,7 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
         te = ts + (1 if u else 3)  # the group's pieces: ts -> ts + 1, ..., te - 1 -> te
         o = on if u else oe
         dr = d if u else 0
-        for i in range(p):
-            a0 = np.inf
-            a1 = -np.inf
-            for t in range(ts, te + 1):
-                v = 0.0
-                for c in range(d):
-                    v += w[t * row + i * d + c] * aux[dr + c]
-                a0 = v if v < a0 else a0  # noqa: FURB136 (NaN: then a0 > a1 below)
-                a1 = v if v > a1 else a1  # noqa: FURB136
-            lo[i] = a0
-            hi[i] = a1
+        _spans(w, ts, te, p, d, aux, dr, lo, hi, 0)
         if g < 2 or g % 3 == 2:  # C_0's columns, the first lift, C_k+1's columns
             _bucket_sort(lo, o, p, bk, cnt)
         else:
@@ -689,15 +679,11 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
     return best, suspect
 
 
-@njit(**OPTS)
-def _offset_spans(w, ts, te, p, d, aux, lo, hi):  # pragma: no cover - compiled
-    """For :func:`_sweep_min`: every point's span along the direction of the offsets
-    (:func:`_offset_direction`) over the waypoints ts..te, into ``lo[p:]``/``hi[p:]``; returns
-    the direction's margin (infinite where a span is not finite or too large: it prunes
-    nothing)."""
+@njit(**INLINE)
+def _spans(w, ts, te, p, d, aux, f, lo, hi, at):  # pragma: no cover - compiled
+    """For :func:`_sweep_min`: every point's span along the direction ``aux[f : f + d]`` over
+    the waypoints ts..te, into ``lo[at : at + p]`` and ``hi[at : at + p]`` (NaN: lo > hi)."""
     row = p * d
-    f = 2 * d + 4
-    ok = True
     for i in range(p):
         a0 = np.inf
         a1 = -np.inf
@@ -705,11 +691,22 @@ def _offset_spans(w, ts, te, p, d, aux, lo, hi):  # pragma: no cover - compiled
             v = 0.0
             for c in range(d):
                 v += w[t * row + i * d + c] * aux[f + c]
-            a0 = v if v < a0 else a0  # noqa: FURB136
+            a0 = v if v < a0 else a0  # noqa: FURB136 (NaN: then a0 > a1)
             a1 = v if v > a1 else a1  # noqa: FURB136
-        lo[p + i] = a0
-        hi[p + i] = a1
-        ok &= abs(a0) + abs(a1) <= MAXF  # (False for NaN)
+        lo[at + i] = a0
+        hi[at + i] = a1
+
+
+@njit(**OPTS)
+def _offset_spans(w, ts, te, p, d, aux, lo, hi):  # pragma: no cover - compiled
+    """For :func:`_sweep_min`: every point's span along the direction of the offsets
+    (:func:`_offset_direction`) over the waypoints ts..te, into ``lo[p:]``/``hi[p:]``; returns
+    the direction's margin (infinite where a span is not finite or too large: it prunes
+    nothing)."""
+    _spans(w, ts, te, p, d, aux, 2 * d + 4, lo, hi, p)
+    ok = True
+    for i in range(p, 2 * p):
+        ok &= abs(lo[i]) + abs(hi[i]) <= MAXF  # (False for NaN)
     return aux[3 * d + 5] if ok else np.inf
 
 
