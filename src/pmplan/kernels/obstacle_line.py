@@ -168,12 +168,12 @@ PRUNE_LANES = (16, 128)
 #: the distance of the closed form's float point to an exact point of the piece, a float
 #: projection's error per coordinate, and a relative slack for every other rounding
 _PRUNE_Q = 1e-14
+_PRUNE_P = 1e-15
+_PRUNE_REL = 1e-9
 #: an offset below this times the largest |coordinate| is rounding (the paper's projection puts
 #: every robot on the obstacle line): no direction of the offsets is taken from it (it would
 #: prune nothing and cost its projections)
 _OFFSET_MIN = 1e-9
-_PRUNE_P = 1e-15
-_PRUNE_REL = 1e-9
 
 
 @njit(**INLINE)
@@ -404,17 +404,24 @@ def _directions(w, p, m, d, amax, aux):  # pragma: no cover - compiled
         for c in range(d):
             a = abs(aux[k * d + c])
             big = a if a > big else big  # noqa: FURB136
-        ok = big > 0 and big <= MAXF
-        w1 = 0.0
-        w2 = 0.0
-        for c in range(d):
-            x = aux[k * d + c] / big if ok else (1.0 if c == 0 else 0.0)
-            aux[k * d + c] = x
-            w1 += abs(x)
-            w2 += x * x
-        w2 = math.sqrt(w2)
-        aux[2 * d + k] = w2
-        aux[2 * d + 2 + k] = _PRUNE_Q * amax * w2 + 2.0 * _PRUNE_P * d * amax * w1 + 1e-300
+        aux[2 * d + k], aux[2 * d + 2 + k] = _scaled(aux, k * d, d, amax, big,
+                                                     big > 0 and big <= MAXF)
+
+
+@njit(**INLINE)
+def _scaled(aux, at, d, amax, big, ok):  # pragma: no cover - compiled
+    """A direction of :func:`_sweep_min`: ``aux[at : at + d]`` divided by ``big``, its largest
+    |component| (with ``ok`` False: the first coordinate axis instead); returns its norm and
+    its pruning margin ``_PRUNE_Q amax |u| + 2 _PRUNE_P d amax |u|_1`` (see :func:`_sweep_min`)."""
+    w1 = 0.0
+    w2 = 0.0
+    for c in range(d):
+        x = aux[at + c] / big if ok else (1.0 if c == 0 else 0.0)
+        aux[at + c] = x
+        w1 += abs(x)
+        w2 += x * x
+    w2 = math.sqrt(w2)
+    return w2, _PRUNE_Q * amax * w2 + 2.0 * _PRUNE_P * d * amax * w1 + 1e-300
 
 
 @njit(**OPTS)
@@ -487,16 +494,7 @@ def _offset_direction(w, p, m, d, amax, aux):  # pragma: no cover - compiled
     for c in range(d):
         a = abs(aux[fb + c])
         top = a if a > top else top  # noqa: FURB136
-    w1 = 0.0
-    w2 = 0.0
-    for c in range(d):
-        x = aux[fb + c] / top
-        aux[fb + c] = x
-        w1 += abs(x)
-        w2 += x * x
-    w2 = math.sqrt(w2)
-    aux[3 * d + 4] = w2
-    aux[3 * d + 5] = _PRUNE_Q * amax * w2 + 2.0 * _PRUNE_P * d * amax * w1 + 1e-300
+    aux[3 * d + 4], aux[3 * d + 5] = _scaled(aux, fb, d, amax, top, True)
     return True
 
 
@@ -620,17 +618,14 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
         te = ts + (1 if u else 3)  # the group's pieces: ts -> ts + 1, ..., te - 1 -> te
         o = on if u else oe
         dr = d if u else 0
-        _spans(w, ts, te, p, d, aux, dr, lo, hi, 0)
+        ok = _spans(w, ts, te, p, d, aux, dr, lo, hi, 0)
         if g < 2 or g % 3 == 2:  # C_0's columns, the first lift, C_k+1's columns
             _bucket_sort(lo, o, p, bk, cnt)
         else:
             _sort_by(lo, o, p)
         wn = aux[2 * d + int(u)]
         mg = aux[2 * d + 2 + int(u)]
-        ok = True
-        for i in range(p):
-            ok &= abs(lo[i]) + abs(hi[i]) <= MAXF  # (False for NaN: never with amax in range)
-        if not ok:
+        if not ok:  # (never with amax in range)
             mg = np.inf  # every pair of the group is visited
         if off:
             mf = _offset_spans(w, ts, te, p, d, aux, lo, hi)
@@ -682,8 +677,10 @@ def _sweep_min(w, kk, p, m, d, amax, lo, hi, order, aux, cap):  # pragma: no cov
 @njit(**INLINE)
 def _spans(w, ts, te, p, d, aux, f, lo, hi, at):  # pragma: no cover - compiled
     """For :func:`_sweep_min`: every point's span along the direction ``aux[f : f + d]`` over
-    the waypoints ts..te, into ``lo[at : at + p]`` and ``hi[at : at + p]`` (NaN: lo > hi)."""
+    the waypoints ts..te, into ``lo[at : at + p]`` and ``hi[at : at + p]`` (NaN: lo > hi);
+    returns whether every ``|lo| + |hi|`` is at most MAXF (False for NaN: the margins hold)."""
     row = p * d
+    ok = True
     for i in range(p):
         a0 = np.inf
         a1 = -np.inf
@@ -695,6 +692,8 @@ def _spans(w, ts, te, p, d, aux, f, lo, hi, at):  # pragma: no cover - compiled
             a1 = v if v > a1 else a1  # noqa: FURB136
         lo[at + i] = a0
         hi[at + i] = a1
+        ok &= abs(a0) + abs(a1) <= MAXF
+    return ok
 
 
 @njit(**OPTS)
@@ -703,11 +702,7 @@ def _offset_spans(w, ts, te, p, d, aux, lo, hi):  # pragma: no cover - compiled
     (:func:`_offset_direction`) over the waypoints ts..te, into ``lo[p:]``/``hi[p:]``; returns
     the direction's margin (infinite where a span is not finite or too large: it prunes
     nothing)."""
-    _spans(w, ts, te, p, d, aux, 2 * d + 4, lo, hi, p)
-    ok = True
-    for i in range(p, 2 * p):
-        ok &= abs(lo[i]) + abs(hi[i]) <= MAXF  # (False for NaN)
-    return aux[3 * d + 5] if ok else np.inf
+    return aux[3 * d + 5] if _spans(w, ts, te, p, d, aux, 2 * d + 4, lo, hi, p) else np.inf
 
 
 @njit(**INLINE)
