@@ -1,15 +1,17 @@
 """The direct lift: valid share, length, raw clearance and modulus of continuity of refined
 plans whose robots move straight from the desingularized configuration to their lanes, against
 pmplan's compact lanes, which stop on the obstacle line (its hyperplane in space) on the way,
-per row. A measurement of a candidate construction, not (yet) pmplan's.
+per row: the measurement on which pmplan adopted the direct lift in the plane (Mathematics
+§4.4), and kept the lanes through the hyperplane in space.
 
 Usage (from the repository root)::
 
     python benchmarks/direct_ab.py     # seeds 1, 2 and 22-41, about 15 minutes
 
-pmplan's compact lanes (Mathematics §4.4) take every robot, after the desingularization, down
-its column onto the obstacle line (in space: onto the hyperplane through it orthogonal to
-``nu``, keeping the offset) at tau = 1/3, then up to its lane; so two robots whose columns are
+The compact lanes as they were before the direct lift was adopted in the plane (and as they
+still are in space, Mathematics §4.4) take every robot, after the desingularization, down its
+column onto the obstacle line (in space: onto the hyperplane through it orthogonal to ``nu``,
+keeping the offset) at tau = 1/3, then up to its lane; so two robots whose columns are
 close are that close at tau = 1/3 wherever they started. The *direct* variant replaces the
 waypoint on the line by the point 3/5 of the way from the desingularized robot to its lane
 (the same time), on both ends of every leg: each robot moves along ``nu`` inside its own column
@@ -21,8 +23,9 @@ are: the same domains, labels and strata.
 Rows: the scene families of ``benchmarks/scenes.py`` (room, swap, room_walls, swap_walls,
 room3d) with n = 2, 4, 8 and 16, 16 queries each; pmplan's default plan in the box
 (``bounds=(0, 10)``) refined at its default effort with radius = obstacle_radius = r/2, the raw
-plans from the numpy reference (the variant replaces :func:`pmplan.planners.obstacle_line.
-two_configuration_path` for the measurement). Per row and variant: valid queries (the radii and
+plans from the numpy reference (each variant calls :func:`pmplan.planners.obstacle_line.
+two_configuration_path` with its ``direct`` flag set, in every dimension, for the
+measurement). Per row and variant: valid queries (the radii and
 the walls, decided exactly), the median length / LB, the raw clearance (median and smallest)
 and the modulus of continuity at delta = 1e-6, 1e-9 and 1e-12 (``scenes_compare.ab_row``). The
 idea came from rows that miss the continuity goal in ``band_ab`` (seeds 2, 4, 10, 12, 15, 18)
@@ -42,7 +45,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes
 import scenes_compare
 
-from pmplan.path import PiecewiseLinearPath
 from pmplan.planners import obstacle_line
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls", "room3d"]
@@ -51,22 +53,15 @@ VARIANTS = ["line", "direct"]
 #: the seeds whose rows were looked at while trying the direct lift
 DESIGN = {1, 2, 3, 4, 10, 12, 15, 18}
 _COMPOSE = obstacle_line.two_configuration_path
-#: waypoint 2 of a leg (tau = 1/3) between waypoints 1 (1/6) and 3 (4/9): (1/3 - 1/6) / (4/9 - 1/6)
-_AT = 0.6
-
-
-def _direct(fr, obstacles, h_start, h_goal, heights):
-    path = _COMPOSE(fr, obstacles, h_start, h_goal, heights)
-    wp = path.waypoints.copy()
-    m = obstacles.shape[1]
-    for a, k, b in ((1, 2, 3), (6, 5, 4)):  # the leg's waypoints (one leg: r = 2)
-        wp[:, k, m:] = wp[:, a, m:] + _AT * (wp[:, b, m:] - wp[:, a, m:])
-    return PiecewiseLinearPath(path.times, wp)
 
 
 def variant(name: str) -> None:
-    """Switch the compact lanes to pmplan's (``line``) or to the direct lift."""
-    obstacle_line.two_configuration_path = _COMPOSE if name == "line" else _direct
+    """Switch the compact lanes, in every dimension, to the lanes through the line (``line``)
+    or to the direct lift (pmplan's in the plane)."""
+    direct = name == "direct"
+    obstacle_line.two_configuration_path = (
+        lambda fr, obstacles, h_start, h_goal, heights, _=False:
+        _COMPOSE(fr, obstacles, h_start, h_goal, heights, direct))
 
 
 def row(fam: str, n: int, seed: int, count: int) -> dict:
@@ -78,10 +73,11 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
 def markdown(res: dict) -> str:
     prose = (f"Command: `{res['command']}` ({res['date']}). The scene families, r = "
              f"{scenes.R}, {res['count']} queries per row, pmplan's default plan in the box "
-             "refined at its default effort, radius = obstacle_radius = r/2; *line*: pmplan's "
-             "compact lanes (every robot on the obstacle line, in space on its hyperplane, at "
-             "tau = 1/3); *direct*: each robot straight from the desingularized configuration to "
-             "its lane (a candidate, not pmplan's). valid = keeps the radii and the walls "
+             "refined at its default effort, radius = obstacle_radius = r/2; *line*: the compact "
+             "lanes through the obstacle line (every robot on it, in space on its hyperplane, at "
+             "tau = 1/3: pmplan's in space); *direct*: each robot straight from the "
+             "desingularized configuration to its lane (pmplan's in the plane since this run). "
+             "valid = keeps the radii and the walls "
              "(decided exactly); len/LB = median length / sum of the straight distances; c_raw "
              "= the raw plan's clearance, median (smallest) over the row; K = the largest sup "
              "change / delta of the row, every point of the query moved by delta = 1e-6, 1e-9 "

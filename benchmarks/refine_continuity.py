@@ -305,7 +305,8 @@ def replanning(ticks=80, seed=0):
             wall.update(distance=min(dist, _wall(qb, (s, g))[0]), c_raw=raw[0].clearance,
                         between=bool((_ties(qa, (s, g)) != _ties(qb, (s, g))).any()),
                         pair=f"{_point_name(j, len(o), cw)} and {_point_name(k, len(o), cw)}",
-                        probe=near_wall(qa, (dist, cw, j, k)) if k < len(o) else [])
+                        probe=near_wall(qa, (dist, cw, j, k)) if k < len(o) else [],
+                        ends=(qa, qb))  # (the two obstacle sets: to pin a jump in a test)
         return (hi - lo) * DRIFT, change, c_raw, deep, wall
 
     def near_wall(q, nearest):

@@ -173,8 +173,9 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
     robots to ``L``, lift by ``i lambda nu(e)``, slide, descend, and the reverse deformation of C'.
     ``lam`` overrides lambda (to show that ``lambda = lift`` alone is not enough).
     ``compact``: the compact lanes of Mathematics §4.4 (``obstacle_line_compact``): robot i at
-    ``+(H_+ + k lift)`` (odd i) or ``-(H_- + k lift)`` (even i), ``k = ceil(i / 2)``, and in
-    d >= 3 the projection keeps the robots' offsets.
+    ``+(H_+ + k lift)`` (odd i) or ``-(H_- + k lift)`` (even i), ``k = ceil(i / 2)``; in
+    d >= 3 the projection keeps the robots' offsets, in the plane every robot goes straight to
+    its lane (waypoints 2 and 5 3/5 of the way from the desingularized robot to its lane).
     """
     obs = [_exact_point(p) for p in obstacles]
     xs = [_exact_point(p) for p in start]
@@ -209,6 +210,9 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
                    for i in range(len(xs))]
     lifted1 = [_add(x, _mul(h, nu)) for h, x in zip(heights, p1)]
     lifted2 = [_add(x, _mul(h, nu)) for h, x in zip(heights, p2)]
+    if compact and len(o1) == 2:  # the direct lift (Mathematics §4.4): 3/5 of the way up
+        p1 = [_add(x, _mul(Fraction(3, 5), _sub(y, x))) for x, y in zip(d1, lifted1)]
+        p2 = [_add(x, _mul(Fraction(3, 5), _sub(y, x))) for x, y in zip(d2, lifted2)]
     robots = [xs, d1, p1, lifted1, lifted2, p2, d2, ys]
     exact = [obs + r for r in robots]
     floats = [[[float(c) for c in p] for p in conf] for conf in exact]

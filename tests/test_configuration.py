@@ -325,15 +325,18 @@ def test_spec5_case_is_nearly_degenerate():
 
 @pytest.mark.parametrize("goal", [[[5.0, 5.0], [6.0, -7.0]], [[-3.0, 0.5], [2.5, 4.0]]])
 def test_spec5_precision_case_raises_certification_error(goal):
+    """The paper's projection puts x1 and x2 on the obstacle line in the same float point.
+    (The compact lanes in the plane take the robots straight to their lanes, Mathematics §4.4,
+    and plan this query: test_compact_lanes_plan_the_precision_case.)"""
     with pytest.raises(CertificationError, match="certificate") as info:
-        pmplan.plan(PRECISION_OBSTACLES, PRECISION_START, goal)
+        pmplan.plan(PRECISION_OBSTACLES, PRECISION_START, goal, planner="obstacle_line")
     assert isinstance(info.value, PmplanError)
     with pytest.raises(CertificationError):
-        pmplan.plan(PRECISION_OBSTACLES, goal, PRECISION_START)
+        pmplan.plan(PRECISION_OBSTACLES, goal, PRECISION_START, planner="obstacle_line")
     # in a batch: the offending index is named, nothing is returned
     obstacles = np.array([PRECISION_OBSTACLES] * 3)
     start = np.array([goal, PRECISION_START, goal])
     goal_b = np.array([[[7.0, 1.0], [-2.0, -2.0]], goal, PRECISION_START])
     with pytest.raises(CertificationError, match=r"queries \[1, 2\]") as info:
-        pmplan.plan_batch(obstacles, start, goal_b)
+        pmplan.plan_batch(obstacles, start, goal_b, planner="obstacle_line")
     np.testing.assert_array_equal(info.value.indices, [1, 2])

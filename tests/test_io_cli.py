@@ -163,7 +163,7 @@ def test_plan_nonexistent_file(tmp_path, capsys):
 
 def test_plan_certification_error_is_one_line(tmp_path, capsys):
     q = {"obstacles": [[0, 0], [1, 2]], "start": [[-1, 3], [3 + 2**-51, 1]],
-         "goal": [[5, 5], [6, -7]]}
+         "goal": [[5, 5], [6, -7]], "planner": "obstacle_line"}  # (Mathematics §6.2)
     status, out, err = run(capsys, "plan", write_json(tmp_path, q))
     assert_one_line_error(status, out, err, "certificate")
 

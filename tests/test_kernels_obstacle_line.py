@@ -185,12 +185,13 @@ def test_exact_tie_only_fractions_see_goes_to_the_reference():
 
 @pytest.mark.parametrize("scale", [1.0, 2.0**-440, 2.0**450])
 def test_tiny_clearance_is_decided_exactly(scale):
-    """Columns 1e-10 apart in a scene of size ~5: the clearance (2.5e-11) is below certify's
-    float threshold, the kernel flags SUSPECT and certify.clearance decides it exactly -- also
-    at scales where the kernel's squared-distance shortcut is off (|coordinates| < 1e-130 or
-    > 1e130) and every small minimum is tested as certify tests it."""
+    """Columns 1e-10 apart in a scene of size ~5: the clearance (2.5e-11, robot 1 crossing the
+    line from below to its lane above, next to o1) is below certify's float threshold, the
+    kernel flags SUSPECT and certify.clearance decides it exactly -- also at scales where the
+    kernel's squared-distance shortcut is off (|coordinates| < 1e-130 or > 1e130) and every
+    small minimum is tested as certify tests it."""
     o = np.array([[[0.0, 0.0], [1.0, 0.0]]]) * scale
-    s = np.array([[[0.0, 1.0], [1e-10, 5.0]]]) * scale
+    s = np.array([[[0.0, -1.0], [1e-10, 5.0]]]) * scale
     g = np.array([[[0.5, -1.0], [2.0, 2.0]]]) * scale
     lift = 1.0 * scale
     assert _kernel_flags(o, [s, g], lift)[0] & kernels_line.SUSPECT
@@ -208,8 +209,8 @@ def test_certificate_failures_agree():
                   [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]], [[0.5, 1.0], [1.0, 1.0]]])
     g = np.array([[[1.0, -1.0], [3.0, 3.0]]] * 4)
     with np.errstate(all="ignore"):
-        fast = _outcome(pmplan.plan_batch, o, s, g, backend="numba")
-        ref = _outcome(pmplan.plan_batch, o, s, g, backend="numpy")
+        fast = _outcome(pmplan.plan_batch, o, s, g, backend="numba", planner="obstacle_line")
+        ref = _outcome(pmplan.plan_batch, o, s, g, backend="numpy", planner="obstacle_line")
     assert fast[0] is CertificationError
     assert fast == ref
     assert fast[2] == (1, 2)
@@ -299,7 +300,8 @@ G = [[1.0, -1.0], [3.0, 3.0]]
     ((O, [["a", 1.0], [0.0, 1.0]], G), {}),
     (([[0.0, 0.0]], S, G), {}),
     (([[0.0], [1.0]], [[2.0]], [[3.0]]), {}),
-    (([[0.0, 0.0], [1.0, 2.0]], [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]], G), {}),
+    (([[0.0, 0.0], [1.0, 2.0]], [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]], G),
+     {"planner": "obstacle_line"}),  # (Mathematics §6.2: the paper's projection)
 ])
 def test_fast_path_errors_are_the_reference_errors(args, kwargs):
     fast = _outcome(pmplan.plan, *args, **kwargs)
@@ -584,10 +586,10 @@ def test_workers_change_nothing(monkeypatch, planner, dims):
         s[[150, 270], :2] = [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]]
         g[[150, 270], :2] = [[5.0, 5.0], [6.0, -7.0]]
         s[[150, 270], 2] = g[[150, 270], 2] = [-4.0, 7.0]
-        single = _outcome(pmplan.plan_batch, o, s, g)
+        single = _outcome(pmplan.plan_batch, o, s, g, planner=planner)
         # (the error names the failing queries of the first chunk that has any)
         assert single[0] is CertificationError and single[2] == (150,)
-        assert _outcome(pmplan.plan_batch, o, s, g, workers=2) == single
+        assert _outcome(pmplan.plan_batch, o, s, g, planner=planner, workers=2) == single
 
 
 @pytest.mark.parametrize("workers", [0, -2, 1.5, True, "2", None])
@@ -647,7 +649,7 @@ def test_validation_in_the_kernel_raises_the_reference_error(monkeypatch, bad, w
     s[1, :2] = [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]]
     g[1, :2] = [[5.0, 5.0], [6.0, -7.0]]
     s[1, 2] = g[1, 2] = [-4.0, 7.0]
-    assert _outcome(pmplan.plan_batch, o, s, g) == want
+    assert _outcome(pmplan.plan_batch, o, s, g, planner="obstacle_line") == want
 
 
 def test_plan_batch_validates_in_one_pass(monkeypatch):

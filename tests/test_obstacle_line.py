@@ -28,6 +28,7 @@ from strategies import queries
 import pmplan
 from pmplan.certify import clearance
 from pmplan.frame import nu as library_nu
+from pmplan.path import DIRECT_AT
 from pmplan.generators import (
     column_query,
     perturb_within_stratum,
@@ -427,7 +428,7 @@ def test_compact_lanes_are_a_unit_apart_and_clear_the_obstacles(d, m, n, lift, d
         return sum((a - b) * c for a, b, c in zip(p, o1, nu))
 
     ts = [height(o) for o in ref.exact[0][:m]]
-    hs = [height(x) - height(y) for x, y in zip(ref.exact[3][m:], ref.exact[2][m:])]
+    hs = [height(x) for x in ref.exact[3][m:]]  # (the lanes pass through the line's feet)
     for i, h in enumerate(hs):
         assert (h > 0) == (i % 2 == 0)
         assert all(abs(h - t) >= u for t in ts)  # (t = 0 for o_1, o_2)
@@ -444,7 +445,7 @@ def test_compact_lanes_pass_where_the_papers_climb():
     paper = pmplan.plan(o, s, g, planner="obstacle_line")
     compact = pmplan.plan(o, s, g)
     assert compact.planner == "obstacle_line_compact" and compact.domain == paper.domain
-    lanes = lambda p: p.path.waypoints[3, 3:, 1] - p.path.waypoints[2, 3:, 1]  # noqa: E731
+    lanes = lambda p: p.path.waypoints[3, 3:, 1]  # noqa: E731 (the line is y = 0)
     np.testing.assert_array_equal(lanes(paper), [5.0, 10.0, 15.0])  # i (1 + 4)
     np.testing.assert_array_equal(lanes(compact), [5.0, -1.0, 6.0])  # 4 + 1, -(0 + 1), 4 + 2
     assert compact.path.length() < 0.6 * paper.path.length()
@@ -457,16 +458,20 @@ def test_compact_lanes_pass_where_the_papers_climb():
 def test_compact_lanes_keep_the_offsets_in_space(d, m, n, data):
     """Mathematics §4.4, offsets: at the end of the projection (waypoints 2 and 5) a robot of
     the compact planner has the column and the offset of its desingularized position
-    (waypoints 1 and 6) and no component along nu: in the plane that is the paper's projection
-    onto the line, bit for bit; in d >= 3 the offset is kept (the rational reference, within a
-    relative 1e-12), so the robots are not all on the line, unless every offset is 0."""
+    (waypoints 1 and 6) and no component along nu: in d >= 3 the offset is kept (the rational
+    reference, within a relative 1e-12), so the robots are not all on the line, unless every
+    offset is 0. In the plane (the direct lift) waypoints 2 and 5 are 3/5 of the way from
+    waypoints 1 and 6 to the lanes (waypoints 3 and 4), bit for bit the float formula, and the
+    desingularization is the paper's."""
     q = data.draw(queries(d, m, n, degenerate=data.draw(st.booleans())))
     compact = pmplan.plan(*q, planner="obstacle_line_compact")
     paper = pmplan.plan(*q, planner="obstacle_line")
     w = compact.path.waypoints
     assert compact.domain == paper.domain and compact.stratum == paper.stratum
     if d == 2:
-        np.testing.assert_array_equal(w[[1, 2, 5, 6]], paper.path.waypoints[[1, 2, 5, 6]])
+        np.testing.assert_array_equal(w[[1, 6]], paper.path.waypoints[[1, 6]])
+        np.testing.assert_array_equal(w[2, m:], w[1, m:] + DIRECT_AT * (w[3, m:] - w[1, m:]))
+        np.testing.assert_array_equal(w[5, m:], w[6, m:] + DIRECT_AT * (w[4, m:] - w[6, m:]))
         return
     ref = reference_plan(*q, compact=True)
     nu, o1 = ref.nu, ref.exact[0][0]
@@ -489,6 +494,34 @@ def test_compact_lanes_keep_the_offsets_in_space(d, m, n, data):
             assert abs(s1 - s2) <= tol * ee ** 0.5 and abs(t2) <= tol
             assert max(abs(a - b) for a, b in zip(p1, p2)) <= tol
             assert np.abs(yf - np.array([float(c) for c in y])).max() <= 1e-12 * float(scale)
+
+
+def test_the_direct_lift_keeps_robots_of_close_columns_apart():
+    """Mathematics §4.4, the direct lift: in the plane two robots whose columns differ by 1e-6
+    and which need not pass each other (the first below the line goes to its lane below, the
+    second above to its lane above) never come near: the paper's projection puts both on the
+    line at tau = 1/3 (clearance < 2e-6), the compact lanes keep them more than 1 apart."""
+    o = [[0.0, 0.0], [10.0, 0.0]]
+    s = [[3.0, 2.0], [3.0 + 1e-6, -2.0]]  # robot 1 (lane above) above, robot 2 (below) below
+    g = [[7.0, 2.0], [7.0 + 1e-6, -2.0]]
+    paper = pmplan.plan(o, s, g, planner="obstacle_line")
+    compact = pmplan.plan(o, s, g)
+    assert compact.domain == paper.domain
+    assert paper.clearance < 2e-6 and compact.clearance > 1.0
+
+
+def test_compact_lanes_plan_the_precision_case():
+    """The query of Mathematics §6.2, whose columns are 2**-51 apart: the paper's projection
+    puts both robots in one float point of the line (CertificationError); the compact lanes in
+    the plane move x1 up to its lane and x2 down to its own without a common point, and both
+    backends certify the same path."""
+    o, s, g = [[0.0, 0.0], [1.0, 2.0]], [[-1.0, 3.0], [3.0 + 2.0**-51, 1.0]], [[5.0, 5.0],
+                                                                                [6.0, -7.0]]
+    with pytest.raises(pmplan.CertificationError):
+        pmplan.plan(o, s, g, planner="obstacle_line")
+    fast, ref = pmplan.plan(o, s, g), pmplan.plan(o, s, g, backend="numpy")
+    np.testing.assert_array_equal(fast.path.waypoints, ref.path.waypoints)
+    assert fast.clearance == ref.clearance > 0.5
 
 
 def test_offsets_keep_robots_of_close_columns_apart():

@@ -195,4 +195,7 @@ def test_prune_prunes():
         names["_prune_pass"] = kernels_line._prune_pass
     for lane, w in enumerate(ws):
         assert t[row, lane] == _unpruned(w, m)
-    assert count[0] < 16 * lanes  # (every pair: 2,079 per lane; about 8 measured)
+    # (every pair: 2,079 per lane; about 16 measured -- 8 before the direct lift kept the
+    # robots of the closest columns apart (Mathematics §4.4): a larger minimum lets more
+    # pairs near it through)
+    assert count[0] < 32 * lanes

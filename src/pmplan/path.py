@@ -21,7 +21,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
-__all__ = ["PiecewiseLinearPath", "linear", "compose_via_deformations"]
+__all__ = ["DIRECT_AT", "PiecewiseLinearPath", "linear", "compose_via_deformations"]
+
+#: the direct lift of the compact lanes in the plane (Mathematics §4.4): waypoint 2 of a leg of
+#: :func:`compose_via_deformations` (tau = 1/3) as the point this far along the straight move
+#: from waypoint 1 (tau = 1/6) to waypoint 3 (tau = 4/9), (1/3 - 1/6) / (4/9 - 1/6), and
+#: waypoint 5 (2/3) as far along the move from waypoint 6 (5/6) to waypoint 4 (5/9): the motion
+#: is then that straight move at constant speed
+DIRECT_AT = 0.6
 
 
 class PiecewiseLinearPath:

@@ -434,7 +434,8 @@ class Report:
             failed = sum(v["failed"] for v in fams.values())
             lines.append(
                 f"{what}: {planned} passed, {failed} failed"
-                + (f"; {excused} nearly degenerate queries (rho < 2^-26) refused with "
+                + (f"; {excused} nearly degenerate "
+                   f"{'query' if excused == 1 else 'queries'} (rho < 2^-26) refused with "
                    "CertificationError, as Mathematics §6.2 allows" if excused else "")
             )
         sep = self.separation

@@ -25,6 +25,7 @@ from ..certify import (  # noqa: F401 (the kernels import them here)
     SURE,
     TINY_DIST,
 )
+from ..path import DIRECT_AT  # noqa: F401 (the direct lift, Mathematics §4.4)
 from ..predicates import TINY, U  # noqa: F401
 
 try:

@@ -88,6 +88,7 @@ import numpy as np
 
 # the numba import, the flag bits, the thresholds and the shared primitives: one source
 from .common import (
+    DIRECT_AT,
     BIG,
     INLINE,
     MAXF,
@@ -1152,6 +1153,17 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
             a = abs(v)
             finite &= a <= MAXF  # False for inf and NaN
             amax = a if a > amax else amax  # noqa: FURB136 (NaN is caught by `finite`)
+        if compact and d == 2:  # the direct lift (obstacle_line.two_configuration_path)
+            for k in range(r - 1):
+                t0 = 7 * k * row
+                for x in range(m * d, row):
+                    for s_, a_, b_ in ((2, 1, 3), (5, 6, 4)):
+                        va = wf[b, t0 + a_ * row + x]
+                        v = va + DIRECT_AT * (wf[b, t0 + b_ * row + x] - va)
+                        wf[b, t0 + s_ * row + x] = v
+                        a = abs(v)
+                        finite &= a <= MAXF
+                        amax = a if a > amax else amax  # noqa: FURB136
         if not finite:
             fl |= NONFINITE
         for t in range(1, kk):
@@ -1401,8 +1413,10 @@ def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
     its test never skips.
 
     ``s`` starts as a guess: 1.25 times the smallest gap of the column-class test (row ``GAP``,
-    divided by ``|w|``, row ``NORM``), near the true minimum on random queries, where the
-    closest columns meet on the line; then ``min(best, guess)``. A pair skipped is above ``min
+    divided by ``|w|``, row ``NORM``), near the true minimum on random queries of the paper's
+    projection, where the closest columns meet on the line (the compact lanes' direct lift,
+    Mathematics §4.4, keeps them apart: their minimum is larger, and a lane whose guess is
+    below it takes the second pass); then ``min(best, guess)``. A pair skipped is above ``min
     (best, guess)`` at that time; so where the final ``best <= guess`` it is the minimum, and
     every other lane (a poor guess) takes a second pass from its ``best`` (inf if none: every
     pair). Lanes that go to the scalar kernel anyway (row ``BAD``, or ``THR2`` infinite) are
@@ -2041,6 +2055,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     for l in range(L):
                         OFF[j * d + c, l] = ((T[UNIT, l] + T[mx, l]) * float(j + 1)) * NU[c, l]
         # --- the waypoints (Remark 2.5) ------------------
+        direct = compact and d == 2  # the direct lift (obstacle_line.two_configuration_path)
         for k in range(r - 1):
             for s in range(7):
                 t0 = (7 * k + s) * row
@@ -2059,6 +2074,11 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     elif s == 1:
                         for l in range(L):
                             S[t0 + md + x, l] = X1[k * nd + x, l]
+                    elif s == 2 and direct:  # (plan_queries: the direct lift)
+                        x1 = k * nd + x
+                        for l in range(L):
+                            S[t0 + md + x, l] = X1[x1, l] + DIRECT_AT * (
+                                (X2[x1, l] + OFF[x, l]) - X1[x1, l])
                     elif s == 2:
                         for l in range(L):
                             S[t0 + md + x, l] = X2[k * nd + x, l]
@@ -2068,6 +2088,11 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     elif s == 4:
                         for l in range(L):
                             S[t0 + md + x, l] = X2[(k + 1) * nd + x, l] + OFF[x, l]
+                    elif s == 5 and direct:
+                        x1 = (k + 1) * nd + x
+                        for l in range(L):
+                            S[t0 + md + x, l] = X1[x1, l] + DIRECT_AT * (
+                                (X2[x1, l] + OFF[x, l]) - X1[x1, l])
                     elif s == 5:
                         for l in range(L):
                             S[t0 + md + x, l] = X2[(k + 1) * nd + x, l]

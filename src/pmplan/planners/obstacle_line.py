@@ -48,7 +48,7 @@ from functools import cache
 import numpy as np
 
 from ..frame import Frame
-from ..path import PiecewiseLinearPath, compose_via_deformations, join, linear
+from ..path import DIRECT_AT, PiecewiseLinearPath, compose_via_deformations, join, linear
 from ..predicates import projection_classes
 from .base import Planner, RawPlan, lift_code, out_of_scope, register, unit
 
@@ -195,11 +195,25 @@ def section(fr: Frame, x_start, x_goal, heights: np.ndarray, m: int) -> Piecewis
     return PiecewiseLinearPath(np.array([0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0]), wp)
 
 
-def two_configuration_path(fr, obstacles, h_start, h_goal, heights) -> PiecewiseLinearPath:
-    """Compose H(C), the section and H(C') reversed (paper Remark, via the path algebra)."""
+def two_configuration_path(fr, obstacles, h_start, h_goal, heights,
+                           direct: bool = False) -> PiecewiseLinearPath:
+    """Compose H(C), the section and H(C') reversed (paper Remark, via the path algebra).
+
+    With ``direct`` (the compact lanes in the plane, Mathematics §4.4) every robot moves
+    straight from its desingularized position to its lane, and back: waypoint 2 is replaced
+    by ``W1 + DIRECT_AT (W3 - W1)`` and waypoint 5 by ``W6 + DIRECT_AT (W4 - W6)``
+    (:data:`pmplan.path.DIRECT_AT`), the robots' rows only, so no robot stops on the obstacle
+    line on its way.
+    """
     m = obstacles.shape[1]
     sec = section(fr, h_start.waypoints[:, -1], h_goal.waypoints[:, -1], heights, m)
-    return compose_via_deformations(h_start, sec, h_goal)
+    path = compose_via_deformations(h_start, sec, h_goal)
+    if not direct:
+        return path
+    wp = path.waypoints
+    wp[:, 2, m:] = wp[:, 1, m:] + DIRECT_AT * (wp[:, 3, m:] - wp[:, 1, m:])
+    wp[:, 5, m:] = wp[:, 6, m:] + DIRECT_AT * (wp[:, 4, m:] - wp[:, 6, m:])
+    return path
 
 
 @cache
@@ -299,7 +313,8 @@ class ObstacleLinePlanner(Planner):
         cols = [column_structure(fr, obstacles, c) for c in configs]
         hs = [deformation(fr, obstacles, c, cs, self.compact) for c, cs in zip(configs, cols)]
         heights = lane_heights(fr, obstacles, lift, configs[0].shape[1], self.compact)
-        legs = [two_configuration_path(fr, obstacles, hs[k], hs[k + 1], heights)
+        direct = self.compact and obstacles.shape[2] == 2  # (Mathematics §4.4)
+        legs = [two_configuration_path(fr, obstacles, hs[k], hs[k + 1], heights, direct)
                 for k in range(r - 1)]
         path = legs[0] if r == 2 else join(legs, [k / (r - 1) for k in range(1, r - 1)])
         cp_o = cols[0].cp_o
@@ -332,11 +347,12 @@ class CompactLinePlanner(ObstacleLinePlanner):
     optimal on the same domains, paper Theorem 2.6); only the section's lanes differ
     (:func:`lane_heights`): the robots alternate between the two sides of the line, and the
     lanes are spaced by the unit above the obstacles' heights on each side, instead of
-    ``i lambda``; and in d >= 3 the projection keeps every robot's *offset*, the part of its
-    perpendicular part orthogonal to ``nu(e)`` (:func:`offset`), so that the robots do not all
-    meet the obstacle line at once (in the plane the paths are those of the paper's projection,
-    bit for bit). The paths are shorter and stay nearer the obstacles' line, which is what a
-    crowded workspace needs; ``planner="obstacle_line"`` gives the paper's paths.
+    ``i lambda``; in d >= 3 the projection keeps every robot's *offset*, the part of its
+    perpendicular part orthogonal to ``nu(e)`` (:func:`offset`), and in the plane every robot
+    moves straight from its desingularized position to its lane (the direct lift,
+    ``two_configuration_path``), so that the robots do not all meet the obstacle line at
+    once. The paths are shorter and stay nearer the obstacles' line, which is what a crowded
+    workspace needs; ``planner="obstacle_line"`` gives the paper's paths.
     """
 
     name = "obstacle_line_compact"
