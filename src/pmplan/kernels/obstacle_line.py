@@ -1143,27 +1143,25 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
                     off[j, c] = li * nu[c]
         # --- the waypoints, written into wp; the certificate (pmplan.certify) reads them back:
         # finite, obstacles fixed, the configurations C_k at waypoints 7k -------------------
-        amax = 0.0
-        finite = True
         for x in range(size):
             v1 = src[g1[x]]
             v2 = v1 + src[g2[x]]
-            v = v2 if add[x] else v1
-            wf[b, x] = v
-            a = abs(v)
-            finite &= a <= MAXF  # False for inf and NaN
-            amax = a if a > amax else amax  # noqa: FURB136 (NaN is caught by `finite`)
+            wf[b, x] = v2 if add[x] else v1
         if compact and d == 2:  # the direct lift (obstacle_line.two_configuration_path)
             for k in range(r - 1):
                 t0 = 7 * k * row
                 for x in range(m * d, row):
                     for s_, a_, b_ in ((2, 1, 3), (5, 6, 4)):
                         va = wf[b, t0 + a_ * row + x]
-                        v = va + DIRECT_AT * (wf[b, t0 + b_ * row + x] - va)
-                        wf[b, t0 + s_ * row + x] = v
-                        a = abs(v)
-                        finite &= a <= MAXF
-                        amax = a if a > amax else amax  # noqa: FURB136
+                        wf[b, t0 + s_ * row + x] = va + DIRECT_AT * (wf[b, t0 + b_ * row + x] - va)
+        # the largest |coordinate| of the waypoints as returned (certify's scale: not of the
+        # projections the direct lift replaced) and their finiteness
+        amax = 0.0
+        finite = True
+        for x in range(size):
+            a = abs(wf[b, x])
+            finite &= a <= MAXF  # False for inf and NaN
+            amax = a if a > amax else amax  # noqa: FURB136 (NaN is caught by `finite`)
         if not finite:
             fl |= NONFINITE
         for t in range(1, kk):
