@@ -66,8 +66,7 @@ def variant(name: str) -> None:
 
 def row(fam: str, n: int, seed: int, count: int) -> dict:
     """One row: both variants on the same queries and probe moves (``scenes_compare.ab_row``)."""
-    return scenes_compare.ab_row(fam, n, seed, count,
-                                 {v: (lambda v=v: variant(v)) for v in VARIANTS})
+    return scenes_compare.ab_row(fam, n, seed, count, variant, VARIANTS)
 
 
 def markdown(res: dict) -> str:
@@ -77,13 +76,8 @@ def markdown(res: dict) -> str:
              "lanes through the obstacle line (every robot on it, in space on its hyperplane, at "
              "tau = 1/3: pmplan's in space); *direct*: each robot straight from the "
              "desingularized configuration to its lane (pmplan's in the plane since this run). "
-             "valid = keeps the radii and the walls "
-             "(decided exactly); len/LB = median length / sum of the straight distances; c_raw "
-             "= the raw plan's clearance, median (smallest) over the row; K = the largest sup "
-             "change / delta of the row, every point of the query moved by delta = 1e-6, 1e-9 "
-             "and 1e-12 (the same moves for both variants; moves that change the label left "
-             "out), in brackets the probes above 1e3. Rows of seeds 1 to 4, 10, 12, 15 and 18 "
-             "were looked at while trying the direct lift; seeds 22 to 41 never before.")
+             + scenes_compare.AB_COLUMNS + " Rows of seeds 1 to 4, 10, 12, 15 and 18 were "
+             "looked at while trying the direct lift; seeds 22 to 41 never before.")
     out = scenes_compare.ab_markdown(
         res, "The direct lift: clearance, length, continuity", prose, DESIGN, "line")
     held = [r for r in res["rows"] if r["seed"] not in DESIGN]

@@ -63,8 +63,7 @@ def variant(name: str) -> None:
 def row(fam: str, n: int, seed: int, count: int) -> dict:
     """One row: both variants on the same queries and the same probe moves
     (:func:`scenes_compare.ab_row`)."""
-    return scenes_compare.ab_row(fam, n, seed, count,
-                                 {v: (lambda v=v: variant(v)) for v in VARIANTS})
+    return scenes_compare.ab_row(fam, n, seed, count, variant, VARIANTS)
 
 
 def markdown(res: dict) -> str:
@@ -72,13 +71,9 @@ def markdown(res: dict) -> str:
              f"r = {scenes.R}, {res['count']} queries per row, pmplan's default plan in the box "
              "refined at its default effort, radius = obstacle_radius = r/2; *offsets*: the "
              "compact lanes keep the robots' offsets (pmplan's, Mathematics §4.4), *line*: the "
-             "paper's projection onto the obstacle line. valid = keeps the radii and the walls "
-             "(decided exactly); len/LB = median length / sum of the straight distances; c_raw "
-             "= the raw plan's clearance, median (smallest) over the row; K = the largest sup "
-             "change / delta of the row, every point of the query moved by delta = 1e-6, 1e-9 "
-             "and 1e-12 (the same moves for both variants; moves that change the label left "
-             "out), in brackets the probes above 1e3. Seeds 1, 2, 4, 5, 7 and 9 were looked at "
-             "while designing the offsets, the others were not.")
+             "paper's projection onto the obstacle line. " + scenes_compare.AB_COLUMNS
+             + " Seeds 1, 2, 4, 5, 7 and 9 were looked at while designing the offsets, the "
+             "others were not.")
     return scenes_compare.ab_markdown(
         res, "The offsets of the compact lanes: clearance, length, continuity (3-D)", prose,
         DESIGN, "line")

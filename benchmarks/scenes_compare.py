@@ -332,17 +332,25 @@ class ReferenceRunner:
         return time.perf_counter() - t0, (p, p.path.waypoints)
 
 
-def ab_row(fam: str, n: int, seed: int, count: int, switches: dict) -> dict:
-    """One row of an A/B of the raw construction: every variant of ``switches`` (name -> a
-    function that switches pmplan to it; the first is switched back at the end) on the same
-    queries and the same probe moves (:class:`ReferenceRunner`, :func:`continuity`): the valid
-    queries, the median len/LB, the raw clearance (median, smallest) and
-    :func:`probe_summary`."""
+#: the columns of an A/B report of :func:`ab_row`, as its prose says them
+AB_COLUMNS = ("valid = keeps the radii and the walls (decided exactly); len/LB = median length / "
+              "sum of the straight distances; c_raw = the raw plan's clearance, median "
+              "(smallest) over the row; K = the largest sup change / delta of the row, every "
+              "point of the query moved by delta = 1e-6, 1e-9 and 1e-12 (the same moves for "
+              "both variants; moves that change the label left out), in brackets the probes "
+              "above 1e3.")
+
+
+def ab_row(fam: str, n: int, seed: int, count: int, switch, names) -> dict:
+    """One row of an A/B of the raw construction: every variant of ``names`` (``switch(name)``
+    switches pmplan to it; the first is switched back at the end) on the same queries and the
+    same probe moves (:class:`ReferenceRunner`, :func:`continuity`): the valid queries, the
+    median len/LB, the raw clearance (median, smallest) and :func:`probe_summary`."""
     qs = scenes.queries(fam, n, count, seed)
     runner = ReferenceRunner()
     out = {"family": fam, "n": n, "seed": seed, "variants": {}}
-    for name, switch in switches.items():
-        switch()
+    for name in names:
+        switch(name)
         rng = np.random.default_rng([seed, scenes.FAMILIES[fam].index, n, 99])
         valid, lens, craw, probes = 0, [], [], []
         for o, s, g in qs:
@@ -359,7 +367,7 @@ def ab_row(fam: str, n: int, seed: int, count: int, switches: dict) -> dict:
               f"c_raw {cell['c_raw_median']:.3g} (min {cell['c_raw_min']:.2g}) "
               f"K {cell['k_max']:.0f} ({cell['k_over']})", flush=True)
         out["variants"][name] = cell
-    next(iter(switches.values()))()
+    switch(names[0])
     return out
 
 
