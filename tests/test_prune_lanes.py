@@ -13,6 +13,7 @@ planner's own paths; and end to end ``plan_batch`` with numba equals the numpy r
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_certificate_sweep import FAMILIES, _points  # (the same waypoint families)
@@ -60,8 +61,9 @@ def _guess(rng, mode: str, w: np.ndarray, m: int) -> tuple[float, float]:
             "random": (float(rng.uniform(0, 2)), float(rng.uniform(0.5, 2)))}[mode]
 
 
-def _prune(ws: np.ndarray, m: int, gaps, norms) -> np.ndarray:
-    """_prune_plane on lanes of waypoints ``ws`` (L, kk, p, 2): every lane's minimum."""
+def _prune(ws: np.ndarray, m: int, gaps, norms, estimate: bool) -> np.ndarray:
+    """_prune_plane on lanes of waypoints ``ws`` (L, kk, p, 2): every lane's minimum (its guess
+    from the rows GAP, NORM, or with ``estimate`` from the waypoints, :func:`_guess_plane`)."""
     lanes, kk, p, d = ws.shape
     wf = np.ascontiguousarray(ws, dtype=float).reshape(lanes, -1)
     s = np.ascontiguousarray(wf.T)
@@ -75,13 +77,13 @@ def _prune(ws: np.ndarray, m: int, gaps, norms) -> np.ndarray:
     t[NORM] = norms
     r = (kk - 1) // 7 + 1
     row = kernels_line._prune_plane(s, t, wf, 0, r, m, p, p * d, kk, MX, np.int64(MN), BAD,
-                                    THR2, GAP, NORM)
+                                    THR2, GAP, NORM, estimate)
     return t[row]
 
 
-def _check_lanes(rng, ws: np.ndarray, m: int, modes) -> None:
+def _check_lanes(rng, ws: np.ndarray, m: int, modes, estimate: bool) -> None:
     gaps, norms = zip(*(_guess(rng, mode, w, m) for w, mode in zip(ws, modes)))
-    got = _prune(ws, m, np.array(gaps), np.array(norms))
+    got = _prune(ws, m, np.array(gaps), np.array(norms), estimate)
     for lane, w in enumerate(ws):
         amax = float(np.abs(w).max())
         if 1e-130 < amax < 1e130:  # (other lanes go to the scalar kernel)
@@ -92,10 +94,10 @@ def _check_lanes(rng, ws: np.ndarray, m: int, modes) -> None:
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3, 5]),
        st.sampled_from([14, 16, 30, 62, 120]), st.sampled_from([2, 3]),
-       st.sampled_from(FAMILIES), st.sampled_from([1, 5, 16]))
-def test_prune_equals_every_pair_on_arbitrary_waypoints(seed, m, n, r, family, lanes):
+       st.sampled_from(FAMILIES), st.sampled_from([1, 5, 16]), st.booleans())
+def test_prune_equals_every_pair_on_arbitrary_waypoints(seed, m, n, r, family, lanes, estimate):
     """Waypoints that are no planner's path (the directions are then arbitrary: the bound must
-    hold for any), every guess mode across the lanes."""
+    hold for any), every guess mode across the lanes, and the estimate of the compact lanes."""
     rng = np.random.default_rng(seed)
     kk, p = 7 * (r - 1) + 1, m + n
     ws = np.stack([_stationary(_points(rng, family, (kk, p, 2)), m) for _ in range(lanes)])
@@ -104,14 +106,16 @@ def test_prune_equals_every_pair_on_arbitrary_waypoints(seed, m, n, r, family, l
             t, i = rng.integers(0, kk), rng.integers(m, p)
             w[t, i] = w[rng.integers(0, kk), rng.integers(0, p)]
         ws = np.stack([_stationary(w, m) for w in ws])
-    _check_lanes(rng, ws, m, [GUESSES[rng.integers(len(GUESSES))] for _ in range(lanes)])
+    _check_lanes(rng, ws, m, [GUESSES[rng.integers(len(GUESSES))] for _ in range(lanes)],
+                 estimate)
 
 
 @settings(max_examples=25, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3]), st.sampled_from([14, 16, 40, 100]),
-       st.sampled_from(FAMILIES), st.sampled_from(GUESSES))
+       st.sampled_from(FAMILIES), st.sampled_from(GUESSES + ("estimate",)))
 def test_prune_equals_every_pair_on_planned_paths(seed, m, n, family, mode):
-    """Paths of the obstacle-line planner (the directions the pruning is made for)."""
+    """Paths of the obstacle-line planners (the directions the pruning is made for): the
+    paper's lanes with every guess, the compact lanes' direct lift with its estimate."""
     rng = np.random.default_rng(seed)
     o, s, g = (_points(rng, family, (8, k, 2)) for k in (m, n, n))
     ok = ~(coincident_pairs(np.concatenate([o, s], 1)) | coincident_pairs(np.concatenate([o, g],
@@ -120,10 +124,12 @@ def test_prune_equals_every_pair_on_planned_paths(seed, m, n, family, mode):
     if not ok.any():
         return
     try:
-        wp = pmplan.plan_batch(o[ok], s[ok], g[ok]).waypoints
+        planner = "obstacle_line_compact" if mode == "estimate" else "obstacle_line"
+        wp = pmplan.plan_batch(o[ok], s[ok], g[ok], planner=planner).waypoints
     except pmplan.errors.PmplanError:
         return  # (a path whose certificate fails is not returned)
-    _check_lanes(rng, wp, m, [mode] * len(wp))
+    _check_lanes(rng, wp, m, [mode if mode != "estimate" else "nan"] * len(wp),
+                 mode == "estimate")
 
 
 @settings(max_examples=12, deadline=None)
@@ -161,17 +167,22 @@ def test_plan_batch_with_the_pruning_equals_the_reference(seed, dims, family, r)
     assert np.array_equal(fast.clearance, reference_clearance(fast.waypoints, m))
 
 
-def test_prune_prunes():
+@pytest.mark.parametrize(("planner", "bound"), [("obstacle_line", 12),
+                                                ("obstacle_line_compact", 6)])
+def test_prune_prunes(planner, bound):
     """The pruning really prunes: on random (2, 64, 2) paths the lanes evaluate a few pairs
-    each, not the 2,079 pairs with a moving point (counted through the Python version)."""
+    each, not the 2,079 pairs with a moving point (counted through the Python version): the
+    paper's lanes from the column-class test's gap, the compact lanes (the default) from the
+    estimate of :func:`_guess_plane`."""
     rng = np.random.default_rng(5)
     n, m = 64, 2
-    ws = pmplan.plan_batch(*(rng.normal(size=(8, k, 2)) for k in (m, n, n))).waypoints
+    ws = pmplan.plan_batch(*(rng.normal(size=(8, k, 2)) for k in (m, n, n)),
+                           planner=planner).waypoints
     gaps, norms = zip(*(_guess(rng, "gap", w, m) for w in ws))
     count = [0]
     fn = kernels_line._prune_pass.py_func
     names = fn.__globals__
-    saved = {k: names[k] for k in ("_pair_lane", "_lane_thresholds")}
+    saved = {k: names[k] for k in ("_pair_lane", "_lane_thresholds", "_prune_pass")}
 
     def counted(*args):
         count[0] += 1
@@ -189,13 +200,13 @@ def test_prune_prunes():
         t[THR2] = (kernels_line.SURE * t[MX]) ** 2
         t[GAP] = gaps
         t[NORM] = norms
-        row = plane(s, t, wf, 0, 2, m, n + m, 2 * (n + m), 8, MX, MN, BAD, THR2, GAP, NORM)
+        row = plane(s, t, wf, 0, 2, m, n + m, 2 * (n + m), 8, MX, MN, BAD, THR2, GAP, NORM,
+                    planner == "obstacle_line_compact")
     finally:
         names.update(saved)
-        names["_prune_pass"] = kernels_line._prune_pass
     for lane, w in enumerate(ws):
         assert t[row, lane] == _unpruned(w, m)
-    # (every pair: 2,079 per lane; about 16 measured -- 8 before the direct lift kept the
-    # robots of the closest columns apart (Mathematics §4.4): a larger minimum lets more
-    # pairs near it through)
-    assert count[0] < 32 * lanes
+    # (every pair: 2,079 per lane; measured: 7.75 on the paper's lanes, 2.4 on the compact
+    # lanes -- about 16 from the gap there, whose direct lift keeps the robots of the closest
+    # columns apart, Mathematics §4.4, and the gap below the minimum)
+    assert count[0] <= bound * lanes, count[0]

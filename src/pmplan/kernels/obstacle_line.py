@@ -163,7 +163,11 @@ SWEEP_MIN = (40, 24)
 #: (51 %), the class test 0.73, the write-out 0.67. With the pruning (and the write-out eight
 #: lanes at a time): (2,16,2) 0.83-0.98 us (certificate 0.31), (2,64,2) 3.5-3.9 us
 #: (certificate 1.1-1.2). Tiling the lanes of the test for the first-level cache was slower
-#: (+4 to +30 %), a guess of 1.05 instead of 1.25 times the gap no faster (1-2 %).
+#: (+4 to +30 %), a guess of 1.05 instead of 1.25 times the gap no faster (1-2 %). The compact
+#: lanes' direct lift made the gap a poor guess (about 40 % of lanes below their minimum, 16
+#: pairs per lane); their guess is _guess_plane's estimate (2 pairs per lane; cert_bench,
+#: alternating processes: (2,16,2) 0.93-1.0 us against 1.10-1.17, (2,30,2) 1.84-1.93 against
+#: 2.0-2.3, (2,46,2) and (2,64,2) within the noise).
 PRUNE_LANES = (16, 128)
 #: the margins of the sweep's pruning, relative to the largest |coordinate| (see _sweep_min):
 #: the distance of the closed form's float point to an exact point of the piece, a float
@@ -1384,8 +1388,65 @@ _UP32 = 1.0 + 2.0**-21
 
 
 @njit(**OPTS)
+def _guess_plane(S, D, T, mx, r, m, p, row):  # pragma: no cover - compiled
+    """Row GUESS of ``D`` for the compact lanes (Mathematics §4.4): every lane's estimate of the
+    squared minimum distance of the pairs with a moving point, from the pieces 7k + 1 -> 7k + 2
+    and 7k + 5 -> 7k + 6 of the direct lift, where the minimum of random queries lies.
+
+    In the frame of ``u0`` (rows 0, 1 of ``D``: the obstacle line, scaled) and ``u0`` turned by
+    a right angle, a pair's relative position on such a piece goes from ``(a0, b0)`` to
+    ``(a1, b1)``; the points move along the normal ``nu`` of the line, so ``a1 = a0`` up to
+    rounding and, where ``b0 b1 <= 0`` (the pair crosses ``b = 0``), the pair's minimum is
+    ``|a0|``. The estimate is the least such ``|a0|`` over the crossing pairs (float32, every lane
+    at once), times ``1 + 2**-20`` plus ``2**-18`` times the largest |coordinate| for the
+    rounding, over ``|u0|``; ``inf`` when no pair crosses. It is only :func:`_prune_plane`'s
+    guess, which is exact whatever the guess: a lane whose guess is below its minimum takes the
+    second pass. On 64 lanes of random (2,16,2) and of (2,64,2) queries of the default planner
+    no lane took it, and the lanes evaluated about 2 pairs each, against about 16 from the
+    column-class test's gap (``tests/test_prune_lanes.py::test_prune_prunes``)."""
+    L = S.shape[1]
+    A = np.empty((6 * p, L), np.float32)  # piece h: a, b at its start, b at its end
+    E = np.empty((2, L), np.float32)
+    e0 = 0
+    e1 = 1
+    for l in range(L):
+        E[e0, l] = np.float32(np.inf)
+    for k in range(r - 1):
+        for h in range(2):
+            t0 = (7 * k + 1 + 4 * h) * row
+            t1 = t0 + row
+            y = 3 * h * p
+            for i in range(p):
+                x = t0 + 2 * i
+                z = t1 + 2 * i
+                for l in range(L):
+                    ux = D[0, l]
+                    uy = D[1, l]
+                    A[y + i, l] = np.float32(S[x, l] * ux + S[x + 1, l] * uy)
+                    A[y + p + i, l] = np.float32(S[x + 1, l] * ux - S[x, l] * uy)
+                    A[y + 2 * p + i, l] = np.float32(S[z + 1, l] * ux - S[z, l] * uy)
+        for i in range(p - 1):
+            for j in range(max(i + 1, m), p):
+                for l in range(L):
+                    a0 = abs(A[j, l] - A[i, l])
+                    b0 = A[p + j, l] - A[p + i, l]
+                    b1 = A[2 * p + j, l] - A[2 * p + i, l]
+                    a2 = abs(A[3 * p + j, l] - A[3 * p + i, l])
+                    b2 = A[4 * p + j, l] - A[4 * p + i, l]
+                    b3 = A[5 * p + j, l] - A[5 * p + i, l]
+                    e = a0 if b0 * b1 <= np.float32(0.0) else np.float32(np.inf)
+                    e = a2 if (b2 * b3 <= np.float32(0.0)) & (a2 < e) else e
+                    z = E[e0, l]
+                    E[e1, l] = e if e < z else z  # noqa: FURB136 (NaN never chosen)
+                e0, e1 = e1, e0
+    for l in range(L):
+        e = (np.float64(E[e0, l]) * (1.0 + 2.0**-20) + 2.0**-18 * T[mx, l]) / D[_WN0, l]
+        D[_GUESS, l] = e * e
+
+
+@njit(**OPTS)
 def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
-                 NORM):  # pragma: no cover - compiled
+                 NORM, compact):  # pragma: no cover - compiled
     """Row ``mn`` of T = every lane's minimum over the pairs with a moving point of the plane
     (d = 2), exactly that of the brute-force pass of :func:`_certify_lanes` (bitwise), the
     pairs pruned as :func:`_sweep_min` prunes them, without sorting.
@@ -1410,11 +1471,11 @@ def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
     group whose ``C`` is not below 2**120 (a centre could overflow float32) has ``E = inf``:
     its test never skips.
 
-    ``s`` starts as a guess: 1.25 times the smallest gap of the column-class test (row ``GAP``,
-    divided by ``|w|``, row ``NORM``), near the true minimum on random queries of the paper's
-    projection, where the closest columns meet on the line (the compact lanes' direct lift,
-    Mathematics §4.4, keeps them apart: their minimum is larger, and a lane whose guess is
-    below it takes the second pass); then ``min(best, guess)``. A pair skipped is above ``min
+    ``s`` starts as a guess: on the paper's lanes 1.25 times the smallest gap of the
+    column-class test (row ``GAP``, divided by ``|w|``, row ``NORM``), near the true minimum on
+    random queries of the paper's projection, where the closest columns meet on the line; on
+    the compact lanes (``compact``), whose direct lift (Mathematics §4.4) keeps them apart, the
+    estimate of :func:`_guess_plane`; then ``min(best, guess)``. A pair skipped is above ``min
     (best, guess)`` at that time; so where the final ``best <= guess`` it is the minimum, and
     every other lane (a poor guess) takes a second pass from its ``best`` (inf if none: every
     pair). Lanes that go to the scalar kernel anyway (row ``BAD``, or ``THR2`` infinite) are
@@ -1470,9 +1531,13 @@ def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
                 cc = D[_BEST, l]
                 e = 2.0**-20 * cc + 2.0**-120 if cc < 2.0**120 else np.inf
                 EW[ew, l] = e + EW[ew, l]
+    if compact:
+        _guess_plane(S, D, T, mx, r, m, p, row)
+    else:
+        for l in range(L):
+            sq = 1.25 * T[GAP, l] / T[NORM, l]
+            D[_GUESS, l] = sq * sq
     for l in range(L):
-        sq = 1.25 * T[GAP, l] / T[NORM, l]
-        D[_GUESS, l] = sq * sq
         D[_BEST, l] = np.inf
         D[_OUT, l] = 0.0
         _lane_thresholds(D, EW, T32, nseg, l)
@@ -1634,7 +1699,7 @@ def _max_finite(S, T, x0, x1, mx, mx2, BAD):  # pragma: no cover - compiled
 
 @njit(**OPTS)
 def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2, wf,
-                   b0, GAP, NORM):  # pragma: no cover - compiled
+                   b0, GAP, NORM, compact):  # pragma: no cover - compiled
     """The certificate of :func:`_plan_lanes` for one block of L queries (Mathematics §6).
 
     ``S`` holds the waypoints of the block (row x: coordinate x of every lane), ``T`` the
@@ -1675,7 +1740,8 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
     if d == 2 and PRUNE_LANES[0] <= p < PRUNE_LANES[1]:
         # the plane, many points: every pair tested, the few that may reach the minimum
         # evaluated (exactly pruned, blocks of eight lanes)
-        mn = _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP, NORM)
+        mn = _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP, NORM,
+                          compact)
     elif _sweeps(p, d):
         # many points: the exact pruned sweep, lane by lane (each lane has its own order)
         _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d)
@@ -1843,7 +1909,8 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     Q = 9
     THR2 = 10
     GAP = 16  # the smallest gap of the column-class test over the configurations
-    prune = d == 2 and PRUNE_LANES[0] <= p < PRUNE_LANES[1]  # (_prune_plane's guess)
+    # (_prune_plane's guess on the paper's lanes: the column-class test's gap)
+    gap_guess = d == 2 and PRUNE_LANES[0] <= p < PRUNE_LANES[1] and not compact
     nt = 0
     nfull = nb // L
     dom = 2 - (r - 1) * m + r * p
@@ -1900,7 +1967,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         # --- column classes: only the generic case, every point its own column --------------
         mx = 11
         mx2 = 12
-        if prune:
+        if gap_guess:
             for l in range(L):
                 T[GAP, l] = np.inf
         for k in range(r):
@@ -1940,7 +2007,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     mn, mn2 = mn2, mn
             for l in range(L):
                 T[BAD, l] += 0.0 if T[mn, l] > T[THR, l] else 1.0
-            if prune:  # (its own loop: a select written back into its row costs (2,1,2) 5 %)
+            if gap_guess:  # (own loop: a select written back into its row costs (2,1,2) 5 %)
                 for l in range(L):
                     z = T[GAP, l]
                     T[GAP, l] = T[mn, l] if T[mn, l] < z else z  # noqa: FURB136
@@ -2109,7 +2176,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         write_lanes(S, wf, b0, L, size)
         # --- certificate: finite, clearance (:func:`_certify_lanes`) -------------------------
         mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2,
-                            wf, b0, GAP, NORM)
+                            wf, b0, GAP, NORM, compact)
         # --- the decided queries' records ----------------------------------------------------
         for l in range(L):
             b = b0 + l
