@@ -210,3 +210,29 @@ def test_prune_prunes(planner, bound):
     # lanes -- about 16 from the gap there, whose direct lift keeps the robots of the closest
     # columns apart, Mathematics §4.4, and the gap below the minimum)
     assert count[0] <= bound * lanes, count[0]
+
+
+def test_compact_guess_is_the_minimum_from_above():
+    """:func:`_guess_plane` on the default planner's paths (the direct lift, Mathematics §4.4):
+    never below a lane's minimum (no second pass), and within rounding of it where the minimum
+    is two points crossing on a lift piece (most random lanes)."""
+    rng = np.random.default_rng(11)
+    n, m = 16, 2
+    ws = pmplan.plan_batch(*(rng.normal(size=(64, k, 2)) for k in (m, n, n))).waypoints
+    lanes, kk, p, d = ws.shape
+    wf = np.ascontiguousarray(ws).reshape(lanes, -1)
+    s = np.ascontiguousarray(wf.T)
+    t = np.zeros((17, lanes))
+    t[MX] = np.abs(wf).max(axis=1)
+    dd = np.zeros((11, lanes))
+    aux = np.empty(8)
+    for lane in range(lanes):
+        kernels_line._directions(wf[lane], p, m, 2, t[MX, lane], aux)
+        dd[:8, lane] = aux
+    kernels_line._guess_plane(s, dd, t, MX, 2, m, p, p * d)
+    guess = dd[kernels_line._GUESS]
+    want = np.array([_unpruned(w, m) for w in ws])
+    assert np.all(guess >= want)
+    # (its slack for the float32 rounding: 2**-20 times the largest |coordinate|)
+    near = guess <= (np.sqrt(want) * (1 + 2.0**-19) + 2.0**-19 * t[MX]) ** 2
+    assert np.mean(near) >= 0.9

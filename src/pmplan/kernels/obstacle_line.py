@@ -1398,8 +1398,9 @@ def _guess_plane(S, D, T, mx, r, m, p, row):  # pragma: no cover - compiled
     ``(a1, b1)``; the points move along the normal ``nu`` of the line, so ``a1 = a0`` up to
     rounding and, where ``b0 b1 <= 0`` (the pair crosses ``b = 0``), the pair's minimum is
     ``|a0|``. The estimate is the least such ``|a0|`` over the crossing pairs (float32, every lane
-    at once), times ``1 + 2**-20`` plus ``2**-18`` times the largest |coordinate| for the
-    rounding, over ``|u0|``; ``inf`` when no pair crosses. It is only :func:`_prune_plane`'s
+    at once), times ``1 + 2**-20`` plus ``2**-20`` times the largest |coordinate| ``amax``
+    (the float32 ``a`` are within ``2**-23 amax``, their differences within ``2**-21 amax``),
+    over ``|u0|``; ``inf`` when no pair crosses. It is only :func:`_prune_plane`'s
     guess, which is exact whatever the guess: a lane whose guess is below its minimum takes the
     second pass. On 64 lanes of random (2,16,2) and of (2,64,2) queries of the default planner
     no lane took it, and the lanes evaluated about 2 pairs each, against about 16 from the
@@ -1440,7 +1441,7 @@ def _guess_plane(S, D, T, mx, r, m, p, row):  # pragma: no cover - compiled
                     E[e1, l] = e if e < z else z  # noqa: FURB136 (NaN never chosen)
                 e0, e1 = e1, e0
     for l in range(L):
-        e = (np.float64(E[e0, l]) * (1.0 + 2.0**-20) + 2.0**-18 * T[mx, l]) / D[_WN0, l]
+        e = (np.float64(E[e0, l]) * (1.0 + 2.0**-20) + 2.0**-20 * T[mx, l]) / D[_WN0, l]
         D[_GUESS, l] = e * e
 
 
