@@ -165,9 +165,9 @@ SWEEP_MIN = (40, 24)
 #: (certificate 1.1-1.2). Tiling the lanes of the test for the first-level cache was slower
 #: (+4 to +30 %), a guess of 1.05 instead of 1.25 times the gap no faster (1-2 %). The compact
 #: lanes' direct lift made the gap a poor guess (about 40 % of lanes below their minimum, 16
-#: pairs per lane); their guess is _guess_plane's estimate (2 pairs per lane; cert_bench,
+#: pairs per lane); their guess is _guess_plane's estimate (about 3 pairs per lane; cert_bench,
 #: alternating processes: (2,16,2) 0.93-1.0 us against 1.10-1.17, (2,30,2) 1.84-1.93 against
-#: 2.0-2.3, (2,46,2) and (2,64,2) within the noise).
+#: 2.0-2.3, (2,46,2) within the noise; its start side alone, (2,64,2) 4.1-4.2 against 4.6-4.7).
 PRUNE_LANES = (16, 128)
 #: the margins of the sweep's pruning, relative to the largest |coordinate| (see _sweep_min):
 #: the distance of the closed form's float point to an exact point of the piece, a float
@@ -1391,7 +1391,7 @@ _UP32 = 1.0 + 2.0**-21
 def _guess_plane(S, D, T, mx, r, m, p, row):  # pragma: no cover - compiled
     """Row GUESS of ``D`` for the compact lanes (Mathematics §4.4): every lane's estimate of the
     squared minimum distance of the pairs with a moving point, from the pieces 7k + 1 -> 7k + 2
-    and 7k + 5 -> 7k + 6 of the direct lift, where the minimum of random queries lies.
+    of the direct lift (the start side's lift), where the minimum of random queries often lies.
 
     In the frame of ``u0`` (rows 0, 1 of ``D``: the obstacle line, scaled) and ``u0`` turned by
     a right angle, a pair's relative position on such a piece goes from ``(a0, b0)`` to
@@ -1400,43 +1400,41 @@ def _guess_plane(S, D, T, mx, r, m, p, row):  # pragma: no cover - compiled
     ``|a0|``. The estimate is the least such ``|a0|`` over the crossing pairs (float32, every lane
     at once), times ``1 + 2**-20`` plus ``2**-20`` times the largest |coordinate| ``amax``
     (the float32 ``a`` are within ``2**-23 amax``, their differences within ``2**-21 amax``),
-    over ``|u0|``; ``inf`` when no pair crosses. It is only :func:`_prune_plane`'s
-    guess, which is exact whatever the guess: a lane whose guess is below its minimum takes the
-    second pass. On 64 lanes of random (2,16,2) and of (2,64,2) queries of the default planner
-    no lane took it, and the lanes evaluated about 2 pairs each, against about 16 from the
-    column-class test's gap (``tests/test_prune_lanes.py::test_prune_prunes``)."""
+    over ``|u0|``; ``inf`` when no pair crosses. It is never below the lane's minimum, only
+    :func:`_prune_plane`'s guess, which is exact whatever the guess: a lane whose guess is below
+    its minimum takes the second pass. The goal side's lift (pieces 7k + 5 -> 7k + 6) holds the
+    minimum in about half of the lanes; reading it too made the estimate that minimum in
+    nearly every lane, but saved few pairs (random (2,64,2) lanes evaluated 2.4 pairs each,
+    against 2.9 from the start side alone) and cost more than it saved (cert_bench, alternating
+    processes, (2,64,2): 4.6-4.7 us per query against 4.1-4.2; (2,16,2) alike). On 64 lanes of random (2,16,2) and of (2,64,2)
+    queries of the default planner no lane took the second pass
+    (``tests/test_prune_lanes.py::test_prune_prunes``)."""
     L = S.shape[1]
-    A = np.empty((6 * p, L), np.float32)  # piece h: a, b at its start, b at its end
+    A = np.empty((3 * p, L), np.float32)  # a, b at the piece's start, b at its end
     E = np.empty((2, L), np.float32)
     e0 = 0
     e1 = 1
     for l in range(L):
         E[e0, l] = np.float32(np.inf)
     for k in range(r - 1):
-        for h in range(2):
-            t0 = (7 * k + 1 + 4 * h) * row
-            t1 = t0 + row
-            y = 3 * h * p
-            for i in range(p):
-                x = t0 + 2 * i
-                z = t1 + 2 * i
-                for l in range(L):
-                    ux = D[0, l]
-                    uy = D[1, l]
-                    A[y + i, l] = np.float32(S[x, l] * ux + S[x + 1, l] * uy)
-                    A[y + p + i, l] = np.float32(S[x + 1, l] * ux - S[x, l] * uy)
-                    A[y + 2 * p + i, l] = np.float32(S[z + 1, l] * ux - S[z, l] * uy)
+        t0 = (7 * k + 1) * row
+        t1 = t0 + row
+        for i in range(p):
+            x = t0 + 2 * i
+            z = t1 + 2 * i
+            for l in range(L):
+                ux = D[0, l]
+                uy = D[1, l]
+                A[i, l] = np.float32(S[x, l] * ux + S[x + 1, l] * uy)
+                A[p + i, l] = np.float32(S[x + 1, l] * ux - S[x, l] * uy)
+                A[2 * p + i, l] = np.float32(S[z + 1, l] * ux - S[z, l] * uy)
         for i in range(p - 1):
             for j in range(max(i + 1, m), p):
                 for l in range(L):
                     a0 = abs(A[j, l] - A[i, l])
                     b0 = A[p + j, l] - A[p + i, l]
                     b1 = A[2 * p + j, l] - A[2 * p + i, l]
-                    a2 = abs(A[3 * p + j, l] - A[3 * p + i, l])
-                    b2 = A[4 * p + j, l] - A[4 * p + i, l]
-                    b3 = A[5 * p + j, l] - A[5 * p + i, l]
                     e = a0 if b0 * b1 <= np.float32(0.0) else np.float32(np.inf)
-                    e = a2 if (b2 * b3 <= np.float32(0.0)) & (a2 < e) else e
                     z = E[e0, l]
                     E[e1, l] = e if e < z else z  # noqa: FURB136 (NaN never chosen)
                 e0, e1 = e1, e0
