@@ -19,6 +19,9 @@ What is measured (see ``benchmarks/README.md`` for how to read it):
   of the batch time to ONE ``np.copyto`` of an array as large as the output waypoints, measured
   in the same run (a machine-independent yardstick), and the same with ``workers=-1`` (every
   core) and its speed-up;
+* **the copy-ratio goals** (issue 17) over rounds (:func:`goal_rounds`): the goal table
+  judges the median over the rounds of each round's ratio and gives its range, since the
+  ratios of one run move by 20-40 % between runs on a shared machine;
 * **latency** of one :func:`pmplan.plan` call (p10 / p50 / p90 over many calls), every planner;
 * **memory**: peak traced allocation during ``plan_batch`` / output waypoint bytes
   (tracemalloc), and peak resident-set growth / output bytes;
@@ -83,6 +86,13 @@ SUMMARY = [((2, 4, 2), 100_000), ((2, 4, 2), 1_000_000), ((2, 16, 2), 100_000),
            ((2, 64, 2), 20_000), ((2, 256, 2), 1_000), ((3, 4, 2), 100_000),
            ((4, 4, 2), 100_000), ((2, 1, 3), 100_000), ((2, 1, 2), 100_000),
            ((2, 4, 5), 100_000)]
+#: the copy-ratio goals (issue 17), judged over rounds (:func:`goal_rounds`): (d, n, m), B
+GOAL_CASES = [((2, 4, 2), 100_000), ((2, 4, 2), 1_000_000), ((2, 16, 2), 100_000), ((2, 64, 2), 20_000),
+              ((3, 4, 2), 100_000), ((4, 4, 2), 100_000), ((2, 1, 3), 100_000)]
+#: rounds of :func:`goal_rounds` (fewer with ``--quick``): one round of every goal case takes
+#: a few seconds; a run of the whole script, single best-of-5 ratios, moved the (2,16,2) ratio
+#: from 4.0 to 5.8 between two runs of the same code on this shared machine
+GOAL_ROUNDS = 9
 #: a batch whose output waypoints would exceed this many bytes is not run (shared 24 GiB machine)
 MAX_OUTPUT_BYTES = 3 * 2**30
 #: a B = 1,000,000 case estimated (from B = 100,000) to take longer than this is skipped
@@ -244,6 +254,49 @@ def throughput(rng, quick: bool, log, batch: int | None = None,
                     f"{row['copy_ratio_out_all_best']:.2f}, speed-up {row['speedup_all']:.2f})"
                 )
     return rows, skipped
+
+
+def goal_rounds(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
+    """The copy ratios the goal table judges, over rounds. Every round times each case of
+    ``GOAL_CASES`` in turn -- ``plan_batch`` into a new output, ``plan_batch(out=...)`` into the
+    arrays of an earlier batch, one ``np.copyto`` of the output, 3 alternations, the best of
+    each -- so that a burst of the shared machine's load falls into one round of every case
+    rather than into one case; per case the ratios of every round (their median is judged,
+    their range reported)."""
+    setups = []
+    for (d, n, m), b in GOAL_CASES:
+        if (d, n, m) == (2, 1, 3) and not planar_three_available():
+            continue
+        if batch and any(c[0] == (d, n, m) for c in setups):
+            continue
+        b = batch or b
+        kw = _planner_kw(d, n, m)
+        q = _queries(rng, "generic", b, d, n, m)
+        res = pmplan.plan_batch(*q, **kw)
+        dst = np.empty_like(res.waypoints)
+        np.copyto(dst, res.waypoints)  # fault the pages in
+        setups.append(((d, n, m), b, kw, q, res, dst))
+    ratios = {(dims, b): {"new": [], "out": []} for dims, b, *_ in setups}
+    for k in range((GOAL_ROUNDS + 1) // 2 if quick else GOAL_ROUNDS):
+        for dims, b, kw, q, res, dst in setups:
+            tn, to, tc = [], [], []
+            for _ in range(3):
+                tn += timeit(lambda q=q, kw=kw: pmplan.plan_batch(*q, **kw), 1)
+                to += timeit(lambda q=q, kw=kw, res=res: pmplan.plan_batch(*q, out=res, **kw),
+                             1)
+                tc += timeit(lambda dst=dst, res=res: np.copyto(dst, res.waypoints), 1)
+            ratios[(dims, b)]["new"].append(min(tn) / min(tc))
+            ratios[(dims, b)]["out"].append(min(to) / min(tc))
+        gc.collect()
+        log(f"  round {k + 1}: " + ", ".join(f"{_label(*dims)} B={b:,} {r['out'][-1]:.2f}"
+                                            for (dims, b), r in ratios.items()))
+    return [{"dims": list(dims), "B": b, "ratios_new": ratios[(dims, b)]["new"],
+             "ratios_out": ratios[(dims, b)]["out"]} for dims, b, *_ in setups]
+
+
+def _spread(xs: list[float]) -> str:
+    """A goal's measurement over rounds: the median and, in brackets, the range."""
+    return f"{np.median(xs):.2f} ({min(xs):.2f}-{max(xs):.2f} over {len(xs)} rounds)"
 
 
 def breakdown(rng, quick: bool, log, batch: int | None = None) -> list[dict]:
@@ -495,36 +548,31 @@ def goals(results: dict) -> list[dict]:
                 "met": best["qps_best"] >= 1e6,
             }
         )
-        worst = max(r["copy_ratio_best"] for r in tp)
-        out.append(
-            {
-                "goal": "batch time / one copy of the output, (2,4,2) generic, new output",
-                "target": "<= 3",
-                "measured": f"{worst:.2f}",
-                "met": worst <= 3,
-            }
-        )
-        worst = max(r.get("copy_ratio_out_best", np.inf) for r in tp)
-        out.append(
-            {
-                "goal": "the same, plan_batch(out=...) into existing arrays (as np.copyto)",
-                "target": "<= 3",
-                "measured": f"{worst:.2f}",
-                "met": worst <= 3,
-            }
-        )
-    # issue 17: time of plan_batch(out=...) / one copy, generic, one core, B = 100,000
-    ratio = {tuple(r["dims"]): r["copy_ratio_out_best"] for r in results["throughput"]
-             if r["family"] == "generic" and r["B"] == SIZES.get(tuple(r["dims"]), [100_000])[0]}
+    rows = results.get("goal_rounds", [])
+    rounds = {tuple(r["dims"]): r for r in rows[::-1]}  # the first B of every case
+    names = {"ratios_new": "batch time / one copy of the output, (2,4,2) generic, new output",
+             "ratios_out": "the same, plan_batch(out=...) into existing arrays (as np.copyto)"}
+    for key, goal in names.items():
+        # the worst B: the largest median
+        cand = [r for r in rows if r["dims"] == [2, 4, 2]]
+        if cand:
+            w = max(cand, key=lambda r: np.median(r[key]))
+            out.append({"goal": goal, "target": "<= 3",
+                        "measured": f"{_spread(w[key])}, B = {w['B']:,}",
+                        "met": bool(np.median(w[key]) <= 3)})
+    # issue 17: time of plan_batch(out=...) / one copy, generic, one core
     for dims, limit in (((2, 16, 2), 5.0), ((3, 4, 2), 4.0), ((4, 4, 2), 4.0), ((2, 1, 3), 3.0)):
-        if dims in ratio:
+        if dims in rounds:
+            xs = rounds[dims]["ratios_out"]
             out.append({"goal": f"plan_batch(out=) / one copy, {_label(*dims)} generic, one core",
-                        "target": f"<= {limit:g}", "measured": f"{ratio[dims]:.2f}",
-                        "met": ratio[dims] <= limit})
-    if (2, 16, 2) in ratio and (2, 64, 2) in ratio:
-        grow = ratio[(2, 64, 2)] / ratio[(2, 16, 2)]
-        out.append({"goal": "the same ratio, (2,64,2) over (2,16,2)", "target": "<= 1.5",
-                    "measured": f"{grow:.2f}", "met": grow <= 1.5})
+                        "target": f"<= {limit:g}", "measured": _spread(xs),
+                        "met": bool(np.median(xs) <= limit)})
+    if (2, 16, 2) in rounds and (2, 64, 2) in rounds:
+        grow = [a / b for a, b in zip(rounds[(2, 64, 2)]["ratios_out"],
+                                      rounds[(2, 16, 2)]["ratios_out"])]
+        out.append({"goal": "the same ratio, (2,64,2) over (2,16,2) (per round)",
+                    "target": "<= 1.5", "measured": _spread(grow),
+                    "met": bool(np.median(grow) <= 1.5)})
     for case, limit in LATENCY_GOALS.items():
         lat = [r for r in results["latency"] if r["case"] == case]
         if lat:
@@ -647,6 +695,8 @@ def main(argv: list[str] | None = None) -> int:
         lat = latency(rng_lat, args.quick, log)
         log("throughput (plan_batch):")
         tp, skipped = throughput(rng_tp, args.quick, log, args.batch)
+        log("the copy-ratio goals, over rounds (plan_batch(out=) / one copy):")
+        gr = goal_rounds(rng_tp, args.quick, log, args.batch)
         log("where the time goes ((2,4,2), plan_batch):")
         bd = breakdown(rng, args.quick, log, args.batch)
         log("memory (plan_batch; B = 100,000, fewer for n = 64, 256):")
@@ -660,6 +710,7 @@ def main(argv: list[str] | None = None) -> int:
             "quick": args.quick,
             "batch": args.batch,
             "throughput": tp,
+            "goal_rounds": gr,
             "breakdown": bd,
             "skipped": skipped,
             "latency": lat,
