@@ -15,7 +15,7 @@ setting is measured on the same queries:
 * *pmplan, effort (w, s)*: ``pmplan.refine(pmplan.plan(o, s, g, bounds=(0, 10), lift=r),
   radius=r/2, obstacle_radius=r/2, waypoints=w, steps=s)`` (``lift=r``: the unit
   ``pmplan.plan(..., refine=True)`` takes, the robots' diameter; 4/56 is its default effort up
-  to 8 robots, 4/112 beyond);
+  to 8 robots, 4/224 beyond);
 * *OMPL RRTConnect* (+ ``simplifySolution``) and *OMPL RRT\\** (0.5 s), as in
   ``scenes_compare.py``.
 

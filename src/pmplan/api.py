@@ -351,9 +351,10 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
         1`` breakpoints.
     steps : int, optional
         Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 56, for a crowd
-        :data:`pmplan.refine.CROWD_STEPS` = 112), split over the coarse-to-fine levels 1, 2, 4,
+        :data:`pmplan.refine.CROWD_STEPS` = 224), split over the coarse-to-fine levels 1, 2, 4,
         .., ``waypoints``. The defaults were chosen from the length / time measurements of
-        ``benchmarks/refine_bench.py``, the crowd's from ``benchmarks/scenes_effort.py``; they
+        ``benchmarks/refine_bench.py``, the crowd's from ``benchmarks/scenes_effort.py`` and
+        ``benchmarks/crowd_ab.py``; they
         depend on the number of robots alone, so the refinement stays continuous on every
         domain (:func:`pmplan.refine.default_effort`).
     workers : int
