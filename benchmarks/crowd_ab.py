@@ -13,8 +13,10 @@ benchmark measures doubling the steps (224 against 112, 4 sub-pieces both).
 Rows: the scene families of ``benchmarks/scenes.py`` (room, swap, room_walls, swap_walls and
 room3d) with n = 16, 16 queries each; pmplan's default plan in the box (``bounds=(0, 10)``)
 refined with radius = obstacle_radius = r/2 at the crowd's default effort, with
-``pmplan.refine.grid.CROWD_STEPS`` set for the measurement (the default effort reads it at
-every call; nothing else changes). Per row and variant (the same queries and probe moves):
+``pmplan.refine.grid.CROWD_STEPS`` and ``SPACE_CROWD_STEPS`` (the plane's and the space's)
+both set for the measurement (the default effort reads them at every call; nothing else
+changes). pmplan takes 224 in the plane and keeps 112 in d >= 3 (``SPACE_CROWD_STEPS``: see
+its comment in ``pmplan/refine/grid.py``). Per row and variant (the same queries and probe moves):
 the queries valid (keep the radii and stay in the box, decided exactly), the median length /
 LB, the raw plan's clearance and the modulus of continuity at delta = 1e-6, 1e-9 and 1e-12
 (``scenes_compare.ab_row``). Seeds 1, 2, 4, 5 and 6 were looked at before the choice; 42-49
@@ -36,7 +38,7 @@ import scenes_compare
 FAMILIES = ["room", "swap", "room_walls", "swap_walls", "room3d"]
 NS = [16]
 GRID = importlib.import_module("pmplan.refine.grid")
-_STEPS = GRID.CROWD_STEPS
+_STEPS = GRID.CROWD_STEPS, GRID.SPACE_CROWD_STEPS
 #: the variants: the crowd's steps
 VARIANTS = {"steps 224": 224, "steps 112": 112}
 #: the seeds looked at before the choice
@@ -44,15 +46,15 @@ DESIGN = {1, 2, 4, 5, 6}
 
 
 def variant(name: str) -> None:
-    """Set the crowd's default steps."""
-    GRID.CROWD_STEPS = VARIANTS[name]
+    """Set the crowd's default steps, in the plane and in space."""
+    GRID.CROWD_STEPS = GRID.SPACE_CROWD_STEPS = VARIANTS[name]
 
 
 def row(fam: str, n: int, seed: int, count: int) -> dict:
     """One row: both variants on the same queries and probe moves (``ab_row``), then the
     default restored."""
     out = scenes_compare.ab_row(fam, n, seed, count, variant, list(VARIANTS))
-    GRID.CROWD_STEPS = _STEPS
+    GRID.CROWD_STEPS, GRID.SPACE_CROWD_STEPS = _STEPS
     return out
 
 
@@ -60,7 +62,8 @@ def markdown(res: dict) -> str:
     prose = (f"Command: `{res['command'].strip()}` ({res['date']}). Rooms 10 x 10 (m = 6) and "
              f"10 x 10 x 10 (m = 4), r = {scenes.R}, {res['count']} queries per row, 16 robots, "
              "pmplan's default plan in the box refined with radius = obstacle_radius = r/2 at "
-             "4 sub-pieces and *steps 224* or *steps 112* (the crowd's default before). "
+             "4 sub-pieces and *steps 224* or *steps 112* (the crowd's default before; in 3-D "
+             "still the default, `SPACE_CROWD_STEPS`), in every dimension. "
              + scenes_compare.AB_COLUMNS + " Seeds 1, 2, 4, 5 and 6 were looked at before the "
              "choice; 42-49 were not.")
     return scenes_compare.ab_markdown(

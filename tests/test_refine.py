@@ -670,6 +670,30 @@ def test_the_raw_clearance_is_reported_beside_the_refined_one():
     assert np.array_equal(refb[1:4].raw_clearance, rawb.clearance[1:4])
 
 
+def test_a_crowd_in_space_gets_the_space_crowds_steps():
+    """More than CROWD robots in d >= 3: the default steps are SPACE_CROWD_STEPS, not the
+    plane's CROWD_STEPS (bit for bit the refinement asked with them), through refine() and
+    plan_batch(refine=True) alike."""
+    from pmplan.refine import (CROWD, CROWD_STEPS, CROWD_WAYPOINTS, SPACE_CROWD_STEPS,
+                               default_effort)
+
+    n = CROWD + 1
+    assert default_effort(n, 3) == (CROWD_WAYPOINTS, SPACE_CROWD_STEPS) != default_effort(n, 2)
+    assert SPACE_CROWD_STEPS != CROWD_STEPS
+    rng = np.random.default_rng(3)
+    o, x, y = (rng.uniform(0, 10, size=(2, 4, 3)), rng.uniform(0, 10, size=(2, n, 3)),
+               rng.uniform(0, 10, size=(2, n, 3)))
+    kw = dict(radius=1e-3, obstacle_radius=1e-3)
+    raw = pmplan.plan_batch(o, x, y, lift=2e-3)
+    default = pmplan.refine(raw, **kw)
+    space = pmplan.refine(raw, waypoints=CROWD_WAYPOINTS, steps=SPACE_CROWD_STEPS, **kw)
+    plane = pmplan.refine(raw, waypoints=CROWD_WAYPOINTS, steps=CROWD_STEPS, **kw)
+    assert default.waypoints.tobytes() == space.waypoints.tobytes()
+    assert default.waypoints.tobytes() != plane.waypoints.tobytes()
+    full = pmplan.plan_batch(o, x, y, refine=True, **kw)
+    assert full.waypoints.tobytes() == default.waypoints.tobytes()
+
+
 @pytest.mark.parametrize("n", [8, 9, 16])
 def test_a_crowd_gets_the_crowds_default_effort(n):
     """More than CROWD robots: the defaults are (CROWD_WAYPOINTS, CROWD_STEPS), bit for bit the

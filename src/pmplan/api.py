@@ -350,12 +350,13 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
         :data:`pmplan.refine.CROWD_WAYPOINTS` = 4). The refined path has ``(K - 1) waypoints +
         1`` breakpoints.
     steps : int, optional
-        Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 56, for a crowd
-        :data:`pmplan.refine.CROWD_STEPS` = 224), split over the coarse-to-fine levels 1, 2, 4,
-        .., ``waypoints``. The defaults were chosen from the length / time measurements of
-        ``benchmarks/refine_bench.py``, the crowd's from ``benchmarks/scenes_effort.py`` and
-        ``benchmarks/crowd_ab.py``; they
-        depend on the number of robots alone, so the refinement stays continuous on every
+        Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 56; for a crowd
+        :data:`pmplan.refine.CROWD_STEPS` = 224 in the plane and
+        :data:`pmplan.refine.SPACE_CROWD_STEPS` = 112 in d >= 3), split over the
+        coarse-to-fine levels 1, 2, 4, .., ``waypoints``. The defaults were chosen from the
+        length / time measurements of ``benchmarks/refine_bench.py``, the crowd's from
+        ``benchmarks/scenes_effort.py`` and ``benchmarks/crowd_ab.py``; they depend on the
+        dimension and the number of robots alone, so the refinement stays continuous on every
         domain (:func:`pmplan.refine.default_effort`).
     workers : int
         Threads refining separate chunks (-1: one per CPU); the result does not depend on it.

@@ -553,10 +553,11 @@ def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float =
     run loop (:func:`run_stage`), the start, intermediate and goal configurations
     checked against the radii first; a :class:`~pmplan.results.Plan` or a
     :class:`~pmplan.results.PlanBatch` as given."""
-    # (the defaults depend on the plans' number of robots; a wrong type is refused below)
-    n = plan_or_batch.dims[1] if isinstance(plan_or_batch, (Plan, PlanBatch)) else 1
+    # (the defaults depend on the plans' dimension and number of robots; a wrong type is
+    # refused below)
+    d, n = plan_or_batch.dims[:2] if isinstance(plan_or_batch, (Plan, PlanBatch)) else (2, 1)
     radius, obstacle_radius, s, steps = check_parameters(radius, obstacle_radius, waypoints,
-                                                         steps, n=n)
+                                                         steps, n=n, d=d)
     workers = check_workers(workers)
     if progress is None:
         progress = False

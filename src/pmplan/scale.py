@@ -168,9 +168,9 @@ def _record(template: dict, per_query_times: bool, refined: bool) -> np.dtype:
     return np.dtype(fields)
 
 
-def _refine_options(refine, n: int) -> dict | None:
+def _refine_options(refine, n: int, d: int) -> dict | None:
     """The keywords of :func:`pmplan.refine` (``radius``, ``obstacle_radius``, ``waypoints``,
-    ``steps``), validated and completed with the defaults for ``n`` robots; None for raw
+    ``steps``), validated and completed with the defaults for ``n`` robots in R^d; None for raw
     plans."""
     if refine is None:
         return None
@@ -182,7 +182,7 @@ def _refine_options(refine, n: int) -> dict | None:
                          "obstacle_radius, waypoints and steps")
     radius, obstacle_radius, s, steps = check_parameters(
         refine.get("radius", 0.0), refine.get("obstacle_radius", 0.0), refine.get("waypoints"),
-        refine.get("steps"), n=n)
+        refine.get("steps"), n=n, d=d)
     return {"radius": radius, "obstacle_radius": obstacle_radius, "waypoints": s, "steps": steps}
 
 
@@ -288,7 +288,7 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
     check_backend(backend)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
-    refine = _refine_options(refine, n)
+    refine = _refine_options(refine, n, d)
     for c, name in zip(configs, names[1:]):
         if c.shape[1:] != configs[0].shape[1:] or c.shape[2] != d:
             raise InputError(f"`{name}` has shape {c.shape}; expected (B, n, d) = "
@@ -878,7 +878,7 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     if chunk is not None and (isinstance(chunk, bool) or int(chunk) < 1):
         raise InputError(f"`chunk` must be a positive number of queries, got {chunk!r}")
     b, m, n, d, k, chunk = _check_inputs(arrays, src_name, chunk)
-    refine = _refine_options(refine, n)
+    refine = _refine_options(refine, n, d)
     lift = default_lift(lift, *(() if refine is None else
                                 (refine["radius"], refine["obstacle_radius"], True)))
     check_lift(lift)

@@ -43,6 +43,7 @@ __all__ = [
     "PHI_WAYPOINT",
     "SHARE",
     "SLACK",
+    "SPACE_CROWD_STEPS",
     "WALL_SLIDE",
     "chord_fraction",
     "default_effort",
@@ -111,14 +112,20 @@ DEFAULT_STEPS = 56
 CROWD = 8
 #: default ``waypoints`` for more than ``CROWD`` robots
 CROWD_WAYPOINTS = 4
-#: default ``steps`` for more than ``CROWD`` robots: four times ``DEFAULT_STEPS``. 224 rather
-#: than 112 (benchmarks/crowd_ab.py; 16 robots in rooms, swaps and 3-D rooms, the same queries
-#: and probe moves): valid on more queries in 23 of 65 rows and on fewer in none; 6 rows reach
-#: issue 25's 80 % with it, none lose it; the rows' lengths 2.5-2.7 % shorter (geometric
-#: mean); one row above K = 1e3 in each variant; about 16 ms per refinement against 8.5 ms
-#: (benchmarks/scenes_time.py). Seeds 1, 2, 4, 5, 6 were looked at before the choice, 42-49
-#: were not
+#: default ``steps`` for more than ``CROWD`` robots in the plane: four times ``DEFAULT_STEPS``.
+#: 224 rather than 112 (benchmarks/crowd_ab.py; 16 robots, the same queries and probe moves):
+#: in the 2-D rooms and swaps valid on more queries in 23 of 52 rows and on fewer in none; 6
+#: rows reach issue 25's 80 % with it, none lose it; shorter; 15.0-16.6 ms per query against
+#: 8.7-9.0 (benchmarks/scenes_time.py). Seeds 1, 2, 4, 5, 6 were looked at before the choice,
+#: 42-49 were not. In space see :data:`SPACE_CROWD_STEPS`
 CROWD_STEPS = 224
+#: default ``steps`` for more than ``CROWD`` robots in d >= 3: twice ``DEFAULT_STEPS``. There
+#: the offsets keep the robots apart (Mathematics §4.4): on the 3-D rooms of crowd_ab.py 224
+#: steps keep the radii on no more query (16/16 in every row either way) and shorten by under
+#: 0.5 %, while on the table of benchmarks/refine_continuity.py they raised the amplification
+#: of a query 0.45 degrees from the pole of odd d (whose raw plan amplifies 4.8e3, Mathematics
+#: §4.1) from 1.3 to 16 times the raw plan's, past issue 24's bound K_eff <= 1e4 (3.5e4)
+SPACE_CROWD_STEPS = 112
 #: the largest ``waypoints`` accepted
 MAX_WAYPOINTS = 64
 #: the largest ``steps`` accepted
@@ -244,15 +251,19 @@ def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 # --- the grid ------------------------------------------------------------------------------
 
-def default_effort(n: int) -> tuple[int, int]:
-    """The default ``(waypoints, steps)`` of a refinement of plans with ``n`` robots:
+def default_effort(n: int, d: int = 2) -> tuple[int, int]:
+    """The default ``(waypoints, steps)`` of a refinement of plans with ``n`` robots in R^d:
     ``(DEFAULT_WAYPOINTS, DEFAULT_STEPS)`` = (4, 56), and for a crowd of more than ``CROWD`` =
-    8 robots ``(CROWD_WAYPOINTS, CROWD_STEPS)`` = (4, 224).
+    8 robots ``(CROWD_WAYPOINTS, CROWD_STEPS)`` = (4, 224) in the plane, ``(CROWD_WAYPOINTS,
+    SPACE_CROWD_STEPS)`` = (4, 112) in d >= 3. It depends on (d, n) alone, which every query
+    of a domain shares, so the refinement stays continuous on the same domains.
 
-    >>> default_effort(8), default_effort(16)
-    ((4, 56), (4, 224))
+    >>> default_effort(8), default_effort(16), default_effort(16, 3)
+    ((4, 56), (4, 224), (4, 112))
     """
-    return (CROWD_WAYPOINTS, CROWD_STEPS) if n > CROWD else (DEFAULT_WAYPOINTS, DEFAULT_STEPS)
+    if n <= CROWD:
+        return DEFAULT_WAYPOINTS, DEFAULT_STEPS
+    return CROWD_WAYPOINTS, CROWD_STEPS if d == 2 else SPACE_CROWD_STEPS
 
 
 def subdivide_times(times: np.ndarray, s: int) -> np.ndarray:

@@ -73,9 +73,9 @@ def check_radius(value, name: str) -> float:
     return float(value)
 
 
-def check_parameters(radius, obstacle_radius, waypoints, steps, n: int = 1):
+def check_parameters(radius, obstacle_radius, waypoints, steps, n: int = 1, d: int = 2):
     """Validate the refinement parameters; return ``(radius, obstacle_radius, waypoints,
-    steps)`` with the defaults for plans of ``n`` robots filled in
+    steps)`` with the defaults for plans of ``n`` robots in R^d filled in
     (:func:`~pmplan.refine.grid.default_effort`). Raises :class:`~pmplan.errors.InputError`
     naming the parameter and what it must be.
 
@@ -85,6 +85,8 @@ def check_parameters(radius, obstacle_radius, waypoints, steps, n: int = 1):
     (0.0, 0.5, 4, 56)
     >>> check_parameters(0, 0.5, None, None, n=16)
     (0.0, 0.5, 4, 224)
+    >>> check_parameters(0, 0.5, None, None, n=16, d=3)
+    (0.0, 0.5, 4, 112)
     >>> check_parameters(-1.0, 0, None, None)
     Traceback (most recent call last):
     ...
@@ -92,7 +94,7 @@ def check_parameters(radius, obstacle_radius, waypoints, steps, n: int = 1):
     """
     radius = check_radius(radius, "radius")
     obstacle_radius = check_radius(obstacle_radius, "obstacle_radius")
-    default_waypoints, default_steps = default_effort(n)
+    default_waypoints, default_steps = default_effort(n, d)
     if waypoints is None:
         waypoints = default_waypoints
     elif (isinstance(waypoints, (bool, np.bool_)) or not isinstance(waypoints, (int, np.integer))
