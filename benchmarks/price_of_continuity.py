@@ -58,8 +58,8 @@ from scenes_compare import (  # noqa: E402
 )
 
 
-#: the refinement efforts (waypoints, steps): (4, 56) is pmplan's default up to 8 robots,
-#: (4, 112) beyond (pmplan.refine.default_effort)
+#: the refinement efforts (waypoints, steps): (4, 56) is pmplan's default up to 8 robots
+#: (pmplan.refine.default_effort; beyond, (4, 224) in the plane and (4, 112) in space)
 EFFORTS = [(1, 8), (1, 28), (2, 56), (4, 56), (4, 112), (4, 224)]
 ROWS = [("room", 4), ("room", 8), ("swap", 4), ("swap", 8), ("room3d", 8)]
 #: the default unit of a refined plan (pmplan.configuration.default_lift): here r
