@@ -670,44 +670,22 @@ def test_the_raw_clearance_is_reported_beside_the_refined_one():
     assert np.array_equal(refb[1:4].raw_clearance, rawb.clearance[1:4])
 
 
-def test_a_crowd_in_space_gets_the_space_crowds_steps():
-    """More than CROWD robots in d >= 3: the default steps are SPACE_CROWD_STEPS, not the
-    plane's CROWD_STEPS (bit for bit the refinement asked with them), through refine() and
-    plan_batch(refine=True) alike."""
-    from pmplan.refine import (CROWD, CROWD_STEPS, CROWD_WAYPOINTS, SPACE_CROWD_STEPS,
-                               default_effort)
-
-    n = CROWD + 1
-    assert default_effort(n, 3) == (CROWD_WAYPOINTS, SPACE_CROWD_STEPS) != default_effort(n, 2)
-    assert SPACE_CROWD_STEPS != CROWD_STEPS
-    rng = np.random.default_rng(3)
-    o, x, y = (rng.uniform(0, 10, size=(2, 4, 3)), rng.uniform(0, 10, size=(2, n, 3)),
-               rng.uniform(0, 10, size=(2, n, 3)))
-    kw = dict(radius=1e-3, obstacle_radius=1e-3)
-    raw = pmplan.plan_batch(o, x, y, lift=2e-3)
-    default = pmplan.refine(raw, **kw)
-    space = pmplan.refine(raw, waypoints=CROWD_WAYPOINTS, steps=SPACE_CROWD_STEPS, **kw)
-    plane = pmplan.refine(raw, waypoints=CROWD_WAYPOINTS, steps=CROWD_STEPS, **kw)
-    assert default.waypoints.tobytes() == space.waypoints.tobytes()
-    assert default.waypoints.tobytes() != plane.waypoints.tobytes()
-    full = pmplan.plan_batch(o, x, y, refine=True, **kw)
-    assert full.waypoints.tobytes() == default.waypoints.tobytes()
-
-
-@pytest.mark.parametrize("n", [8, 9, 16])
-def test_a_crowd_gets_the_crowds_default_effort(n):
-    """More than CROWD robots: the defaults are (CROWD_WAYPOINTS, CROWD_STEPS), bit for bit the
-    same refinement as asking for them; up to CROWD, (DEFAULT_WAYPOINTS, DEFAULT_STEPS). The
+@pytest.mark.parametrize("n, d", [(8, 2), (9, 2), (16, 2), (9, 3)])
+def test_a_crowd_gets_the_crowds_default_effort(n, d):
+    """More than CROWD robots: the defaults are (CROWD_WAYPOINTS, CROWD_STEPS) in the plane and
+    (CROWD_WAYPOINTS, SPACE_CROWD_STEPS) in d >= 3, bit for bit the same refinement as asking
+    for them (in space not the plane's); up to CROWD, (DEFAULT_WAYPOINTS, DEFAULT_STEPS). The
     batch, the single plan and the refine() call agree."""
     from pmplan.refine import (CROWD, CROWD_STEPS, CROWD_WAYPOINTS, DEFAULT_STEPS,
-                               DEFAULT_WAYPOINTS, default_effort)
+                               DEFAULT_WAYPOINTS, SPACE_CROWD_STEPS, default_effort)
 
     crowd = n > CROWD
-    s, k = (CROWD_WAYPOINTS, CROWD_STEPS) if crowd else (DEFAULT_WAYPOINTS, DEFAULT_STEPS)
-    assert default_effort(n) == (s, k) and (s, k) != (DEFAULT_WAYPOINTS // 2, DEFAULT_STEPS)
+    steps = CROWD_STEPS if d == 2 else SPACE_CROWD_STEPS
+    s, k = (CROWD_WAYPOINTS, steps) if crowd else (DEFAULT_WAYPOINTS, DEFAULT_STEPS)
+    assert default_effort(n, d) == (s, k) and (s, k) != (DEFAULT_WAYPOINTS // 2, DEFAULT_STEPS)
     rng = np.random.default_rng(n)
-    o, x, y = (rng.uniform(0, 10, size=(3, 6, 2)), rng.uniform(0, 10, size=(3, n, 2)),
-               rng.uniform(0, 10, size=(3, n, 2)))
+    o, x, y = (rng.uniform(0, 10, size=(3, 6, d)), rng.uniform(0, 10, size=(3, n, d)),
+               rng.uniform(0, 10, size=(3, n, d)))
     kw = dict(radius=1e-3, obstacle_radius=1e-3)
     raw = pmplan.plan_batch(o, x, y, lift=2e-3)  # the refined plans' default unit
     default = pmplan.refine(raw, **kw)
@@ -716,6 +694,10 @@ def test_a_crowd_gets_the_crowds_default_effort(n):
     assert default.waypoints.shape[1] == (raw.waypoints.shape[1] - 1) * s + 1
     assert default.waypoints.tobytes() == asked.waypoints.tobytes()
     assert default.waypoints.shape != other.waypoints.shape
+    if crowd and d > 2:  # a crowd in space does not get the plane's steps
+        assert SPACE_CROWD_STEPS != CROWD_STEPS
+        plane = pmplan.refine(raw, waypoints=s, steps=CROWD_STEPS, **kw)
+        assert default.waypoints.tobytes() != plane.waypoints.tobytes()
     full = pmplan.plan_batch(o, x, y, refine=True, **kw)
     assert full.waypoints.tobytes() == default.waypoints.tobytes()
     one = pmplan.plan(o[0], x[0], y[0], refine=True, **kw)
