@@ -5,10 +5,11 @@ Usage (from the repository root)::
 
     python benchmarks/crowd_ab.py     # seeds 1, 2, 4, 5, 6 and 42-49, about 5 minutes
 
-The refinement's default effort depends on the number of robots alone
+The refinement's default effort depends on the dimension and the number of robots alone
 (:func:`pmplan.refine.default_effort`), so that it stays continuous on every domain: for more
-than ``CROWD`` = 8 robots it is ``CROWD_WAYPOINTS`` sub-pieces and ``CROWD_STEPS`` steps. This
-benchmark measures doubling the steps (224 against 112, 4 sub-pieces both).
+than ``CROWD`` = 8 robots it is ``CROWD_WAYPOINTS`` sub-pieces and ``CROWD_STEPS`` steps in the
+plane, ``SPACE_CROWD_STEPS`` in d >= 3. This benchmark measures doubling the steps (224 against
+112, 4 sub-pieces both).
 
 Rows: the scene families of ``benchmarks/scenes.py`` (room, swap, room_walls, swap_walls and
 room3d) with n = 16, 16 queries each; pmplan's default plan in the box (``bounds=(0, 10)``)

@@ -13,8 +13,9 @@ listed with its reason (``Plan.radius_reason``: *gap*, the path crosses a gap of
 narrower than a robot, which no planner continuous on these domains avoids on every query,
 Mathematics §8; *robots*, *obstacle*, *wall*: the worst contact, which the refinement's
 steps did not clear), its worst distances and its raw clearance, and the same raw plan refined
-again at the larger efforts ``EFFORTS`` (waypoints / steps): does it keep the radii there, the
-worst distance, the time of that refinement (one core).
+again at the efforts ``EFFORTS`` (waypoints / steps; larger than the default up to 8 robots,
+and from the second on with 16, where 4/224 is the default itself): does it keep the radii
+there, the worst distance, the time of that refinement (one core).
 
 Per row it also gives the share of (piece, pair) combinations of the default refined paths
 whose least distance exceeds ``3 r``: the pairs the refinement measures at every step without
@@ -34,9 +35,9 @@ import numpy as np
 import pmplan
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import scenes  # noqa: E402
+import scenes
 
-from pmplan.refine.grid import default_effort, pairs, piece_minima  # noqa: E402
+from pmplan.refine.grid import default_effort, pairs, piece_minima
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls"]
 NS = [4, 8, 16]
@@ -96,7 +97,7 @@ def markdown(res: dict) -> str:
              "radius = obstacle_radius = r/2. Every plan that misses the radii at the default "
              "effort (waypoints/steps: n <= 8 {0[0]}/{0[1]}, n = 16 {1[0]}/{1[1]}), refined "
              "again from the same raw plan at ".format(default_effort(8), default_effort(16))
-             + ", ".join(eff) + ". *worst*: the smaller of the robot-robot "
+             + ", ".join(eff) + " (an effort equal to the default repeats it). *worst*: the smaller of the robot-robot "
              "and robot-obstacle distances over r (1: kept); *why*: the default plan's "
              "`radius_reason` (*gap*: it crosses a gap narrower than a robot, which no planner "
              "continuous on these domains avoids on every query, Mathematics §8; *robots*, "

@@ -103,8 +103,9 @@ DEFAULT_WAYPOINTS = 4
 #: default number of steps (each a clearing and a shortening substep), split over the levels
 DEFAULT_STEPS = 56
 #: a crowd: more robots than this get the crowd's default effort (``CROWD_WAYPOINTS``,
-#: ``CROWD_STEPS``). The effort depends on n alone, which every query of a batch and every
-#: query of a domain shares, so the refinement stays continuous on the same domains. Measured
+#: ``CROWD_STEPS``, ``SPACE_CROWD_STEPS``). The effort depends on d and n alone, which every
+#: query of a batch and every query of a domain shares, so the refinement stays continuous on
+#: the same domains. Measured
 #: by benchmarks/scenes_effort.py (rooms and swaps of 10 x 10, r = 0.3, in the box; seed 1,
 #: held out 2 and 4): with 16 robots more steps keep the radii on more queries (the crowd's
 #: steps: :data:`CROWD_STEPS`) within the 20 ms per query issue 25 asks; with 8, twice the
