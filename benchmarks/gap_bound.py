@@ -19,9 +19,11 @@ either side of ``o_k``'s column crosses the line through ``o_k`` along ``nu`` an
 times, hence exactly one of the two rays from ``o_k`` (towards ``+nu`` or ``-nu``) an odd number
 of times; that parity cannot change during the move (the path would have to pass through
 ``o_k``). So the robot passes ``o_k`` on one fixed side along the whole move. In the box that
-side is the image ``phi(ray)``, a curve from ``o_k`` to the boundary; when every point of it is
-closer than ``radius + obstacle_radius`` to ``o_k`` or closer than ``radius`` to a wall (a
-*closed side*), the robot misses the radii where it crosses. Along the move, let ``a_+`` and
+side is the image ``phi(ray)``, a curve from ``o_k`` to the boundary. It is *closed* to the
+robot when a segment ``sigma`` from ``o_k`` to its foot on a wall is shorter than ``2 radius +
+obstacle_radius`` and ``sigma`` with that curve cuts the box into two parts with the robot's
+start and goal in one (:func:`closed_sides`): the path then crosses ``sigma``, where it is too
+close to ``o_k`` or to the wall. Along the move, let ``a_+`` and
 ``a_-`` be the shares of the family's positions of ``o_k`` (its conditional law on the line:
 the box measure pulled back, ``det D phi``, on the positions the family allows) at which the
 ``+`` or the ``-`` side is closed. Every continuous planner misses the radii on a share at
@@ -35,8 +37,9 @@ over its queries. Approximations, all small and stated: the family draws its poi
 time with rejection (``scenes._draw``), so the law of one obstacle along its line is uniform
 (in the box measure) only up to the later draws' normalisers, which an obstacle near a wall
 changes by at most the area of one clipped exclusion disc (~2% per obstacle, ~0.4% per robot
-drawn after it); the sides are decided on a grid of step ``STEP`` along the line in R^d with a
-slack of ``STEP`` in both distances, which can only make a side look open (conservative).
+drawn after it); the sides are decided on a grid of step ``STEP`` along the line in R^d, and
+only a segment ``sigma`` shorter than the limit by ``STEP`` counts as narrow, which can only
+make a side look open (conservative).
 
 Writes ``benchmarks/gap_bound.json`` and ``.md``. Not a test module.
 """
@@ -53,12 +56,14 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes
 
+from pmplan import frame
 from pmplan.workspace import BAND, from_box, into_box
 
 HERE = Path(__file__).resolve().parent
 #: radius = obstacle_radius = R / 2, as in the scene benchmark
 RADIUS = scenes.R / 2
-#: the closed side: every point of phi(ray) within CLOSE_O of o_k or within CLOSE_W of a wall
+#: a segment from an obstacle to a wall shorter than CLOSE_O + CLOSE_W is narrower than a
+#: robot: every point of it is within CLOSE_O of the obstacle or within CLOSE_W of the wall
 CLOSE_O = 2 * RADIUS
 CLOSE_W = RADIUS
 #: the line through o_k along nu in R^d is sampled at this step for |t| <= REACH
@@ -135,18 +140,16 @@ def query_bound(o: np.ndarray, s: np.ndarray, g: np.ndarray, box: np.ndarray,
     """The shares of every unit of one query (module docstring)."""
     m = len(o)
     yo, ys, yg = (from_box(x, box) for x in (o, s, g))
-    w = yo[1] - yo[0]
-    e = w / np.hypot(*w)
-    nu = np.array([-e[1], e[0]])  # nu(e) in the plane (Mathematics §3.4)
-    col = lambda y: (y - yo[0]) @ e
-    cs, cg = col(ys), col(yg)
+    e = frame.unit(yo[1] - yo[0])
+    nu = frame.nu(yo[1] - yo[0])[0]  # (Mathematics §3.4)
+    co, cs, cg = ((y - yo[0]) @ e for y in (yo, ys, yg))  # columns
     lo_c, hi_c = np.minimum(cs, cg), np.maximum(cs, cg)
     t = np.arange(-REACH, REACH + STEP / 2, STEP)
     robots = np.concatenate([s, g])
     units = [[0, 1]] + [[k] for k in range(2, m)]
     shares = []
     for unit in units:
-        passing = [np.flatnonzero((lo_c < col(yo[k])) & (col(yo[k]) < hi_c)) for k in unit]
+        passing = [np.flatnonzero((lo_c < co[k]) & (co[k] < hi_c)) for k in unit]
         if not any(len(p) for p in passing):
             shares.append(0.0)
             continue
@@ -178,11 +181,10 @@ def query_bound(o: np.ndarray, s: np.ndarray, g: np.ndarray, box: np.ndarray,
             near = np.flatnonzero(_wall(P[j], box) < CLOSE_O + CLOSE_W)
             if near.size == 0:
                 continue
+            wn = wts[near]
             for i in pas:
                 plus, minus = closed_sides(P, j[near], s[i], g[i], box)
-                a_p = float(wts[near][plus].sum())
-                a_m = float(wts[near][minus].sum())
-                best = max(best, min(a_p, a_m))
+                best = max(best, min(float(wn[plus].sum()), float(wn[minus].sum())))
         shares.append(best)
     shares = np.asarray(shares)
     return {"shares": shares.tolist(), "max": float(shares.max()),

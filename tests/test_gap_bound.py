@@ -10,6 +10,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import gap_bound
+import scenes
 
 BOX = np.array([[0.0, 0.0], [10.0, 10.0]])
 #: the vertical line x = 5, sampled; the obstacle at index J, (5, 0.4)
@@ -18,8 +19,10 @@ J = np.array([40])
 
 
 def test_a_robot_above_the_obstacle_cannot_pass_below_it():
-    # from (2, 2.005) to (8, 2.005) (off the grid points of the line): passing below means crossing the 0.4 gap to the floor
-    plus, minus = gap_bound.closed_sides(P, J, np.array([2.0, 2.005]), np.array([8.0, 2.005]), BOX)
+    # from (2, 2.005) to (8, 2.005) (off the grid points of the line): passing below means
+    # crossing the 0.4 gap to the floor
+    plus, minus = gap_bound.closed_sides(P, J, np.array([2.0, 2.005]), np.array([8.0, 2.005]),
+                                         BOX)
     assert minus.tolist() == [True] and plus.tolist() == [False]
 
 
@@ -40,11 +43,11 @@ def test_a_robot_in_the_gap_itself_is_still_blocked_below():
 @pytest.mark.parametrize("height", [0.46, 1.0, 5.0])
 def test_no_side_is_closed_when_the_gap_is_wide_enough(height):
     j = np.array([round(height * 100)])
-    plus, minus = gap_bound.closed_sides(P, j, np.array([2.0, 2.005]), np.array([8.0, 2.005]), BOX)
+    plus, minus = gap_bound.closed_sides(P, j, np.array([2.0, 2.005]), np.array([8.0, 2.005]),
+                                         BOX)
     assert not plus.any() and not minus.any()
 
 
 def test_the_bound_is_zero_when_obstacles_keep_away_from_the_walls():
-    import scenes
     o, s, g = scenes.queries("room_walls", 4, 1, 3)[0]
     assert gap_bound.query_bound(o, s, g, BOX, scenes.WALL_GAP)["all"] == 0.0
