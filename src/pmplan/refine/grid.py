@@ -121,11 +121,15 @@ CROWD_WAYPOINTS = 4
 #: 42-49 were not. In space see :data:`SPACE_CROWD_STEPS`
 CROWD_STEPS = 224
 #: default ``steps`` for more than ``CROWD`` robots in d >= 3: twice ``DEFAULT_STEPS``. There
-#: the offsets keep the robots apart (Mathematics §4.4): on the 3-D rooms of crowd_ab.py 224
-#: steps keep the radii on no more query (16/16 in every row either way) and shorten by under
-#: 0.5 %, while on the table of benchmarks/refine_continuity.py they raised the amplification
-#: of a query 0.45 degrees from the pole of odd d (whose raw plan amplifies 4.8e3, Mathematics
-#: §4.1) from 1.3 to 16 times the raw plan's, past issue 24's bound K_eff <= 1e4 (3.5e4)
+#: the offsets keep the robots apart (Mathematics §4.4): every 3-D room with 16 robots keeps the
+#: radii at 112, 168 and 224 steps alike, and more steps shorten by under 0.5 %. The steps do
+#: not set the modulus of continuity in a way one can tune (benchmarks/space_crowd_ab.py, the
+#: same queries and moves): on the seeds looked at first 168 lowered the largest K of the rooms
+#: and of the rows (3, 16, m) of benchmarks/refine_continuity.py, on held-out ones it raised
+#: them (a room at K 6.8e3, 4 of 540 pairs with K_eff > 1e3 against none at 112); 224 lowers
+#: the rooms' K but raises the amplification of a raw plan near the pole of odd d (Mathematics
+#: §4.1; 4.8e3 in the raw plan) from 1.3 to 16 times the raw plan's: K_eff 3.5e4, past issue
+#: 24's bound 1e4
 SPACE_CROWD_STEPS = 112
 #: the largest ``waypoints`` accepted
 MAX_WAYPOINTS = 64
