@@ -43,9 +43,9 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-import refine_continuity  # noqa: E402
-import scenes  # noqa: E402
-import scenes_compare  # noqa: E402
+import refine_continuity
+import scenes
+import scenes_compare
 
 GRID = importlib.import_module("pmplan.refine.grid")
 #: the variants: the crowd's steps in space; the first is the default
@@ -100,12 +100,12 @@ def _k(x: float) -> str:
 def markdown(res: dict) -> str:
     names = list(VARIANTS)
     lines = ["# The crowd's refinement steps in space (16 robots, d = 3)", "",
-             f"Command: `{res['command'].strip()}` ({res['date']}). `SPACE_CROWD_STEPS` (the "
+             (f"Command: `{res['command'].strip()}` ({res['date']}). `SPACE_CROWD_STEPS` (the "
              "default steps of a refinement of more than 8 robots in d >= 3, "
              "`pmplan.refine.default_effort`) at 112 (the default), 168 and 224, 4 sub-pieces "
              "each. Rooms 1-2 and continuity draws 1, 2, 5 were looked at first (168 looked "
              "better there); rooms 42-45 and draws 6-7 were drawn afterwards, not looked at "
-             "before, and there 168 was worse: the default stayed 112.", "",
+             "before, and there 168 was worse: the default stayed 112."), "",
              "## 3-D rooms in the box", "",
              f"Rooms 10 x 10 x 10, m = 4, r = {scenes.R}, {res['count']} queries per seed, "
              "pmplan's default plan in the box refined with radius = obstacle_radius = r/2. "
@@ -122,12 +122,12 @@ def markdown(res: dict) -> str:
         tag = " (design)" if r["seed"] in DESIGN_SEEDS else ""
         lines.append(f"| {r['seed']}{tag} | " + " | ".join(cells) + " |")
     lines += ["", "## The continuity rows (3, 16, m) of `refine_continuity.py`", "",
-              f"Unit cube, {res['rc_count']} queries per row and draw, every point moved by delta = "
+              (f"Unit cube, {res['rc_count']} queries per row and draw, every point moved by delta = "
               "1e-6, 1e-9, 1e-12 (K over the pairs with the same label). Per row and variant: "
               "the largest K_eff = K / max(1, target / c_raw) over the draws, and the pairs "
               "with K_eff > 1e3 of all pairs (issue 24: K_eff <= 1e4 on every pair, <= 1e3 on "
               ">= 99.9 % of the pairs of the whole table), then jumps (a move <= 1e-9 changing "
-              "the path by > 1e-3).", ""]
+              "the path by > 1e-3)."), ""]
     draws = sorted({o["draw"] for o in res["continuity"]})
     groups = [("design " + ", ".join(str(x) for x in draws if x in DESIGN_DRAWS),
                [x for x in draws if x in DESIGN_DRAWS]),
