@@ -57,7 +57,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes
 
 from pmplan import frame
-from pmplan.workspace import BAND, from_box, into_box
+from pmplan.workspace import from_box, into_box, into_box_slope
 
 HERE = Path(__file__).resolve().parent
 #: radius = obstacle_radius = R / 2, as in the scene benchmark
@@ -71,18 +71,6 @@ STEP = 0.005
 REACH = 60.0
 FAMILIES = ["room", "swap", "room_walls", "swap_walls"]
 NS = [2, 4, 8, 16]
-
-
-def _det(y: np.ndarray, box: np.ndarray) -> np.ndarray:
-    """``det D phi`` at points ``y`` (..., 2) of R^d: the product over coordinates of the tails'
-    slopes (1 on the inner box)."""
-    lo, hi = box
-    w = hi - lo
-    u = (y - lo) / w
-    f = BAND
-    b = 1.0 - f
-    s = np.where(u > b, f * f / (u - b + f) ** 2, np.where(u < f, f * f / (f - u + f) ** 2, 1.0))
-    return s.prod(-1)
 
 
 def _wall(p: np.ndarray, box: np.ndarray) -> np.ndarray:
@@ -161,7 +149,7 @@ def query_bound(o: np.ndarray, s: np.ndarray, g: np.ndarray, box: np.ndarray,
             yk = yo[k][None] + t[:, None] * nu[None]
             P = into_box(yk, box)
             curves.append(P)
-            dens = dens * _det(yk, box)
+            dens = dens * into_box_slope(yk, box).prod(-1)
             valid &= _wall(P, box) >= wall_gap
             if len(others):
                 valid &= np.hypot(*(P[:, None] - others[None]).transpose(2, 0, 1)).min(1) \

@@ -53,6 +53,27 @@ def test_the_map_is_a_monotone_bijection_onto_the_box_and_the_identity_inside(x,
     assert ys[1] >= ys[0] and ys[1] - ys[0] <= 1e-7 * width * (1 + 1e-6)
 
 
+@settings(max_examples=200, deadline=None)
+@given(x=st.floats(-1e3, 1e3), lo=st.floats(-100, 100), width=st.floats(1e-2, 1e3))
+def test_the_slope_is_the_derivative_of_the_map(x, lo, width):
+    """into_box_slope is phi's derivative: a central difference of into_box agrees with it to
+    the difference's own error, it is exactly 1 on the inner box, and the tails' slope is
+    (mu / (mu + t))^2 at a distance t beyond the inner box (exact at the box's wall: 1/4)."""
+    box = np.array([[lo], [lo + width]])
+    mu = W.BAND * width
+    slope = float(W.into_box_slope(np.array([x]), box)[0])
+    h = 1e-4 * (mu + abs(x - lo) + abs(x - lo - width))
+    fd = float(np.diff(W.into_box(np.array([x - h, x + h]), box))[0]) / (2 * h)
+    # the second derivative is at most 2 / mu times the slope's scale: a central difference's
+    # error is O(h^2 / mu^2); rounding adds eps * width / h
+    assert abs(fd - slope) <= 1e-6 + 4e-7 * (1 + (h / mu) ** 2) + 1e-12 * width / h
+    assert 0.0 < slope <= 1.0
+    if lo + mu <= x <= lo + width - mu:
+        assert slope == 1.0
+    wall = W.into_box_slope(np.array([[lo, lo + width]]).T, box)[:, 0]
+    assert np.allclose(wall, 0.25, rtol=1e-12)
+
+
 @pytest.mark.parametrize("k", [-1000, -500, -60, 60, 500, 960])
 def test_a_box_at_every_magnitude_is_bitwise_equivariant(k):
     """The maps run in the box's unit coordinates: a query and its box scaled by 2**k give the

@@ -50,6 +50,7 @@ __all__ = [
     "inside",
     "interior",
     "into_box",
+    "into_box_slope",
     "restore",
     "shrunk",
 ]
@@ -174,6 +175,26 @@ def into_box(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
     out = _tails(z, box, frac, lambda u, a, b, f: 1.0 - f * f / (u - b + f),
                  lambda u, a, b, f: f * f / (a - u + f))
     return np.clip(out, box[0], box[1])  # (rounding only: the tails are within [lo, hi])
+
+
+def into_box_slope(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
+    """The derivative of ``phi`` (:func:`into_box`) coordinate by coordinate at points ``z``
+    (..., d) of R^d: 1 on the inner box, ``(mu / (mu + t))^2`` at a distance ``t`` beyond its
+    edge, ``mu = frac (hi - lo)`` the band's width; ``phi`` maps every coordinate on its own, so
+    its Jacobian is the diagonal of these and ``into_box_slope(z, box).prod(-1)`` its
+    determinant (the density by which the box's uniform measure pulls back to R^d). Computed in
+    the box's unit coordinates, as :func:`into_box`.
+
+    >>> into_box_slope(np.array([[5.0, 10.0]]), np.array([[0.0, 0.0], [10.0, 10.0]]))
+    array([[1.  , 0.25]])
+    """
+    lo, hi = box
+    u = (np.asarray(z, dtype=float) - lo) / (hi - lo)
+    f = frac
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        up = f * f / (u - (1.0 - f) + f) ** 2
+        dn = f * f / (f - u + f) ** 2
+    return np.where(u > 1.0 - f, up, np.where(u < f, dn, 1.0))
 
 
 def restore(waypoints: np.ndarray, m: int, fixed, originals: list, obstacles: np.ndarray) -> None:
