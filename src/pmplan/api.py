@@ -88,8 +88,10 @@ def plan_batch(
         query must lie strictly inside it, and every path stays in it -- a refined one in the
         box shrunk by ``radius``, which ``respects_radius`` then includes. The planner is
         conjugated by a homeomorphism of R^d onto the open box, the identity away from the
-        walls, so it keeps its number of domains and its continuity (:mod:`pmplan.workspace`).
-        Default: no box (R^d).
+        walls, which keeps its number of domains and its continuity; the path returned is the
+        polyline through the mapped waypoints, whose chords can cut past an obstacle on the
+        other side, so inside a domain its class jumps across walls where a chord meets an
+        obstacle (:mod:`pmplan.workspace`, Mathematics §8). Default: no box (R^d).
 
     Returns
     -------

@@ -19,6 +19,14 @@ is the polyline through the mapped waypoints, which stays in the box (a box is c
 certified like every plan (collision-free, exactly); the obstacles and the configurations it
 passes through are restored bit for bit.
 
+That polyline is ``s_B`` at the waypoints only: between them its chords cut the curves ``phi``
+makes of the straight pieces of ``s``, and a chord may pass an obstacle on the other side. The
+returned motion is then certified but not in the class of ``s_B``, and inside one domain the
+queries whose chords pass through an obstacle form walls where the certificate refuses the plan
+and across which the returned motion's class jumps: the continuity above is ``s_B``'s, the
+returned planner's off those walls (Mathematics §8, "What the polyline is not";
+``benchmarks/box_chords.py``).
+
 A refined motion (:func:`pmplan.refine`) must keep a robot of ``radius`` inside the box: the
 refinement pushes the robots back from the limits of :func:`identity_box` of the box shrunk by
 ``radius`` and holds its moves toward them (``docs/refinement.md``, Walls); after it, a second

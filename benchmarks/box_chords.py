@@ -1,0 +1,156 @@
+"""How faithful is the polyline of a plan in the box to the conjugated motion ``phi o s``?
+
+Usage (from the repository root)::
+
+    python benchmarks/box_chords.py                # seeds 11 and 12, 400 queries per row (~2 min)
+
+In a box pmplan plans the query mapped out of the box, ``y = phi^-1(q)``, and returns the
+polyline through ``phi`` of the raw path's waypoints (Mathematics §8). ``phi`` bends straight
+pieces, so that polyline meets the conjugated motion ``phi o s`` at the waypoints only; between
+them its chords may pass an obstacle on the other side than the curve ``phi o s`` does. This
+script measures how often, on the planar scene families (``benchmarks/scenes.py``, pmplan's
+default raw plan in the box at the refined plans' unit, the robots' diameter): for every robot
+and obstacle, the winding number of the robot's path closed by the segment from its goal to its
+start (its class relative to the obstacle), for the polyline through ``phi`` of the raw path with
+every piece cut into ``N`` equal pieces in R^2 first (N = 1: the path pmplan returns), against
+the same with ``REFERENCE`` pieces (``phi o s`` to within its chords' sagitta). Per row and N:
+the share of queries where some robot's class differs, and the raw clearance of the polyline
+over the reference's (median and smallest). A class that differs means that, inside the
+query's domain, the chords of pmplan's box plans cross an obstacle somewhere on the way from
+a query where they follow ``phi o s`` to this one: there the certificate refuses the plan, and
+near it the raw clearance tends to 0 (Mathematics §8, "What the polyline is not").
+
+Writes ``benchmarks/box_chords.json`` and ``.md``. Not a test module.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import scenes
+
+import pmplan
+from pmplan.configuration import default_lift
+from pmplan.workspace import from_box, into_box
+
+FAMILIES = ["room", "swap", "room_walls", "swap_walls"]
+NS = [2, 4, 8, 16]
+CUTS = [1, 2, 4, 8, 16]
+REFERENCE = 128
+BOX = np.array([[0.0, 0.0], [scenes.SIZE, scenes.SIZE]])
+
+
+def windings(paths: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(n, m) winding numbers of the robots' polylines ``paths`` (K, n, 2), each closed by the
+    segment from its last point back to its first, around ``points`` (m, 2)."""
+    v = paths[:, :, None, :] - points[None, None]
+    a = np.arctan2(v[..., 1], v[..., 0])
+    a = np.concatenate([a, a[:1]], axis=0)
+    d = (np.diff(a, axis=0) + np.pi) % (2 * np.pi) - np.pi
+    return np.round(d.sum(axis=0) / (2 * np.pi)).astype(int)
+
+
+def cut(waypoints: np.ndarray, n: int) -> np.ndarray:
+    """Every piece of the polyline ``waypoints`` (K, P, d) cut into ``n`` equal pieces:
+    ((K - 1) n + 1, P, d)."""
+    w = waypoints
+    t = np.linspace(0.0, 1.0, n + 1)[:-1]
+    inner = w[:-1, None] + t[None, :, None, None] * (w[1:] - w[:-1])[:, None]
+    return np.concatenate([inner.reshape(-1, *w.shape[1:]), w[-1:]])
+
+
+def clearance(w: np.ndarray, m: int) -> float:
+    """The smallest robot-robot and robot-obstacle distance along the polyline (K, P, 2), each
+    pair moving linearly on each piece (closed form)."""
+    a, b = w[:-1], w[1:]
+    P = w.shape[1]
+    i, k = np.triu_indices(P, 1)
+    keep = k >= m  # pairs with at least one robot (k > i)
+    i, k = i[keep], k[keep]
+    r0 = a[:, k] - a[:, i]
+    v = (b[:, k] - b[:, i]) - r0
+    vv = (v * v).sum(-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.clip(np.where(vv > 0, -(r0 * v).sum(-1) / vv, 0.0), 0.0, 1.0)
+    return float(np.sqrt(((r0 + t[..., None] * v) ** 2).sum(-1)).min())
+
+
+def row(fam: str, n: int, seed: int, count: int) -> dict:
+    t0 = time.perf_counter()
+    lift = default_lift(None, scenes.R / 2, scenes.R / 2, refining=True)
+    differs = {c: 0 for c in CUTS}
+    ratios = {c: [] for c in CUTS}
+    for o, s, g in scenes.queries(fam, n, count, seed):
+        m = len(o)
+        raw = pmplan.plan(*(from_box(x, BOX) for x in (o, s, g)), lift=lift).path.waypoints
+        ref = into_box(cut(raw, REFERENCE), BOX)
+        w_ref, c_ref = windings(ref[:, m:], o), clearance(ref, m)
+        for c in CUTS:
+            poly = into_box(cut(raw, c), BOX)
+            differs[c] += bool((windings(poly[:, m:], o) != w_ref).any())
+            ratios[c].append(clearance(poly, m) / c_ref)
+    out = {"family": fam, "n": n, "seed": seed, "count": count,
+           "differs": {str(c): differs[c] / count for c in CUTS},
+           "clearance_median": {str(c): float(np.median(ratios[c])) for c in CUTS},
+           "clearance_min": {str(c): float(np.min(ratios[c])) for c in CUTS},
+           "seconds": time.perf_counter() - t0}
+    print(f"seed {seed} {fam} n={n}: class differs " + ", ".join(
+        f"N={c} {out['differs'][str(c)]:.3f}" for c in CUTS) + f" [{out['seconds']:.0f} s]",
+        flush=True)
+    return out
+
+
+def markdown(res: dict) -> str:
+    lines = ["# Plans in the box: the polyline against the conjugated motion", "",
+             (f"Command: `{res['command'].strip()}` ({res['date']}). Planar scene families of "
+              f"`benchmarks/scenes.py` (box [0, 10]^2), {res['count']} queries per row, "
+              "pmplan's default raw plan in the box at the refined plans' unit. *N*: every "
+              "piece of the raw path cut into N in R^2 before the map into the box (N = 1 is "
+              "what pmplan returns); against the same with "
+              f"{res['reference']} pieces (the conjugated motion phi o s to within its chords): "
+              "the share of queries where some robot passes some obstacle in another class "
+              "(winding number of its path closed by the segment from goal to start), and the "
+              "raw clearance of the polyline over the reference's, median (smallest)."), "",
+             "| seed | row | " + " | ".join(f"N = {c}: class differs, clearance" for c in CUTS)
+             + " |", "|---|---|" + "---|" * len(CUTS)]
+    for r in res["rows"]:
+        lines.append(f"| {r['seed']} | {r['family']} n = {r['n']} | " + " | ".join(
+            f"{r['differs'][str(c)]:.3f}, {r['clearance_median'][str(c)]:.2f} "
+            f"({r['clearance_min'][str(c)]:.2g})" for c in CUTS) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", default="11,12")
+    ap.add_argument("--count", type=int, default=400)
+    ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
+    args = ap.parse_args(argv)
+    if args.from_json:
+        res = json.loads((HERE / "box_chords.json").read_text())
+        (HERE / "box_chords.md").write_text(markdown(res))
+        return 0
+    rows = [row(f, n, int(seed), args.count) for seed in args.seeds.split(",")
+            for f in FAMILIES for n in NS]
+    res = {"command": "python benchmarks/box_chords.py " + " ".join(
+               argv if argv is not None else sys.argv[1:]),
+           "date": _dt.date.today().isoformat(), "count": args.count, "reference": REFERENCE,
+           "rows": rows}
+    (HERE / "box_chords.json").write_text(json.dumps(res, indent=1))
+    (HERE / "box_chords.md").write_text(markdown(res))
+    print(markdown(res))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
