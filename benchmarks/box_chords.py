@@ -12,7 +12,8 @@ script measures how often, on the planar scene families (``benchmarks/scenes.py`
 default raw plan in the box at the refined plans' unit, the robots' diameter): for every robot
 and obstacle, the winding number of the robot's path closed by the segment from its goal to its
 start (its class relative to the obstacle), for the polyline through ``phi`` of the raw path with
-every piece cut into ``N`` equal pieces in R^2 first (N = 1: the path pmplan returns), against
+every piece cut into ``N`` equal pieces in R^2 first (``pmplan.workspace.RAW_CUTS``; N = 1,
+the default, is the path pmplan returns), against
 the same with ``REFERENCE`` pieces (``phi o s`` to within its chords' sagitta). Per row and N:
 the share of queries where some robot's class differs, and the raw clearance of the polyline
 over the reference's (median and smallest). A class that differs means that, inside the

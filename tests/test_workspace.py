@@ -362,3 +362,38 @@ def test_plans_in_the_box_keep_their_class_inside_a_domain():
     assert a.domain == b.domain
     assert _winding(a.path.waypoints[:, 6], qa[0][3]) == _winding(b.path.waypoints[:, 6],
                                                                    qb[0][3])
+
+
+@settings(max_examples=50, deadline=None)
+@given(k=st.integers(2, 6), cuts=st.sampled_from([1, 2, 3, 4, 8]), seed=st.integers(0, 99),
+       per_query=st.booleans())
+def test_cut_pieces_keeps_the_path_and_its_breakpoints(k, cuts, seed, per_query):
+    """Cutting every piece keeps every original breakpoint and waypoint bit for bit, cuts the
+    times as the refinement's grid does, and puts the new waypoints on the pieces."""
+    from pmplan.refine import subdivide_times
+
+    rng = np.random.default_rng(seed)
+    times = np.sort(rng.uniform(0, 1, (2, k)) if per_query else rng.uniform(0, 1, k), axis=-1)
+    wp = rng.normal(size=(2, k, 3, 2)) * 10.0 ** rng.integers(-3, 4)
+    t, w = W.cut_pieces(times, wp, cuts)
+    assert t.shape[-1] == w.shape[1] == (k - 1) * cuts + 1
+    assert np.array_equal(t[..., ::cuts], times) and np.array_equal(w[:, ::cuts], wp)
+    assert np.array_equal(t, subdivide_times(times, cuts))
+    for j in range(1, cuts):
+        f = j / cuts
+        assert np.allclose(w[:, j::cuts][:, :k - 1], wp[:, :-1] + f * (wp[:, 1:] - wp[:, :-1]),
+                           rtol=1e-12, atol=1e-12 * np.abs(wp).max())
+
+
+def test_raw_cuts_follow_the_conjugated_motion_across_the_chords_wall(monkeypatch):
+    """With every raw piece cut into 8 before the map, the two queries of the expected failure
+    above get box plans in one class, keeping a clearance of the order of the plane's, and
+    every eighth waypoint is the uncut plan's, bit for bit."""
+    (qa, qb), _ = _chord_queries()
+    uncut = pmplan.plan(*qa, bounds=(0, 10), lift=0.3)
+    monkeypatch.setattr(W, "RAW_CUTS", 8)
+    a, b = (pmplan.plan(*q, bounds=(0, 10), lift=0.3) for q in (qa, qb))
+    assert np.array_equal(a.path.waypoints[::8], uncut.path.waypoints)
+    assert a.domain == b.domain and min(a.clearance, b.clearance) > 0.01
+    assert _winding(a.path.waypoints[:, 6], qa[0][3]) == _winding(b.path.waypoints[:, 6],
+                                                                   qb[0][3])

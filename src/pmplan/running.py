@@ -17,7 +17,7 @@ import sys
 
 import numpy as np
 
-from . import backends, magnitude
+from . import backends, magnitude, workspace
 from .certify import CLEARANCE, certificate, check_times, describe
 from .checks import (
     check_backend,
@@ -40,8 +40,8 @@ from .refine import (
     check_radii,
 )
 from .results import Plan, PlanBatch, extra_row
-from .workspace import (check_bounds, check_inside, check_walls, from_box, inside, into_box,
-                        restore)
+from .workspace import (check_bounds, check_inside, check_walls, cut_pieces, from_box, inside,
+                        into_box, restore)
 
 #: ``out=`` with ``bounds=`` (one source of the message)
 MSG_BOUNDS_OUT = ("`out=` cannot be combined with `bounds=` (a path in a workspace is mapped "
@@ -533,15 +533,17 @@ def _plan_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers,
     check_inside(obstacles, configs, box, batched=batched)
     res = run_loop(p, from_box(obstacles, box), [from_box(c, box) for c in configs], lift,
                    batched=batched, progress=progress, backend=backend, workers=workers)
-    wp = into_box(res["waypoints"], box)
-    fixed = p.fixed_waypoints(np.asarray(res["times"]))
+    times, raw = cut_pieces(np.asarray(res["times"]), np.asarray(res["waypoints"]),
+                            workspace.RAW_CUTS)
+    wp = into_box(raw, box)
+    fixed = p.fixed_waypoints(times)
     restore(wp, m, fixed, configs, obstacles)
-    clearance, codes = query_certificate(wp, obstacles, configs, res["times"],
+    clearance, codes = query_certificate(wp, obstacles, configs, times,
                                          backends.select(backend).certify)
     bad = ~(clearance > 0) | (np.asarray(codes) != 0) | ~inside(wp, box)
     if bad.any():
         _raise_certificate(bad, batched, np.asarray(codes))
-    res = {**res, "waypoints": wp, "clearance": clearance}
+    res = {**res, "times": times, "waypoints": wp, "clearance": clearance}
     return PlanBatch(planner=p.name, dims=(d, configs[0].shape[1], m), **res,
                      _extra={"bounds": np.broadcast_to(box, (b, 2, d))})
 

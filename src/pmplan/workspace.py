@@ -49,10 +49,12 @@ from .errors import InputError
 
 __all__ = [
     "BAND",
+    "RAW_CUTS",
     "SQUEEZE",
     "check_bounds",
     "check_inside",
     "check_walls",
+    "cut_pieces",
     "from_box",
     "identity_box",
     "inside",
@@ -73,6 +75,13 @@ __all__ = [
 #: continuity goal of the four over all the seeds, 396 of 400 (not in every group of seeds: 3/16,
 #: 394 in all, ties it on the design seeds and keeps three rows more on seeds 14-21)
 BAND = 0.125
+#: every piece of a raw plan is cut into this many equal pieces in R^d before the map into the
+#: box (:func:`cut_pieces`); 1 returns the polyline through the mapped waypoints themselves. The
+#: chords of the mapped pieces can pass an obstacle on the other side than the curve the map
+#: makes of the piece (Mathematics §8, "What the polyline is not"): benchmarks/box_chords.py
+#: measures how much cutting reduces that, benchmarks/chords_ab.py what it costs the refined
+#: plans (cut raw plans start the refinement finer, with its coarse levels cut as well)
+RAW_CUTS = 1
 #: the band of the map that brings a refined path into the box shrunk by ``radius``, as a
 #: fraction of the side: the identity wherever the refined path keeps that much more from the
 #: walls, the limits the refinement keeps its robots to. Narrow, since the refinement sees the
@@ -203,6 +212,31 @@ def into_box_slope(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.nda
         up = f * f / (u - (1.0 - f) + f) ** 2
         dn = f * f / (f - u + f) ** 2
     return np.where(u > 1.0 - f, up, np.where(u < f, dn, 1.0))
+
+
+def cut_pieces(times: np.ndarray, waypoints: np.ndarray, cuts: int):
+    """Every piece of paths with breakpoints ``times`` (K,) or (B, K) and waypoints (B, K, P,
+    d) cut into ``cuts`` equal pieces: ``(times, waypoints)`` with (K - 1) cuts + 1 breakpoints,
+    the point at fraction j / cuts of a piece ``w_k + (j / cuts)(w_{k+1} - w_k)``, so that every
+    original breakpoint and waypoint stays, bit for bit. The same path, before a map that bends
+    it (:data:`RAW_CUTS`).
+
+    >>> t, w = cut_pieces(np.array([0.0, 1.0]), np.array([[[[0.0]], [[4.0]]]]), 4)
+    >>> t.tolist(), w[0, :, 0, 0].tolist()
+    ([0.0, 0.25, 0.5, 0.75, 1.0], [0.0, 1.0, 2.0, 3.0, 4.0])
+    """
+    if cuts == 1:
+        return times, waypoints
+    fr = np.arange(cuts) / cuts
+    t0, t1 = times[..., :-1], times[..., 1:]
+    t = np.concatenate([(t0[..., None] + fr * (t1 - t0)[..., None]).reshape(
+        times.shape[:-1] + (-1,)), times[..., -1:]], axis=-1)
+    w0, w1 = waypoints[:, :-1], waypoints[:, 1:]
+    inner = w0[:, :, None] + fr[:, None, None] * (w1 - w0)[:, :, None]
+    b, k = waypoints.shape[:2]
+    w = np.concatenate([inner.reshape((b, (k - 1) * cuts) + waypoints.shape[2:]),
+                        waypoints[:, -1:]], axis=1)
+    return t, w
 
 
 def restore(waypoints: np.ndarray, m: int, fixed, originals: list, obstacles: np.ndarray) -> None:
