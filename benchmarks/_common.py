@@ -95,6 +95,34 @@ def exit_after_ompl(rc: int) -> None:
     os._exit(rc)
 
 
+def rewrite_report(name: str, markdown: Callable[[dict], str]) -> None:
+    """Rewrite ``benchmarks/<name>.md`` from ``benchmarks/<name>.json`` (``--from-json``)."""
+    res = json.loads((HERE / f"{name}.json").read_text())
+    (HERE / f"{name}.md").write_text(markdown(res))
+
+
+def write_report(name: str, res: dict, markdown: Callable[[dict], str]) -> None:
+    """Write ``res`` to ``benchmarks/<name>.json`` and its report to ``.md``, and print it."""
+    (HERE / f"{name}.json").write_text(json.dumps(res, indent=1, default=float))
+    text = markdown(res)
+    (HERE / f"{name}.md").write_text(text)
+    print(text)
+
+
+def start_ompl(seed: int):
+    """OMPL's ``util`` module with its log silenced and its random generator seeded with
+    ``seed`` (before any planner draws), or None, after saying on stderr how to install it, when
+    ``ompl`` is missing."""
+    try:
+        from ompl import util as ou
+    except ImportError:
+        print("ompl is not installed: pip install 'pmplan[bench]'", file=sys.stderr)
+        return None
+    ou.setLogLevel(ou.LogLevel.LOG_NONE)
+    ou.RNG.setSeed(seed)
+    return ou
+
+
 def machine_info() -> dict:
     """CPU model, core count, memory, OS, versions of Python/numpy/numba/pmplan/ompl, date."""
     mem = "?"

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
-import json
 import sys
 import time
 from pathlib import Path
@@ -39,6 +38,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import scenes
+from _common import rewrite_report, write_report
 
 import pmplan
 from pmplan.configuration import default_lift
@@ -138,8 +138,7 @@ def main(argv=None) -> int:
     ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
     args = ap.parse_args(argv)
     if args.from_json:
-        res = json.loads((HERE / "box_chords.json").read_text())
-        (HERE / "box_chords.md").write_text(markdown(res))
+        rewrite_report("box_chords", markdown)
         return 0
     rows = [row(f, n, int(seed), args.count) for seed in args.seeds.split(",")
             for f in FAMILIES for n in NS]
@@ -147,9 +146,7 @@ def main(argv=None) -> int:
                argv if argv is not None else sys.argv[1:]),
            "date": _dt.date.today().isoformat(), "count": args.count, "reference": REFERENCE,
            "rows": rows}
-    (HERE / "box_chords.json").write_text(json.dumps(res, indent=1))
-    (HERE / "box_chords.md").write_text(markdown(res))
-    print(markdown(res))
+    write_report("box_chords", res, markdown)
     return 0
 
 

@@ -47,7 +47,6 @@ from __future__ import annotations
 import argparse
 import datetime as _dt
 import itertools
-import json
 import sys
 import time
 from pathlib import Path
@@ -58,6 +57,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import scenes
+from _common import rewrite_report, write_report
 
 import pmplan
 from pmplan.frame import nu
@@ -273,20 +273,16 @@ def main(argv=None) -> int:
     ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
     args = ap.parse_args(argv)
     if args.from_json:
-        res = json.loads((HERE / "length_bound.json").read_text())
-        (HERE / "length_bound.md").write_text(markdown(res))
+        rewrite_report("length_bound", markdown)
         return 0
     kernels = None
     if args.ompl:
-        try:
-            from ompl import util as ou
-        except ImportError:
-            print("ompl is not installed: pip install 'pmplan[bench]'", file=sys.stderr)
+        from _common import start_ompl
+
+        if start_ompl(1) is None:
             return 2
         import scenes_compare as sc
 
-        ou.setLogLevel(ou.LogLevel.LOG_NONE)
-        ou.RNG.setSeed(1)
         kernels = sc._kernels()
     o, s, g = scenes.queries("room", 2, 1, 0)[0]  # warm-up / JIT
     scenes.refined_in_box(o, s, g)
@@ -295,9 +291,7 @@ def main(argv=None) -> int:
     res = {"command": "python benchmarks/length_bound.py " + " ".join(
                argv if argv is not None else sys.argv[1:]),
            "date": _dt.date.today().isoformat(), "count": args.count, "rows": rows}
-    (HERE / "length_bound.json").write_text(json.dumps(res, indent=1))
-    (HERE / "length_bound.md").write_text(markdown(res))
-    print(markdown(res))
+    write_report("length_bound", res, markdown)
     return 0
 
 

@@ -47,7 +47,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _common import OMPL_JSON, ROOT, exit_after_ompl, ompl_section
+from _common import OMPL_JSON, ROOT, exit_after_ompl, ompl_section, start_ompl
 
 import pmplan
 from pmplan import PiecewiseLinearPath
@@ -535,13 +535,8 @@ def main(argv: list[str] | None = None) -> int:
         write_ompl_sections(out)
         print(out["verdict"])
         return 0
-    try:
-        from ompl import util as ou
-    except ImportError:
-        print("ompl is not installed: pip install 'pmplan[bench]'", file=sys.stderr)
+    if start_ompl(args.seed) is None:
         return 2
-    ou.setLogLevel(ou.LogLevel.LOG_NONE)
-    ou.RNG.setSeed(args.seed)
     rng = np.random.default_rng(args.seed)
     t_start = time.perf_counter()
     for runner in (PmplanRunner(), PmplanRunner(refine=True)):  # warm-up / JIT

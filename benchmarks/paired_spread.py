@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
-import json
 import sys
 import time
 from pathlib import Path
@@ -36,7 +35,7 @@ sys.path.insert(0, str(HERE))
 
 import scenes
 import scenes_compare as sc
-from _common import exit_after_ompl
+from _common import exit_after_ompl, rewrite_report, start_ompl, write_report
 from scenes_section import PAIRED_GOAL
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls", "room3d"]
@@ -108,16 +107,10 @@ def main(argv=None) -> int:
     ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
     args = ap.parse_args(argv)
     if args.from_json:
-        res = json.loads((HERE / "paired_spread.json").read_text())
-        (HERE / "paired_spread.md").write_text(markdown(res))
+        rewrite_report("paired_spread", markdown)
         return 0
-    try:
-        from ompl import util as ou
-    except ImportError:
-        print("ompl is not installed: pip install 'pmplan[bench]'", file=sys.stderr)
+    if start_ompl(1) is None:
         return 2
-    ou.setLogLevel(ou.LogLevel.LOG_NONE)
-    ou.RNG.setSeed(1)
     kernels = sc._kernels()
     t0 = time.perf_counter()
     rows = [row(f, n, int(seed), args.runs, args.queries, kernels)
@@ -126,9 +119,7 @@ def main(argv=None) -> int:
                argv if argv is not None else sys.argv[1:]),
            "date": _dt.date.today().isoformat(), "runs": args.runs, "count": args.queries,
            "seconds": time.perf_counter() - t0, "rows": rows}
-    (HERE / "paired_spread.json").write_text(json.dumps(res, indent=1))
-    (HERE / "paired_spread.md").write_text(markdown(res))
-    print(markdown(res))
+    write_report("paired_spread", res, markdown)
     return 0
 
 

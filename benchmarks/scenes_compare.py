@@ -62,7 +62,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import scenes
-from _common import HERE, _fmt, _machine_md, exit_after_ompl, machine_info
+from _common import HERE, _fmt, _machine_md, exit_after_ompl, machine_info, start_ompl
 from ompl_compare import _path, _sup_distance, set_planner, solve
 from refine_continuity import _sup as _sup_times
 
@@ -749,10 +749,7 @@ def main(argv=None) -> int:
         path = Path(args.from_json)
         path.with_suffix(".md").write_text(report(json.loads(path.read_text())))
         return 0
-    try:
-        from ompl import util as ou
-    except ImportError:
-        print("ompl is not installed: pip install 'pmplan[bench]'", file=sys.stderr)
+    if start_ompl(args.seed) is None:
         return 2
     import inspect
 
@@ -761,8 +758,6 @@ def main(argv=None) -> int:
     if dl != DEFAULT_LIFT or unit != LIFTS[DEFAULT_ROW]:
         raise SystemExit(f"pmplan.plan's default lift is {dl!r} (unit {unit}), not "
                          f"{DEFAULT_LIFT} ({LIFTS[DEFAULT_ROW]}): update LIFTS")
-    ou.setLogLevel(ou.LogLevel.LOG_NONE)
-    ou.RNG.setSeed(args.seed)
     count = 4 if args.quick else args.queries
     ns = [n for n in NS if not (args.quick and n > 8)]
     stem = args.out or ("scenes_results" + ("" if args.seed == 1 else f"_seed{args.seed}")

@@ -35,7 +35,6 @@ from __future__ import annotations
 import argparse
 import datetime as _dt
 import importlib
-import json
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -46,6 +45,7 @@ sys.path.insert(0, str(HERE))
 import refine_continuity
 import scenes
 import scenes_compare
+from _common import rewrite_report, write_report
 
 GRID = importlib.import_module("pmplan.refine.grid")
 #: the variants: the crowd's steps in space; the first is the default
@@ -169,8 +169,7 @@ def main(argv=None) -> int:
     ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
     args = ap.parse_args(argv)
     if args.from_json:
-        res = json.loads((HERE / "space_crowd_ab.json").read_text())
-        (HERE / "space_crowd_ab.md").write_text(markdown(res))
+        rewrite_report("space_crowd_ab", markdown)
         return 0
     seeds = [int(s) for s in args.seeds.split(",")]
     draws = [int(s) for s in args.draws.split(",")]
@@ -182,9 +181,7 @@ def main(argv=None) -> int:
                "date": _dt.date.today().isoformat(), "count": args.queries,
                "rc_count": args.rc_queries,
                "rooms": [f.result() for f in rooms], "continuity": [f.result() for f in rc]}
-    (HERE / "space_crowd_ab.json").write_text(json.dumps(res, indent=1, default=float))
-    (HERE / "space_crowd_ab.md").write_text(markdown(res))
-    print(markdown(res))
+    write_report("space_crowd_ab", res, markdown)
     return 0
 
 
