@@ -397,3 +397,29 @@ def test_raw_cuts_follow_the_conjugated_motion_across_the_chords_wall(monkeypatc
     assert a.domain == b.domain and min(a.clearance, b.clearance) > 0.01
     assert _winding(a.path.waypoints[:, 6], qa[0][3]) == _winding(b.path.waypoints[:, 6],
                                                                    qb[0][3])
+
+
+@pytest.mark.parametrize("cuts", [2, 3])
+@pytest.mark.parametrize("r", [3, 4])
+def test_raw_cuts_keep_a_sequence_through_its_configurations(monkeypatch, cuts, r):
+    """A sequential plan in the box with its raw pieces cut: the planner's fixed waypoints are
+    found on the cut breakpoints (every configuration at its time k / (r - 1)), the plan passes
+    through every configuration exactly, and its refinement keeps them."""
+    from pmplan.planners.base import REGISTRY
+
+    o = np.array([[2.0, 2.0], [8.0, 3.0], [5.0, 7.0]])
+    configs = [np.array([[1.0, 1.0], [9.0, 9.0]]), np.array([[9.0, 1.0], [1.0, 9.0]]),
+               np.array([[5.0, 2.0], [3.0, 5.0]]), np.array([[1.0, 8.0], [8.0, 8.5]])][:r]
+    uncut = pmplan.plan_sequence(o, configs, bounds=(0, 10))
+    monkeypatch.setattr(W, "RAW_CUTS", cuts)
+    plan = pmplan.plan_sequence(o, configs, bounds=(0, 10))
+    fixed = REGISTRY[plan.planner].fixed_waypoints(plan.path.times)
+    assert fixed.tolist() == (REGISTRY[plan.planner].fixed_waypoints(uncut.path.times)
+                              * cuts).tolist()
+    assert np.array_equal(plan.path.waypoints[::cuts], uncut.path.waypoints)
+    ref = pmplan.refine(plan, radius=0.1, obstacle_radius=0.1)
+    for k, c in enumerate(configs):
+        for p in (plan, ref):
+            j = int(np.searchsorted(p.path.times, k / (r - 1)))
+            assert p.path.times[j] == k / (r - 1)
+            assert np.array_equal(p.path.waypoints[j, 3:], c)

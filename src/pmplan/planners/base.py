@@ -199,9 +199,11 @@ class Planner:
         -------
         ndarray of int64, shape (r,)
             For shared breakpoints of a :attr:`sequential` planner that are its
-            :meth:`path_times` ``(r)`` (r <= K): the first index of each time ``k / (r - 1)``.
-            Else (per-query breakpoints, or a planner of two configurations): r = 2, the first
-            and the last waypoint.
+            :meth:`path_times` ``(r)`` (r <= K), or those with every piece cut into c equal
+            pieces (every c-th breakpoint is one of them: the times of a refined path, or of a
+            path in a box with :data:`pmplan.workspace.RAW_CUTS`): the first index of each time
+            ``k / (r - 1)``. Else (per-query breakpoints, or a planner of two configurations):
+            r = 2, the first and the last waypoint.
         """
         k = times.shape[-1]
         if self.sequential and times.ndim == 1:
@@ -209,7 +211,8 @@ class Planner:
                 shared = self.path_times(r)
                 if shared is None or shared.shape[0] > k:
                     break
-                if shared.shape[0] == k and np.array_equal(shared, times):
+                c, rest = divmod(k - 1, shared.shape[0] - 1)
+                if rest == 0 and np.array_equal(shared, times[::c]):
                     return np.searchsorted(times, np.arange(r) / (r - 1)).astype(np.int64)
         return np.array([0, k - 1], dtype=np.int64)
 
