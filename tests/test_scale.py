@@ -155,6 +155,28 @@ def test_dask_bad_inputs():
         pmplan.plan_batch(*lazy(o, s, g, chunks=10), lift=-1)
 
 
+def test_raw_cuts_are_refused_where_output_shapes_are_fixed_first(monkeypatch, tmp_path):
+    """The dask and Zarr paths fix their output shapes before planning: with a box they refuse
+    a pmplan.workspace.RAW_CUTS other than 1 before planning or writing anything, and plan as
+    before with 1."""
+    from pmplan import workspace
+
+    o, s, g = random_queries(20)
+    o, s, g = o + 5.0, s + 5.0, g + 5.0  # inside the box (0, 10)
+    monkeypatch.setattr(workspace, "RAW_CUTS", 2)
+    with pytest.raises(pmplan.InputError, match="RAW_CUTS = 2 is not supported with `bounds`"):
+        pmplan.plan_batch(*lazy(o, s, g, chunks=10), bounds=(0, 10))
+    out = tmp_path / "x.zarr"
+    with pytest.raises(pmplan.InputError, match="RAW_CUTS = 2 is not supported with `bounds`"):
+        scale.plan_store(dict(zip(("obstacles", "start", "goal"), (o, s, g))), out,
+                         bounds=(0, 10))
+    assert not out.exists()
+    monkeypatch.setattr(workspace, "RAW_CUTS", 1)
+    lazy_b = pmplan.plan_batch(*lazy(o, s, g, chunks=10), bounds=(0, 10))
+    assert np.array_equal(np.asarray(lazy_b.waypoints),
+                          pmplan.plan_batch(o, s, g, bounds=(0, 10)).waypoints)
+
+
 def test_dask_query_errors_name_the_rows_of_the_whole_batch():
     o, s, g = random_queries(100)
     s[57, 2] = o[57, 1]

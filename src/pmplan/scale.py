@@ -60,7 +60,7 @@ from .configuration import default_lift
 from .errors import CertificationError, CollisionError, InputError, PmplanError, StoreError
 from .results import PlanBatch
 from .running import plan_arrays, refine_plans
-from .workspace import check_bounds
+from .workspace import check_bounds, check_raw_cuts
 
 __all__ = [
     "FORMAT",
@@ -297,6 +297,8 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
         check_sequential(planner)
     p = choose_planner(d, n, m, planner, sequential=sequential)
     box = None if bounds is None else check_bounds(bounds, d)  # checked now
+    if box is not None:
+        check_raw_cuts()
     template = _template(p, len(configs), m, n, d, refine)
     per_query_times = template["times"].ndim == 2
     record = _record(template, per_query_times, refine is not None)
@@ -890,6 +892,8 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     p = choose_planner(d, n, m, planner, sequential=r > 2)
     nchunks = -(-b // chunk)
     box = None if bounds is None else check_bounds(bounds, d).tolist()
+    if box is not None:
+        check_raw_cuts()
     attrs = _attrs(p.name, lift if isinstance(lift, str) else float(lift), (d, n, m), r, b,
                    chunk, refine, compress, box)
     if out.suffix != ".zarr":

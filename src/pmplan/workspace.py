@@ -53,6 +53,7 @@ __all__ = [
     "SQUEEZE",
     "check_bounds",
     "check_inside",
+    "check_raw_cuts",
     "check_walls",
     "cut_pieces",
     "from_box",
@@ -212,6 +213,18 @@ def into_box_slope(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.nda
         up = f * f / (u - (1.0 - f) + f) ** 2
         dn = f * f / (f - u + f) ** 2
     return np.where(u > 1.0 - f, up, np.where(u < f, dn, 1.0))
+
+
+#: the dask and Zarr paths fix their output shapes before planning (one source of the message)
+MSG_RAW_CUTS = ("pmplan.workspace.RAW_CUTS = {cuts} is not supported with `bounds` by the dask "
+                "and Zarr paths, whose output shapes are fixed before any query is planned: "
+                "set it back to 1, or plan with pmplan.plan_batch")
+
+
+def check_raw_cuts() -> None:
+    """Refuse a :data:`RAW_CUTS` other than 1 (the dask and Zarr paths with a box)."""
+    if RAW_CUTS != 1:
+        raise InputError(MSG_RAW_CUTS.format(cuts=RAW_CUTS))
 
 
 def cut_pieces(times: np.ndarray, waypoints: np.ndarray, cuts: int):
