@@ -21,7 +21,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-__all__ = ["DIRECT_AT", "PiecewiseLinearPath", "linear", "compose_via_deformations"]
+__all__ = ["DIRECT_AT", "PiecewiseLinearPath", "linear", "compose_via_deformations", "cut_along"]
 
 #: the direct lift of the compact lanes in the plane (Mathematics §4.4): waypoint 2 of a leg of
 #: :func:`compose_via_deformations` (tau = 1/3) as the point this far along the straight move
@@ -252,6 +252,21 @@ def _scaled_lengths(waypoints: np.ndarray) -> np.ndarray:
         unit = np.ldexp(disp, -e)
         per_point = np.ldexp(np.sqrt((unit * unit).sum(-1)), e[..., 0] + twice)
         return per_point.sum(-1)
+
+
+def cut_along(x: np.ndarray, cuts: int, axis: int = -1) -> np.ndarray:
+    """Breakpoints (or waypoints) ``x`` with every piece along ``axis`` cut into ``cuts`` equal
+    pieces: ``x_k + (j / cuts)(x_{k+1} - x_k)``, j = 0..cuts-1, then the last, so K entries
+    become (K - 1) cuts + 1 and every original one stays, bit for bit.
+
+    >>> cut_along(np.array([0.0, 1.0, 3.0]), 2).tolist()
+    [0.0, 0.5, 1.0, 2.0, 3.0]
+    """
+    x = np.moveaxis(np.asarray(x), axis, 0)
+    fr = (np.arange(cuts) / cuts).reshape((cuts,) + (1,) * (x.ndim - 1))
+    inner = x[:-1, None] + fr * (x[1:] - x[:-1])[:, None]
+    out = np.concatenate([inner.reshape((-1,) + x.shape[1:]), x[-1:]])
+    return np.moveaxis(out, 0, axis)
 
 
 def unchecked_path(times: np.ndarray, waypoints: np.ndarray) -> PiecewiseLinearPath:

@@ -46,6 +46,7 @@ import numpy as np
 
 from .configuration import configuration_names
 from .errors import InputError
+from .path import cut_along
 
 __all__ = [
     "BAND",
@@ -232,7 +233,7 @@ def cut_pieces(times: np.ndarray, waypoints: np.ndarray, cuts: int):
     d) cut into ``cuts`` equal pieces: ``(times, waypoints)`` with (K - 1) cuts + 1 breakpoints,
     the point at fraction j / cuts of a piece ``w_k + (j / cuts)(w_{k+1} - w_k)``, so that every
     original breakpoint and waypoint stays, bit for bit. The same path, before a map that bends
-    it (:data:`RAW_CUTS`).
+    it (:data:`RAW_CUTS`; :func:`pmplan.path.cut_along`).
 
     >>> t, w = cut_pieces(np.array([0.0, 1.0]), np.array([[[[0.0]], [[4.0]]]]), 4)
     >>> t.tolist(), w[0, :, 0, 0].tolist()
@@ -240,16 +241,7 @@ def cut_pieces(times: np.ndarray, waypoints: np.ndarray, cuts: int):
     """
     if cuts == 1:
         return times, waypoints
-    fr = np.arange(cuts) / cuts
-    t0, t1 = times[..., :-1], times[..., 1:]
-    t = np.concatenate([(t0[..., None] + fr * (t1 - t0)[..., None]).reshape(
-        times.shape[:-1] + (-1,)), times[..., -1:]], axis=-1)
-    w0, w1 = waypoints[:, :-1], waypoints[:, 1:]
-    inner = w0[:, :, None] + fr[:, None, None] * (w1 - w0)[:, :, None]
-    b, k = waypoints.shape[:2]
-    w = np.concatenate([inner.reshape((b, (k - 1) * cuts) + waypoints.shape[2:]),
-                        waypoints[:, -1:]], axis=1)
-    return t, w
+    return cut_along(times, cuts, -1), cut_along(waypoints, cuts, 1)
 
 
 def restore(waypoints: np.ndarray, m: int, fixed, originals: list, obstacles: np.ndarray) -> None:

@@ -14,6 +14,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..certify import point_pairs
+from ..path import cut_along
 
 __all__ = [
     "ALPHA",
@@ -273,12 +274,9 @@ def default_effort(n: int, d: int = 2) -> tuple[int, int]:
 
 def subdivide_times(times: np.ndarray, s: int) -> np.ndarray:
     """Breakpoints of every piece cut into ``s`` equal sub-pieces: ``t_k + (j/s)(t_{k+1} -
-    t_k)``, j = 0..s-1, then the last; shape (..., (K-1) s + 1). The raw breakpoints stay."""
-    t0, t1 = times[..., :-1], times[..., 1:]
-    fr = np.arange(s) / s
-    sub = t0[..., None] + fr * (t1 - t0)[..., None]
-    out = np.concatenate([sub.reshape(times.shape[:-1] + (-1,)), times[..., -1:]], axis=-1)
-    return out
+    t_k)``, j = 0..s-1, then the last; shape (..., (K-1) s + 1). The raw breakpoints stay
+    (:func:`pmplan.path.cut_along`)."""
+    return cut_along(times, s, -1)
 
 
 def subdivide(wp: np.ndarray) -> np.ndarray:
