@@ -122,8 +122,8 @@ def markdown(res: dict) -> str:
         tag = " (design)" if r["seed"] in DESIGN_SEEDS else ""
         lines.append(f"| {r['seed']}{tag} | " + " | ".join(cells) + " |")
     lines += ["", "## The continuity rows (3, 16, m) of `refine_continuity.py`", "",
-              (f"Unit cube, {res['rc_count']} queries per row and draw, every point moved by delta = "
-              "1e-6, 1e-9, 1e-12 (K over the pairs with the same label). Per row and variant: "
+              (f"Unit cube, {res['rc_count']} queries per row and draw, every point moved by "
+              "delta = 1e-6, 1e-9, 1e-12 (K over the pairs with the same label). Per row and variant: "
               "the largest K_eff = K / max(1, target / c_raw) over the draws, and the pairs "
               "with K_eff > 1e3 of all pairs (issue 24: K_eff <= 1e4 on every pair, <= 1e3 on "
               ">= 99.9 % of the pairs of the whole table), then jumps (a move <= 1e-9 changing "

@@ -297,7 +297,8 @@ def test_a_json_batch_with_one_box(tmp_path):
     f = tmp_path / "qs.json"
     f.write_text(json.dumps([q, q]))
     res = subprocess.run([sys.executable, "-m", "pmplan", "batch", str(f), "--out",
-                          str(tmp_path / "p.npz"), "--no-progress"], capture_output=True, text=True, check=False)
+                          str(tmp_path / "p.npz"), "--no-progress"], capture_output=True, text=True,
+                         check=False)
     assert res.returncode == 0, res.stderr
     with np.load(tmp_path / "p.npz") as z:
         assert z["bounds"].shape == (2, 2, 2) and (z["bounds"] == BOX).all()
@@ -312,11 +313,11 @@ def test_a_json_batch_with_one_box(tmp_path):
 
 def _winding(path: np.ndarray, p: np.ndarray) -> int:
     """The winding number around ``p`` of the polyline ``path`` (K, 2) closed by the segment
-    from its last point back to its first."""
-    v = path - p
-    a = np.arctan2(v[:, 1], v[:, 0])
-    d = (np.diff(np.concatenate([a, a[:1]])) + np.pi) % (2 * np.pi) - np.pi
-    return int(np.round(d.sum() / (2 * np.pi)))
+    from its last point back to its first (``benchmarks/box_chords.py``'s)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from box_chords import windings
+
+    return int(windings(path[:, None], p[None])[0, 0])
 
 
 def _chord_queries():
