@@ -2,7 +2,7 @@
 
 Usage (from the repository root)::
 
-    python benchmarks/box_chords.py                # seeds 11 and 12, 400 queries per row (~2 min)
+    python benchmarks/box_chords.py                # seeds 11 and 12, 400 queries per row (~10 min)
 
 In a box pmplan plans the query mapped out of the box, ``y = phi^-1(q)``, and returns the
 polyline through ``phi`` of the raw path's waypoints (Mathematics §8). ``phi`` bends straight
@@ -41,6 +41,7 @@ import scenes
 from _common import rewrite_report, write_report
 
 import pmplan
+from pmplan.certify import clearance
 from pmplan.configuration import default_lift
 from pmplan.workspace import from_box, into_box
 
@@ -70,22 +71,6 @@ def cut(waypoints: np.ndarray, n: int) -> np.ndarray:
     return np.concatenate([inner.reshape(-1, *w.shape[1:]), w[-1:]])
 
 
-def clearance(w: np.ndarray, m: int) -> float:
-    """The smallest robot-robot and robot-obstacle distance along the polyline (K, P, 2), each
-    pair moving linearly on each piece (closed form)."""
-    a, b = w[:-1], w[1:]
-    P = w.shape[1]
-    i, k = np.triu_indices(P, 1)
-    keep = k >= m  # pairs with at least one robot (k > i)
-    i, k = i[keep], k[keep]
-    r0 = a[:, k] - a[:, i]
-    v = (b[:, k] - b[:, i]) - r0
-    vv = (v * v).sum(-1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.clip(np.where(vv > 0, -(r0 * v).sum(-1) / vv, 0.0), 0.0, 1.0)
-    return float(np.sqrt(((r0 + t[..., None] * v) ** 2).sum(-1)).min())
-
-
 def row(fam: str, n: int, seed: int, count: int) -> dict:
     t0 = time.perf_counter()
     lift = default_lift(None, scenes.R / 2, scenes.R / 2, refining=True)
@@ -95,11 +80,11 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
         m = len(o)
         raw = pmplan.plan(*(from_box(x, BOX) for x in (o, s, g)), lift=lift).path.waypoints
         ref = into_box(cut(raw, REFERENCE), BOX)
-        w_ref, c_ref = windings(ref[:, m:], o), clearance(ref, m)
+        w_ref, c_ref = windings(ref[:, m:], o), float(clearance(ref[None], m)[0])
         for c in CUTS:
             poly = into_box(cut(raw, c), BOX)
             differs[c] += bool((windings(poly[:, m:], o) != w_ref).any())
-            ratios[c].append(clearance(poly, m) / c_ref)
+            ratios[c].append(float(clearance(poly[None], m)[0]) / c_ref)
     out = {"family": fam, "n": n, "seed": seed, "count": count,
            "differs": {str(c): differs[c] / count for c in CUTS},
            "clearance_median": {str(c): float(np.median(ratios[c])) for c in CUTS},

@@ -57,6 +57,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import scenes
+import scenes_compare as sc
 from _common import rewrite_report, write_report
 
 import pmplan
@@ -130,8 +131,7 @@ def pair_bound(q, q_star, odd: np.ndarray) -> float:
     mean len/LB over ``q`` and ``q*`` of a path pair whose robots enclose, at ``q`` or at
     ``q*``, every obstacle ``odd`` marks."""
     (o, s, g), (o2, s2, g2) = q, q_star
-    lb1 = float(np.linalg.norm(g - s, axis=1).sum())
-    lb2 = float(np.linalg.norm(g2 - s2, axis=1).sum())
+    lb1, lb2 = sc._lb(s, g), sc._lb(s2, g2)
     total = 0.0
     for i in range(len(s)):
         k = np.flatnonzero(odd[i])
@@ -157,7 +157,7 @@ def mirror_pair(o, s, g, box=BOX):
 
 
 def _len_lb(plan, s, g) -> float:
-    return plan.path.length() / float(np.linalg.norm(g - s, axis=1).sum())
+    return plan.path.length() / sc._lb(s, g)
 
 
 def query_row(o, s, g, ompl=None) -> dict:
@@ -173,14 +173,11 @@ def query_row(o, s, g, ompl=None) -> dict:
         except pmplan.PmplanError:
             out[f"pmplan_{name}"] = float("nan")
         if ompl is not None:
-            import scenes_compare as sc
-
             out[f"rrtc_{name}"] = float("nan")
             if scenes.check(oo, ss, gg):  # OMPL's start and goal must keep the radii
                 _, res = ompl.plan(oo, ss, gg)
                 if res is not None and sc.valid(res[1], m)[0]:
-                    out[f"rrtc_{name}"] = sc._length(res[1]) / float(
-                        np.linalg.norm(gg - ss, axis=1).sum())
+                    out[f"rrtc_{name}"] = sc._length(res[1]) / sc._lb(ss, gg)
     q, q_star, out["plane_bound"] = mirror_pair(o, s, g, PLANE)
     for name, (oo, ss, gg) in (("q", q), ("mirror", q_star)):
         plan = pmplan.plan(oo, ss, gg, refine=True, radius=scenes.R / 2,
@@ -193,8 +190,6 @@ def row(fam: str, n: int, seed: int, count: int, kernels=None) -> dict:
     t0 = time.perf_counter()
     ompl = None
     if kernels is not None:
-        import scenes_compare as sc
-
         ompl = sc.OmplRunner(n, 2, sc.RC, kernels)
     per = [query_row(o, s, g, ompl) for o, s, g in scenes.queries(fam, n, count, seed)]
     b = np.array([p["bound"] for p in per])
@@ -281,8 +276,6 @@ def main(argv=None) -> int:
 
         if start_ompl(1) is None:
             return 2
-        import scenes_compare as sc
-
         kernels = sc._kernels()
     o, s, g = scenes.queries("room", 2, 1, 0)[0]  # warm-up / JIT
     scenes.refined_in_box(o, s, g)
