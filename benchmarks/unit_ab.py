@@ -60,18 +60,17 @@ GOAL = 1.05
 SETS = ("all", "keeps r", "valid")
 
 
-def _record(runner, o, s, g) -> dict | None:
-    """len/LB, keeps r, inside of one refined plan (None: refused)."""
+def _record(runner, o, s, g) -> list | None:
+    """``[len/LB, keeps r, inside]`` of one refined plan (None: refused)."""
     _, res = runner.plan(o, s, g)
     if res is None:
         return None
     _, keeps, inside = sc.valid(res[1], len(o))
-    return {"len_lb": sc._length(res[1]) / sc._lb(s, g), "keeps": keeps, "inside": inside}
+    return [sc._length(res[1]) / sc._lb(s, g), keeps, inside]
 
 
-def _in(rec: dict | None, name: str) -> bool:
-    return rec is not None and (name == "all" or rec["keeps"] and (
-        name == "keeps r" or rec["inside"]))
+def _in(rec: list | None, name: str) -> bool:
+    return rec is not None and (name == "all" or rec[1] and (name == "keeps r" or rec[2]))
 
 
 def ratios(per: dict) -> dict:
@@ -84,7 +83,7 @@ def ratios(per: dict) -> dict:
         for lift, recs in per.items():
             if lift == DEFAULT:
                 continue
-            both = [(a["len_lb"], b["len_lb"]) for a, b in zip(per[DEFAULT], recs)
+            both = [(a[0], b[0]) for a, b in zip(per[DEFAULT], recs)
                     if _in(a, name) and _in(b, name)]
             out[name][lift] = None if len(both) < SAME_LEAST else (
                 float(np.median([a for a, _ in both]) / np.median([b for _, b in both])),
