@@ -424,3 +424,69 @@ def test_raw_cuts_keep_a_sequence_through_its_configurations(monkeypatch, cuts, 
             j = int(np.searchsorted(p.path.times, k / (r - 1)))
             assert p.path.times[j] == k / (r - 1)
             assert np.array_equal(p.path.waypoints[j, 3:], c)
+
+
+# --- the candidate of benchmarks/box_exact.py (Mathematics §8, "A map linear on cells") --------
+
+def _box_exact():
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import box_exact
+
+    return box_exact
+
+
+@settings(max_examples=60, deadline=None)
+@given(k=st.integers(2, 5), p=st.integers(1, 3), d=st.integers(2, 3), seed=st.integers(0, 999),
+       far=st.integers(0, 6))
+def test_the_candidates_polyline_is_the_conjugated_motion(k, p, d, seed, far):
+    """The piecewise-linear map is increasing, onto the box and inverted by its inverse; the
+    polyline through the breakpoints where some point crosses one of its nodes, at the times it
+    does, is the image of the raw path at every time (to rounding), and keeps every raw
+    breakpoint."""
+    bx = _box_exact()
+    rng = np.random.default_rng(seed)
+    lo = rng.uniform(-5, 5, d)
+    box = np.array([lo, lo + rng.uniform(0.5, 20, d)])
+    raw = lo + (box[1] - lo) * rng.uniform(-1, 2, (k, p, d)) * 10.0 ** rng.uniform(0, far,
+                                                                                      (k, p, d))
+    times = np.sort(np.concatenate([[0.0, 1.0], rng.uniform(0, 1, k - 2)]))
+    tt, ww = bx.exact(times, raw, box)
+    assert np.isin(times, tt).all() and (np.diff(tt) > 0).all()
+    assert (ww > box[0]).all() and (ww < box[1]).all()
+    t = rng.uniform(0, 1, 200)
+    j = np.clip(np.searchsorted(times, t, side="right") - 1, 0, k - 2)
+    lam = ((t - times[j]) / (times[j + 1] - times[j]))[:, None, None]
+    want = bx.into_box_pl(raw[j] + lam * (raw[j + 1] - raw[j]), box)
+    i = np.clip(np.searchsorted(tt, t, side="right") - 1, 0, len(tt) - 2)
+    mu = ((t - tt[i]) / (tt[i + 1] - tt[i]))[:, None, None]
+    got = ww[i] + mu * (ww[i + 1] - ww[i])
+    assert np.abs(got - want).max() <= 1e-9 * (box[1] - box[0]).max()
+    z = np.sort(raw.reshape(-1, d), axis=0)
+    y = bx.into_box_pl(z, box)
+    assert (np.diff(y, axis=0) >= 0).all()
+    back = bx.from_box_pl(y, box)
+    inner = (z > box[0]) & (z < box[1])
+    assert np.abs(back - z)[inner].max(initial=0.0) <= 1e-9 * (box[1] - box[0]).max()
+
+
+def test_the_candidate_keeps_the_class_where_the_chords_change_it():
+    """On queries of the scene family *room* (n = 4, seed 13) where the polyline through the
+    mapped waypoints alone (the chords) passes some obstacle in another class than the
+    conjugated motion (the raw path cut into 1024 pieces, then mapped), the candidate's
+    polyline passes every obstacle in the class of the conjugated motion."""
+    bx = _box_exact()
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import scenes
+    from box_chords import cut, windings
+
+    box = BOX
+    seen = 0
+    for o, s, g in scenes.queries("room", 4, 24, 13):
+        plan = pmplan.plan(*(bx.from_box_pl(x, box) for x in (o, s, g)), lift=0.3)
+        raw, m = plan.path.waypoints, len(o)
+        ref = windings(bx.into_box_pl(cut(raw, 1024), box)[:, m:], o)
+        chord = windings(bx.into_box_pl(raw, box)[:, m:], o)
+        exact = windings(bx.exact(plan.path.times, raw, box)[1][:, m:], o)
+        assert (exact == ref).all()
+        seen += bool((chord != ref).any())
+    assert seen >= 2  # (the chords change some class on these queries: 4 of 24 when written)

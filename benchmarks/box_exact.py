@@ -1,0 +1,274 @@
+"""A candidate for plans in the box that are the conjugated motion exactly: a piecewise-linear
+map onto the box, and the polyline through every point where a robot crosses one of its kinks.
+
+Usage (from the repository root)::
+
+    python benchmarks/box_exact.py               # seeds 13 and 14, 200 queries per row (~5 min)
+
+pmplan returns, in a box, the polyline through ``phi`` of the raw path's waypoints, ``phi`` the
+coordinatewise map of :mod:`pmplan.workspace` with an algebraic tail. Its chords are not the
+conjugated motion ``phi o s`` and may pass an obstacle on the other side (Mathematics §8, "What
+the polyline is not"; ``benchmarks/box_chords.py``). Here the tail is replaced by its dyadic
+piecewise-linear interpolation: in the box's unit coordinates, the nodes ``z_k = b + f (2^k -
+1)`` beyond the inner edge ``b = 1 - f`` (``f`` = :data:`pmplan.workspace.BAND`) go to ``1 - f
+2^-k``, the algebraic tail's own values there, and the map is affine between them with slope
+``2^(-2k-1)`` (the mirror image below ``f``; the identity between). It is a homeomorphism of R
+onto (0, 1), so the conjugated planner keeps the domains and labels (Mathematics §8), and on
+every cell of the product of these intervals it is affine: the image of a straight piece of the
+raw path is exactly the polyline through the images of the points where some robot crosses a
+node in some coordinate. That polyline *is* ``phi o s``: the certificate can refuse it only for
+rounding, and a robot passes every obstacle on the side ``phi o s`` does, at every query.
+
+Not in pmplan: the number of breakpoints varies with the query (a batch is padded; the fixed
+shapes of the dask and Zarr paths, and the refinement's grid, which must not change inside a
+domain, need another answer first). This script measures what the candidate would cost and give,
+on the scene families of ``benchmarks/scenes.py`` (pmplan's default raw plan at the refined
+plans' unit, the robots' diameter), per row: the breakpoints of the exact polyline (the raw plan
+has 8), whether some robot's class (winding number of its path closed by the segment from goal
+to start, planar rows) differs from the same map's raw path cut into ``REFERENCE`` pieces, and
+the raw clearance of the exact polyline and of the polyline through the mapped waypoints alone
+(what pmplan does, with this map) over the reference's.
+
+Writes ``benchmarks/box_exact.json`` and ``.md``. Not a test module.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import scenes
+from _common import rewrite_report, write_report
+from box_chords import REFERENCE, cut, windings
+
+import pmplan
+from pmplan.certify import clearance
+from pmplan.configuration import default_lift
+from pmplan.workspace import BAND
+
+FAMILIES = ["room", "swap", "room_walls", "swap_walls", "room3d"]
+NS = [2, 4, 8, 16]
+#: the inner edge of the upper band in unit coordinates
+EDGE = 1.0 - BAND
+
+
+def _node(k):
+    """The k-th node beyond the upper inner edge, in unit coordinates."""
+    return EDGE + BAND * (2.0 ** k - 1.0)
+
+
+def _up(u):
+    """The map beyond the upper inner edge (u > EDGE), unit coordinates."""
+    k = np.floor(np.log2((u - EDGE) / BAND + 1.0))
+    k = np.where(u < _node(k), k - 1, k)  # (log2 rounded up across a node)
+    k = np.where(u >= _node(k + 1), k + 1, k)
+    return 1.0 - BAND * 2.0 ** -k + (u - _node(k)) * 2.0 ** (-2.0 * k - 1.0)
+
+
+def _up_inverse(y):
+    """The inverse of :func:`_up` on (EDGE, 1)."""
+    k = np.floor(-np.log2((1.0 - y) / BAND))
+    k = np.where(y < 1.0 - BAND * 2.0 ** -k, k - 1, k)
+    return _node(k) + (y - (1.0 - BAND * 2.0 ** -k)) * 2.0 ** (2.0 * k + 1.0)
+
+
+def _unit_map(x, box, up):
+    lo, hi = box
+    w = hi - lo
+    u = (np.asarray(x, dtype=float) - lo) / w
+    with np.errstate(all="ignore"):
+        out = np.where(u > EDGE, up(u), np.where(u < BAND, 1.0 - up(1.0 - u), u))
+    return lo + w * out
+
+
+def into_box_pl(x, box):
+    """The piecewise-linear ``phi``: R^d (..., d) into the box."""
+    return _unit_map(x, box, _up)
+
+
+def from_box_pl(x, box):
+    """Its inverse: the box (..., d) to R^d."""
+    return _unit_map(x, box, _up_inverse)
+
+
+def _nodes_between(a: float, b: float) -> list[float]:
+    """The nodes (unit coordinates, both bands) strictly between a and b."""
+    lo, hi = min(a, b), max(a, b)
+    out = []
+    k = 0
+    while _node(k) < hi:
+        if _node(k) > lo:
+            out.append(_node(k))
+        k += 1
+    k = 0
+    while 1.0 - _node(k) > lo:
+        if 1.0 - _node(k) < hi:
+            out.append(1.0 - _node(k))
+        k += 1
+    return out
+
+
+def exact(times: np.ndarray, raw: np.ndarray, box: np.ndarray):
+    """The image of the path ``(times, raw)`` (K,), (K, P, d) under :func:`into_box_pl`,
+    exactly: every piece cut where some point crosses a node in some coordinate, then mapped:
+    ``(times, waypoints)`` (K',), (K', P, d)."""
+    u = (raw - box[0]) / (box[1] - box[0])
+    pts, ts = [raw[:1]], [times[:1]]
+    for k in range(len(raw) - 1):
+        a, b = u[k], u[k + 1]
+        lams = set()
+        for i, c in zip(*np.nonzero(a != b)):
+            for z in _nodes_between(a[i, c], b[i, c]):
+                lams.add((z - a[i, c]) / (b[i, c] - a[i, c]))
+        lam = np.array(sorted(x for x in lams if 0.0 < x < 1.0))
+        pts.append(raw[k] + lam[:, None, None] * (raw[k + 1] - raw[k]))
+        pts.append(raw[k + 1:k + 2])
+        ts += [times[k] + lam * (times[k + 1] - times[k]), times[k + 1:k + 2]]
+    return np.concatenate(ts), into_box_pl(np.concatenate(pts), box)
+
+
+def _sup(a: tuple, b: tuple) -> float:
+    """The sup over time of the distance between two piecewise-linear motions ``(times,
+    waypoints)`` on [0, 1], exact up to rounding: both are linear between the union of their
+    breakpoints."""
+    t = np.union1d(a[0], b[0])
+
+    def at(path):
+        k = np.clip(np.searchsorted(path[0], t, side="right") - 1, 0, len(path[0]) - 2)
+        lam = ((t - path[0][k]) / (path[0][k + 1] - path[0][k]))[:, None, None]
+        return path[1][k] + lam * (path[1][k + 1] - path[1][k])
+
+    return float(np.linalg.norm(at(a) - at(b), axis=-1).max())
+
+
+#: the continuity probe: the first PROBED queries of a row, every point moved by delta times a
+#: vector uniform in [-1, 1]^d at each of DELTAS, replanned; K = sup change / delta where the
+#: domain label is kept
+PROBED = 25
+DELTAS = (1e-6, 1e-9, 1e-12)
+
+
+def _motions(o, s, g, box, lift):
+    """The raw plan's label and its exact and chord motions in the box."""
+    p = pmplan.plan(*(from_box_pl(x, box) for x in (o, s, g)), lift=lift)
+    times, raw = p.path.times, p.path.waypoints
+    m = len(o)
+    out = {"exact": exact(times, raw, box), "chord": (times, into_box_pl(raw, box)),
+           "ref": (None, into_box_pl(cut(raw, REFERENCE), box))}
+    for _, w in out.values():
+        w[:, :m] = o  # (the obstacles, bit for bit)
+    return p.domain, raw, out
+
+
+def row(fam: str, n: int, seed: int, count: int) -> dict:
+    t0 = time.perf_counter()
+    d = scenes.FAMILIES[fam].d
+    box = np.array([np.zeros(d), np.full(d, scenes.SIZE)])
+    lift = default_lift(None, scenes.R / 2, scenes.R / 2, refining=True)
+    ks, exact_ratio, chord_ratio, differs, chord_differs, raw_k = [], [], [], 0, 0, 0
+    kmax = {"exact": 0.0, "chord": 0.0}
+    rng = np.random.default_rng([seed, scenes.FAMILIES[fam].index, n, 7])
+    for j, (o, s, g) in enumerate(scenes.queries(fam, n, count, seed)):
+        m = len(o)
+        label, raw, motions = _motions(o, s, g, box, lift)
+        polys = {k: v[1] for k, v in motions.items()}
+        raw_k = len(raw)
+        if j < PROBED:
+            for delta in DELTAS:
+                moved = [x + delta * rng.uniform(-1.0, 1.0, x.shape) for x in (o, s, g)]
+                label2, _, motions2 = _motions(*moved, box, lift)
+                if label2 != label:
+                    continue
+                for k, top in kmax.items():
+                    kmax[k] = max(top, _sup(motions[k], motions2[k]) / delta)
+        ks.append(len(polys["exact"]))
+        c_ref = float(clearance(polys["ref"][None], m)[0])
+        exact_ratio.append(float(clearance(polys["exact"][None], m)[0]) / c_ref)
+        chord_ratio.append(float(clearance(polys["chord"][None], m)[0]) / c_ref)
+        if d == 2:
+            w_ref = windings(polys["ref"][:, m:], o)
+            differs += bool((windings(polys["exact"][:, m:], o) != w_ref).any())
+            chord_differs += bool((windings(polys["chord"][:, m:], o) != w_ref).any())
+    out = {"family": fam, "n": n, "seed": seed, "count": count, "raw_breakpoints": raw_k,
+           "breakpoints_median": float(np.median(ks)), "breakpoints_max": int(max(ks)),
+           "differs": differs / count if d == 2 else None,
+           "chord_differs": chord_differs / count if d == 2 else None,
+           "exact_clearance_min": float(min(exact_ratio)),
+           "exact_clearance_median": float(np.median(exact_ratio)),
+           "chord_clearance_min": float(min(chord_ratio)),
+           "chord_clearance_median": float(np.median(chord_ratio)),
+           "k_exact": kmax["exact"], "k_chord": kmax["chord"],
+           "seconds": time.perf_counter() - t0}
+    print(f"seed {seed} {fam} n={n}: breakpoints {out['breakpoints_median']:.0f} (max "
+          f"{out['breakpoints_max']}); class differs exact {out['differs']}, chord "
+          f"{out['chord_differs']}; clearance / reference: exact min "
+          f"{out['exact_clearance_min']:.3f}, chord min {out['chord_clearance_min']:.2g}; "
+          f"K exact {out['k_exact']:.3g}, chord {out['k_chord']:.3g}", flush=True)
+    return out
+
+
+def _share(x) -> str:
+    return "-" if x is None else f"{x:.3f}"
+
+
+def markdown(res: dict) -> str:
+    lines = ["# A candidate for exact plans in the box: a piecewise-linear map", "",
+             (f"Command: `{res['command'].strip()}` ({res['date']}). Scene families of "
+              f"`benchmarks/scenes.py` (box [0, 10]^d), {res['count']} queries per row, "
+              "pmplan's default raw plan of the query mapped out of the box by the dyadic "
+              "piecewise-linear map, at the refined plans' unit. *exact*: the polyline through "
+              "the images of the raw path at every point where a robot crosses a kink of the "
+              "map (the conjugated motion itself); *chord*: through the images of the raw "
+              "waypoints alone (what pmplan returns, with this map). *Breakpoints*: of the "
+              "exact polyline, median (largest); the raw plan has "
+              f"{res['rows'][0]['raw_breakpoints']}. *Class differs*: the share of queries "
+              "where some robot passes some obstacle in another class (winding number, planar "
+              f"rows) than the same map's raw path cut into {res['reference']} pieces. "
+              "*Clearance*: the raw clearance over that reference's, median (smallest); the "
+              "reference's vertices lie on the exact polyline, so it cuts the exact one's "
+              "corners, and an exact clearance below the reference's is such a corner. *K*: "
+              f"the continuity probe on the first {PROBED} queries of the row, every point "
+              "moved by delta times a vector uniform in [-1, 1]^d at delta = "
+              f"{', '.join(f'{x:g}' for x in DELTAS)}, replanned, the largest sup over time of "
+              "the change of the motion / delta where the domain label is kept."), "",
+             ("| seed | row | breakpoints | class differs: exact / chord | clearance: exact | "
+              "clearance: chord | K: exact / chord |"), "|---|---|---|---|---|---|---|"]
+    for r in res["rows"]:
+        lines.append(
+            f"| {r['seed']} | {r['family']} n = {r['n']} | {r['breakpoints_median']:.0f} "
+            f"({r['breakpoints_max']}) | {_share(r['differs'])} / {_share(r['chord_differs'])}"
+            f" | {r['exact_clearance_median']:.3f} ({r['exact_clearance_min']:.3f}) | "
+            f"{r['chord_clearance_median']:.3f} ({r['chord_clearance_min']:.2g}) | "
+            f"{r['k_exact']:.3g} / {r['k_chord']:.3g} |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", default="13,14")
+    ap.add_argument("--count", type=int, default=200)
+    ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
+    args = ap.parse_args(argv)
+    if args.from_json:
+        rewrite_report("box_exact", markdown)
+        return 0
+    rows = [row(f, n, int(seed), args.count) for seed in args.seeds.split(",")
+            for f in FAMILIES for n in NS]
+    res = {"command": "python benchmarks/box_exact.py " + " ".join(
+               argv if argv is not None else sys.argv[1:]),
+           "date": _dt.date.today().isoformat(), "count": args.count, "reference": REFERENCE,
+           "rows": rows}
+    write_report("box_exact", res, markdown)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
