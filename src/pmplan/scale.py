@@ -296,9 +296,7 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
     if sequential:
         check_sequential(planner)
     p = choose_planner(d, n, m, planner, sequential=sequential)
-    box = None if bounds is None else check_bounds(bounds, d)  # checked now
-    if box is not None:
-        check_raw_cuts()
+    box = _box(bounds, d)  # checked now
     template = _template(p, len(configs), m, n, d, refine)
     per_query_times = template["times"].ndim == 2
     record = _record(template, per_query_times, refine is not None)
@@ -325,6 +323,17 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
     if box is not None:
         extra["bounds"] = np.broadcast_to(box, (obstacles.shape[0], 2, d))
     return PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
+
+
+def _box(bounds, d: int):
+    """The workspace box (2, d) of the dask and Zarr paths, or None: ``bounds`` checked
+    (:func:`pmplan.workspace.check_bounds`), and :data:`pmplan.workspace.RAW_CUTS` refused
+    unless it is 1, as their output shapes are fixed before planning."""
+    if bounds is None:
+        return None
+    box = check_bounds(bounds, d)
+    check_raw_cuts()
+    return box
 
 
 def plan_batch(obstacles, start, goal, *, planner: str | None = None,
@@ -891,9 +900,8 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         check_sequential(planner)
     p = choose_planner(d, n, m, planner, sequential=r > 2)
     nchunks = -(-b // chunk)
-    box = None if bounds is None else check_bounds(bounds, d).tolist()
-    if box is not None:
-        check_raw_cuts()
+    box = _box(bounds, d)
+    box = None if box is None else box.tolist()
     attrs = _attrs(p.name, lift if isinstance(lift, str) else float(lift), (d, n, m), r, b,
                    chunk, refine, compress, box)
     if out.suffix != ".zarr":
