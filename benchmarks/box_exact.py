@@ -4,6 +4,7 @@ map onto the box, and the polyline through every point where a robot crosses one
 Usage (from the repository root)::
 
     python benchmarks/box_exact.py               # seeds 13 and 14, 200 queries per row (~5 min)
+    python benchmarks/box_exact.py --from-json   # rewrite the .md from the .json
 
 pmplan returns, in a box, the polyline through ``phi`` of the raw path's waypoints, ``phi`` the
 coordinatewise map of :mod:`pmplan.workspace` with an algebraic tail. Its chords are not the
@@ -34,8 +35,6 @@ Writes ``benchmarks/box_exact.json`` and ``.md``. Not a test module.
 
 from __future__ import annotations
 
-import argparse
-import datetime as _dt
 import sys
 import time
 from pathlib import Path
@@ -46,7 +45,6 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import scenes
-from _common import rewrite_report, write_report
 from box_chords import REFERENCE, cut, windings
 
 import pmplan
@@ -231,7 +229,7 @@ def markdown(res: dict) -> str:
               "exact polyline, median (largest); the raw plan has "
               f"{res['rows'][0]['raw_breakpoints']}. *Class differs*: the share of queries "
               "where some robot passes some obstacle in another class (winding number, planar "
-              f"rows) than the same map's raw path cut into {res['reference']} pieces. "
+              f"rows) than the same map's raw path cut into {REFERENCE} pieces. "
               "*Clearance*: the raw clearance over that reference's, median (smallest); the "
               "reference's vertices lie on the exact polyline, so it cuts the exact one's "
               "corners, and an exact clearance below the reference's is such a corner. *K*: "
@@ -252,22 +250,8 @@ def markdown(res: dict) -> str:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", default="13,14")
-    ap.add_argument("--count", type=int, default=200)
-    ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
-    args = ap.parse_args(argv)
-    if args.from_json:
-        rewrite_report("box_exact", markdown)
-        return 0
-    rows = [row(f, n, int(seed), args.count) for seed in args.seeds.split(",")
-            for f in FAMILIES for n in NS]
-    res = {"command": "python benchmarks/box_exact.py " + " ".join(
-               argv if argv is not None else sys.argv[1:]),
-           "date": _dt.date.today().isoformat(), "count": args.count, "reference": REFERENCE,
-           "rows": rows}
-    write_report("box_exact", res, markdown)
-    return 0
+    return scenes.rows_main("box_exact", __doc__, row, markdown, FAMILIES, NS, "13,14", argv,
+                            count=200)
 
 
 if __name__ == "__main__":

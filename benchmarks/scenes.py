@@ -152,30 +152,39 @@ def check(o: np.ndarray, s: np.ndarray, g: np.ndarray) -> bool:
     return True
 
 
-def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv=None) -> int:
+def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv=None,
+              count: int = 16) -> int:
     """The command line of a per-row scene benchmark (``benchmarks/<name>.py``): ``--seeds``
-    (default ``seeds``) and ``--queries``; one warm-up plan, then ``row(family, n, seed, count)``
-    for every seed, family and n, written to ``benchmarks/<name>.json`` and, through
-    ``markdown(result)``, ``.md``."""
+    (default ``seeds``), ``--queries`` (default ``count``) and ``--from-json`` (rewrite the
+    report from the JSON, no planning); one warm-up plan, then ``row(family, n, seed, count)``
+    for every seed, family and n, written with the run's seconds to ``benchmarks/<name>.json``
+    and, through ``markdown(result)``, ``.md``."""
     import argparse
     import datetime as _dt
     import json
     import sys
+    import time
     from pathlib import Path
 
     import pmplan
 
     ap = argparse.ArgumentParser(description=doc.splitlines()[0])
     ap.add_argument("--seeds", default=seeds)
-    ap.add_argument("--queries", type=int, default=16)
+    ap.add_argument("--queries", type=int, default=count)
+    ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
     args = ap.parse_args(argv)
+    here = Path(__file__).resolve().parent
+    if args.from_json:
+        (here / f"{name}.md").write_text(markdown(json.loads((here / f"{name}.json").read_text())))
+        return 0
     o, s, g = queries("room", 2, 1, 0)[0]  # warm-up / JIT
     pmplan.plan(o, s, g, bounds=(0.0, SIZE), refine=True, radius=R / 2)
+    t0 = time.perf_counter()
     rows = [row(f, n, int(seed), args.queries) for seed in args.seeds.split(",")
             for f in families for n in ns]
     res = {"command": f"python benchmarks/{name}.py " + " ".join(argv or sys.argv[1:]),
-           "date": _dt.date.today().isoformat(), "count": args.queries, "rows": rows}
-    here = Path(__file__).resolve().parent
+           "date": _dt.date.today().isoformat(), "count": args.queries,
+           "seconds": time.perf_counter() - t0, "rows": rows}
     (here / f"{name}.json").write_text(json.dumps(res, indent=1))
     (here / f"{name}.md").write_text(markdown(res))
     return 0

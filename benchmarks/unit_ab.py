@@ -32,10 +32,7 @@ Writes ``benchmarks/unit_ab.json`` and ``.md``. Not a test module.
 
 from __future__ import annotations
 
-import argparse
-import datetime as _dt
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -45,7 +42,6 @@ sys.path.insert(0, str(HERE))
 
 import scenes
 import scenes_compare as sc
-from _common import rewrite_report, write_report
 from scenes_section import SAME_LEAST
 
 FAMILIES = list(scenes.FAMILIES)
@@ -156,36 +152,18 @@ def markdown(res: dict) -> str:
             met = sum(w is not None and w[0] <= GOAL for _, w, _ in rows)
             bad = [f"{r['family']} n = {r['n']} seed {r['seed']} ({w[0]:.3f})"
                    for r, w, _ in rows if w is not None and w[0] > GOAL]
-            top = max((o[0], r["family"], r["n"], r["seed"], o[1]) for r, _, o in rows
-                      if o is not None)
+            top = max(((o[0], r["family"], r["n"], r["seed"], o[1]) for r, _, o in rows
+                       if o is not None), default=None)
+            ttext = "n/a" if top is None else \
+                f"{top[0]:.3f} ({top[1]} n = {top[2]} seed {top[3]}, {top[4]})"
             lines.append(f"| {name} | {label} | {met}/{len(rows)} | {', '.join(bad) or 'none'} "
-                         f"| {top[0]:.3f} ({top[1]} n = {top[2]} seed {top[3]}, {top[4]}) |")
+                         f"| {ttext} |")
     return "\n".join(lines) + "\n"
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", default="1,2,31,32")
-    ap.add_argument("--queries", type=int, default=64)
-    ap.add_argument("--families", default=",".join(FAMILIES))
-    ap.add_argument("--ns", default=",".join(str(n) for n in NS))
-    ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
-    args = ap.parse_args(argv)
-    if args.from_json:
-        rewrite_report("unit_ab", markdown)
-        return 0
-    o, s, g = scenes.queries("room", 2, 1, 0)[0]  # warm-up / JIT
-    for lift in VARIANTS.values():
-        sc.PmplanRunner(lift).plan(o, s, g)
-    t0 = time.perf_counter()
-    rows = [row(f, int(n), int(seed), args.queries) for seed in args.seeds.split(",")
-            for f in args.families.split(",") for n in args.ns.split(",")]
-    res = {"command": "python benchmarks/unit_ab.py " + " ".join(
-               argv if argv is not None else sys.argv[1:]),
-           "date": _dt.date.today().isoformat(), "count": args.queries,
-           "seconds": time.perf_counter() - t0, "rows": rows}
-    write_report("unit_ab", res, markdown)
-    return 0
+    return scenes.rows_main("unit_ab", __doc__, row, markdown, FAMILIES, NS, "1,2,31,32", argv,
+                            count=64)
 
 
 if __name__ == "__main__":
