@@ -20,15 +20,17 @@ raw path is exactly the polyline through the images of the points where some rob
 node in some coordinate. That polyline *is* ``phi o s``: the certificate can refuse it only for
 rounding, and a robot passes every obstacle on the side ``phi o s`` does, at every query.
 
-Not in pmplan: the number of breakpoints varies with the query (a batch is padded; the fixed
-shapes of the dask and Zarr paths, and the refinement's grid, which must not change inside a
-domain, need another answer first). This script measures what the candidate would cost and give,
-on the scene families of ``benchmarks/scenes.py`` (pmplan's default raw plan at the refined
-plans' unit, the robots' diameter), per row: the breakpoints of the exact polyline (the raw plan
-has 8), whether some robot's class (winding number of its path closed by the segment from goal
-to start, planar rows) differs from the same map's raw path cut into ``REFERENCE`` pieces, and
-the raw clearance of the exact polyline and of the polyline through the mapped waypoints alone
-(what pmplan does, with this map) over the reference's.
+Not pmplan's map of ``plan(bounds=)``: the number of breakpoints varies with the query (a batch
+is padded; the fixed shapes of the dask and Zarr paths, and the refinement's grid, which must
+not change inside a domain, need another answer first). The map and the exact image are
+:func:`pmplan.workspace.into_box_linear`, :func:`~pmplan.workspace.from_box_linear` and
+:func:`~pmplan.workspace.path_into_box_linear`. This script measures what the candidate would
+cost and give, on the scene families of ``benchmarks/scenes.py`` (pmplan's default raw plan at
+the refined plans' unit, the robots' diameter), per row: the breakpoints of the exact polyline
+(the raw plan has 8), whether some robot's class (winding number of its path closed by the
+segment from goal to start, planar rows) differs from the same map's raw path cut into
+``REFERENCE`` pieces, and the raw clearance of the exact polyline and of the polyline through
+the mapped waypoints alone (what pmplan does, with this map) over the reference's.
 
 Writes ``benchmarks/box_exact.json`` and ``.md``. Not a test module.
 """
@@ -50,87 +52,17 @@ from box_chords import REFERENCE, cut, windings
 import pmplan
 from pmplan.certify import clearance
 from pmplan.configuration import default_lift
-from pmplan.workspace import BAND
+from pmplan.workspace import from_box_linear, into_box_linear, path_into_box_linear
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls", "room3d"]
 NS = [2, 4, 8, 16]
-#: the inner edge of the upper band in unit coordinates
-EDGE = 1.0 - BAND
-
-
-def _node(k):
-    """The k-th node beyond the upper inner edge, in unit coordinates."""
-    return EDGE + BAND * (2.0 ** k - 1.0)
-
-
-def _up(u):
-    """The map beyond the upper inner edge (u > EDGE), unit coordinates."""
-    k = np.floor(np.log2((u - EDGE) / BAND + 1.0))
-    k = np.where(u < _node(k), k - 1, k)  # (log2 rounded up across a node)
-    k = np.where(u >= _node(k + 1), k + 1, k)
-    return 1.0 - BAND * 2.0 ** -k + (u - _node(k)) * 2.0 ** (-2.0 * k - 1.0)
-
-
-def _up_inverse(y):
-    """The inverse of :func:`_up` on (EDGE, 1)."""
-    k = np.floor(-np.log2((1.0 - y) / BAND))
-    k = np.where(y < 1.0 - BAND * 2.0 ** -k, k - 1, k)
-    return _node(k) + (y - (1.0 - BAND * 2.0 ** -k)) * 2.0 ** (2.0 * k + 1.0)
-
-
-def _unit_map(x, box, up):
-    lo, hi = box
-    w = hi - lo
-    u = (np.asarray(x, dtype=float) - lo) / w
-    with np.errstate(all="ignore"):
-        out = np.where(u > EDGE, up(u), np.where(u < BAND, 1.0 - up(1.0 - u), u))
-    return lo + w * out
-
-
-def into_box_pl(x, box):
-    """The piecewise-linear ``phi``: R^d (..., d) into the box."""
-    return _unit_map(x, box, _up)
-
-
-def from_box_pl(x, box):
-    """Its inverse: the box (..., d) to R^d."""
-    return _unit_map(x, box, _up_inverse)
-
-
-def _nodes_between(a: float, b: float) -> list[float]:
-    """The nodes (unit coordinates, both bands) strictly between a and b."""
-    lo, hi = min(a, b), max(a, b)
-    out = []
-    k = 0
-    while _node(k) < hi:
-        if _node(k) > lo:
-            out.append(_node(k))
-        k += 1
-    k = 0
-    while 1.0 - _node(k) > lo:
-        if 1.0 - _node(k) < hi:
-            out.append(1.0 - _node(k))
-        k += 1
-    return out
 
 
 def exact(times: np.ndarray, raw: np.ndarray, box: np.ndarray):
-    """The image of the path ``(times, raw)`` (K,), (K, P, d) under :func:`into_box_pl`,
-    exactly: every piece cut where some point crosses a node in some coordinate, then mapped:
-    ``(times, waypoints)`` (K',), (K', P, d)."""
-    u = (raw - box[0]) / (box[1] - box[0])
-    pts, ts = [raw[:1]], [times[:1]]
-    for k in range(len(raw) - 1):
-        a, b = u[k], u[k + 1]
-        lams = set()
-        for i, c in zip(*np.nonzero(a != b)):
-            for z in _nodes_between(a[i, c], b[i, c]):
-                lams.add((z - a[i, c]) / (b[i, c] - a[i, c]))
-        lam = np.array(sorted(x for x in lams if 0.0 < x < 1.0))
-        pts.append(raw[k] + lam[:, None, None] * (raw[k + 1] - raw[k]))
-        pts.append(raw[k + 1:k + 2])
-        ts += [times[k] + lam * (times[k + 1] - times[k]), times[k + 1:k + 2]]
-    return np.concatenate(ts), into_box_pl(np.concatenate(pts), box)
+    """The image of one path ``(times, raw)`` (K,), (K, P, d) under the map linear on cells,
+    exactly (:func:`pmplan.workspace.path_into_box_linear`): (K',), (K', P, d)."""
+    t, w = path_into_box_linear(times, raw[None], box)
+    return t[0], w[0]
 
 
 def _sup(a: tuple, b: tuple) -> float:
@@ -156,11 +88,11 @@ DELTAS = (1e-6, 1e-9, 1e-12)
 
 def _motions(o, s, g, box, lift):
     """The raw plan's label and its exact and chord motions in the box."""
-    p = pmplan.plan(*(from_box_pl(x, box) for x in (o, s, g)), lift=lift)
+    p = pmplan.plan(*(from_box_linear(x, box) for x in (o, s, g)), lift=lift)
     times, raw = p.path.times, p.path.waypoints
     m = len(o)
-    out = {"exact": exact(times, raw, box), "chord": (times, into_box_pl(raw, box)),
-           "ref": (None, into_box_pl(cut(raw, REFERENCE), box))}
+    out = {"exact": exact(times, raw, box), "chord": (times, into_box_linear(raw, box)),
+           "ref": (None, into_box_linear(cut(raw, REFERENCE), box))}
     for _, w in out.values():
         w[:, :m] = o  # (the obstacles, bit for bit)
     return p.domain, raw, out

@@ -21,6 +21,7 @@ import pmplan
 from pmplan import workspace as W
 from pmplan.certify import radius_report
 from pmplan.io import parse_query
+from pmplan.path import PiecewiseLinearPath
 
 BOX = np.array([[0.0, 0.0], [10.0, 10.0]])
 
@@ -426,55 +427,65 @@ def test_raw_cuts_keep_a_sequence_through_its_configurations(monkeypatch, cuts, 
             assert np.array_equal(p.path.waypoints[j, 3:], c)
 
 
-# --- the candidate of benchmarks/box_exact.py (Mathematics §8, "A map linear on cells") --------
+# --- the map linear on cells (Mathematics §8, "A map linear on cells") -----------------------
 
-def _box_exact():
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    import box_exact
-
-    return box_exact
+def test_the_linear_map_sends_the_nodes_to_the_tails_values_exactly():
+    """On a box whose band is a power of two the nodes ``b + mu (2^k - 1)`` go to ``hi - mu
+    2^-k`` bit for bit (the values of the algebraic tail there), both ways, and the inner box
+    is the identity bit for bit."""
+    box = np.array([[0.0, -8.0], [8.0, 0.0]])  # mu = 1; x: the upper band, y: the lower
+    k = np.arange(12.0)
+    nodes = np.stack([7.0 + (2.0 ** k - 1.0), -7.0 - (2.0 ** k - 1.0)], axis=-1)
+    values = np.stack([8.0 - 2.0 ** -k, -8.0 + 2.0 ** -k], axis=-1)
+    assert (W.into_box_linear(nodes, box) == values).all()
+    assert (W.into_box(nodes, box) == values).all()
+    assert (W.from_box_linear(values, box) == nodes).all()
+    inner = np.random.default_rng(0).uniform([1, -7], [7, -1], (100, 2))
+    assert (W.into_box_linear(inner, box) == inner).all()
+    assert (W.from_box_linear(inner, box) == inner).all()
 
 
 @settings(max_examples=60, deadline=None)
 @given(k=st.integers(2, 5), p=st.integers(1, 3), d=st.integers(2, 3), seed=st.integers(0, 999),
-       far=st.integers(0, 6))
-def test_the_candidates_polyline_is_the_conjugated_motion(k, p, d, seed, far):
-    """The piecewise-linear map is increasing, onto the box and inverted by its inverse; the
-    polyline through the breakpoints where some point crosses one of its nodes, at the times it
-    does, is the image of the raw path at every time (to rounding), and keeps every raw
-    breakpoint."""
-    bx = _box_exact()
+       far=st.integers(0, 6), batch=st.integers(1, 3))
+def test_the_linear_image_is_the_mapped_path_at_every_time(k, p, d, seed, far, batch):
+    """The map is increasing, into the box and inverted by its inverse (to rounding, at
+    magnitudes up to 1e6 times the box); the polyline through the points where some point
+    crosses a node, at the times it does, is the map of the path at every time (to rounding),
+    keeps every breakpoint and puts the map of every waypoint there, and a batch padded to its
+    longest path is the same motion as each path alone."""
     rng = np.random.default_rng(seed)
     lo = rng.uniform(-5, 5, d)
     box = np.array([lo, lo + rng.uniform(0.5, 20, d)])
-    raw = lo + (box[1] - lo) * rng.uniform(-1, 2, (k, p, d)) * 10.0 ** rng.uniform(0, far,
-                                                                                      (k, p, d))
+    side = (box[1] - lo).max()
+    raw = lo + (box[1] - lo) * rng.uniform(-1, 2, (batch, k, p, d)) \
+        * 10.0 ** rng.uniform(0, far, (batch, k, p, d))
     times = np.sort(np.concatenate([[0.0, 1.0], rng.uniform(0, 1, k - 2)]))
-    tt, ww = bx.exact(times, raw, box)
-    assert np.isin(times, tt).all() and (np.diff(tt) > 0).all()
-    assert (ww > box[0]).all() and (ww < box[1]).all()
+    tt, ww = W.path_into_box_linear(times, raw, box)
+    assert (np.diff(tt, axis=1) > 0).all() and (ww >= box[0]).all() and (ww <= box[1]).all()
     t = rng.uniform(0, 1, 200)
-    j = np.clip(np.searchsorted(times, t, side="right") - 1, 0, k - 2)
-    lam = ((t - times[j]) / (times[j + 1] - times[j]))[:, None, None]
-    want = bx.into_box_pl(raw[j] + lam * (raw[j + 1] - raw[j]), box)
-    i = np.clip(np.searchsorted(tt, t, side="right") - 1, 0, len(tt) - 2)
-    mu = ((t - tt[i]) / (tt[i + 1] - tt[i]))[:, None, None]
-    got = ww[i] + mu * (ww[i + 1] - ww[i])
-    assert np.abs(got - want).max() <= 1e-9 * (box[1] - box[0]).max()
+    for q in range(batch):
+        assert np.isin(times, tt[q]).all()
+        at = np.searchsorted(tt[q], times)
+        assert (ww[q, at] == W.into_box_linear(raw[q], box)).all()
+        want = W.into_box_linear(PiecewiseLinearPath(times, raw[q])(t), box)
+        got = PiecewiseLinearPath(tt[q], ww[q])(t)
+        assert np.abs(got - want).max() <= 1e-9 * side
+        alone = W.path_into_box_linear(times, raw[q:q + 1], box)
+        assert np.abs(PiecewiseLinearPath(alone[0][0], alone[1][0])(t) - got).max() \
+            <= 1e-12 * side
     z = np.sort(raw.reshape(-1, d), axis=0)
-    y = bx.into_box_pl(z, box)
+    y = W.into_box_linear(z, box)
     assert (np.diff(y, axis=0) >= 0).all()
-    back = bx.from_box_pl(y, box)
     inner = (z > box[0]) & (z < box[1])
-    assert np.abs(back - z)[inner].max(initial=0.0) <= 1e-9 * (box[1] - box[0]).max()
+    assert np.abs(W.from_box_linear(y, box) - z)[inner].max(initial=0.0) <= 1e-9 * side
 
 
-def test_the_candidate_keeps_the_class_where_the_chords_change_it():
+def test_the_linear_image_keeps_the_class_where_the_chords_change_it():
     """On queries of the scene family *room* (n = 4, seed 13) where the polyline through the
     mapped waypoints alone (the chords) passes some obstacle in another class than the
-    conjugated motion (the raw path cut into 1024 pieces, then mapped), the candidate's
-    polyline passes every obstacle in the class of the conjugated motion."""
-    bx = _box_exact()
+    conjugated motion (the raw path cut into 1024 pieces, then mapped), the exact image passes
+    every obstacle in the class of the conjugated motion (``benchmarks/box_exact.py``)."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     import scenes
     from box_chords import cut, windings
@@ -482,11 +493,11 @@ def test_the_candidate_keeps_the_class_where_the_chords_change_it():
     box = BOX
     seen = 0
     for o, s, g in scenes.queries("room", 4, 24, 13):
-        plan = pmplan.plan(*(bx.from_box_pl(x, box) for x in (o, s, g)), lift=0.3)
+        plan = pmplan.plan(*(W.from_box_linear(x, box) for x in (o, s, g)), lift=0.3)
         raw, m = plan.path.waypoints, len(o)
-        ref = windings(bx.into_box_pl(cut(raw, 1024), box)[:, m:], o)
-        chord = windings(bx.into_box_pl(raw, box)[:, m:], o)
-        exact = windings(bx.exact(plan.path.times, raw, box)[1][:, m:], o)
-        assert (exact == ref).all()
+        ref = windings(W.into_box_linear(cut(raw, 1024), box)[:, m:], o)
+        chord = windings(W.into_box_linear(raw, box)[:, m:], o)
+        exact = W.path_into_box_linear(plan.path.times, raw[None], box)[1][0]
+        assert (windings(exact[:, m:], o) == ref).all()
         seen += bool((chord != ref).any())
     assert seen >= 2  # (the chords change some class on these queries: 4 of 24 when written)

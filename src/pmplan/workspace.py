@@ -25,7 +25,11 @@ returned motion is then certified but not in the class of ``s_B``, and inside on
 queries whose chords pass through an obstacle form walls where the certificate refuses the plan
 and across which the returned motion's class jumps: the continuity above is ``s_B``'s, the
 returned planner's off those walls (Mathematics §8, "What the polyline is not";
-``benchmarks/box_chords.py``).
+``benchmarks/box_chords.py``). A map that is linear on cells (:func:`into_box_linear`,
+:func:`from_box_linear`) has an exact polyline image of every path
+(:func:`path_into_box_linear`), with a number of breakpoints that depends on the path, which
+``plan(bounds=)`` does not use yet (Mathematics §8, "A map linear on cells";
+``benchmarks/box_exact.py``).
 
 A refined motion (:func:`pmplan.refine`) must keep a robot of ``radius`` inside the box: the
 refinement pushes the robots back from the limits of :func:`identity_box` of the box shrunk by
@@ -58,11 +62,14 @@ __all__ = [
     "check_walls",
     "cut_pieces",
     "from_box",
+    "from_box_linear",
     "identity_box",
     "inside",
     "interior",
     "into_box",
+    "into_box_linear",
     "into_box_slope",
+    "path_into_box_linear",
     "restore",
     "shrunk",
 ]
@@ -214,6 +221,144 @@ def into_box_slope(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.nda
         up = f * f / (u - (1.0 - f) + f) ** 2
         dn = f * f / (f - u + f) ** 2
     return np.where(u > 1.0 - f, up, np.where(u < f, dn, 1.0))
+
+
+# --- the map linear on cells (Mathematics §8, "A map linear on cells") -----------------------
+
+def _node(k, b, f):
+    """The k-th node beyond the upper inner edge ``b`` (unit coordinates, band ``f``)."""
+    return b + f * (2.0 ** k - 1.0)
+
+
+def _nodes_below(u, b, f):
+    """How many nodes beyond the upper edge lie at or below ``u`` (0 below the first, ``b``),
+    consistent with :func:`_node` in floating point (the estimate by log2 corrected both
+    ways)."""
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        k = np.floor(np.log2(np.maximum((u - b) / f + 1.0, 1.0)))
+    k = np.where(u < _node(k, b, f), k - 1.0, k)
+    k = np.where(u >= _node(k + 1.0, b, f), k + 1.0, k)
+    return np.where(u < b, 0.0, k + 1.0)
+
+
+def _linear_up(u, a, b, f):
+    """The tail above the inner box: affine between the nodes, slope 2^(-2k-1) on the k-th."""
+    k = _nodes_below(u, b, f) - 1.0
+    return 1.0 - f * 2.0 ** -k + (u - _node(k, b, f)) * 2.0 ** (-2.0 * k - 1.0)
+
+
+def _linear_up_inverse(y, a, b, f):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        k = np.floor(-np.log2((1.0 - y) / f))
+    k = np.where(y < 1.0 - f * 2.0 ** -k, k - 1.0, k)
+    k = np.where(y >= 1.0 - f * 2.0 ** -(k + 1.0), k + 1.0, k)
+    return _node(k, b, f) + (y - (1.0 - f * 2.0 ** -k)) * 2.0 ** (2.0 * k + 1.0)
+
+
+def into_box_linear(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
+    """The map of R^d (..., d) into the box that is linear on cells: coordinate by coordinate
+    the identity on the inner box and, beyond its edge ``b = hi - mu`` (``mu = frac (hi -
+    lo)``), affine between the dyadic nodes ``b + mu (2^k - 1)``, which it sends to ``hi - mu
+    2^-k`` (the values of :func:`into_box`'s tail there), with slope ``2^(-2k-1)``; the mirror
+    image below. A homeomorphism onto the open box (the closed one up to rounding), affine on
+    every cell of the product of these intervals, so that the image of a straight piece is the
+    polyline :func:`path_into_box_linear` computes (Mathematics §8, "A map linear on cells").
+    Not pmplan's map of ``plan(bounds=)`` (:func:`into_box`); for plans in the box that follow
+    the conjugated motion exactly, planned with :func:`from_box_linear`.
+
+    >>> box = np.array([[0.0], [8.0]])
+    >>> into_box_linear(np.array([[4.0], [7.0], [8.0], [10.0], [-1.0]]), box)[:, 0].tolist()
+    [4.0, 7.0, 7.5, 7.75, 0.375]
+    """
+    out = _tails(z, box, frac, _linear_up, lambda u, a, b, f: 1.0 - _linear_up(1.0 - u, a, b, f))
+    return np.clip(out, box[0], box[1])
+
+
+def from_box_linear(x: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
+    """The inverse of :func:`into_box_linear`: points of the open box (..., d) to R^d (the
+    identity on the inner box, bit for bit)."""
+    return _tails(x, box, frac, _linear_up_inverse,
+                  lambda u, a, b, f: 1.0 - _linear_up_inverse(1.0 - u, a, b, f))
+
+
+def _crossings(a, b, f):
+    """For the pieces from ``a`` to ``b`` (N,) in unit coordinates: the node values strictly
+    between them, as (entry index, value) arrays, both bands."""
+    edge = 1.0 - f
+    idx, val = [], []
+    for mirror in (False, True):
+        lo = np.minimum(a, b)
+        hi = np.maximum(a, b)
+        if mirror:
+            lo, hi = 1.0 - hi, 1.0 - lo
+        first = _nodes_below(lo, edge, f)  # nodes <= lo
+        stop = _nodes_below(hi, edge, f)   # nodes <= hi
+        last = np.where((stop > 0) & (_node(stop - 1.0, edge, f) == hi), stop - 1.0, stop)
+        count = np.maximum(last - first, 0.0).astype(np.int64)
+        rows = np.repeat(np.arange(a.shape[0]), count)
+        k = first[rows] + (np.arange(rows.size) - np.repeat(np.cumsum(count) - count, count))
+        z = _node(k, edge, f)
+        idx.append(rows)
+        val.append(1.0 - z if mirror else z)
+    return np.concatenate(idx), np.concatenate(val)
+
+
+def path_into_box_linear(times: np.ndarray, waypoints: np.ndarray, box: np.ndarray,
+                         frac: float = BAND):
+    """The image under :func:`into_box_linear` of paths of R^d with breakpoints ``times`` (K,)
+    or (B, K) and waypoints (B, K, P, d), exactly: every piece cut at the times where some
+    point crosses a node of the map in some coordinate, the cut points mapped. On each cut
+    piece the map is affine, so the polyline through them is the image of the path at every
+    time (to rounding). The number of cuts depends on the path; the paths of a batch are
+    padded to the largest count by cutting their last piece into equal parts (inside one cell:
+    the same motion). Returns ``(times, waypoints)``, (B, K') and (B, K', P, d); every original
+    breakpoint is kept, and the waypoints at the original breakpoints are
+    ``into_box_linear`` of the original ones.
+
+    >>> box = np.array([[0.0, 0.0], [8.0, 8.0]])
+    >>> path = np.array([[[[4.0, 4.0]], [[10.0, 4.0]]]])  # one point from x = 4 to x = 10
+    >>> t, w = path_into_box_linear(np.array([0.0, 1.0]), path, box)
+    >>> t[0].round(4).tolist(), w[0, :, 0, 0].tolist()  # the nodes 7 and 8 crossed
+    ([0.0, 0.5, 0.6667, 1.0], [4.0, 7.0, 7.5, 7.75])
+    """
+    wp = np.asarray(waypoints, dtype=float)
+    bsz, k, p, d = wp.shape
+    times = np.broadcast_to(np.asarray(times, dtype=float), (bsz, k))
+    lo, hi = box
+    u = (wp - lo) / (hi - lo)
+    a, b = u[:, :-1], u[:, 1:]  # (B, K-1, P, d)
+    rows, node = _crossings(a.ravel(), b.ravel(), frac)
+    a0, b0 = a.ravel()[rows], b.ravel()[rows]
+    lam = (node - a0) / (b0 - a0)
+    q, j = np.unravel_index(rows, a.shape)[:2]
+    keep = (lam > 0.0) & (lam < 1.0)
+    q, j, lam = q[keep], j[keep], lam[keep]
+    order = np.lexsort((lam, j, q))
+    q, j, lam = q[order], j[order], lam[order]
+    fresh = np.ones(q.size, dtype=bool)
+    fresh[1:] = (q[1:] != q[:-1]) | (j[1:] != j[:-1]) | (lam[1:] != lam[:-1])
+    q, j, lam = q[fresh], j[fresh], lam[fresh]
+    counts = np.bincount(q, minlength=bsz)
+    width = k + int(counts.max(initial=0))
+    out_t = np.empty((bsz, width))
+    out_w = np.empty((bsz, width, p, d))
+    for row in range(bsz):
+        sel = q == row
+        jj, ll = j[sel], lam[sel]
+        tr, wr = times[row], wp[row]
+        ts = np.concatenate([tr, tr[jj] + ll * (tr[jj + 1] - tr[jj])])
+        ws = np.concatenate([wr, wr[jj] + ll[:, None, None] * (wr[jj + 1] - wr[jj])])
+        at = np.lexsort((np.concatenate([np.zeros(k), ll]), np.concatenate([np.arange(k), jj])))
+        ts, ws = ts[at], into_box_linear(ws[at], box, frac)
+        pad = width - ts.size
+        if pad:
+            fr = (np.arange(1, pad + 1) / (pad + 1))
+            tail_t = ts[-2] + fr * (ts[-1] - ts[-2])
+            tail_w = ws[-2] + fr[:, None, None] * (ws[-1] - ws[-2])
+            ts = np.concatenate([ts[:-1], tail_t, ts[-1:]])
+            ws = np.concatenate([ws[:-1], tail_w, ws[-1:]])
+        out_t[row], out_w[row] = ts, ws
+    return out_t, out_w
 
 
 #: the dask and Zarr paths fix their output shapes before planning (one source of the message)
