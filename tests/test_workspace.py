@@ -501,3 +501,23 @@ def test_the_linear_image_keeps_the_class_where_the_chords_change_it():
         assert (windings(exact[:, m:], o) == ref).all()
         seen += bool((chord != ref).any())
     assert seen >= 2  # (the chords change some class on these queries: 4 of 24 when written)
+
+
+@pytest.mark.parametrize("lo, hi", [(0.0, 1e-300), (-1e300, 1e300), (1e15, 1e15 + 1.0),
+                                    (-3.0, 10.0)])
+def test_the_linear_map_at_every_magnitude(lo, hi):
+    """Increasing, finite and in the closed box from far below to far beyond it, at boxes of
+    every magnitude and offset (computed in the box's unit coordinates); its inverse finite and
+    increasing on the open box."""
+    box = np.array([[lo], [hi]])
+    w = hi - lo
+    with np.errstate(over="ignore"):
+        z = np.concatenate([lo + w * np.linspace(-3.0, 4.0, 5001),
+                            [lo - w * 1e250, hi + w * 1e250, -1.7e308, 1.7e308]])
+    z = np.sort(z[np.isfinite(z)])  # (points of a query are finite)
+    y = W.into_box_linear(z[:, None], box)[:, 0]
+    assert np.isfinite(y).all() and (np.diff(y) >= 0).all()
+    assert (y >= lo).all() and (y <= hi).all()
+    inside = y[(y > lo) & (y < hi)]
+    back = W.from_box_linear(inside[:, None], box)[:, 0]
+    assert np.isfinite(back).all() and (np.diff(back) >= 0).all()

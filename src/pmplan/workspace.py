@@ -225,17 +225,24 @@ def into_box_slope(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.nda
 
 # --- the map linear on cells (Mathematics §8, "A map linear on cells") -----------------------
 
+def _pow2(f, k):
+    """``f 2^k`` for a float array ``k`` of integers, scaled exactly (no overflow of ``2^k`` on
+    its own; 0 or inf only where the product is)."""
+    return np.ldexp(f, np.clip(k, -4000, 4000).astype(np.int64))
+
+
 def _node(k, b, f):
     """The k-th node beyond the upper inner edge ``b`` (unit coordinates, band ``f``)."""
-    return b + f * (2.0 ** k - 1.0)
+    return b + (_pow2(f, k) - f)
 
 
 def _nodes_below(u, b, f):
     """How many nodes beyond the upper edge lie at or below ``u`` (0 below the first, ``b``),
     consistent with :func:`_node` in floating point (the estimate by log2 corrected both
     ways)."""
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        k = np.floor(np.log2(np.maximum((u - b) / f + 1.0, 1.0)))
+    u = np.minimum(u, np.finfo(float).max)  # (a unit coordinate that overflowed: the wall)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = np.floor(np.log2(np.maximum(u - b, 0.0) + f) - np.log2(f))  # (no overflow)
     k = np.where(u < _node(k, b, f), k - 1.0, k)
     k = np.where(u >= _node(k + 1.0, b, f), k + 1.0, k)
     return np.where(u < b, 0.0, k + 1.0)
@@ -244,15 +251,19 @@ def _nodes_below(u, b, f):
 def _linear_up(u, a, b, f):
     """The tail above the inner box: affine between the nodes, slope 2^(-2k-1) on the k-th."""
     k = _nodes_below(u, b, f) - 1.0
-    return 1.0 - f * 2.0 ** -k + (u - _node(k, b, f)) * 2.0 ** (-2.0 * k - 1.0)
+    with np.errstate(invalid="ignore", over="ignore"):
+        y = 1.0 - _pow2(f, -k) + (u - _node(k, b, f)) * _pow2(0.5, -2.0 * k)
+    return np.where(u == np.inf, 1.0, y)  # (a unit coordinate that overflowed: the wall)
 
 
 def _linear_up_inverse(y, a, b, f):
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         k = np.floor(-np.log2((1.0 - y) / f))
-    k = np.where(y < 1.0 - f * 2.0 ** -k, k - 1.0, k)
-    k = np.where(y >= 1.0 - f * 2.0 ** -(k + 1.0), k + 1.0, k)
-    return _node(k, b, f) + (y - (1.0 - f * 2.0 ** -k)) * 2.0 ** (2.0 * k + 1.0)
+    k = np.where(y < 1.0 - _pow2(f, -k), k - 1.0, k)
+    k = np.where(y >= 1.0 - _pow2(f, -(k + 1.0)), k + 1.0, k)
+    with np.errstate(invalid="ignore", over="ignore"):
+        u = _node(k, b, f) + (y - (1.0 - _pow2(f, -k))) * _pow2(2.0, 2.0 * k)
+    return np.where(y >= 1.0, np.inf, u)  # (the wall itself: infinitely far)
 
 
 def into_box_linear(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
