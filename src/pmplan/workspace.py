@@ -362,12 +362,9 @@ def path_into_box_linear(times: np.ndarray, waypoints: np.ndarray, box: np.ndarr
         at = np.lexsort((np.concatenate([np.zeros(k), ll]), np.concatenate([np.arange(k), jj])))
         ts, ws = ts[at], into_box_linear(ws[at], box, frac)
         pad = width - ts.size
-        if pad:
-            fr = (np.arange(1, pad + 1) / (pad + 1))
-            tail_t = ts[-2] + fr * (ts[-1] - ts[-2])
-            tail_w = ws[-2] + fr[:, None, None] * (ws[-1] - ws[-2])
-            ts = np.concatenate([ts[:-1], tail_t, ts[-1:]])
-            ws = np.concatenate([ws[:-1], tail_w, ws[-1:]])
+        if pad:  # (the last piece cut into pad + 1)
+            ts = np.concatenate([ts[:-2], cut_along(ts[-2:], pad + 1)])
+            ws = np.concatenate([ws[:-2], cut_along(ws[-2:], pad + 1, 0)])
         out_t[row], out_w[row] = ts, ws
     return out_t, out_w
 
