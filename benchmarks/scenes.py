@@ -158,13 +158,13 @@ def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv
     (default ``seeds``), ``--queries`` (default ``count``) and ``--from-json`` (rewrite the
     report from the JSON, no planning); one warm-up plan, then ``row(family, n, seed, count)``
     for every seed, family and n, written with the run's seconds to ``benchmarks/<name>.json``
-    and, through ``markdown(result)``, ``.md``."""
+    and, through ``markdown(result)``, ``.md`` (``_common.write_report``, which prints it)."""
     import argparse
     import datetime as _dt
-    import json
     import sys
     import time
-    from pathlib import Path
+
+    from _common import rewrite_report, write_report
 
     import pmplan
 
@@ -173,9 +173,8 @@ def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv
     ap.add_argument("--queries", type=int, default=count)
     ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
     args = ap.parse_args(argv)
-    here = Path(__file__).resolve().parent
     if args.from_json:
-        (here / f"{name}.md").write_text(markdown(json.loads((here / f"{name}.json").read_text())))
+        rewrite_report(name, markdown)
         return 0
     o, s, g = queries("room", 2, 1, 0)[0]  # warm-up / JIT
     pmplan.plan(o, s, g, bounds=(0.0, SIZE), refine=True, radius=R / 2)
@@ -185,8 +184,7 @@ def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv
     res = {"command": f"python benchmarks/{name}.py " + " ".join(argv or sys.argv[1:]),
            "date": _dt.date.today().isoformat(), "count": args.queries,
            "seconds": time.perf_counter() - t0, "rows": rows}
-    (here / f"{name}.json").write_text(json.dumps(res, indent=1))
-    (here / f"{name}.md").write_text(markdown(res))
+    write_report(name, res, markdown)
     return 0
 
 
