@@ -127,7 +127,7 @@ def unit_rows() -> dict:
 
     out = {}
     for r in json.loads(path.read_text())["rows"]:
-        w = unit_ab.worst(unit_ab.ratios(r["per_query"])["valid"])
+        w = largest(unit_ab.ratios(r["per_query"])["valid"])
         if w is not None:
             out[(r["family"], r["n"], r["seed"])] = (*w, r["count"])
     return out
@@ -144,23 +144,31 @@ TIME_GOAL = {8: 5.0, 16: 20.0}
 SAME_LEAST = 4
 
 
+def median_ratio(pairs: list):
+    """``(ratio, count)`` over the ``(default, other)`` len/LB pairs of the queries of a set
+    for both: the default's median over the other's, and their count; None when they are fewer
+    than SAME_LEAST."""
+    if len(pairs) < SAME_LEAST:
+        return None
+    return (float(np.median([a for a, _ in pairs]) / np.median([b for _, b in pairs])),
+            len(pairs))
+
+
+def largest(cells: dict, skip: str | None = None):
+    """``(ratio, lift, count)`` of the largest ratio of ``cells`` (lift -> :func:`median_ratio`)
+    over the lifts but ``skip`` (the first of equal ones); None when none has one."""
+    got = [(v[0], k, v[1]) for k, v in cells.items() if v is not None and k != skip]
+    return max(got, key=lambda x: x[0]) if got else None
+
+
 def same_queries_unit(row: dict):
     """``(ratio, lift, count)``: the largest, over the fixed lifts with at least SAME_LEAST
     queries valid for both, of the default's median len/LB over those queries / the lift's;
     None when no lift has that many."""
     per = row["per_query"]
-    worst = None
-    for k in LIFTS:
-        if k in (PD, PB) or k not in per:  # (the default's own unit is not in per_query)
-            continue
-        both = [(a["len_lb"], b["len_lb"]) for a, b in zip(per[PD], per[k])
-                if a["valid"] and b["valid"]]
-        if len(both) < SAME_LEAST:
-            continue
-        ratio = float(np.median([a for a, _ in both]) / np.median([b for _, b in both]))
-        if worst is None or ratio > worst[0]:
-            worst = (ratio, k.removeprefix("pmplan "), len(both))
-    return worst
+    return largest({k.removeprefix("pmplan "): median_ratio(
+        [(a["len_lb"], b["len_lb"]) for a, b in zip(per[PD], per[k]) if a["valid"] and b["valid"]])
+        for k in LIFTS if k not in (PD, PB) and k in per})  # (the default's own unit: not in per)
 
 
 def goals(res: dict) -> list[str]:

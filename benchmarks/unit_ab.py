@@ -35,14 +35,12 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-import numpy as np
-
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import scenes
 import scenes_compare as sc
-from scenes_section import SAME_LEAST
+from scenes_section import SAME_LEAST, largest, median_ratio
 
 FAMILIES = list(scenes.FAMILIES)
 NS = [2, 4, 8, 16]
@@ -70,28 +68,12 @@ def _in(rec: list | None, name: str) -> bool:
 
 
 def ratios(per: dict) -> dict:
-    """Per set of :data:`SETS` and fixed lift: ``(ratio, count)``, the default's median len/LB
-    over the lift's on the queries of that set for both (``count`` of them), or None when they
-    are fewer than :data:`SAME_LEAST`."""
-    out = {}
-    for name in SETS:
-        out[name] = {}
-        for lift, recs in per.items():
-            if lift == DEFAULT:
-                continue
-            both = [(a[0], b[0]) for a, b in zip(per[DEFAULT], recs)
-                    if _in(a, name) and _in(b, name)]
-            out[name][lift] = None if len(both) < SAME_LEAST else (
-                float(np.median([a for a, _ in both]) / np.median([b for _, b in both])),
-                len(both))
-    return out
-
-
-def worst(cells: dict, skip: str | None = None):
-    """``(ratio, lift, count)`` of the largest ratio of one set (:func:`ratios`) over its
-    lifts but ``skip``; None when none has one."""
-    got = [(v[0], k, v[1]) for k, v in cells.items() if v is not None and k != skip]
-    return max(got) if got else None
+    """Per set of :data:`SETS` and fixed lift: :func:`scenes_section.median_ratio` of the
+    default's and the lift's len/LB on the queries of that set for both."""
+    return {name: {lift: median_ratio([(a[0], b[0]) for a, b in zip(per[DEFAULT], recs)
+                                       if _in(a, name) and _in(b, name)])
+                   for lift, recs in per.items() if lift != DEFAULT}
+            for name in SETS}
 
 
 def row(fam: str, n: int, seed: int, count: int) -> dict:
@@ -102,7 +84,7 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
         per[name] = [_record(runner, *q) for q in qs]
     out = {"family": fam, "n": n, "seed": seed, "count": count, "per_query": per}
     v = ratios(per)
-    print(f"seed {seed} {fam} n={n}: " + "; ".join(f"{k} {_cell(worst(v[k]))}" for k in SETS),
+    print(f"seed {seed} {fam} n={n}: " + "; ".join(f"{k} {_cell(largest(v[k]))}" for k in SETS),
           flush=True)
     return out
 
@@ -137,7 +119,7 @@ def markdown(res: dict) -> str:
     table = [(r, ratios(r["per_query"])) for r in res["rows"]]
     for r, v in table:
         lines.append(f"| {r['seed']} | {r['family']} n = {r['n']} | " + " | ".join(
-            f"{_cell(worst(v[k]))} / {_cell(worst(v[k], own), False)}" for k in SETS) + " |")
+            f"{_cell(largest(v[k]))} / {_cell(largest(v[k], own), False)}" for k in SETS) + " |")
     lines += ["", ("Per set and group of seeds: the rows meeting the goal, those not meeting it, "
               f"and the largest ratio over the lifts other than {own} (its row):"), "",
               ("| set | seeds | rows meeting the goal | rows not meeting it | largest ratio, "
@@ -145,7 +127,7 @@ def markdown(res: dict) -> str:
     for name in SETS:
         for label, keep in (("design", lambda s: s in DESIGN),
                             ("held out", lambda s: s not in DESIGN)):
-            rows = [(r, worst(v[name]), worst(v[name], own)) for r, v in table
+            rows = [(r, largest(v[name]), largest(v[name], own)) for r, v in table
                     if keep(r["seed"])]
             if not rows:
                 continue

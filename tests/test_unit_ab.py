@@ -25,8 +25,8 @@ def test_the_ratio_is_over_the_queries_of_the_set_for_both():
     assert got["valid"]["lift 0.1"] == (pytest.approx(1.1), 4)
     assert got["keeps r"]["lift 0.1"] == (pytest.approx(1.1), 5)
     assert got["all"]["lift 0.1"] == (pytest.approx(1.1), 5)  # (medians: 1.1 / 1.0)
-    assert unit_ab.worst(got["valid"]) == (pytest.approx(1.1), "lift 0.1", 4)
-    assert unit_ab.worst(got["valid"])[0] > unit_ab.GOAL
+    assert unit_ab.largest(got["valid"]) == (pytest.approx(1.1), "lift 0.1", 4)
+    assert unit_ab.largest(got["valid"])[0] > unit_ab.GOAL
 
 
 def test_a_lift_with_too_few_shared_queries_decides_nothing():
@@ -36,10 +36,10 @@ def test_a_lift_with_too_few_shared_queries_decides_nothing():
     got = unit_ab.ratios({unit_ab.DEFAULT: default, "lift 1": lift})
     assert got["valid"]["lift 1"] is None and got["keeps r"]["lift 1"] is None
     assert got["all"]["lift 1"] == (pytest.approx(2.0), few + 1)
-    assert unit_ab.worst(got["valid"]) is None
+    assert unit_ab.largest(got["valid"]) is None
 
 
 def test_the_worst_lift_and_the_skip():
     cells = {"lift 0.03": (1.0, 40), "lift 0.1": (0.95, 40), "lift 1": (1.02, 12), "x": None}
-    assert unit_ab.worst(cells) == (1.02, "lift 1", 12)
-    assert unit_ab.worst(cells, "lift 1") == (1.0, "lift 0.03", 40)
+    assert unit_ab.largest(cells) == (1.02, "lift 1", 12)
+    assert unit_ab.largest(cells, "lift 1") == (1.0, "lift 0.03", 40)
