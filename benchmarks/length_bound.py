@@ -103,15 +103,15 @@ def in_strip(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return (co > min(ca, cb)) & (co < max(ca, cb))
 
 
-def mirror_move(o, s, g, box=BOX, samples=SAMPLES) -> np.ndarray:
+def mirror_move(o, s, g, box=BOX, samples=SAMPLES, t=None) -> np.ndarray:
     """The mirror move of a query in the box: in R^2 (``phi^-1``) every point's signed distance
     to the line through ``o_1`` and ``o_2`` scaled by ``1 - 2t``, mapped back into the box
-    (``phi``). The points (samples, m + 2n, 2) at ``t = 0, .., 1``: the query (up to the
-    map's rounding) at t = 0, its mirror image ``q*`` at t = 1."""
+    (``phi``). The points (samples, m + 2n, 2) at ``t = 0, .., 1`` (or at the times ``t``): the
+    query (up to the map's rounding) at t = 0, its mirror image ``q*`` at t = 1."""
     y = from_box(np.concatenate([o, s, g]), box)
     v = nu(y[1] - y[0])[0]
     h = (y - y[0]) @ v
-    t = np.linspace(0.0, 1.0, samples)
+    t = np.linspace(0.0, 1.0, samples) if t is None else np.asarray(t, dtype=float)
     return into_box(y[None] - (2.0 * t)[:, None, None] * h[None, :, None] * v, box)
 
 

@@ -21,7 +21,7 @@ import pmplan
 from pmplan import workspace as W
 from pmplan.certify import radius_report
 from pmplan.io import parse_query
-from pmplan.path import PiecewiseLinearPath
+from pmplan.path import PiecewiseLinearPath, cut_along
 
 BOX = np.array([[0.0, 0.0], [10.0, 10.0]])
 
@@ -328,19 +328,11 @@ def _chord_queries():
     box."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     import scenes
-
-    from pmplan.frame import nu
+    from length_bound import mirror_move
 
     o, s, g = scenes.queries("swap", 4, 12, 5)[1]
-    box = BOX
-    y = W.from_box(np.concatenate([o, s, g]), box)
-    v = nu(y[1] - y[0])[0]
-    h = (y - y[0]) @ v
-    out = []
-    for t in (0.10764434558745764, 0.10764434558745765):
-        q = W.into_box(y - 2.0 * t * h[:, None] * v, box)
-        out.append((q[:6], q[6:10], q[10:]))
-    return out, box
+    move = mirror_move(o, s, g, BOX, t=[0.10764434558745764, 0.10764434558745765])
+    return [(q[:6], q[6:10], q[10:]) for q in move], BOX
 
 
 def test_the_conjugated_motion_keeps_its_clearance_across_the_chords_wall():
@@ -488,14 +480,14 @@ def test_the_linear_image_keeps_the_class_where_the_chords_change_it():
     every obstacle in the class of the conjugated motion (``benchmarks/box_exact.py``)."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     import scenes
-    from box_chords import cut, windings
+    from box_chords import windings
 
     box = BOX
     seen = 0
     for o, s, g in scenes.queries("room", 4, 24, 13):
         plan = pmplan.plan(*(W.from_box_linear(x, box) for x in (o, s, g)), lift=0.3)
         raw, m = plan.path.waypoints, len(o)
-        ref = windings(W.into_box_linear(cut(raw, 1024), box)[:, m:], o)
+        ref = windings(W.into_box_linear(cut_along(raw, 1024, 0), box)[:, m:], o)
         chord = windings(W.into_box_linear(raw, box)[:, m:], o)
         exact = W.path_into_box_linear(plan.path.times, raw[None], box)[1][0]
         assert (windings(exact[:, m:], o) == ref).all()
