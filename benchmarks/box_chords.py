@@ -43,6 +43,7 @@ from _common import rewrite_report, write_report
 import pmplan
 from pmplan.certify import clearance
 from pmplan.configuration import default_lift
+from pmplan.path import cut_along
 from pmplan.workspace import from_box, into_box
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls"]
@@ -62,15 +63,6 @@ def windings(paths: np.ndarray, points: np.ndarray) -> np.ndarray:
     return np.round(d.sum(axis=0) / (2 * np.pi)).astype(int)
 
 
-def cut(waypoints: np.ndarray, n: int) -> np.ndarray:
-    """Every piece of the polyline ``waypoints`` (K, P, d) cut into ``n`` equal pieces:
-    ((K - 1) n + 1, P, d)."""
-    w = waypoints
-    t = np.linspace(0.0, 1.0, n + 1)[:-1]
-    inner = w[:-1, None] + t[None, :, None, None] * (w[1:] - w[:-1])[:, None]
-    return np.concatenate([inner.reshape(-1, *w.shape[1:]), w[-1:]])
-
-
 def row(fam: str, n: int, seed: int, count: int) -> dict:
     t0 = time.perf_counter()
     lift = default_lift(None, scenes.R / 2, scenes.R / 2, refining=True)
@@ -79,10 +71,10 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
     for o, s, g in scenes.queries(fam, n, count, seed):
         m = len(o)
         raw = pmplan.plan(*(from_box(x, BOX) for x in (o, s, g)), lift=lift).path.waypoints
-        ref = into_box(cut(raw, REFERENCE), BOX)
+        ref = into_box(cut_along(raw, REFERENCE, 0), BOX)
         w_ref, c_ref = windings(ref[:, m:], o), float(clearance(ref[None], m)[0])
         for c in CUTS:
-            poly = into_box(cut(raw, c), BOX)
+            poly = into_box(cut_along(raw, c, 0), BOX)
             differs[c] += bool((windings(poly[:, m:], o) != w_ref).any())
             ratios[c].append(float(clearance(poly[None], m)[0]) / c_ref)
     out = {"family": fam, "n": n, "seed": seed, "count": count,

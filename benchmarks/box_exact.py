@@ -47,11 +47,13 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import scenes
-from box_chords import REFERENCE, cut, windings
+from box_chords import REFERENCE, windings
+from refine_continuity import sup_paths
 
 import pmplan
 from pmplan.certify import clearance
 from pmplan.configuration import default_lift
+from pmplan.path import PiecewiseLinearPath, cut_along
 from pmplan.workspace import from_box_linear, into_box_linear, path_into_box_linear
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls", "room3d"]
@@ -63,20 +65,6 @@ def exact(times: np.ndarray, raw: np.ndarray, box: np.ndarray):
     exactly (:func:`pmplan.workspace.path_into_box_linear`): (K',), (K', P, d)."""
     t, w = path_into_box_linear(times, raw[None], box)
     return t[0], w[0]
-
-
-def _sup(a: tuple, b: tuple) -> float:
-    """The sup over time of the distance between two piecewise-linear motions ``(times,
-    waypoints)`` on [0, 1], exact up to rounding: both are linear between the union of their
-    breakpoints."""
-    t = np.union1d(a[0], b[0])
-
-    def at(path):
-        k = np.clip(np.searchsorted(path[0], t, side="right") - 1, 0, len(path[0]) - 2)
-        lam = ((t - path[0][k]) / (path[0][k + 1] - path[0][k]))[:, None, None]
-        return path[1][k] + lam * (path[1][k + 1] - path[1][k])
-
-    return float(np.linalg.norm(at(a) - at(b), axis=-1).max())
 
 
 #: the continuity probe: the first PROBED queries of a row, every point moved by delta times a
@@ -92,7 +80,7 @@ def _motions(o, s, g, box, lift):
     times, raw = p.path.times, p.path.waypoints
     m = len(o)
     out = {"exact": exact(times, raw, box), "chord": (times, into_box_linear(raw, box)),
-           "ref": (None, into_box_linear(cut(raw, REFERENCE), box))}
+           "ref": (None, into_box_linear(cut_along(raw, REFERENCE, 0), box))}
     for _, w in out.values():
         w[:, :m] = o  # (the obstacles, bit for bit)
     return p.domain, raw, out
@@ -118,7 +106,9 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
                 if label2 != label:
                     continue
                 for k, top in kmax.items():
-                    kmax[k] = max(top, _sup(motions[k], motions2[k]) / delta)
+                    change = sup_paths(PiecewiseLinearPath(*motions[k]),
+                                       PiecewiseLinearPath(*motions2[k]))
+                    kmax[k] = max(top, change / delta)
         ks.append(len(polys["exact"]))
         c_ref = float(clearance(polys["ref"][None], m)[0])
         exact_ratio.append(float(clearance(polys["exact"][None], m)[0]) / c_ref)

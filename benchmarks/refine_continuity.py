@@ -92,11 +92,17 @@ def _uniform(rng, d, n, m, size=1.0, gap=GAP, integer=False):
             return o, s, g
 
 
-def _sup(pa: pmplan.Plan, pb: pmplan.Plan) -> float:
-    """The exact sup over t of the largest distance between the two paths' points."""
-    t = np.union1d(pa.path.times, pb.path.times)
-    a, b = pa.path(t), pb.path(t)
+def sup_paths(pa: pmplan.PiecewiseLinearPath, pb: pmplan.PiecewiseLinearPath) -> float:
+    """The exact sup over t of the largest distance between the two paths' points (both are
+    linear between the union of their breakpoints)."""
+    t = np.union1d(pa.times, pb.times)
+    a, b = pa(t), pb(t)
     return float(np.sqrt(((a - b) ** 2).sum(-1)).max())
+
+
+def _sup(pa: pmplan.Plan, pb: pmplan.Plan) -> float:
+    """:func:`sup_paths` of two plans' paths."""
+    return sup_paths(pa.path, pb.path)
 
 
 def _refined(o, s, g, lift, radius, via=None):
