@@ -3,6 +3,7 @@
 Usage (from the repository root)::
 
     python benchmarks/box_chords.py                # seeds 11 and 12, 400 queries per row (~10 min)
+    python benchmarks/box_chords.py --from-json    # rewrite the .md from the .json
 
 In a box pmplan plans the query mapped out of the box, ``y = phi^-1(q)``, and returns the
 polyline through ``phi`` of the raw path's waypoints (Mathematics §8). ``phi`` bends straight
@@ -26,8 +27,6 @@ Writes ``benchmarks/box_chords.json`` and ``.md``. Not a test module.
 
 from __future__ import annotations
 
-import argparse
-import datetime as _dt
 import sys
 import time
 from pathlib import Path
@@ -38,7 +37,6 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import scenes
-from _common import rewrite_report, write_report
 
 import pmplan
 from pmplan.certify import clearance
@@ -95,7 +93,7 @@ def markdown(res: dict) -> str:
               "pmplan's default raw plan in the box at the refined plans' unit. *N*: every "
               "piece of the raw path cut into N in R^2 before the map into the box (N = 1 is "
               "what pmplan returns); against the same with "
-              f"{res['reference']} pieces (the conjugated motion phi o s to within its chords): "
+              f"{REFERENCE} pieces (the conjugated motion phi o s to within its chords): "
               "the share of queries where some robot passes some obstacle in another class "
               "(winding number of its path closed by the segment from goal to start), and the "
               "raw clearance of the polyline over the reference's, median (smallest)."), "",
@@ -109,22 +107,8 @@ def markdown(res: dict) -> str:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", default="11,12")
-    ap.add_argument("--count", type=int, default=400)
-    ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
-    args = ap.parse_args(argv)
-    if args.from_json:
-        rewrite_report("box_chords", markdown)
-        return 0
-    rows = [row(f, n, int(seed), args.count) for seed in args.seeds.split(",")
-            for f in FAMILIES for n in NS]
-    res = {"command": "python benchmarks/box_chords.py " + " ".join(
-               argv if argv is not None else sys.argv[1:]),
-           "date": _dt.date.today().isoformat(), "count": args.count, "reference": REFERENCE,
-           "rows": rows}
-    write_report("box_chords", res, markdown)
-    return 0
+    return scenes.rows_main("box_chords", __doc__, row, markdown, FAMILIES, NS, "11,12", argv,
+                            count=400)
 
 
 if __name__ == "__main__":
