@@ -16,6 +16,7 @@ verify`` needs of it lives in :mod:`pmplan.strata`.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -181,6 +182,25 @@ class Planner:
         are per query."""
         return None
 
+    def cut_structure(self, times: np.ndarray) -> tuple[int, int] | None:
+        """``(r, c)`` when the breakpoints ``times`` (K,), or every row of per-query ones (B,
+        K), are this planner's :meth:`path_times` ``(r)`` with every piece cut into c pieces
+        (every c-th breakpoint is one of them, bit for bit; the cuts anywhere inside): the
+        times of a refined path, of a path in a box (:func:`pmplan.workspace.path_into_box_linear`
+        cuts every piece where the points cross the nodes of its map, the same number of times
+        in every path of a batch) or both; else None (per-query breakpoints of a planner without
+        shared ones). The smallest r that fits, then the smallest c."""
+        times = np.asarray(times, dtype=float)
+        k = times.shape[-1]
+        for r in range(2, k + 1):
+            shared = _shared_times(self, r)
+            if shared is None or shared.shape[0] > k:
+                return None
+            c, rest = divmod(k - 1, shared.shape[0] - 1)
+            if rest == 0 and (times[..., ::c] == shared).all():
+                return r, c
+        return None
+
     def fixed_waypoints(self, times: np.ndarray) -> np.ndarray:
         """The indices of the waypoints where a path of this planner with breakpoints ``times``
         passes through its r configurations, in order; r is the length of the result.
@@ -198,23 +218,34 @@ class Planner:
         Returns
         -------
         ndarray of int64, shape (r,)
-            For shared breakpoints of a :attr:`sequential` planner that are its
-            :meth:`path_times` ``(r)`` (r <= K), or those with every piece cut into c equal
-            pieces (every c-th breakpoint is one of them: the times of a refined path, or of a
-            path in a box with :data:`pmplan.workspace.RAW_CUTS`): the first index of each time
-            ``k / (r - 1)``. Else (per-query breakpoints, or a planner of two configurations):
-            r = 2, the first and the last waypoint.
+            For breakpoints of a :attr:`sequential` planner that are its :meth:`path_times`
+            ``(r)`` with every piece cut into c pieces (:meth:`cut_structure`; shared, or the
+            same structure in every row): the index ``c j`` of the breakpoint ``k / (r - 1)``
+            of ``path_times(r)``. Else r = 2, the first and the last waypoint.
         """
+        times = np.asarray(times, dtype=float)
         k = times.shape[-1]
-        if self.sequential and times.ndim == 1:
-            for r in range(2, k + 1):
-                shared = self.path_times(r)
-                if shared is None or shared.shape[0] > k:
-                    break
-                c, rest = divmod(k - 1, shared.shape[0] - 1)
-                if rest == 0 and np.array_equal(shared, times[::c]):
-                    return np.searchsorted(times, np.arange(r) / (r - 1)).astype(np.int64)
+        if self.sequential:
+            cut = self.cut_structure(times)
+            if cut is not None:
+                r, c = cut
+                at = np.searchsorted(_shared_times(self, r), np.arange(r) / (r - 1))
+                return (c * at).astype(np.int64)
         return np.array([0, k - 1], dtype=np.int64)
+
+
+@functools.lru_cache(maxsize=256)
+def _shared_times_cached(planner: Planner, r: int):
+    times = planner.path_times(r)
+    if times is not None:
+        times = np.asarray(times, dtype=float)
+        times.flags.writeable = False
+    return times
+
+
+def _shared_times(planner: Planner, r: int) -> np.ndarray | None:
+    """``planner.path_times(r)``, computed once per (planner, r) (read-only)."""
+    return _shared_times_cached(planner, r)
 
 
 class Stage:
