@@ -155,26 +155,41 @@ def test_dask_bad_inputs():
         pmplan.plan_batch(*lazy(o, s, g, chunks=10), lift=-1)
 
 
-def test_raw_cuts_are_refused_where_output_shapes_are_fixed_first(monkeypatch, tmp_path):
-    """The dask and Zarr paths fix their output shapes before planning: with a box they refuse
-    a pmplan.workspace.RAW_CUTS other than 1 before planning or writing anything, and plan as
-    before with 1."""
-    from pmplan import workspace
+@pytest.mark.parametrize("cuts", [1, 2])
+def test_plans_in_a_box_where_output_shapes_are_fixed_first(monkeypatch, tmp_path, cuts):
+    """The dask and Zarr paths fix their output shapes before planning: plans in a box (whose
+    number of breakpoints depends on the queries) get them from a first pass over the input,
+    and equal the in-memory batch, raw and refined, with the refinement's start cut
+    (pmplan.workspace.RAW_CUTS) or not, the planar_three planner (per-query breakpoints)
+    included; the chunks of the store run on a LocalCluster."""
+    import zarr
 
-    o, s, g = random_queries(20)
-    o, s, g = o + 5.0, s + 5.0, g + 5.0  # inside the box (0, 10)
-    monkeypatch.setattr(workspace, "RAW_CUTS", 2)
-    with pytest.raises(pmplan.InputError, match="RAW_CUTS = 2 is not supported with `bounds`"):
-        pmplan.plan_batch(*lazy(o, s, g, chunks=10), bounds=(0, 10))
+    from pmplan import workspace
+    from pmplan.planners.base import REGISTRY
+
+    monkeypatch.setattr(workspace, "RAW_CUTS", cuts)
+    for planner, (o, s, g) in (("obstacle_line_compact", random_queries(30)),
+                               ("planar_three", random_queries(30, n=1, m=3))):
+        o, s, g = o + 5.0, s + 5.0, g + 5.0  # inside the box (0, 10)
+        for refine in (False, True):
+            want = pmplan.plan_batch(o, s, g, bounds=(0, 10), planner=planner, refine=refine,
+                                     radius=0.01 if refine else 0.0)
+            got = pmplan.plan_batch(*lazy(o, s, g, chunks=10), bounds=(0, 10), planner=planner,
+                                    refine=refine, radius=0.01 if refine else 0.0)
+            assert np.array_equal(np.asarray(got.waypoints), want.waypoints)
+            assert np.array_equal(np.asarray(got.times), want.times)
+    o, s, g = random_queries(30)
+    o, s, g = o + 5.0, s + 5.0, g + 5.0
+    want = pmplan.plan_batch(o, s, g, bounds=(0, 10))
+    pieces = REGISTRY[want.planner].path_times(2).size - 1
+    assert want.times.ndim == 2 and want.times.shape[1] > 2 * pieces  # (the plans cross nodes)
     out = tmp_path / "x.zarr"
-    with pytest.raises(pmplan.InputError, match="RAW_CUTS = 2 is not supported with `bounds`"):
-        scale.plan_store(dict(zip(("obstacles", "start", "goal"), (o, s, g))), out,
-                         bounds=(0, 10))
-    assert not out.exists()
-    monkeypatch.setattr(workspace, "RAW_CUTS", 1)
-    lazy_b = pmplan.plan_batch(*lazy(o, s, g, chunks=10), bounds=(0, 10))
-    assert np.array_equal(np.asarray(lazy_b.waypoints),
-                          pmplan.plan_batch(o, s, g, bounds=(0, 10)).waypoints)
+    scale.plan_store(dict(zip(("obstacles", "start", "goal"), (o, s, g))), out, chunk=10,
+                     bounds=(0, 10), dask_workers=1)
+    group = zarr.open_group(str(out), mode="r")
+    assert np.array_equal(group["waypoints"][:], want.waypoints)
+    assert np.array_equal(group["times"][:], want.times)
+    assert group.attrs["box_width"] == (want.times.shape[1] - 1) // pieces - 1
 
 
 def test_dask_query_errors_name_the_rows_of_the_whole_batch():

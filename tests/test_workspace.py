@@ -19,7 +19,7 @@ from strategies import spaced_points
 
 import pmplan
 from pmplan import workspace as W
-from pmplan.certify import radius_report
+from pmplan.certify import clearance, radius_report
 from pmplan.io import parse_query
 from pmplan.path import PiecewiseLinearPath, cut_along
 
@@ -74,6 +74,26 @@ def test_the_slope_is_the_derivative_of_the_map(x, lo, width):
         assert slope == 1.0
     wall = W.into_box_slope(np.array([[lo, lo + width]]).T, box)[:, 0]
     assert np.allclose(wall, 0.25, rtol=1e-12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(x=st.floats(-1e3, 1e3), lo=st.floats(-100, 100), width=st.floats(1e-2, 1e3))
+def test_the_slope_of_the_linear_map_is_its_derivative(x, lo, width):
+    """into_box_linear_slope is the slope of into_box_linear's cell at x: a one-sided
+    difference inside the cell agrees with it, it is 1 on the inner box and 2^(-2k-1) (a power
+    of two) beyond it."""
+    box = np.array([[lo], [lo + width]])
+    slope = float(W.into_box_linear_slope(np.array([x]), box)[0])
+    assert 0.0 < slope <= 1.0 and np.frexp(slope)[0] == 0.5
+    inner = lo + W.BAND * width <= x <= lo + width - W.BAND * width
+    assert (slope == 1.0) == inner or slope == 0.5  # (the first cell beyond: 1/2)
+    side = 1.0 if x >= lo + width / 2 else -1.0  # (into the cell, away from the inner box)
+    h = 1e-6 * W.BAND * width * slope ** -0.5
+    y = W.into_box_linear(np.array([[x], [x + side * h]]), box)[:, 0]
+    fd = side * (y[1] - y[0]) / h
+    if W.into_box_linear_slope(np.array([x + side * h]), box)[0] == slope:  # (one cell)
+        # (rounding: a few ulps of the values and of the unit coordinates, over h)
+        assert abs(fd - slope) <= 1e-6 * slope + 8e-16 * (abs(lo) + width + abs(x)) / h
 
 
 @pytest.mark.parametrize("k", [-1000, -500, -60, 60, 500, 960])
@@ -146,11 +166,26 @@ def test_plans_stay_in_the_box_with_exact_endpoints(dims):
     assert (batch.clearance > 0).all()
     assert np.array_equal(batch.waypoints[:, 0, m:], s) and np.array_equal(batch.waypoints[:, -1, m:], g)
     assert (batch.waypoints[:, :, :m] == o[:, None]).all()
-    assert np.array_equal(batch.domain, pmplan.plan_batch(W.from_box(o, box), W.from_box(s, box),
-                                                          W.from_box(g, box)).domain)
+    plane = pmplan.plan_batch(*(W.from_box_linear(x, box) for x in (o, s, g)))
+    assert np.array_equal(batch.domain, plane.domain)
     assert batch.bounds.shape == (40, 2, d) and (batch.bounds == box).all()
+    # the conjugated motion at every time (Mathematics §8): phi of the plan of phi^-1(q)
+    t = np.random.default_rng(1).uniform(0, 1, 300)
+    for q in range(0, 40, 7):
+        want = W.into_box_linear(plane[q].path(t), box)
+        got = batch[q].path(t)
+        assert np.abs(got - want).max() <= 1e-12 * 10
+    # one query alone: its row's motion, and (shared raw breakpoints) the raw breakpoints at the
+    # same places
     one = pmplan.plan(o[3], s[3], g[3], bounds=(0, 10))
-    assert np.array_equal(one.waypoints, batch[3].waypoints) and one.domain == batch.domain[3]
+    assert one.domain == batch.domain[3]
+    assert np.abs(one.path(t) - batch[3].path(t)).max() <= 1e-12 * 10
+    if plane.times.ndim == 2:  # (planar_three: per-query breakpoints, a Plan drops empty pieces)
+        return
+    k = plane.times.shape[-1]
+    c1, c2 = (one.path.times.size - 1) // (k - 1), (batch.times.shape[-1] - 1) // (k - 1)
+    assert np.array_equal(one.path.times[::c1], batch.times[3, ::c2])
+    assert np.array_equal(one.waypoints[::c1], batch.waypoints[3, ::c2])
 
 
 def test_a_plan_inside_the_inner_box_is_unchanged():
@@ -310,7 +345,7 @@ def test_a_json_batch_with_one_box(tmp_path):
     assert res.returncode == 2 and 'query 1 has "bounds"' in res.stderr
 
 
-# --- the chords of a plan in the box (Mathematics §8, "What the polyline is not") ------------
+# --- the chords of a plan in the box (Mathematics §8, "What the chords are not") ------------
 
 def _winding(path: np.ndarray, p: np.ndarray) -> int:
     """The winding number around ``p`` of the polyline ``path`` (K, 2) closed by the segment
@@ -324,102 +359,149 @@ def _winding(path: np.ndarray, p: np.ndarray) -> int:
 def _chord_queries():
     """Two queries of the scene family *swap* (n = 4, seed 5, query 1), consecutive floats
     apart on a move that changes no column in R^2 (every point's distance to the line o1 o2
-    scaled by 1 - 2t, t = 0.10764434558745764 and the next float, in phi^-1's frame), and the
-    box."""
+    scaled by 1 - 2t, t = 0.10764434558745764 and the next float, in the frame of the
+    algebraic map, whose chords cross o4 there), and the box."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     import scenes
     from length_bound import mirror_move
 
     o, s, g = scenes.queries("swap", 4, 12, 5)[1]
-    move = mirror_move(o, s, g, BOX, t=[0.10764434558745764, 0.10764434558745765])
+    move = mirror_move(o, s, g, BOX, t=[0.10764434558745764, 0.10764434558745765],
+                       maps=(W.from_box, W.into_box))
     return [(q[:6], q[6:10], q[10:]) for q in move], BOX
 
 
 def test_the_conjugated_motion_keeps_its_clearance_across_the_chords_wall():
-    """In R^2 (phi^-1 of the two queries) the raw plans share their label and keep the unit
-    from every obstacle; only the box's polyline comes within rounding of o4 (the wall of the
-    test below)."""
+    """In R^2 the raw plans of the two queries (phi^-1 of them) share their label and keep the
+    unit from every obstacle; the polyline through the algebraic map of the raw waypoints comes
+    within rounding of o4 (the chords' wall), the plan in the box (the map linear on cells,
+    exactly) keeps a clearance of the plane's order."""
     (qa, qb), box = _chord_queries()
     for q in (qa, qb):
         plane = pmplan.plan(*(W.from_box(x, box) for x in q), lift=0.3)
         assert plane.clearance == pytest.approx(0.3, rel=1e-9)
+        chords = W.into_box(plane.waypoints, box)
+        chords[:, :6] = q[0]
+        assert clearance(chords[None], 6)[0] < 1e-12
         boxed = pmplan.plan(*q, bounds=(0, 10), lift=0.3)
-        assert boxed.domain == plane.domain and boxed.clearance < 1e-12
+        assert boxed.domain == plane.domain and boxed.clearance > 0.1
 
 
-@pytest.mark.xfail(strict=True, reason="a known limit, Mathematics §8 ('What the polyline is "
-                   "not'): the box's polyline through phi of the raw waypoints cuts the curve "
-                   "phi o s by chords, which cross o4 between these two queries of one label")
 def test_plans_in_the_box_keep_their_class_inside_a_domain():
+    """The two queries of one label, consecutive floats apart, where the polyline through the
+    algebraic map of the raw waypoints passed o4 on opposite sides: the plans in the box
+    follow the conjugated motion, in one class. Their refinements start from the plans at the
+    raw breakpoints (chords again, Mathematics §8), which pass o4 on one side for both: the
+    refined plans keep the radii and stay together."""
     (qa, qb), _ = _chord_queries()
     a, b = (pmplan.plan(*q, bounds=(0, 10), lift=0.3) for q in (qa, qb))
     assert a.domain == b.domain
     assert _winding(a.path.waypoints[:, 6], qa[0][3]) == _winding(b.path.waypoints[:, 6],
                                                                    qb[0][3])
+    ra, rb = (pmplan.refine(p, radius=0.05, obstacle_radius=0.05) for p in (a, b))
+    assert ra.respects_radius and rb.respects_radius
+    assert np.abs(ra.waypoints - rb.waypoints).max() <= 1e-6
+    assert _winding(ra.path.waypoints[:, 6], qa[0][3]) == _winding(rb.path.waypoints[:, 6],
+                                                                    qb[0][3])
 
 
-@settings(max_examples=50, deadline=None)
-@given(k=st.integers(2, 6), cuts=st.sampled_from([1, 2, 3, 4, 8]), seed=st.integers(0, 99),
-       per_query=st.booleans())
-def test_cut_pieces_keeps_the_path_and_its_breakpoints(k, cuts, seed, per_query):
-    """Cutting every piece keeps every original breakpoint and waypoint bit for bit, cuts the
-    times as the refinement's grid does, and puts the new waypoints on the pieces."""
-    from pmplan.refine import subdivide_times
+@pytest.mark.parametrize("cuts", [1, 3])
+def test_the_refinement_in_a_box_starts_from_the_plan_at_the_raw_breakpoints(monkeypatch, cuts):
+    """The start of the refinement in a box (:func:`pmplan.running.box_start`): the plan at the
+    raw planner's breakpoints, bit for bit (RAW_CUTS = 1), and with RAW_CUTS = k points of the
+    plan at k - 1 more times in every raw piece; shared breakpoints that do not depend on the
+    query, so a query refined alone is its row of the refined batch (bit for bit with RAW_CUTS
+    = 1)."""
+    from pmplan.planners.base import REGISTRY
+    from pmplan.running import box_start
 
-    rng = np.random.default_rng(seed)
-    times = np.sort(rng.uniform(0, 1, (2, k)) if per_query else rng.uniform(0, 1, k), axis=-1)
-    wp = rng.normal(size=(2, k, 3, 2)) * 10.0 ** rng.integers(-3, 4)
-    t, w = W.cut_pieces(times, wp, cuts)
-    assert t.shape[-1] == w.shape[1] == (k - 1) * cuts + 1
-    assert np.array_equal(t[..., ::cuts], times) and np.array_equal(w[:, ::cuts], wp)
-    assert np.array_equal(t, subdivide_times(times, cuts))
-    for j in range(1, cuts):
-        f = j / cuts
-        assert np.allclose(w[:, j::cuts][:, :k - 1], wp[:, :-1] + f * (wp[:, 1:] - wp[:, :-1]),
-                           rtol=1e-12, atol=1e-12 * np.abs(wp).max())
+    monkeypatch.setattr(W, "RAW_CUTS", cuts)
+    rng = np.random.default_rng(4)
+    o, s, g = _inside_queries(rng, 12, 4, 4)
+    batch = pmplan.plan_batch(o, s, g, bounds=(0, 10), lift=0.3)
+    p = REGISTRY[batch.planner]
+    raw_t = p.path_times(2)
+    c = (batch.times.shape[1] - 1) // (raw_t.size - 1)
+    assert c > 1 and (batch.times[:, ::c] == raw_t).all()  # (the plans cross some nodes)
+    t, wp = box_start(p, batch.times, batch.waypoints, batch.dims)
+    assert t.ndim == 1 and np.array_equal(t[::cuts], raw_t) and t.size == (raw_t.size - 1) * cuts + 1
+    assert np.array_equal(wp[:, ::cuts], batch.waypoints[:, ::c])
+    for q in range(12):
+        assert np.abs(wp[q] - batch[q].path(t)).max() <= 1e-12 * 10
+    refined = pmplan.refine(batch, radius=0.05, obstacle_radius=0.05)
+    s_ = (refined.times.size - 1) // (t.size - 1)
+    assert refined.times.ndim == 1 and np.array_equal(refined.times[::s_], t)
+    for q in (0, 5, 11):
+        one = pmplan.refine(pmplan.plan(o[q], s[q], g[q], bounds=(0, 10), lift=0.3),
+                            radius=0.05, obstacle_radius=0.05)
+        if cuts == 1:  # (else points of the plan, whose breakpoints differ alone: to rounding)
+            assert np.array_equal(one.waypoints, refined.waypoints[q])
+            assert one.raw_clearance == refined.raw_clearance[q]
+        else:
+            assert np.abs(one.waypoints - refined.waypoints[q]).max() <= 1e-9
 
 
-def test_raw_cuts_follow_the_conjugated_motion_across_the_chords_wall(monkeypatch):
-    """With every raw piece cut into 8 before the map, the two queries of the expected failure
-    above get box plans in one class, keeping a clearance of the order of the plane's, and
-    every eighth waypoint is the uncut plan's, bit for bit."""
-    (qa, qb), _ = _chord_queries()
-    uncut = pmplan.plan(*qa, bounds=(0, 10), lift=0.3)
-    monkeypatch.setattr(W, "RAW_CUTS", 8)
-    a, b = (pmplan.plan(*q, bounds=(0, 10), lift=0.3) for q in (qa, qb))
-    assert np.array_equal(a.path.waypoints[::8], uncut.path.waypoints)
-    assert a.domain == b.domain and min(a.clearance, b.clearance) > 0.01
-    assert _winding(a.path.waypoints[:, 6], qa[0][3]) == _winding(b.path.waypoints[:, 6],
-                                                                   qb[0][3])
-
-
-@pytest.mark.parametrize("cuts", [2, 3])
+@pytest.mark.parametrize("cuts", [1, 2])
 @pytest.mark.parametrize("r", [3, 4])
-def test_raw_cuts_keep_a_sequence_through_its_configurations(monkeypatch, cuts, r):
-    """A sequential plan in the box with its raw pieces cut: the planner's fixed waypoints are
-    found on the cut breakpoints (every configuration at its time k / (r - 1)), the plan passes
-    through every configuration exactly, and its refinement keeps them."""
+def test_a_sequence_in_a_box_passes_through_its_configurations(monkeypatch, cuts, r):
+    """A sequential plan in the box, alone and in a batch (per-query breakpoints): the planner's
+    fixed waypoints are found among the breakpoints of the exact image (every configuration at
+    its time k / (r - 1)), the plan passes through every configuration exactly, and its
+    refinement (with RAW_CUTS = cuts) keeps them."""
     from pmplan.planners.base import REGISTRY
 
     o = np.array([[2.0, 2.0], [8.0, 3.0], [5.0, 7.0]])
     configs = [np.array([[1.0, 1.0], [9.0, 9.0]]), np.array([[9.0, 1.0], [1.0, 9.0]]),
                np.array([[5.0, 2.0], [3.0, 5.0]]), np.array([[1.0, 8.0], [8.0, 8.5]])][:r]
-    uncut = pmplan.plan_sequence(o, configs, bounds=(0, 10))
     monkeypatch.setattr(W, "RAW_CUTS", cuts)
     plan = pmplan.plan_sequence(o, configs, bounds=(0, 10))
-    fixed = REGISTRY[plan.planner].fixed_waypoints(plan.path.times)
-    assert fixed.tolist() == (REGISTRY[plan.planner].fixed_waypoints(uncut.path.times)
-                              * cuts).tolist()
-    assert np.array_equal(plan.path.waypoints[::cuts], uncut.path.waypoints)
-    ref = pmplan.refine(plan, radius=0.1, obstacle_radius=0.1)
-    for k, c in enumerate(configs):
-        for p in (plan, ref):
-            j = int(np.searchsorted(p.path.times, k / (r - 1)))
-            assert p.path.times[j] == k / (r - 1)
-            assert np.array_equal(p.path.waypoints[j, 3:], c)
+    p = REGISTRY[plan.planner]
+    shift = np.array([0.0, 0.25])
+    batch = pmplan.plan_sequence_batch(np.stack([o, o + shift]),
+                                       [np.stack([c, c + shift]) for c in configs], bounds=(0, 10))
+    for times, rows in ((plan.path.times, plan.path.waypoints[None]), (batch.times, batch.waypoints)):
+        fixed = p.fixed_waypoints(times)
+        assert fixed.size == r
+        t = np.broadcast_to(times, rows.shape[:2])
+        for k, kj in enumerate(fixed):
+            assert (t[:, kj] == k / (r - 1)).all()
+            for q in range(rows.shape[0]):
+                assert np.array_equal(rows[q, kj, 3:], configs[k] + q * shift)
+    for ref in (pmplan.refine(plan, radius=0.1, obstacle_radius=0.1),
+                pmplan.refine(batch, radius=0.1, obstacle_radius=0.1)[0]):
+        for k, c in enumerate(configs):
+            j = int(np.searchsorted(ref.path.times, k / (r - 1)))
+            assert ref.path.times[j] == k / (r - 1)
+            assert np.array_equal(ref.path.waypoints[j, 3:], c)
 
 
-# --- the map linear on cells (Mathematics §8, "A map linear on cells") -----------------------
+def test_the_width_of_a_batch_in_a_box():
+    """Every piece of every path gets the same number of new breakpoints: the most any piece
+    needs (:func:`pmplan.workspace.crossing_width`), or a larger given ``width`` (the same
+    motion); a smaller one is refused, in :func:`pmplan.workspace.path_into_box_linear` and,
+    as a pmplan error, where a store fixed it first."""
+    from pmplan.running import plan_arrays
+
+    rng = np.random.default_rng(6)
+    o, s, g = _inside_queries(rng, 10, 4, 4)
+    box = BOX
+    plane = pmplan.plan_batch(*(W.from_box_linear(x, box) for x in (o, s, g)))
+    need = W.crossing_width(plane.times, plane.waypoints, box)
+    tt, ww = W.path_into_box_linear(plane.times, plane.waypoints, box)
+    assert need >= 1 and tt.shape[1] == (plane.times.size - 1) * (need + 1) + 1
+    wide = W.path_into_box_linear(plane.times, plane.waypoints, box, width=need + 3)
+    t = rng.uniform(0, 1, 200)
+    for q in range(10):
+        assert np.abs(PiecewiseLinearPath(wide[0][q], wide[1][q])(t)
+                      - PiecewiseLinearPath(tt[q], ww[q])(t)).max() <= 1e-12 * 10
+    with pytest.raises(ValueError, match="smaller than"):
+        W.path_into_box_linear(plane.times, plane.waypoints, box, width=need - 1)
+    with pytest.raises(pmplan.InputError, match="fixed for"):
+        plan_arrays(o, [s, g], bounds=(0, 10), width=need - 1)
+    assert plan_arrays(o, [s, g], bounds=(0, 10), width=need + 3).times.shape == wide[0].shape
+
+
+# --- the map linear on cells (Mathematics §8, "The exact image of a path") -----------------------
 
 def test_the_linear_map_sends_the_nodes_to_the_tails_values_exactly():
     """On a box whose band is a power of two the nodes ``b + mu (2^k - 1)`` go to ``hi - mu

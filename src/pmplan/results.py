@@ -53,8 +53,10 @@ class Plan:
         the gap of the scene it passes through when that gap is narrower than a robot
         (:func:`pmplan.reasons.radius_reason`).
     raw_clearance : float
-        The clearance of the unrefined plan (``clearance`` itself when unrefined): a refined
-        plan's pair distances never drop below ``min(T, KAPPA_FLOOR D_raw)`` of the raw ones
+        The clearance of the unrefined plan (``clearance`` itself when unrefined), or in a
+        workspace box of the refinement's start, the plan at the raw breakpoints
+        (:func:`pmplan.running.box_start`): a refined plan's pair distances never drop below
+        ``min(T, KAPPA_FLOOR D_raw)`` of the ones it started from
         (:data:`pmplan.refine.grid.KAPPA_FLOOR`, ``docs/refinement.md``).
     bounds : ndarray, shape (2, d), or None
         The workspace box ``[lo, hi]`` the motion stays in (``bounds=`` of the planning
@@ -221,7 +223,8 @@ class PlanBatch:
         return self._extra.get("bounds")
 
     raw_clearance = _recorded("raw_clearance", "The clearance of every unrefined plan (B,) "
-                              "(``clearance`` where unrefined), beside the refined one.")
+                              "(``clearance`` where unrefined; in a workspace box, of the "
+                              "refinement's start), beside the refined one.")
     robot_distance = _recorded("robot_distance", "Minimum robot-robot distance along every "
                                "path (B,) (``inf`` when n = 1).")
     obstacle_distance = _recorded("obstacle_distance",

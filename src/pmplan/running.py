@@ -38,10 +38,19 @@ from .refine import (
     RefineStage,
     check_parameters,
     check_radii,
+    subdivide_times,
 )
 from .results import Plan, PlanBatch, extra_row
-from .workspace import (check_bounds, check_inside, check_walls, cut_pieces, from_box, inside,
-                        into_box, restore)
+from .workspace import (
+    check_bounds,
+    check_inside,
+    check_walls,
+    crossing_width,
+    from_box_linear,
+    inside,
+    path_into_box_linear,
+    restore,
+)
 
 #: ``out=`` with ``bounds=`` (one source of the message)
 MSG_BOUNDS_OUT = ("`out=` cannot be combined with `bounds=` (a path in a workspace is mapped "
@@ -470,7 +479,7 @@ def single_plan(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan
 def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.0,
                 backend: str | None = None, workers: int = 1, progress: bool = False,
                 out: PlanBatch | None = None, sequential: bool = False,
-                bounds=None, batched: bool = True) -> PlanBatch:
+                bounds=None, batched: bool = True, width: int | None = None) -> PlanBatch:
     """The one entry below the facade: plan a batch of queries through the configurations
     ``configs`` (r >= 2 arrays (B, n, d): start, intermediate ones, goal) among ``obstacles``
     (B, m, d): the arguments checked, the input validated, the planner chosen, the run loop.
@@ -480,10 +489,48 @@ def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.
     a query through configurations (the planner must plan through intermediate ones; the
     default is the sequential planner of (d, n, m)). ``bounds``: the workspace box
     (:mod:`pmplan.workspace`): the queries are planned through its map and every path stays in
-    it; ``batched=False``: one query (the messages name no query index).
+    it; ``width``: the breakpoints added to every piece of a path in the box
+    (:func:`pmplan.workspace.path_into_box_linear`; default the most the batch needs, fixed
+    first by :func:`box_width` where the output shapes are fixed before planning);
+    ``batched=False``: one query (the messages name no query index).
     """
     lift = check_lift(lift)
     workers = check_workers(workers)
+    p, obstacles, configs, deferred = _prepare(obstacles, configs, planner, backend, sequential,
+                                               bounds)
+    _, m, d = obstacles.shape
+    n = configs[0].shape[1]
+    if bounds is not None:
+        return _plan_in_box(p, obstacles, configs, lift, bounds, backend, workers, progress, out,
+                            batched, width)
+    into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], len(configs),
+                          (obstacles, *configs))
+    res = run_loop(p, obstacles, configs, lift, batched=True, progress=progress, backend=backend,
+                   workers=workers, validate=deferred, into=into)
+    return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
+
+
+def box_width(obstacles, configs: list, *, planner: str | None = None, lift=1.0,
+              backend: str | None = None, workers: int = 1, sequential: bool = False,
+              bounds=None) -> int:
+    """The ``width`` of :func:`plan_arrays` that fits every query of this batch in the box
+    ``bounds`` (:func:`pmplan.workspace.crossing_width` of its raw plans): the first pass of
+    :mod:`pmplan.scale`, whose output shapes are fixed before any chunk is planned. The
+    queries are checked as :func:`plan_arrays` checks them (the same errors)."""
+    lift = check_lift(lift)
+    workers = check_workers(workers)
+    p, obstacles, configs, _ = _prepare(obstacles, configs, planner, backend, sequential, bounds)
+    box = check_bounds(bounds, obstacles.shape[2])
+    check_inside(obstacles, configs, box, batched=True)
+    res = run_loop(p, from_box_linear(obstacles, box), [from_box_linear(c, box) for c in configs],
+                   lift, batched=True, progress=False, backend=backend, workers=workers)
+    return crossing_width(np.asarray(res["times"]), np.asarray(res["waypoints"]), box)
+
+
+def _prepare(obstacles, configs, planner, backend, sequential: bool, bounds):
+    """The checks of :func:`plan_arrays` before planning: ``(planner, obstacles, configs,
+    deferred)``, the queries as arrays, and whether the planner's kernel validates them
+    (else they are validated here)."""
     if not sequential and len(configs) == 2:
         # types and shapes here; the validity of every query (finite, no two equal points) is
         # checked by the planner's kernel in its own pass where it can, else here
@@ -510,34 +557,40 @@ def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.
         p = choose_planner(d, n, m, planner, sequential=True)
         check_backend(backend)
         deferred = False
-    if bounds is not None:
-        return _plan_in_box(p, obstacles, configs, lift, bounds, backend, workers, progress, out,
-                            batched)
-    into = _output_arrays(out, p, (d, n, m), obstacles.shape[0], len(configs),
-                          (obstacles, *configs))
-    res = run_loop(p, obstacles, configs, lift, batched=True, progress=progress, backend=backend,
-               workers=workers, validate=deferred, into=into)
-    return out if out is not None else PlanBatch(planner=p.name, dims=(d, n, m), **res)
+    return p, obstacles, configs, deferred
+
+
+#: a chunk whose raw plans in the box need more breakpoints than its store was created with
+MSG_WIDTH = ("the plans of these queries in the workspace box need {need} breakpoints more in a "
+             "piece, but the output's shapes were fixed for {width} by a first pass over the "
+             "input (a resumed store whose input changed in chunks not yet done): plan this "
+             "input into another --out")
 
 
 def _plan_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers, progress,
-                 out, batched: bool) -> PlanBatch:
+                 out, batched: bool, width: int | None = None) -> PlanBatch:
     """:func:`plan_arrays` in a workspace box (:mod:`pmplan.workspace`): the queries (checked,
-    every point strictly inside) mapped out of the box, planned, the paths mapped back in with
-    the obstacles and configurations restored bit for bit, then certified again (every clause,
-    and every waypoint inside the box)."""
+    every point strictly inside) mapped out of the box by the inverse of the map linear on
+    cells, planned, and the paths mapped back in exactly
+    (:func:`~pmplan.workspace.path_into_box_linear`, every piece cut ``width`` times, default
+    the most the batch needs) with the obstacles and configurations restored bit for bit, then
+    certified again (every clause, and every waypoint inside the box)."""
     if out is not None:
         raise InputError(MSG_BOUNDS_OUT)
     b, m, d = obstacles.shape
     box = check_bounds(bounds, d)
     check_inside(obstacles, configs, box, batched=batched)
-    res = run_loop(p, from_box(obstacles, box), [from_box(c, box) for c in configs], lift,
-                   batched=batched, progress=progress, backend=backend, workers=workers)
-    times, raw = cut_pieces(np.asarray(res["times"]), np.asarray(res["waypoints"]),
-                            workspace.RAW_CUTS)
-    wp = into_box(raw, box)
-    fixed = p.fixed_waypoints(times)
-    restore(wp, m, fixed, configs, obstacles)
+    res = run_loop(p, from_box_linear(obstacles, box), [from_box_linear(c, box) for c in configs],
+                   lift, batched=batched, progress=progress, backend=backend, workers=workers)
+    raw_times, raw = np.asarray(res["times"]), np.asarray(res["waypoints"])
+    fixed = p.fixed_waypoints(raw_times)
+    if width is not None:
+        need = crossing_width(raw_times, raw, box)
+        if need > width:
+            raise InputError(MSG_WIDTH.format(need=need, width=width))
+    times, wp = path_into_box_linear(raw_times, raw, box, width=width)
+    c = (times.shape[1] - 1) // (raw_times.shape[-1] - 1)
+    restore(wp, m, c * fixed, configs, obstacles)
     clearance, codes = query_certificate(wp, obstacles, configs, times,
                                          backends.select(backend).certify)
     bad = ~(clearance > 0) | (np.asarray(codes) != 0) | ~inside(wp, box)
@@ -546,6 +599,76 @@ def _plan_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers,
     res = {**res, "times": times, "waypoints": wp, "clearance": clearance}
     return PlanBatch(planner=p.name, dims=(d, configs[0].shape[1], m), **res,
                      _extra={"bounds": np.broadcast_to(box, (b, 2, d))})
+
+
+def _evaluate(times: np.ndarray, waypoints: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Paths with breakpoints ``times`` (B, K) and waypoints (B, K, P, d) at the shared times
+    ``t`` (J,) in [0, 1]: (B, J, P, d), each row computed from that row alone (the same bits
+    in any batch)."""
+    k = times.shape[1]
+    idx = np.stack([np.count_nonzero(times <= tj, axis=1) for tj in t], axis=1) - 1
+    idx = np.clip(idx, 0, k - 2)
+    t0 = np.take_along_axis(times, idx, axis=1)
+    t1 = np.take_along_axis(times, idx + 1, axis=1)
+    dur = t1 - t0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        lam = np.where(dur > 0, (t - t0) / np.where(dur > 0, dur, 1.0), 0.0)[..., None, None]
+    rows = np.arange(times.shape[0])[:, None]
+    return (1.0 - lam) * waypoints[rows, idx] + lam * waypoints[rows, idx + 1]
+
+
+def box_start(p: Planner, times, waypoints, dims):
+    """The polyline the refinement of plans in a workspace box starts from
+    (:func:`refine_plans`): the plans (B, K', P, d) of :func:`_plan_in_box` at the raw
+    planner's breakpoints (every ``c``-th one,
+    :meth:`~pmplan.planners.base.Planner.cut_structure`: the map of the raw waypoints, bit for
+    bit) and, with :data:`pmplan.workspace.RAW_CUTS` = k > 1, at k - 1 more equally spaced
+    times inside every raw piece (points of the plan). Its breakpoints do not depend on how
+    often the plan crosses the nodes of the map, so that the refinement is as continuous as
+    the plan it starts from and a query refined alone is its row of a batch (bit for bit with
+    k = 1; else to rounding, the plan's breakpoints being the batch's) (``docs/refinement.md``,
+    Walls). Returns ``(times, waypoints)``, (K,) and (B, K, P, d) with
+    K = (K_raw - 1) k + 1. The plans of a planner whose breakpoints are per query (the
+    planar_three planner) are their own start."""
+    times = np.asarray(times, dtype=float)
+    cut = p.cut_structure(times)
+    if cut is None:
+        return times, waypoints
+    c = cut[1]
+    raw_t = times[::c] if times.ndim == 1 else times[0, ::c]
+    cuts = workspace.RAW_CUTS
+    if cuts == 1:
+        return raw_t, np.ascontiguousarray(waypoints[:, ::c])
+    t = subdivide_times(raw_t, cuts)
+    b = waypoints.shape[0]
+    wp = _evaluate(np.broadcast_to(times, (b, times.shape[-1])), waypoints, t)
+    wp[:, ::cuts] = waypoints[:, ::c]
+    wp[:, :, :dims[2]] = waypoints[:, :1, :dims[2]]  # the obstacles, fixed bit for bit
+    return t, wp
+
+
+MSG_BOX_START = ("the refinement of a plan in a workspace box starts from the plan at the raw "
+                 "planner's breakpoints (pmplan.workspace.RAW_CUTS = {cuts} per raw piece), and "
+                 "that polyline fails the certificate{where}: {what}. The plan itself is "
+                 "certified; to refine it, set pmplan.workspace.RAW_CUTS to a larger value (a "
+                 "start closer to the plan)")
+
+
+def _start_clearance(p: Planner, times, wp, m: int, fixed, backend, single: bool) -> np.ndarray:
+    """The clearance of the refinement's start in a box (:func:`box_start`), certified like
+    a plan (every clause); a CertificationError (:data:`MSG_BOX_START`) when it fails."""
+    configs = [wp[:, kj, m:] for kj in fixed]
+    clearance, codes = query_certificate(wp, wp[:, 0, :m], configs, times,
+                                         backends.select(backend).certify)
+    codes = np.asarray(codes)
+    bad = ~(clearance > 0) | (codes != 0)
+    if bad.any():
+        idx = np.flatnonzero(bad)
+        where = "" if single else f" for queries {idx[:10].tolist()}"
+        what = describe(int(codes[idx[0]]) or CLEARANCE)
+        raise CertificationError(MSG_BOX_START.format(cuts=workspace.RAW_CUTS, where=where,
+                                                      what=what), indices=idx)
+    return clearance
 
 
 def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float = 0.0,
@@ -585,8 +708,12 @@ def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float =
         raise InputError(MSG_REFINED.format(radius=f"{float(np.max(batch.radius)):g}"))
     p = REGISTRY[batch.planner]
     m = batch.dims[2]
-    fixed = p.fixed_waypoints(np.asarray(times))  # start, intermediate configurations, goal
     box = batch.bounds if single or batch.bounds is None else batch.bounds[0]
+    if box is not None:  # the plans at the raw breakpoints: a grid the query does not move
+        times, wp = box_start(p, times, wp, batch.dims)
+    fixed = p.fixed_waypoints(np.asarray(times))  # start, intermediate configurations, goal
+    if box is not None:
+        clearance = _start_clearance(p, times, wp, m, fixed, backend, single)
     stage = RefineStage(times, wp, clearance, m, fixed, radius, obstacle_radius, s, steps, backend,
                         box=box)
     check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in fixed], radius, obstacle_radius,

@@ -59,8 +59,8 @@ from .checks import check_backend, check_lift, check_sequential, check_workers, 
 from .configuration import default_lift
 from .errors import CertificationError, CollisionError, InputError, PmplanError, StoreError
 from .results import PlanBatch
-from .running import plan_arrays, refine_plans
-from .workspace import check_bounds, check_raw_cuts
+from .running import box_width, plan_arrays, refine_plans
+from .workspace import check_bounds
 
 __all__ = [
     "FORMAT",
@@ -186,20 +186,29 @@ def _refine_options(refine, n: int, d: int) -> dict | None:
     return {"radius": radius, "obstacle_radius": obstacle_radius, "waypoints": s, "steps": steps}
 
 
-def _template(p, r: int, m: int, n: int, d: int, refine: dict | None) -> dict:
+def _template(p, r: int, m: int, n: int, d: int, refine: dict | None, box: bool = False,
+              width: int | None = None) -> dict:
     """Empty outputs (B = 0) of planner ``p``: their shapes past the batch axis, and the shared
-    breakpoints; a refined motion has ``(K - 1) waypoints + 1`` breakpoints."""
-    template = p.allocate(0, r, m, n, d)
-    if refine is not None:
-        from .refine import subdivide_times
+    breakpoints. A plan in a box has ``width`` more breakpoints in every piece, per query
+    (:func:`pmplan.workspace.path_into_box_linear`); a refined motion has ``(K - 1) waypoints +
+    1`` breakpoints, with K those of the refinement's start (in a box,
+    :func:`pmplan.running.box_start`: every raw piece cut into
+    :data:`pmplan.workspace.RAW_CUTS`, or the plan itself)."""
+    from .refine import subdivide_times
+    from .workspace import RAW_CUTS
 
-        s = refine["waypoints"]
-        k = template["times"].shape[-1]
-        times = np.asarray(template["times"], dtype=float)
-        template["times"] = subdivide_times(times, s) if times.ndim == 1 else \
-            np.empty((0, (k - 1) * s + 1))
-        template["waypoints"] = np.empty((0, (k - 1) * s + 1, *template["waypoints"].shape[2:]))
-    return template
+    template = p.allocate(0, r, m, n, d)
+    times = np.asarray(template["times"], dtype=float)
+    points = template["waypoints"].shape[2:]
+    if box and (refine is None or times.ndim == 2):  # the plans themselves
+        k = (times.shape[-1] - 1) * (width + 1) + 1
+        times = np.empty((0, k))
+    elif box:
+        times = subdivide_times(times, RAW_CUTS)
+    if refine is not None:
+        s, k = refine["waypoints"], times.shape[-1]
+        times = subdivide_times(times, s) if times.ndim == 1 else np.empty((0, (k - 1) * s + 1))
+    return {**template, "times": times, "waypoints": np.empty((0, times.shape[-1], *points))}
 
 
 def _extra(refine: dict, measured: dict) -> dict:
@@ -248,25 +257,39 @@ def _context(exc: PmplanError, lo: int, hi: int, where: str):
 
 
 def _plan_chunk_arrays(obstacles, configs, planner, lift, backend, workers, refine=None,
-                       bounds=None):
+                       bounds=None, width=None):
     """``plan_batch`` (r = 2) or ``plan_sequence_batch`` on one chunk of numpy arrays (in the
-    workspace box ``bounds``, or None), then :func:`pmplan.refine` with the options ``refine``
-    (None: raw plans)."""
+    workspace box ``bounds``, or None, with the raw paths' ``width`` fixed for the whole
+    batch), then :func:`pmplan.refine` with the options ``refine`` (None: raw plans)."""
     batch = plan_arrays(obstacles, configs, planner=planner, lift=lift, backend=backend,
-                        workers=workers, sequential=len(configs) > 2, bounds=bounds)
+                        workers=workers, sequential=len(configs) > 2, bounds=bounds, width=width)
     if refine is None:
         return batch
     return refine_plans(batch, **refine, workers=workers, backend=backend)
 
 
+def _width_block(obstacles, *configs, planner, lift, backend, workers, bounds,
+                 block_info=None):
+    """The first pass over one block of a lazy batch of raw plans in a box: (1,), the
+    :func:`pmplan.running.box_width` of its queries."""
+    lo = block_info[None]["array-location"][0][0] if block_info else 0
+    try:
+        width = box_width(np.asarray(obstacles), [np.asarray(c) for c in configs],
+                          planner=planner, lift=lift, backend=backend, workers=workers,
+                          sequential=len(configs) > 2, bounds=bounds)
+    except PmplanError as exc:
+        raise _context(exc, lo, lo + obstacles.shape[0], "dask block") from None
+    return np.array([width], dtype=np.int64)
+
+
 def _plan_block(obstacles, *configs, planner, lift, backend, workers, record, refine=None,
-                bounds=None, block_info=None):
+                bounds=None, width=None, block_info=None):
     """One block of the lazy batch: its plans packed into ``record`` rows."""
     lo = block_info[None]["array-location"][0][0] if block_info else 0
     hi = lo + obstacles.shape[0]
     try:
         batch = _plan_chunk_arrays(np.asarray(obstacles), [np.asarray(c) for c in configs],
-                                   planner, lift, backend, workers, refine, bounds)
+                                   planner, lift, backend, workers, refine, bounds, width)
     except PmplanError as exc:
         raise _context(exc, lo, hi, "dask block") from None
     out = np.empty(obstacles.shape[0], dtype=record)
@@ -297,12 +320,19 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
         check_sequential(planner)
     p = choose_planner(d, n, m, planner, sequential=sequential)
     box = _box(bounds, d)  # checked now
-    template = _template(p, len(configs), m, n, d, refine)
+    width = None
+    if _needs_width(p, len(configs), box, refine):  # the shapes of plans in a box: a first pass
+        width = int(da.map_blocks(
+            _width_block, obstacles, *configs, planner=p.name, lift=lift, backend=backend,
+            workers=workers, bounds=box, dtype=np.int64, meta=np.empty((0,), np.int64),
+            drop_axis=[1, 2], chunks=((1,) * len(obstacles.chunks[0]),),
+            name="pmplan-box-width").max().compute())
+    template = _template(p, len(configs), m, n, d, refine, box is not None, width)
     per_query_times = template["times"].ndim == 2
     record = _record(template, per_query_times, refine is not None)
     packed = da.map_blocks(
-        _plan_block, obstacles, *configs, planner=p.name,
-        lift=lift, backend=backend, workers=workers, record=record, refine=refine, bounds=box,
+        _plan_block, obstacles, *configs, planner=p.name, lift=lift, backend=backend,
+        workers=workers, record=record, refine=refine, bounds=box, width=width,
         dtype=record, meta=np.empty((0,), record), drop_axis=[1, 2],
         chunks=(obstacles.chunks[0],), name="pmplan-plan",
     )
@@ -325,15 +355,23 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
     return PlanBatch(planner=p.name, dims=(d, n, m), _extra=extra, **out)
 
 
+def _needs_width(p, r: int, box, refine) -> bool:
+    """Whether the output shapes of plans in the box ``box`` (or None) depend on how often their
+    raw paths cross the nodes of the box's map (:func:`pmplan.workspace.path_into_box_linear`):
+    raw plans, and refined plans of a planner without shared breakpoints (which the
+    refinement starts from, :func:`pmplan.running.box_start`); and with
+    :data:`pmplan.workspace.RAW_CUTS` > 1, whose start takes points of the plans, so that every
+    chunk computes them as the whole batch does, bit for bit."""
+    from . import workspace
+
+    return box is not None and (refine is None or p.path_times(r) is None
+                                or workspace.RAW_CUTS > 1)
+
+
 def _box(bounds, d: int):
-    """The workspace box (2, d) of the dask and Zarr paths, or None: ``bounds`` checked
-    (:func:`pmplan.workspace.check_bounds`), and :data:`pmplan.workspace.RAW_CUTS` refused
-    unless it is 1, as their output shapes are fixed before planning."""
-    if bounds is None:
-        return None
-    box = check_bounds(bounds, d)
-    check_raw_cuts()
-    return box
+    """The workspace box (2, d) of the dask and Zarr paths (checked:
+    :func:`pmplan.workspace.check_bounds`), or None."""
+    return None if bounds is None else check_bounds(bounds, d)
 
 
 def plan_batch(obstacles, start, goal, *, planner: str | None = None,
@@ -446,6 +484,7 @@ class _Spec:
     workers: int
     refine: dict | None = None  # the keywords of pmplan.refine, or None: raw plans
     bounds: list | None = None  # the workspace box [lo, hi] (lists of d floats), or None
+    width: int | None = None  # raw plans in a box: the breakpoints added to every piece
 
 
 def _open_input(path: Path):
@@ -565,7 +604,8 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
     try:
         batch = _plan_chunk_arrays(obstacles, configs, planner, spec.lift, spec.backend,
                                    spec.workers, spec.refine,
-                                   None if spec.bounds is None else np.array(spec.bounds))
+                                   None if spec.bounds is None else np.array(spec.bounds),
+                                   spec.width)
     except PmplanError as exc:
         raise _context(exc, lo, hi, f"chunk {i}") from None
     for name in OUTPUTS + (REFINED_OUTPUTS if refined else ()):
@@ -909,17 +949,22 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     group = _open_for_resume(out, attrs, resume)
     if group is not None:
         _check_fingerprints(group, arrays, b, chunk, out)
+    width = None
+    if _needs_width(p, r, box, refine):  # the shapes of plans in a box
+        width = group.attrs["box_width"] if group is not None else \
+            _store_width(arrays, b, chunk, p.name, lift, backend, workers, box)
     spec = _Spec(source=None if src_path is None else str(src_path), out=str(out),
                  names=tuple(arrays), b=b, chunk=chunk, planner=p.name, lift=lift,
-                 backend=backend, workers=workers, refine=refine, bounds=box)
+                 backend=backend, workers=workers, refine=refine, bounds=box, width=width)
     # connect before anything is written: an unreachable scheduler leaves no output behind
     client, cluster, owned = (None, None, False) if scheduler is None and dask_workers is None \
         else _connect(scheduler, dask_workers)
     stopped = None
     try:
         if group is None:
-            group = _create_output(out, attrs, _template(p, r, m, n, d, refine), b, chunk,
-                                   nchunks, compress)
+            group = _create_output(out, {**attrs, "box_width": width},
+                                   _template(p, r, m, n, d, refine, box is not None, width), b,
+                                   chunk, nchunks, compress)
         rows_of = None if src_path is not None else \
             (lambda i: _read_rows(arrays, i * chunk, min(b, (i + 1) * chunk)))
         summary = _run(spec, group, client, rows_of, nchunks, progress, on_chunk)
@@ -937,6 +982,24 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     return StoreReport(out, summary["planned"], nchunks - summary["planned"], nchunks,
                        summary["queries"], summary["domains"], summary["clearance"], p.name,
                        summary["kept"])
+
+
+def _store_width(arrays: dict, b: int, chunk: int, planner: str, lift, backend, workers: int,
+                 box: list) -> int:
+    """The first pass of :func:`plan_store` for raw plans in a box, chunk by chunk in this
+    process: the largest :func:`pmplan.running.box_width` (the raw plans only, not certified
+    nor written), which fixes the shapes of the store's ``times`` and ``waypoints``."""
+    width = 0
+    for i in range(-(-b // chunk)):
+        lo, hi = i * chunk, min(b, (i + 1) * chunk)
+        obstacles, configs = _read_rows(arrays, lo, hi)
+        try:
+            width = max(width, box_width(obstacles, configs, planner=planner, lift=lift,
+                                         backend=backend, workers=workers,
+                                         sequential=len(configs) > 2, bounds=np.array(box)))
+        except PmplanError as exc:
+            raise _context(exc, lo, hi, f"chunk {i}") from None
+    return width
 
 
 def _run(spec: _Spec, group, client, rows_of, nchunks: int, progress: bool, on_chunk) -> dict:

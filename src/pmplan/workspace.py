@@ -10,26 +10,30 @@ and two points never meet in ``B`` since they never meet in R^d (Mathematics §8
 
 ``phi`` acts coordinate by coordinate, ``phi(x)_k = psi_k(x_k)``, with ``psi`` the identity on
 the inner interval ``[lo + mu, hi - mu]`` (``mu = BAND (hi - lo)``), so a motion that stays
-there is not changed at all, and an algebraic tail outside, ``psi(x) = hi - mu^2 / (x - b +
-mu)`` above ``b = hi - mu`` (C^1: value and slope match at ``b``; the mirror image below): far
-excursions of the raw construction are brought in without crushing them together (an
-exponential tail rounded distinct far points to the same corner of the box and failed 44 of
-192 certificates of the scene benchmark; this one none). A path is a polyline: the mapped path
-is the polyline through the mapped waypoints, which stays in the box (a box is convex) and is
-certified like every plan (collision-free, exactly); the obstacles and the configurations it
-passes through are restored bit for bit.
+there is not changed at all, and outside it linear on cells (:func:`into_box_linear`,
+:func:`from_box_linear`): affine between the dyadic nodes ``b + mu (2^k - 1)`` above ``b = hi -
+mu``, which it sends to ``hi - mu 2^-k`` (the mirror image below), the values there of the
+algebraic tail ``hi - mu^2 / (x - b + mu)`` (:func:`into_box`), which brings far excursions of
+the raw construction in without crushing them together (an exponential tail rounded distinct
+far points to the same corner of the box and failed 44 of 192 certificates of the scene
+benchmark). ``phi`` is affine on every cell, so the image of a straight piece of ``s`` is the
+polyline through the images of the points where some point crosses a node, at the times it
+does: :func:`path_into_box_linear` computes it, and ``plan(bounds=)`` returns it. That
+polyline is ``s_B`` at every time (to rounding; Mathematics §8, "The exact image of a path"): it
+passes every obstacle on the side ``s_B`` does, stays in the box (a box is convex), and is
+certified like every plan, the obstacles and the configurations it passes through restored bit
+for bit. Its number of breakpoints depends on the query: every piece of every path of a batch
+gets the same number of new ones (:func:`crossing_width`), so that the raw breakpoints keep
+their places, and the dask and Zarr paths, whose output shapes are fixed before planning, find
+that number by a first pass over the batch.
 
-That polyline is ``s_B`` at the waypoints only: between them its chords cut the curves ``phi``
-makes of the straight pieces of ``s``, and a chord may pass an obstacle on the other side. The
-returned motion is then certified but not in the class of ``s_B``, and inside one domain the
-queries whose chords pass through an obstacle form walls where the certificate refuses the plan
-and across which the returned motion's class jumps: the continuity above is ``s_B``'s, the
-returned planner's off those walls (Mathematics §8, "What the polyline is not";
-``benchmarks/box_chords.py``). A map that is linear on cells (:func:`into_box_linear`,
-:func:`from_box_linear`) has an exact polyline image of every path
-(:func:`path_into_box_linear`), with a number of breakpoints that depends on the path, which
-``plan(bounds=)`` does not use yet (Mathematics §8, "A map linear on cells";
-``benchmarks/box_exact.py``).
+The polyline through ``phi`` of the raw waypoints alone (the chords) is not ``s_B``: a chord
+may pass an obstacle on the other side than the curve ``phi`` makes of the piece, and with the
+algebraic map that polyline, pmplan's plan before, jumped class on walls inside a domain
+(Mathematics §8, "What the chords are not"; ``benchmarks/box_chords.py``). The refinement of a
+plan in the box starts from the plan at the raw breakpoints, which are such chords
+(:func:`pmplan.running.box_start`, :data:`RAW_CUTS`): a start whose breakpoints do not come and
+go with the query.
 
 A refined motion (:func:`pmplan.refine`) must keep a robot of ``radius`` inside the box: the
 refinement pushes the robots back from the limits of :func:`identity_box` of the box shrunk by
@@ -50,7 +54,6 @@ import numpy as np
 
 from .configuration import configuration_names
 from .errors import InputError
-from .path import cut_along
 
 __all__ = [
     "BAND",
@@ -58,9 +61,8 @@ __all__ = [
     "SQUEEZE",
     "check_bounds",
     "check_inside",
-    "check_raw_cuts",
     "check_walls",
-    "cut_pieces",
+    "crossing_width",
     "from_box",
     "from_box_linear",
     "identity_box",
@@ -68,6 +70,7 @@ __all__ = [
     "interior",
     "into_box",
     "into_box_linear",
+    "into_box_linear_slope",
     "into_box_slope",
     "path_into_box_linear",
     "restore",
@@ -84,12 +87,12 @@ __all__ = [
 #: continuity goal of the four over all the seeds, 396 of 400 (not in every group of seeds: 3/16,
 #: 394 in all, ties it on the design seeds and keeps three rows more on seeds 14-21)
 BAND = 0.125
-#: every piece of a raw plan is cut into this many equal pieces in R^d before the map into the
-#: box (:func:`cut_pieces`); 1 returns the polyline through the mapped waypoints themselves. The
-#: chords of the mapped pieces can pass an obstacle on the other side than the curve the map
-#: makes of the piece (Mathematics §8, "What the polyline is not"): benchmarks/box_chords.py
-#: measures how much cutting reduces that, benchmarks/chords_ab.py what it costs the refined
-#: plans (cut raw plans start the refinement finer, with its coarse levels cut as well)
+#: the refinement of a plan in the box starts from the plan at the raw planner's breakpoints
+#: and at RAW_CUTS - 1 more equally spaced times inside every raw piece
+#: (:func:`pmplan.running.box_start`): 1 starts from the chords between the mapped raw
+#: waypoints, a start that does not change where the plan's breakpoints come and go.
+#: benchmarks/chords_ab.py measured the same start with the algebraic map (1 against 2 and 4:
+#: 1 kept the most rows within the continuity goal at no loss in valid share or length)
 RAW_CUTS = 1
 #: the band of the map that brings a refined path into the box shrunk by ``radius``, as a
 #: fraction of the side: the identity wherever the refined path keeps that much more from the
@@ -188,23 +191,28 @@ def _tails(x, box: np.ndarray, frac: float, up, dn) -> np.ndarray:
 
 
 def from_box(x: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
-    """``phi^-1``: points of the open box (..., d) to R^d (the identity on the inner box, bit
-    for bit), computed in the box's unit coordinates (:func:`_tails`)."""
+    """The inverse of the algebraic map :func:`into_box`: points of the open box (..., d) to
+    R^d (the identity on the inner box, bit for bit), computed in the box's unit coordinates
+    (:func:`_tails`)."""
     return _tails(x, box, frac, lambda u, a, b, f: b - f + f * f / (1.0 - u),
                   lambda u, a, b, f: a + f - f * f / u)
 
 
 def into_box(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
-    """``phi``: points of R^d (..., d) into the closed box (the open one up to rounding; the
-    identity, bit for bit, on the inner box, the band ``frac (hi - lo)`` from each wall),
-    computed in the box's unit coordinates (:func:`_tails`)."""
+    """The algebraic map of R^d (..., d) into the closed box (the open one up to rounding; the
+    identity, bit for bit, on the inner box, the band ``frac (hi - lo)`` from each wall; the
+    tail ``hi - mu^2 / (x - b + mu)`` beyond it), computed in the box's unit coordinates
+    (:func:`_tails`): the map that brings a refined path into the box shrunk by ``radius``
+    (with :data:`SQUEEZE`), and the values at the nodes of the map of ``plan(bounds=)``
+    (:func:`into_box_linear`). It bends straight pieces, so the polyline through the map of
+    waypoints is not the map of the path (Mathematics §8)."""
     out = _tails(z, box, frac, lambda u, a, b, f: 1.0 - f * f / (u - b + f),
                  lambda u, a, b, f: f * f / (a - u + f))
     return np.clip(out, box[0], box[1])  # (rounding only: the tails are within [lo, hi])
 
 
 def into_box_slope(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
-    """The derivative of ``phi`` (:func:`into_box`) coordinate by coordinate at points ``z``
+    """The derivative of the algebraic map :func:`into_box` coordinate by coordinate at points ``z``
     (..., d) of R^d: 1 on the inner box, ``(mu / (mu + t))^2`` at a distance ``t`` beyond its
     edge, ``mu = frac (hi - lo)`` the band's width; ``phi`` maps every coordinate on its own, so
     its Jacobian is the diagonal of these and ``into_box_slope(z, box).prod(-1)`` its
@@ -223,7 +231,7 @@ def into_box_slope(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.nda
     return np.where(u > 1.0 - f, up, np.where(u < f, dn, 1.0))
 
 
-# --- the map linear on cells (Mathematics §8, "A map linear on cells") -----------------------
+# --- the map linear on cells (Mathematics §8, "The exact image of a path") -----------------------
 
 def _pow2(f, k):
     """``f 2^k`` for a float array ``k`` of integers, scaled exactly (no overflow of ``2^k`` on
@@ -273,9 +281,9 @@ def into_box_linear(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.nd
     2^-k`` (the values of :func:`into_box`'s tail there), with slope ``2^(-2k-1)``; the mirror
     image below. A homeomorphism onto the open box (the closed one up to rounding), affine on
     every cell of the product of these intervals, so that the image of a straight piece is the
-    polyline :func:`path_into_box_linear` computes (Mathematics §8, "A map linear on cells").
-    Not pmplan's map of ``plan(bounds=)`` (:func:`into_box`); for plans in the box that follow
-    the conjugated motion exactly, planned with :func:`from_box_linear`.
+    polyline :func:`path_into_box_linear` computes (Mathematics §8, "The exact image of a path"):
+    the map of ``plan(bounds=)``, whose queries are planned at :func:`from_box_linear` of
+    them.
 
     >>> box = np.array([[0.0], [8.0]])
     >>> into_box_linear(np.array([[4.0], [7.0], [8.0], [10.0], [-1.0]]), box)[:, 0].tolist()
@@ -283,6 +291,26 @@ def into_box_linear(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.nd
     """
     out = _tails(z, box, frac, _linear_up, lambda u, a, b, f: 1.0 - _linear_up(1.0 - u, a, b, f))
     return np.clip(out, box[0], box[1])
+
+
+def into_box_linear_slope(z: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
+    """The derivative of :func:`into_box_linear` coordinate by coordinate at points ``z``
+    (..., d) of R^d (off the nodes; the slope of the cell to the right at a node above the
+    inner box): 1 on the inner box, ``2^(-2k-1)`` on the k-th cell beyond it. As for
+    :func:`into_box_slope`, ``.prod(-1)`` is the density by which the box's uniform measure
+    pulls back to R^d.
+
+    >>> z = np.array([[5.0], [7.5], [8.5], [10.0], [-3.0]])
+    >>> into_box_linear_slope(z, np.array([[0.0], [8.0]]))[:, 0].tolist()
+    [1.0, 0.5, 0.125, 0.03125, 0.03125]
+    """
+    lo, hi = box
+    u = (np.asarray(z, dtype=float) - lo) / (hi - lo)
+    f, b = frac, 1.0 - frac
+    with np.errstate(invalid="ignore", over="ignore"):
+        up = _pow2(0.5, -2.0 * (_nodes_below(u, b, f) - 1.0))
+        dn = _pow2(0.5, -2.0 * (_nodes_below(1.0 - u, b, f) - 1.0))
+    return np.where(u > b, up, np.where(u < f, dn, 1.0))
 
 
 def from_box_linear(x: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
@@ -314,17 +342,63 @@ def _crossings(a, b, f):
     return np.concatenate(idx), np.concatenate(val)
 
 
+def _cuts(times, waypoints, box, frac):
+    """The node crossings of every piece of paths (B, K, P, d): ``(q, j, lam)``, the query, the
+    piece and the fraction of the piece where some point crosses a node of the map linear on
+    cells in some coordinate, sorted by (q, j, lam), one entry per distinct fraction, and only
+    those whose time falls strictly inside the piece (a crossing that rounds onto an end is
+    that end, to rounding)."""
+    wp = np.asarray(waypoints, dtype=float)
+    lo, hi = box
+    with np.errstate(invalid="ignore", over="ignore"):
+        u = (wp - lo) / (hi - lo)
+    a, b = u[:, :-1], u[:, 1:]  # (B, K-1, P, d)
+    rows, node = _crossings(a.ravel(), b.ravel(), frac)
+    a0, b0 = a.ravel()[rows], b.ravel()[rows]
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        lam = (node - a0) / (b0 - a0)
+    q, j = np.unravel_index(rows, a.shape)[:2]
+    t0, t1 = times[q, j], times[q, j + 1]
+    with np.errstate(invalid="ignore", over="ignore"):
+        tt = t0 + lam * (t1 - t0)
+    keep = (lam > 0.0) & (lam < 1.0) & (tt > t0) & (tt < t1)
+    q, j, lam = q[keep], j[keep], lam[keep]
+    order = np.lexsort((lam, j, q))
+    q, j, lam = q[order], j[order], lam[order]
+    fresh = np.ones(q.size, dtype=bool)
+    fresh[1:] = (q[1:] != q[:-1]) | (j[1:] != j[:-1]) | (lam[1:] != lam[:-1])
+    return q[fresh], j[fresh], lam[fresh]
+
+
+def crossing_width(times, waypoints, box: np.ndarray, frac: float = BAND) -> int:
+    """The largest number of breakpoints :func:`path_into_box_linear` inserts into one piece of
+    paths with breakpoints ``times`` (K,) or (B, K) and waypoints (B, K, P, d): the ``width``
+    that fits every path of the batch (0 when no path crosses a node). A first pass over a
+    batch whose output shapes are fixed before it is planned (:mod:`pmplan.scale`)."""
+    wp = np.asarray(waypoints, dtype=float)
+    bsz, k = wp.shape[:2]
+    times = np.broadcast_to(np.asarray(times, dtype=float), (bsz, k))
+    q, j, _ = _cuts(times, wp, box, frac)
+    if q.size == 0:
+        return 0
+    return int(np.bincount(q * (k - 1) + j).max())
+
+
 def path_into_box_linear(times: np.ndarray, waypoints: np.ndarray, box: np.ndarray,
-                         frac: float = BAND):
+                         frac: float = BAND, width: int | None = None):
     """The image under :func:`into_box_linear` of paths of R^d with breakpoints ``times`` (K,)
     or (B, K) and waypoints (B, K, P, d), exactly: every piece cut at the times where some
     point crosses a node of the map in some coordinate, the cut points mapped. On each cut
     piece the map is affine, so the polyline through them is the image of the path at every
-    time (to rounding). The number of cuts depends on the path; the paths of a batch are
-    padded to the largest count by cutting their last piece into equal parts (inside one cell:
-    the same motion). Returns ``(times, waypoints)``, (B, K') and (B, K', P, d); every original
-    breakpoint is kept, and the waypoints at the original breakpoints are
-    ``into_box_linear`` of the original ones.
+    time (to rounding; Mathematics §8, "The exact image of a path").
+
+    Every piece of every path gets the same number ``width`` of new breakpoints (default: the
+    most any piece of the batch needs, :func:`crossing_width`; a smaller ``width`` is an
+    error): a piece with fewer crossings has its last part, which lies in one cell, cut into
+    equal parts (the same motion). So the original breakpoints are every ``(width + 1)``-th
+    one, with their times bit for bit and ``into_box_linear`` of their waypoints, at the same
+    indices in every path of the batch. Returns ``(times, waypoints)``, (B, K') and (B, K', P,
+    d) with ``K' = (K - 1)(width + 1) + 1``.
 
     >>> box = np.array([[0.0, 0.0], [8.0, 8.0]])
     >>> path = np.array([[[[4.0, 4.0]], [[10.0, 4.0]]]])  # one point from x = 4 to x = 10
@@ -333,68 +407,36 @@ def path_into_box_linear(times: np.ndarray, waypoints: np.ndarray, box: np.ndarr
     ([0.0, 0.5, 0.6667, 1.0], [4.0, 7.0, 7.5, 7.75])
     """
     wp = np.asarray(waypoints, dtype=float)
-    bsz, k, p, d = wp.shape
+    bsz, k = wp.shape[:2]
     times = np.broadcast_to(np.asarray(times, dtype=float), (bsz, k))
-    lo, hi = box
-    u = (wp - lo) / (hi - lo)
-    a, b = u[:, :-1], u[:, 1:]  # (B, K-1, P, d)
-    rows, node = _crossings(a.ravel(), b.ravel(), frac)
-    a0, b0 = a.ravel()[rows], b.ravel()[rows]
-    lam = (node - a0) / (b0 - a0)
-    q, j = np.unravel_index(rows, a.shape)[:2]
-    keep = (lam > 0.0) & (lam < 1.0)
-    q, j, lam = q[keep], j[keep], lam[keep]
-    order = np.lexsort((lam, j, q))
-    q, j, lam = q[order], j[order], lam[order]
-    fresh = np.ones(q.size, dtype=bool)
-    fresh[1:] = (q[1:] != q[:-1]) | (j[1:] != j[:-1]) | (lam[1:] != lam[:-1])
-    q, j, lam = q[fresh], j[fresh], lam[fresh]
-    counts = np.bincount(q, minlength=bsz)
-    width = k + int(counts.max(initial=0))
-    out_t = np.empty((bsz, width))
-    out_w = np.empty((bsz, width, p, d))
-    for row in range(bsz):
-        sel = q == row
-        jj, ll = j[sel], lam[sel]
-        tr, wr = times[row], wp[row]
-        ts = np.concatenate([tr, tr[jj] + ll * (tr[jj + 1] - tr[jj])])
-        ws = np.concatenate([wr, wr[jj] + ll[:, None, None] * (wr[jj + 1] - wr[jj])])
-        at = np.lexsort((np.concatenate([np.zeros(k), ll]), np.concatenate([np.arange(k), jj])))
-        ts, ws = ts[at], into_box_linear(ws[at], box, frac)
-        pad = width - ts.size
-        if pad:  # (the last piece cut into pad + 1)
-            ts = np.concatenate([ts[:-2], cut_along(ts[-2:], pad + 1)])
-            ws = np.concatenate([ws[:-2], cut_along(ws[-2:], pad + 1, 0)])
-        out_t[row], out_w[row] = ts, ws
+    q, j, lam = _cuts(times, wp, box, frac)
+    count = np.zeros((bsz, k - 1), dtype=np.int64)
+    np.add.at(count, (q, j), 1)
+    need = int(count.max(initial=0))
+    if width is None:
+        width = need
+    elif width < need:
+        raise ValueError(f"width = {width} is smaller than the {need} crossings of a piece")
+    # the fractions of every piece: 0 (its start), its crossings, then the last part cut
+    frac_of = np.zeros((bsz, k - 1, width + 1))
+    rank = np.arange(q.size) - np.searchsorted(q * (k - 1) + j, q * (k - 1) + j)
+    frac_of[q, j, 1 + rank] = lam
+    last = np.take_along_axis(frac_of, np.minimum(count, width)[..., None], axis=2)  # (B, K-1, 1)
+    slot = np.arange(width + 1)
+    pad = width - count[..., None]  # padding points of the piece
+    step = (slot - count[..., None]) / (pad + 1.0)
+    frac_of = np.where(slot > count[..., None], last + step * (1.0 - last), frac_of)
+    lam = frac_of.reshape(bsz, -1)  # (B, (K-1)(width+1))
+    piece = np.repeat(np.arange(k - 1), width + 1)
+    t0, t1 = times[:, piece], times[:, piece + 1]
+    w0, w1 = wp[:, piece], wp[:, piece + 1]
+    lw = lam[..., None, None]
+    with np.errstate(invalid="ignore", over="ignore"):
+        ts = np.where(lam == 0.0, t0, t0 + lam * (t1 - t0))
+        ws = np.where(lw == 0.0, w0, (1.0 - lw) * w0 + lw * w1)
+    out_t = np.concatenate([ts, times[:, -1:]], axis=1)
+    out_w = into_box_linear(np.concatenate([ws, wp[:, -1:]], axis=1), box, frac)
     return out_t, out_w
-
-
-#: the dask and Zarr paths fix their output shapes before planning (one source of the message)
-MSG_RAW_CUTS = ("pmplan.workspace.RAW_CUTS = {cuts} is not supported with `bounds` by the dask "
-                "and Zarr paths, whose output shapes are fixed before any query is planned: "
-                "set it back to 1, or plan with pmplan.plan_batch")
-
-
-def check_raw_cuts() -> None:
-    """Refuse a :data:`RAW_CUTS` other than 1 (the dask and Zarr paths with a box)."""
-    if RAW_CUTS != 1:
-        raise InputError(MSG_RAW_CUTS.format(cuts=RAW_CUTS))
-
-
-def cut_pieces(times: np.ndarray, waypoints: np.ndarray, cuts: int):
-    """Every piece of paths with breakpoints ``times`` (K,) or (B, K) and waypoints (B, K, P,
-    d) cut into ``cuts`` equal pieces: ``(times, waypoints)`` with (K - 1) cuts + 1 breakpoints,
-    the point at fraction j / cuts of a piece ``w_k + (j / cuts)(w_{k+1} - w_k)``, so that every
-    original breakpoint and waypoint stays, bit for bit. The same path, before a map that bends
-    it (:data:`RAW_CUTS`; :func:`pmplan.path.cut_along`).
-
-    >>> t, w = cut_pieces(np.array([0.0, 1.0]), np.array([[[[0.0]], [[4.0]]]]), 4)
-    >>> t.tolist(), w[0, :, 0, 0].tolist()
-    ([0.0, 0.25, 0.5, 0.75, 1.0], [0.0, 1.0, 2.0, 3.0, 4.0])
-    """
-    if cuts == 1:
-        return times, waypoints
-    return cut_along(times, cuts, -1), cut_along(waypoints, cuts, 1)
 
 
 def restore(waypoints: np.ndarray, m: int, fixed, originals: list, obstacles: np.ndarray) -> None:
