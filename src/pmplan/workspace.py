@@ -186,8 +186,18 @@ def _tails(x, box: np.ndarray, frac: float, up, dn) -> np.ndarray:
     a, b = frac, 1.0 - frac
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         u = (x - lo) / w
-        out = lo + w * np.where(u > b, up(u, a, b, frac), dn(u, a, b, frac))
-    return np.where((u >= a) & (u <= b), x, out)
+    tail = ~((u >= a) & (u <= b))  # (the tails only: most points of a query are inside)
+    if not tail.any():
+        return x.copy()
+    out = x.copy()
+    lo_t, w_t, ut = np.broadcast_to(lo, x.shape)[tail], np.broadcast_to(w, x.shape)[tail], u[tail]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        up_part = ut > b
+        val = np.empty_like(ut)
+        val[up_part] = up(ut[up_part], a, b, frac)
+        val[~up_part] = dn(ut[~up_part], a, b, frac)
+        out[tail] = lo_t + w_t * val
+    return out
 
 
 def from_box(x: np.ndarray, box: np.ndarray, frac: float = BAND) -> np.ndarray:
