@@ -57,7 +57,7 @@ VARIANTS = list(BANDS)
 DESIGN = {1, 2, 4, 5}
 SEEN = set(range(6, 14))
 RUNNING = importlib.import_module("pmplan.running")
-_FROM, _INTO = RUNNING.from_box, RUNNING.into_box
+_FROM, _INTO = RUNNING.from_box_linear, RUNNING.path_into_box_linear
 #: the moved queries of the continuity probe: scenes_compare's pmplan default in the box
 _PROBE = scenes_compare.PmplanRunner(None, bounded=True)
 
@@ -65,8 +65,8 @@ _PROBE = scenes_compare.PmplanRunner(None, bounded=True)
 def variant(name: str) -> None:
     """Switch pmplan's map of the box to the band of one variant (None: pmplan's own)."""
     band = BANDS[name]
-    RUNNING.from_box = _FROM if band is None else functools.partial(_FROM, frac=band)
-    RUNNING.into_box = _INTO if band is None else functools.partial(_INTO, frac=band)
+    RUNNING.from_box_linear = _FROM if band is None else functools.partial(_FROM, frac=band)
+    RUNNING.path_into_box_linear = _INTO if band is None else functools.partial(_INTO, frac=band)
 
 
 def row(fam: str, n: int, seed: int, count: int) -> dict:

@@ -20,7 +20,7 @@ the share of queries where some robot's class differs, and the raw clearance of 
 over the reference's (median and smallest). A class that differs means that, inside the
 query's domain, the chords of pmplan's box plans cross an obstacle somewhere on the way from
 a query where they follow ``phi o s`` to this one: there the certificate refuses the plan, and
-near it the raw clearance tends to 0 (Mathematics §8, "What the polyline is not").
+near it the raw clearance tends to 0 (Mathematics §8, "What the chords are not").
 
 Writes ``benchmarks/box_chords.json`` and ``.md``. Not a test module.
 """

@@ -1,36 +1,34 @@
-"""A candidate for plans in the box that are the conjugated motion exactly: a piecewise-linear
-map onto the box, and the polyline through every point where a robot crosses one of its kinks.
+"""Plans in the box that are the conjugated motion exactly (pmplan's ``plan(bounds=)``): a
+piecewise-linear map onto the box, and the polyline through every point where a robot crosses
+one of its kinks.
 
 Usage (from the repository root)::
 
     python benchmarks/box_exact.py               # seeds 13 and 14, 200 queries per row (~5 min)
     python benchmarks/box_exact.py --from-json   # rewrite the .md from the .json
 
-pmplan returns, in a box, the polyline through ``phi`` of the raw path's waypoints, ``phi`` the
+pmplan returned, in a box, the polyline through ``phi`` of the raw path's waypoints, ``phi`` the
 coordinatewise map of :mod:`pmplan.workspace` with an algebraic tail. Its chords are not the
 conjugated motion ``phi o s`` and may pass an obstacle on the other side (Mathematics §8, "What
-the polyline is not"; ``benchmarks/box_chords.py``). Here the tail is replaced by its dyadic
-piecewise-linear interpolation: in the box's unit coordinates, the nodes ``z_k = b + f (2^k -
-1)`` beyond the inner edge ``b = 1 - f`` (``f`` = :data:`pmplan.workspace.BAND`) go to ``1 - f
-2^-k``, the algebraic tail's own values there, and the map is affine between them with slope
-``2^(-2k-1)`` (the mirror image below ``f``; the identity between). It is a homeomorphism of R
-onto (0, 1), so the conjugated planner keeps the domains and labels (Mathematics §8), and on
-every cell of the product of these intervals it is affine: the image of a straight piece of the
-raw path is exactly the polyline through the images of the points where some robot crosses a
-node in some coordinate. That polyline *is* ``phi o s``: the certificate can refuse it only for
-rounding, and a robot passes every obstacle on the side ``phi o s`` does, at every query.
+the chords are not"; ``benchmarks/box_chords.py``). The map of ``plan(bounds=)`` is now the
+tail's dyadic piecewise-linear interpolation: in the box's unit coordinates, the nodes ``z_k =
+b + f (2^k - 1)`` beyond the inner edge ``b = 1 - f`` (``f`` = :data:`pmplan.workspace.BAND`)
+go to ``1 - f 2^-k``, the algebraic tail's own values there, and the map is affine between them
+with slope ``2^(-2k-1)`` (the mirror image below ``f``; the identity between). It is a
+homeomorphism of R onto (0, 1), so the conjugated planner keeps the domains and labels
+(Mathematics §8), and on every cell of the product of these intervals it is affine: the image
+of a straight piece of the raw path is exactly the polyline through the images of the points
+where some robot crosses a node in some coordinate. That polyline *is* ``phi o s``: the
+certificate can refuse it only for rounding, and a robot passes every obstacle on the side
+``phi o s`` does, at every query.
 
-Not pmplan's map of ``plan(bounds=)``: the number of breakpoints varies with the query (a batch
-is padded; the fixed shapes of the dask and Zarr paths, and the refinement's grid, which must
-not change inside a domain, need another answer first). The map and the exact image are
-:func:`pmplan.workspace.into_box_linear`, :func:`~pmplan.workspace.from_box_linear` and
-:func:`~pmplan.workspace.path_into_box_linear`. This script measures what the candidate would
-cost and give, on the scene families of ``benchmarks/scenes.py`` (pmplan's default raw plan at
-the refined plans' unit, the robots' diameter), per row: the breakpoints of the exact polyline
-(the raw plan has 8), whether some robot's class (winding number of its path closed by the
-segment from goal to start, planar rows) differs from the same map's raw path cut into
-``REFERENCE`` pieces, and the raw clearance of the exact polyline and of the polyline through
-the mapped waypoints alone (what pmplan does, with this map) over the reference's.
+This script measures what it costs and gives on the scene families of ``benchmarks/scenes.py``
+(pmplan's default plan in the box at the refined plans' unit, the robots' diameter), per row:
+the breakpoints of the plan (the raw plan has 8; every piece gets as many new ones as its
+piece with the most crossings), whether some robot's class (winding number of its path closed
+by the segment from goal to start, planar rows) differs from the same map's raw path cut into
+``REFERENCE`` pieces, and the raw clearance of the plan and of the polyline through the mapped
+waypoints alone (the chords, which the refinement starts from) over the reference's.
 
 Writes ``benchmarks/box_exact.json`` and ``.md``. Not a test module.
 """
@@ -54,17 +52,10 @@ import pmplan
 from pmplan.certify import clearance
 from pmplan.configuration import default_lift
 from pmplan.path import PiecewiseLinearPath, cut_along
-from pmplan.workspace import from_box_linear, into_box_linear, path_into_box_linear
+from pmplan.workspace import from_box_linear, into_box_linear
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls", "room3d"]
 NS = [2, 4, 8, 16]
-
-
-def exact(times: np.ndarray, raw: np.ndarray, box: np.ndarray):
-    """The image of one path ``(times, raw)`` (K,), (K, P, d) under the map linear on cells,
-    exactly (:func:`pmplan.workspace.path_into_box_linear`): (K',), (K', P, d)."""
-    t, w = path_into_box_linear(times, raw[None], box)
-    return t[0], w[0]
 
 
 #: the continuity probe: the first PROBED queries of a row, every point moved by delta times a
@@ -79,7 +70,10 @@ def _motions(o, s, g, box, lift):
     p = pmplan.plan(*(from_box_linear(x, box) for x in (o, s, g)), lift=lift)
     times, raw = p.path.times, p.path.waypoints
     m = len(o)
-    out = {"exact": exact(times, raw, box), "chord": (times, into_box_linear(raw, box)),
+    plan = pmplan.plan(o, s, g, bounds=box, lift=lift)
+    assert plan.domain == p.domain
+    out = {"exact": (plan.path.times, plan.path.waypoints.copy()),
+           "chord": (times, into_box_linear(raw, box)),
            "ref": (None, into_box_linear(cut_along(raw, REFERENCE, 0), box))}
     for _, w in out.values():
         w[:, :m] = o  # (the obstacles, bit for bit)
@@ -140,15 +134,15 @@ def _share(x) -> str:
 
 
 def markdown(res: dict) -> str:
-    lines = ["# A candidate for exact plans in the box: a piecewise-linear map", "",
+    lines = ["# Exact plans in the box: a piecewise-linear map", "",
              (f"Command: `{res['command'].strip()}` ({res['date']}). Scene families of "
               f"`benchmarks/scenes.py` (box [0, 10]^d), {res['count']} queries per row, "
-              "pmplan's default raw plan of the query mapped out of the box by the dyadic "
-              "piecewise-linear map, at the refined plans' unit. *exact*: the polyline through "
-              "the images of the raw path at every point where a robot crosses a kink of the "
-              "map (the conjugated motion itself); *chord*: through the images of the raw "
-              "waypoints alone (what pmplan returns, with this map). *Breakpoints*: of the "
-              "exact polyline, median (largest); the raw plan has "
+              "pmplan's default plan in the box (the query mapped out of the box by the dyadic "
+              "piecewise-linear map), at the refined plans' unit. *exact*: the plan, the "
+              "polyline through the images of the raw path at every point where a robot crosses "
+              "a kink of the map (the conjugated motion itself); *chord*: through the images of "
+              "the raw waypoints alone (where the refinement starts). *Breakpoints*: of the "
+              "plan, median (largest); the raw plan has "
               f"{res['rows'][0]['raw_breakpoints']}. *Class differs*: the share of queries "
               "where some robot passes some obstacle in another class (winding number, planar "
               f"rows) than the same map's raw path cut into {REFERENCE} pieces. "

@@ -7,7 +7,7 @@ Usage (from the repository root)::
 
 In a box pmplan returns the polyline through the mapped waypoints of the raw plan; its chords
 can pass an obstacle on the other side than the curve the map makes of a raw piece (Mathematics
-§8, "What the polyline is not"; ``benchmarks/box_chords.py`` counts how often). Cutting every
+§8, "What the chords are not"; ``benchmarks/box_chords.py`` counts how often). Cutting every
 raw piece into ``RAW_CUTS`` equal pieces in R^d before the map follows that curve more closely.
 The refinement then starts from a finer path: the variants keep its finest level where it is
 (``waypoints`` = 4 / cuts, set through ``pmplan.refine.grid``'s defaults, 28 pieces per leg

@@ -57,7 +57,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes
 
 from pmplan import frame
-from pmplan.workspace import from_box, into_box, into_box_slope
+from pmplan.workspace import from_box_linear, into_box_linear, into_box_linear_slope
 
 HERE = Path(__file__).resolve().parent
 #: radius = obstacle_radius = R / 2, as in the scene benchmark
@@ -127,7 +127,7 @@ def query_bound(o: np.ndarray, s: np.ndarray, g: np.ndarray, box: np.ndarray,
                 wall_gap: float) -> dict:
     """The shares of every unit of one query (module docstring)."""
     m = len(o)
-    yo, ys, yg = (from_box(x, box) for x in (o, s, g))
+    yo, ys, yg = (from_box_linear(x, box) for x in (o, s, g))
     e = frame.unit(yo[1] - yo[0])
     nu = frame.nu(yo[1] - yo[0])[0]  # (Mathematics §3.4)
     co, cs, cg = ((y - yo[0]) @ e for y in (yo, ys, yg))  # columns
@@ -147,9 +147,9 @@ def query_bound(o: np.ndarray, s: np.ndarray, g: np.ndarray, box: np.ndarray,
         curves = []
         for k in unit:
             yk = yo[k][None] + t[:, None] * nu[None]
-            P = into_box(yk, box)
+            P = into_box_linear(yk, box)
             curves.append(P)
-            dens = dens * into_box_slope(yk, box).prod(-1)
+            dens = dens * into_box_linear_slope(yk, box).prod(-1)
             valid &= _wall(P, box) >= wall_gap
             if len(others):
                 valid &= np.hypot(*(P[:, None] - others[None]).transpose(2, 0, 1)).min(1) \

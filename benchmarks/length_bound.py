@@ -62,7 +62,7 @@ from _common import rewrite_report, write_report
 
 import pmplan
 from pmplan.frame import nu
-from pmplan.workspace import from_box, into_box
+from pmplan.workspace import from_box_linear, into_box_linear
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls"]
 NS = [2, 4, 8]
@@ -103,16 +103,19 @@ def in_strip(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return (co > min(ca, cb)) & (co < max(ca, cb))
 
 
-def mirror_move(o, s, g, box=BOX, samples=SAMPLES, t=None) -> np.ndarray:
+def mirror_move(o, s, g, box=BOX, samples=SAMPLES, t=None,
+                maps=(from_box_linear, into_box_linear)) -> np.ndarray:
     """The mirror move of a query in the box: in R^2 (``phi^-1``) every point's signed distance
     to the line through ``o_1`` and ``o_2`` scaled by ``1 - 2t``, mapped back into the box
     (``phi``). The points (samples, m + 2n, 2) at ``t = 0, .., 1`` (or at the times ``t``): the
-    query (up to the map's rounding) at t = 0, its mirror image ``q*`` at t = 1."""
-    y = from_box(np.concatenate([o, s, g]), box)
+    query (up to the map's rounding) at t = 0, its mirror image ``q*`` at t = 1. ``maps``:
+    ``(phi^-1, phi)``, by default those of ``plan(bounds=)``."""
+    out_of, into = maps
+    y = out_of(np.concatenate([o, s, g]), box)
     v = nu(y[1] - y[0])[0]
     h = (y - y[0]) @ v
     t = np.linspace(0.0, 1.0, samples) if t is None else np.asarray(t, dtype=float)
-    return into_box(y[None] - (2.0 * t)[:, None, None] * h[None, :, None] * v, box)
+    return into(y[None] - (2.0 * t)[:, None, None] * h[None, :, None] * v, box)
 
 
 def crossing_parity(move: np.ndarray, m: int, n: int) -> np.ndarray:
@@ -233,9 +236,10 @@ def markdown(res: dict) -> str:
               "pmplan's default plan in the box (refined, radius = obstacle_radius = r/2)"
               + (", OMPL RRTConnect (one run per query)" if ompl else "") + ", means over "
               "the pairs of len/LB averaged over q and q*, and the pairs where pmplan's mean "
-              "is below the bound: its box plans follow the chords of the mapped motion, not "
-              "the motion (Mathematics §8, \"What the polyline is not\"), so the bound, which "
-              "holds for the conjugated planner, need not hold for them"
+              "is below the bound: its refined box plans start from the chords of the mapped "
+              "motion at the raw breakpoints, not from the motion (Mathematics §8, \"The "
+              "refinement's start\"), so the bound, which holds for the conjugated planner, "
+              "need not hold for them"
               + ("; *bound / RRTConnect*: the least mean ratio to RRTConnect a planner "
                  "continuous on these domains can reach on these pairs, and pmplan's" if ompl
                  else "") + ". *Plane*: the same without the box (q* the mirror image in the "
