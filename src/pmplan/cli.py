@@ -483,6 +483,32 @@ def _quiet_dask() -> None:
         log.propagate = name not in tops
 
 
+class _SiblingWrites:
+    """A :mod:`logging` filter for the ``asyncio`` logger: drops "Task exception was never
+    retrieved", which asyncio logs when a task that failed is garbage collected unawaited.
+
+    Zarr writes a store's files in concurrent tasks and gathers them: when one write fails (a
+    full disk), the gather raises it and ``pmplan batch`` reports it in its one line, while the
+    sibling writes that failed the same way are never awaited and would be logged after that
+    line, one traceback each. These are the only tasks whose exceptions go unretrieved; every
+    other record of the logger passes.
+    """
+
+    PREFIX = "Task exception was never retrieved"
+
+    def filter(self, record) -> bool:
+        return not str(record.msg).startswith(self.PREFIX)
+
+
+def _quiet_sibling_writes() -> None:
+    """Install :class:`_SiblingWrites` on the ``asyncio`` logger, once per process."""
+    import logging
+
+    log = logging.getLogger("asyncio")
+    if not any(isinstance(f, _SiblingWrites) for f in log.filters):
+        log.addFilter(_SiblingWrites())
+
+
 def _cmd_batch_store(args, options: dict | None) -> int:
     """``pmplan batch`` into a Zarr store, chunk by chunk (:func:`pmplan.scale.plan_store`),
     every chunk refined with ``options`` (``--refine``) when given."""
@@ -500,6 +526,7 @@ def _cmd_batch_store(args, options: dict | None) -> int:
         source = _with_options(read_queries(args.queries), args, args.queries)
         lift = planner = None
     bounds = source.pop("bounds", None) if isinstance(source, dict) else args.bounds
+    _quiet_sibling_writes()
     if args.scheduler is not None or args.dask_workers is not None:
         _quiet_dask()
     try:
