@@ -26,6 +26,7 @@ Writes ``benchmarks/misses.json`` and ``.md``. Not a test module.
 
 from __future__ import annotations
 
+import re
 import sys
 import time
 from pathlib import Path
@@ -54,6 +55,14 @@ def _far_share(p) -> float:
     a, b, _ = pairs(p.waypoints.shape[1], m)
     d = piece_minima(np.asarray(p.waypoints)[None], a, b)[0]
     return float((d > FAR * scenes.R).mean())
+
+
+def tight_gap(reason: str) -> float | None:
+    """The width of the gap with room for one robot only that a contact's reason names
+    (``pmplan.reasons.TIGHT``), or None."""
+    found = re.search(r"passes through the gap between [^,]*, (?:whose discs leave )?"
+                      r"([0-9.eE+-]+)", reason or "")
+    return float(found.group(1)) if found else None
 
 
 def _worst(p) -> float:
@@ -101,7 +110,9 @@ def markdown(res: dict) -> str:
              "and robot-obstacle distances over r (1: kept); *why*: the default plan's "
              "`radius_reason` (*gap*: it crosses a gap narrower than a robot, which no planner "
              "continuous on these domains avoids on every query, Mathematics §8; *robots*, "
-             "*obstacle*, *wall*: the worst contact the refinement did not clear); *raw*: the "
+             "*obstacle*, *wall*: the worst contact the refinement did not clear, and in "
+             "brackets the gap with room for one robot only that the path passes through "
+             "there, when the reason names one); *raw*: the "
              "raw plan's clearance; time: that refinement alone, one core (a shared machine).",
              "", "| seed | row | query | why | raw | default: worst | "
              + " | ".join(f"{e}: keeps r, worst, ms" for e in eff) + " |",
@@ -110,8 +121,10 @@ def markdown(res: dict) -> str:
         for mi in c["misses"]:
             cells = [f"{'yes' if v['valid'] else 'no'}, {v['worst']:.3f}, {v['ms']:.0f}"
                      for v in mi["efforts"].values()]
+            width = tight_gap(mi["reason"])
+            why = mi["why"] + ("" if width is None else f" (one-robot gap {width:.3g})")
             lines.append(f"| {c['seed']} | {c['family']} n = {c['n']} | {mi['query']} | "
-                         f"{mi['why']} | {mi['raw_clearance']:.2g} | {mi['worst']:.3f} | "
+                         f"{why} | {mi['raw_clearance']:.2g} | {mi['worst']:.3f} | "
                          + " | ".join(cells) + " |")
     lines.append("")
     tot = {}
@@ -125,6 +138,13 @@ def markdown(res: dict) -> str:
     for kind, t in sorted(tot.items()):
         lines.append(f"* {kind}: {t[0]} plans miss at the default effort; kept at "
                      + ", ".join(f"{e}: {v}" for e, v in zip(eff, t[1:])) + ".")
+    contacts = [mi for c in res["rows"] for mi in c["misses"] if mi["why"] != "gap"]
+    tight = [mi for mi in contacts if tight_gap(mi["reason"]) is not None]
+    lines.append(f"* of the {len(contacts)} contacts, {len(tight)} are where the path passes "
+                 "through a gap with room for one robot only (wider than a robot, narrower than "
+                 "two side by side; `pmplan.reasons.TIGHT`), which the reason names; kept at "
+                 + ", ".join(f"{e}: {sum(mi['efforts'][e]['valid'] for mi in tight)}"
+                             for e in eff) + ".")
     lines += ["", (f"Share of (piece, pair) combinations of the default refined paths "
                    f"farther apart than {FAR:g} r (median over the row's queries; range):"), "",
               "| seed | row | default effort | far share |", "|---|---|---|---|"]

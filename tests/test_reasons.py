@@ -18,7 +18,7 @@ import pmplan
 from pmplan import cli
 from pmplan.io import plan_to_dict
 from pmplan.certify import exact_segment_dist2, point_pairs
-from pmplan.reasons import radius_reason
+from pmplan.reasons import TIGHT, radius_reason
 
 #: a room query (rounded from benchmarks/scenes.py's room family, seed 1, n = 4, query 4): in
 #: the box [0, 10]^2 robot x4 crosses the gap between obstacle o6 and the wall y = 0, 0.17
@@ -115,6 +115,33 @@ def test_a_gap_between_an_obstacle_and_a_wall_and_a_wall_contact():
     wp = np.array([[[5.0, 5.0], [1.0, 9.0]], [[5.0, 5.0], [1.0, 9.95]]])
     reason = radius_reason([0.0, 1.0], wp, 1, 0.15, 0.15, box)
     assert reason.startswith("robot x1 comes 0.05 from the wall x[1] = 10 at t = 1.000")
+
+
+def test_a_contact_in_a_gap_with_room_for_one_robot_names_the_gap_and_the_effort():
+    """An obstacle 0.458 from a wall leaves a gap of 0.308 (obstacle_radius 0.15) for robots
+    0.3 wide: a motion through it may keep the radii, so the reason is the contact and the
+    effort's knob, with the gap and what it leaves to spare; a gap as wide as two robots is not
+    named, nor one the path does not pass through."""
+    box = np.array([[0.0, 0.0], [10.0, 10.0]])
+    wp = np.array([[[5.0, 0.458], [4.0, 0.2]], [[5.0, 0.458], [6.0, 0.2]]])
+    reason = radius_reason([0.0, 1.0], wp, 1, 0.15, 0.15, box)
+    assert reason.startswith("robot x1 comes 0.258 from obstacle o1 at t = 0.500")
+    assert ("its path passes through the gap between obstacle o1 and the wall x[1] = 0, 0.308 "
+            "wide, room for one robot (2 radius = 0.3) with 0.008 to spare; the refinement's "
+            "fixed steps did not clear it") in reason
+    assert "crosses the gap" not in reason and "no motion" not in reason
+    for y in (0.15 + TIGHT * 0.3 + 1e-9, 2.0):  # room for two robots side by side
+        wp[:, 0] = [5.0, y]
+        wp[:, 1, 1] = y - 0.25
+        reason = radius_reason([0.0, 1.0], wp, 1, 0.15, 0.15, box)
+        assert "gap" not in reason and "more effort" in reason, reason
+    # between two obstacles whose discs leave 0.45: named, the narrowest of those crossed
+    wp = np.array([[[0.0, 0.375], [0.0, -0.375], [0.0, 5.0], [-1.0, 0.1]],
+                   [[0.0, 0.375], [0.0, -0.375], [0.0, 5.0], [1.0, 0.1]]])
+    reason = radius_reason([0.0, 1.0], wp, 3, 0.15, 0.15)
+    assert reason.startswith("robot x1 comes 0.275 from obstacle o1")
+    assert ("its path passes through the gap between obstacles o1 and o2, whose discs leave "
+            "0.45, room for one robot (2 radius = 0.3) with 0.15 to spare") in reason
 
 
 def test_two_robots_pressed_together_in_a_gap_no_robot_passes():

@@ -9,7 +9,10 @@ obstacles, or between an obstacle and a wall,
 whose discs leave a gap narrower than a robot (``2 radius``), and no motion that crosses that
 gap keeps the radii (at the crossing point the two distances add up to less than they need).
 Otherwise the fixed number of refinement steps did not clear the contact, and the reason says
-which knob gives the refinement more steps.
+which knob gives the refinement more steps; when the path passes there through a gap wider than
+a robot but narrower than two side by side (:data:`TIGHT`), it names that gap too and what it
+leaves to spare: a motion through it may keep the radii, near the gap's middle and one robot at
+a time.
 
 The decision itself (``respects_radius``) stays exact (:func:`pmplan.certify.radius_report`);
 the distances quoted here are the closed-form piece minima in floating point, evaluated in the
@@ -25,7 +28,7 @@ import numpy as np
 
 from .certify import point_pairs, power_of_two_frame, segment_closest
 
-__all__ = ["radius_reason"]
+__all__ = ["TIGHT", "radius_reason"]
 
 _MSG_ROBOTS = ("robots x{i} and x{j} come {dist} apart at t = {t:.3f}, closer than "
                "2 radius = {need}")
@@ -39,6 +42,16 @@ _MSG_GAP_OBSTACLES = ("{whose} path crosses the gap between obstacles o{k} and o
 _MSG_GAP_WALL = ("{whose} path crosses the gap between obstacle o{k} and the wall x[{c}] = "
                  "{wall:.6g}, {gap:.6g} wide, narrower than a robot (2 radius = {width:.6g}): "
                  "no motion that crosses that gap keeps the radii")
+_MSG_TIGHT_OBSTACLES = ("{whose} path passes through the gap between obstacles o{k} and o{l}, "
+                        "whose discs leave {gap:.6g}, room for one robot (2 radius = "
+                        "{width:.6g}) with {spare:.3g} to spare")
+_MSG_TIGHT_WALL = ("{whose} path passes through the gap between obstacle o{k} and the wall "
+                   "x[{c}] = {wall:.6g}, {gap:.6g} wide, room for one robot (2 radius = "
+                   "{width:.6g}) with {spare:.3g} to spare")
+#: a gap the path passes through is named beside a contact when it is narrower than this many
+#: robots side by side (``TIGHT * 2 radius``): wider than one robot, so a motion through it may
+#: keep the radii, but only one robot at a time and near its middle
+TIGHT = 2
 _MSG_EFFORT = ("the refinement's fixed steps did not clear it: more effort (larger "
                "`waypoints` and `steps` of pmplan.refine) may")
 
@@ -75,7 +88,8 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
     str
         The worst contact (measured against what the pair needs), where and how close; then
         the gap of the scene it passes through when that gap is narrower than a robot, else
-        the knob that gives the refinement more steps.
+        the gap narrower than :data:`TIGHT` robots it passes through, if any, and the knob
+        that gives the refinement more steps.
 
     Examples
     --------
@@ -135,24 +149,32 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
                                                  Fraction(radius) + Fraction(obstacle_radius)),
                                         t=when)
             robots, ks, walls = (b,), [a], all_walls
-    gap, whose = None, "its"
-    if d == 2:  # (a gap blocks only in the plane: in space a path goes around)
-        for robot in robots:
-            gap = _narrow_gap(ws[0, :m], ws[:, robot], rad, orad, box, ks, walls)
-            if gap is not None:
-                whose = "its" if len(robots) == 1 else f"robot x{robot - m + 1}'s"
-                break
+    width = 2.0 * float(radius)
+    for limit in (1, TIGHT):  # a gap no robot passes, else one that only one robot passes
+        gap, whose = None, "its"
+        if d == 2:  # (a gap blocks only in the plane: in space a path goes around)
+            for robot in robots:
+                gap = _narrow_gap(ws[0, :m], ws[:, robot], rad, orad, box, ks, walls,
+                                  limit * 2.0 * rad)
+                if gap is not None:
+                    whose = "its" if len(robots) == 1 else f"robot x{robot - m + 1}'s"
+                    break
+        if gap is not None:
+            break
     if gap is None:
         return f"{head}; {_MSG_EFFORT}"
-    width = 2.0 * float(radius)
+    size = float(np.ldexp(gap[-1], e))
     if gap[0] == "obstacle":
-        why = _MSG_GAP_OBSTACLES.format(whose=whose, k=gap[1] + 1, l=gap[2] + 1,
-                                        gap=float(np.ldexp(gap[3], e)), width=width)
+        words = dict(whose=whose, k=gap[1] + 1, l=gap[2] + 1, gap=size, width=width)
+        why = (_MSG_GAP_OBSTACLES.format(**words) if limit == 1 else
+               _MSG_TIGHT_OBSTACLES.format(**words, spare=size - width))
     else:
-        _, k, side, c, g = gap
-        why = _MSG_GAP_WALL.format(whose=whose, k=k + 1, c=c, wall=float(bounds[side][c]),
-                                   gap=float(np.ldexp(g, e)), width=width)
-    return f"{head}; {why}"
+        _, k, side, c, _ = gap
+        words = dict(whose=whose, k=k + 1, c=c, wall=float(bounds[side][c]), gap=size,
+                     width=width)
+        why = (_MSG_GAP_WALL.format(**words) if limit == 1 else
+               _MSG_TIGHT_WALL.format(**words, spare=size - width))
+    return f"{head}; {why}" if limit == 1 else f"{head}; {why}; {_MSG_EFFORT}"
 
 
 def _crosses(path: np.ndarray, p: np.ndarray, q: np.ndarray) -> bool:
@@ -170,21 +192,24 @@ def _crosses(path: np.ndarray, p: np.ndarray, q: np.ndarray) -> bool:
     return bool(((o1 * o2 <= 0) & (o3 * o4 <= 0) & boxes.all(axis=-1)).any())
 
 
-def _narrow_gap(obs: np.ndarray, path: np.ndarray, rad: float, orad: float, box, ks, walls):
-    """The narrowest gap narrower than a robot (``2 rad``) that the planar polyline ``path``
-    crosses: between an obstacle of ``ks`` and another obstacle (``("obstacle", k, l,
-    gap)``), or between an obstacle of ``ks`` and a wall of ``walls`` (``("wall", k, side,
-    coordinate, gap)``, the segment from the obstacle to its foot on the wall); None when
-    there is none. A motion that crosses such a segment comes closer than ``rad + orad`` to
-    one of its obstacles (the two distances from the crossing point add up to less than ``2
-    (rad + orad)``) or closer than ``rad`` to the wall."""
+def _narrow_gap(obs: np.ndarray, path: np.ndarray, rad: float, orad: float, box, ks, walls,
+                limit: float | None = None):
+    """The narrowest gap narrower than ``limit`` (default a robot, ``2 rad``) that the planar
+    polyline ``path`` crosses: between an obstacle of ``ks`` and another obstacle
+    (``("obstacle", k, l, gap)``), or between an obstacle of ``ks`` and a wall of ``walls``
+    (``("wall", k, side, coordinate, gap)``, the segment from the obstacle to its foot on the
+    wall); None when there is none. With the default ``limit``, a motion that crosses such
+    a segment comes closer than ``rad + orad`` to one of its obstacles (the two distances from
+    the crossing point add up to less than ``2 (rad + orad)``) or closer than ``rad`` to the
+    wall."""
+    limit = 2.0 * rad if limit is None else limit
     best = None
     for k in ks:
         for ell in range(obs.shape[0]):
             if ell == k:
                 continue
             gap = float(np.sqrt(((obs[k] - obs[ell]) ** 2).sum())) - 2.0 * orad
-            if gap < 2.0 * rad and (best is None or gap < best[-1]) \
+            if gap < limit and (best is None or gap < best[-1]) \
                     and _crosses(path, obs[k], obs[ell]):
                 best = ("obstacle", k, ell, gap)
         if box is None:
@@ -193,7 +218,7 @@ def _narrow_gap(obs: np.ndarray, path: np.ndarray, rad: float, orad: float, box,
             gap = abs(float(box[side][c] - obs[k][c])) - orad
             foot = obs[k].copy()
             foot[c] = box[side][c]
-            if gap < 2.0 * rad and (best is None or gap < best[-1]) \
+            if gap < limit and (best is None or gap < best[-1]) \
                     and _crosses(path, obs[k], foot):
                 best = ("wall", k, side, c, gap)
     return best
