@@ -520,11 +520,21 @@ def box_width(obstacles, configs: list, *, planner: str | None = None, lift=1.0,
     lift = check_lift(lift)
     workers = check_workers(workers)
     p, obstacles, configs, _ = _prepare(obstacles, configs, planner, backend, sequential, bounds)
-    box = check_bounds(bounds, obstacles.shape[2])
-    check_inside(obstacles, configs, box, batched=True)
-    res = run_loop(p, from_box_linear(obstacles, box), [from_box_linear(c, box) for c in configs],
-                   lift, batched=True, progress=False, backend=backend, workers=workers)
+    box, res = _raw_in_box(p, obstacles, configs, lift, bounds, backend, workers, False, True)
     return crossing_width(np.asarray(res["times"]), np.asarray(res["waypoints"]), box)
+
+
+def _raw_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers, progress,
+                batched: bool):
+    """The raw plans of queries in a workspace box: ``(box, res)``, the box checked, every
+    point checked strictly inside it, the queries mapped out of it by
+    :func:`~pmplan.workspace.from_box_linear` and planned in R^d (``res`` of
+    :func:`run_loop`)."""
+    box = check_bounds(bounds, obstacles.shape[2])
+    check_inside(obstacles, configs, box, batched=batched)
+    res = run_loop(p, from_box_linear(obstacles, box), [from_box_linear(c, box) for c in configs],
+                   lift, batched=batched, progress=progress, backend=backend, workers=workers)
+    return box, res
 
 
 def _prepare(obstacles, configs, planner, backend, sequential: bool, bounds):
@@ -578,17 +588,17 @@ def _plan_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers,
     if out is not None:
         raise InputError(MSG_BOUNDS_OUT)
     b, m, d = obstacles.shape
-    box = check_bounds(bounds, d)
-    check_inside(obstacles, configs, box, batched=batched)
-    res = run_loop(p, from_box_linear(obstacles, box), [from_box_linear(c, box) for c in configs],
-                   lift, batched=batched, progress=progress, backend=backend, workers=workers)
+    box, res = _raw_in_box(p, obstacles, configs, lift, bounds, backend, workers, progress,
+                           batched)
     raw_times, raw = np.asarray(res["times"]), np.asarray(res["waypoints"])
     fixed = p.fixed_waypoints(raw_times)
-    if width is not None:
+    try:
+        times, wp = path_into_box_linear(raw_times, raw, box, width=width)
+    except ValueError:  # (a width too small; its crossings counted again only here)
         need = crossing_width(raw_times, raw, box)
-        if need > width:
-            raise InputError(MSG_WIDTH.format(need=need, width=width))
-    times, wp = path_into_box_linear(raw_times, raw, box, width=width)
+        if width is None or need <= width:
+            raise
+        raise InputError(MSG_WIDTH.format(need=need, width=width)) from None
     c = (times.shape[1] - 1) // (raw_times.shape[-1] - 1)
     restore(wp, m, c * fixed, configs, obstacles)
     clearance, codes = query_certificate(wp, obstacles, configs, times,

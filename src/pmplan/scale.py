@@ -273,13 +273,20 @@ def _width_block(obstacles, *configs, planner, lift, backend, workers, bounds,
     """The first pass over one block of a lazy batch of raw plans in a box: (1,), the
     :func:`pmplan.running.box_width` of its queries."""
     lo = block_info[None]["array-location"][0][0] if block_info else 0
-    try:
-        width = box_width(np.asarray(obstacles), [np.asarray(c) for c in configs],
-                          planner=planner, lift=lift, backend=backend, workers=workers,
-                          sequential=len(configs) > 2, bounds=bounds)
-    except PmplanError as exc:
-        raise _context(exc, lo, lo + obstacles.shape[0], "dask block") from None
+    width = _chunk_width(np.asarray(obstacles), [np.asarray(c) for c in configs], planner, lift,
+                         backend, workers, bounds, lo, "dask block")
     return np.array([width], dtype=np.int64)
+
+
+def _chunk_width(obstacles, configs, planner, lift, backend, workers, bounds, lo: int,
+                 where: str) -> int:
+    """:func:`pmplan.running.box_width` of one chunk of the first pass (rows ``lo`` on of the
+    batch: its errors name them, and ``where``)."""
+    try:
+        return box_width(obstacles, configs, planner=planner, lift=lift, backend=backend,
+                         workers=workers, sequential=len(configs) > 2, bounds=bounds)
+    except PmplanError as exc:
+        raise _context(exc, lo, lo + obstacles.shape[0], where) from None
 
 
 def _plan_block(obstacles, *configs, planner, lift, backend, workers, record, refine=None,
@@ -993,12 +1000,8 @@ def _store_width(arrays: dict, b: int, chunk: int, planner: str, lift, backend, 
     for i in range(-(-b // chunk)):
         lo, hi = i * chunk, min(b, (i + 1) * chunk)
         obstacles, configs = _read_rows(arrays, lo, hi)
-        try:
-            width = max(width, box_width(obstacles, configs, planner=planner, lift=lift,
-                                         backend=backend, workers=workers,
-                                         sequential=len(configs) > 2, bounds=np.array(box)))
-        except PmplanError as exc:
-            raise _context(exc, lo, hi, f"chunk {i}") from None
+        width = max(width, _chunk_width(obstacles, configs, planner, lift, backend, workers,
+                                        np.array(box), lo, f"chunk {i}"))
     return width
 
 

@@ -235,17 +235,13 @@ class Planner:
 
 
 @functools.lru_cache(maxsize=256)
-def _shared_times_cached(planner: Planner, r: int):
+def _shared_times(planner: Planner, r: int) -> np.ndarray | None:
+    """``planner.path_times(r)``, computed once per (planner, r) (read-only)."""
     times = planner.path_times(r)
     if times is not None:
         times = np.asarray(times, dtype=float)
         times.flags.writeable = False
     return times
-
-
-def _shared_times(planner: Planner, r: int) -> np.ndarray | None:
-    """``planner.path_times(r)``, computed once per (planner, r) (read-only)."""
-    return _shared_times_cached(planner, r)
 
 
 class Stage:
