@@ -150,31 +150,32 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
                                         t=when)
             robots, ks, walls = (b,), [a], all_walls
     width = 2.0 * float(radius)
-    for limit in (1, TIGHT):  # a gap no robot passes, else one that only one robot passes
-        gap, whose = None, "its"
-        if d == 2:  # (a gap blocks only in the plane: in space a path goes around)
-            for robot in robots:
-                gap = _narrow_gap(ws[0, :m], ws[:, robot], rad, orad, box, ks, walls,
-                                  limit * 2.0 * rad)
-                if gap is not None:
-                    whose = "its" if len(robots) == 1 else f"robot x{robot - m + 1}'s"
-                    break
-        if gap is not None:
-            break
-    if gap is None:
+    found = []  # (robot, the narrowest gap narrower than TIGHT robots its path crosses)
+    if d == 2:  # (a gap blocks only in the plane: in space a path goes around)
+        for robot in robots:
+            gap = _narrow_gap(ws[0, :m], ws[:, robot], rad, orad, box, ks, walls,
+                              TIGHT * 2.0 * rad)
+            if gap is not None:
+                found.append((robot, gap))
+    # a gap no robot passes first (of either robot, in order), else one only one robot passes
+    found.sort(key=lambda rg: not rg[1][-1] < 2.0 * rad)
+    if not found:
         return f"{head}; {_MSG_EFFORT}"
+    robot, gap = found[0]
+    narrow = gap[-1] < 2.0 * rad
+    whose = "its" if len(robots) == 1 else f"robot x{robot - m + 1}'s"
     size = float(np.ldexp(gap[-1], e))
     if gap[0] == "obstacle":
         words = dict(whose=whose, k=gap[1] + 1, l=gap[2] + 1, gap=size, width=width)
-        why = (_MSG_GAP_OBSTACLES.format(**words) if limit == 1 else
+        why = (_MSG_GAP_OBSTACLES.format(**words) if narrow else
                _MSG_TIGHT_OBSTACLES.format(**words, spare=size - width))
     else:
         _, k, side, c, _ = gap
         words = dict(whose=whose, k=k + 1, c=c, wall=float(bounds[side][c]), gap=size,
                      width=width)
-        why = (_MSG_GAP_WALL.format(**words) if limit == 1 else
+        why = (_MSG_GAP_WALL.format(**words) if narrow else
                _MSG_TIGHT_WALL.format(**words, spare=size - width))
-    return f"{head}; {why}" if limit == 1 else f"{head}; {why}; {_MSG_EFFORT}"
+    return f"{head}; {why}" if narrow else f"{head}; {why}; {_MSG_EFFORT}"
 
 
 def _crosses(path: np.ndarray, p: np.ndarray, q: np.ndarray) -> bool:
