@@ -66,19 +66,12 @@ _LANES = obstacle_line.lane_heights
 def one_side(fr, obstacles, lift, n, compact=False):
     """The compact lanes all on the side of ``nu``: robot i at ``H_+ + i u`` (consecutive lanes
     ``u`` apart, every lane at least ``u`` above every obstacle's height, as in Mathematics
-    §4.4), in the order of :func:`pmplan.planners.obstacle_line.lane_heights`'s sums."""
+    §4.4), from :func:`pmplan.planners.obstacle_line.lane_heights`'s first lane ``H_+ + u``."""
+    heights = _LANES(fr, obstacles, lift, n, compact)
     if not compact:
-        return _LANES(fr, obstacles, lift, n, compact)
-    u = obstacle_line.unit(obstacles, lift)
-    b, m, d = obstacles.shape
-    hp = np.zeros(b)
-    for k in range(2, m):
-        t = np.zeros(b)
-        for c in range(d):
-            t = t + (obstacles[:, k, c] - obstacles[:, 0, c]) * fr.nu[:, c]
-        hp = np.where(t > hp, t, hp)
-    i = np.arange(1, n + 1, dtype=float)
-    return hp[:, None] + u[:, None] * i[None, :]
+        return heights
+    u = obstacle_line.unit(obstacles, lift)[:, None]
+    return heights[:, :1] + u * np.arange(n, dtype=float)[None, :]
 
 
 class Runner(sc.ReferenceRunner):
