@@ -112,8 +112,8 @@ def row(task) -> dict:
                 _, res = runner.plan(o, s, g)
                 p = res[0]
                 ok = bool(p.respects_radius)
-                why.append("" if ok else "gap" if scenes.reason_category(
-                    p.radius_reason or "") == "gap" else "contact")
+                why.append("" if ok else "gap" if scenes.reason_category(p) == "gap"
+                           else "contact")
                 lens.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum()
                             if ok else np.nan)
                 probes += sc.continuity(runner, o, s, g, res, rng)

@@ -26,7 +26,6 @@ Writes ``benchmarks/misses.json`` and ``.md``. Not a test module.
 
 from __future__ import annotations
 
-import re
 import sys
 import time
 from pathlib import Path
@@ -57,12 +56,11 @@ def _far_share(p) -> float:
     return float((d > FAR * scenes.R).mean())
 
 
-def tight_gap(reason: str) -> float | None:
-    """The width of the gap with room for one robot only that a contact's reason names
-    (``pmplan.reasons.TIGHT``), or None."""
-    found = re.search(r"passes through the gap between [^,]*, (?:whose discs leave )?"
-                      r"([0-9.eE+-]+)", reason or "")
-    return float(found.group(1)) if found else None
+def tight_gap(p) -> float | None:
+    """The width of the gap with room for one robot only (``pmplan.reasons.TIGHT``) that the
+    reason of a contact of plan ``p`` names (its ``radius_miss.gap``), or None."""
+    gap = p.radius_miss.gap
+    return None if gap is None or gap.narrow else gap.width
 
 
 def _worst(p) -> float:
@@ -78,7 +76,7 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
         out["far"].append(_far_share(p))
         if p.respects_radius:
             continue
-        miss = {"query": qi, "why": scenes.reason_category(p.radius_reason or ""),
+        miss = {"query": qi, "why": scenes.reason_category(p), "tight": tight_gap(p),
                 "reason": p.radius_reason, "worst": _worst(p),
                 "raw_clearance": float(p.raw_clearance), "efforts": {}}
         # the raw plan of p: the default unit of a refined plan is the robots' diameter
@@ -121,7 +119,7 @@ def markdown(res: dict) -> str:
         for mi in c["misses"]:
             cells = [f"{'yes' if v['valid'] else 'no'}, {v['worst']:.3f}, {v['ms']:.0f}"
                      for v in mi["efforts"].values()]
-            width = tight_gap(mi["reason"])
+            width = mi["tight"]
             why = mi["why"] + ("" if width is None else f" (one-robot gap {width:.3g})")
             lines.append(f"| {c['seed']} | {c['family']} n = {c['n']} | {mi['query']} | "
                          f"{why} | {mi['raw_clearance']:.2g} | {mi['worst']:.3f} | "
@@ -139,7 +137,7 @@ def markdown(res: dict) -> str:
         lines.append(f"* {kind}: {t[0]} plans miss at the default effort; kept at "
                      + ", ".join(f"{e}: {v}" for e, v in zip(eff, t[1:])) + ".")
     contacts = [mi for c in res["rows"] for mi in c["misses"] if mi["why"] != "gap"]
-    tight = [mi for mi in contacts if tight_gap(mi["reason"]) is not None]
+    tight = [mi for mi in contacts if mi["tight"] is not None]
     lines.append(f"* of the {len(contacts)} contacts, {len(tight)} are where the path passes "
                  "through a gap with room for one robot only (wider than a robot, narrower than "
                  "two side by side; `pmplan.reasons.TIGHT`), which the reason names; kept at "

@@ -188,15 +188,12 @@ def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv
     return 0
 
 
-def reason_category(reason: str) -> str:
-    """Why a refined plan misses the radii, from its ``radius_reason``
-    (:mod:`pmplan.reasons`): ``"gap"`` (its path crosses a gap of the scene narrower than a
-    robot), else the worst contact the refinement did not clear: ``"robots"``, ``"wall"`` or
-    ``"obstacle"``."""
-    if "crosses the gap" in reason:
-        return "gap"
-    return "robots" if reason.startswith("robots") else "wall" if "from the wall" in reason \
-        else "obstacle"
+def reason_category(plan) -> str:
+    """Why a refined plan that misses the radii misses them: the ``category`` of its
+    ``radius_miss`` (:class:`pmplan.reasons.RadiusMiss`): ``"gap"`` (its path crosses a gap of
+    the scene narrower than a robot), else the worst contact the refinement did not clear:
+    ``"robots"``, ``"wall"`` or ``"obstacle"``."""
+    return plan.radius_miss.category
 
 
 def summary(label: str, qs: list, plan) -> dict:
@@ -213,7 +210,7 @@ def summary(label: str, qs: list, plan) -> dict:
         times.append(time.perf_counter() - t0)
         ok += bool(p.respects_radius)
         if not p.respects_radius:
-            cat = reason_category(p.radius_reason or "")
+            cat = reason_category(p)
             why[cat] = why.get(cat, 0) + 1
         ratios.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
     out = {"valid": ok, "count": len(times), "time_ms": 1e3 * float(np.median(times)),

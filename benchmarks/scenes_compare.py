@@ -275,13 +275,13 @@ def _label_change(a, b) -> bool:
 
 
 def why_category(plan, keeps: bool, inside: bool) -> str | None:
-    """Why an invalid pmplan path is invalid: :func:`scenes.reason_category` of its
-    ``radius_reason``, or ``"outside"`` (keeps r but leaves the box: planned without it)."""
+    """Why an invalid pmplan path is invalid: :func:`scenes.reason_category` (the category of
+    its ``radius_miss``), or ``"outside"`` (keeps r but leaves the box: planned without it)."""
     if keeps and inside:
         return None
     if keeps:
         return "outside"
-    return scenes.reason_category(plan.radius_reason or "")
+    return scenes.reason_category(plan)
 
 
 def continuity(runner, o, s, g, res, rng) -> list[dict]:

@@ -16,9 +16,9 @@ from hypothesis import strategies as st
 
 import pmplan
 from pmplan import cli
-from pmplan.io import plan_to_dict
 from pmplan.certify import exact_segment_dist2, point_pairs
-from pmplan.reasons import TIGHT, radius_reason
+from pmplan.io import plan_to_dict
+from pmplan.reasons import TIGHT, Gap, RadiusMiss, radius_miss, radius_reason
 
 #: a room query (rounded from benchmarks/scenes.py's room family, seed 1, n = 4, query 4): in
 #: the box [0, 10]^2 robot x4 crosses the gap between obstacle o6 and the wall y = 0, 0.17
@@ -80,6 +80,19 @@ def test_the_reason_names_the_worst_contact_at_every_magnitude(seed, d, m, n, e)
     who_e, dist_e, when_e = _quoted(scaled)
     assert (who_e, when_e) == (who, when)
     assert abs(np.ldexp(dist_e, -e) - dist) <= 1e-5 * dist
+    # the fields say what the sentence says, unrounded, and scale with the scene
+    miss = radius_miss(times, wp, m, radius, orad)
+    assert miss.sentence == str(miss) == reason
+    names = re.findall(r"[xo]\d+", who)
+    assert miss.contact == ("robots" if who.startswith("robots") else "obstacle")
+    assert set(miss.between) == set(names)
+    assert abs(miss.distance - exact) <= 1e-9 * exact + 1e-300
+    assert miss.need == float(need) and f"{miss.t:.3f}" == f"{when:.3f}"
+    assert miss.category in ("gap", miss.contact)
+    big = radius_miss(times, np.ldexp(wp, e), m, np.ldexp(radius, e), np.ldexp(orad, e))
+    assert (big.contact, big.between, big.t) == (miss.contact, miss.between, miss.t)
+    assert big.distance == pytest.approx(np.ldexp(miss.distance, e), rel=1e-12)
+    assert big.need == np.ldexp(miss.need, e)
 
 
 def test_a_gap_between_two_obstacles_is_named_in_the_plane_only():
@@ -90,9 +103,16 @@ def test_a_gap_between_two_obstacles_is_named_in_the_plane_only():
                    [[0.0, 0.5], [0.0, -0.5], [1.0, 0.0]]])
     plane = radius_reason([0.0, 1.0], wp, 2, 0.2, 0.4)
     assert "crosses the gap between obstacles o1 and o2, whose discs leave 0.2" in plane
+    miss = radius_miss([0.0, 1.0], wp, 2, 0.2, 0.4)
+    assert (miss.gap.robot, miss.gap.between) == ("x1", ("o1", "o2"))
+    assert miss.gap.width == pytest.approx(0.2) and miss.gap.robot_width == 0.4
+    assert miss.gap.narrow and miss.gap.spare < 0 and miss.category == "gap"
     space = radius_reason([0.0, 1.0], np.concatenate([wp, np.zeros((2, 3, 1))], axis=-1), 2,
                           0.2, 0.4)
     assert "gap" not in space and "more effort" in space
+    miss = radius_miss([0.0, 1.0], np.concatenate([wp, np.zeros((2, 3, 1))], axis=-1), 2, 0.2,
+                       0.4)
+    assert miss.gap is None and miss.category == "obstacle"
     # the same robot passing beside the pair, not between: no gap is claimed
     beside = wp.copy()
     beside[:, 2, 1] = 0.9
@@ -109,12 +129,19 @@ def test_a_gap_between_an_obstacle_and_a_wall_and_a_wall_contact():
     reason = radius_reason([0.0, 1.0], wp, 1, 0.15, 0.15, box)
     assert reason.startswith("robot x1 comes 0.1 from obstacle o1 at t = 0.500")
     assert "crosses the gap between obstacle o1 and the wall x[1] = 0, 0.15 wide" in reason
+    miss = radius_miss([0.0, 1.0], wp, 1, 0.15, 0.15, box)
+    assert miss.gap == Gap("x1", ("o1", "x[1] = 0"), miss.gap.width, 0.3)
+    assert miss.gap.width == pytest.approx(0.15) and miss.category == "gap"
     # without the box, nothing to cross
     assert "gap" not in radius_reason([0.0, 1.0], wp, 1, 0.15, 0.15)
     # a robot too near a wall, far from every obstacle: the wall is the contact
     wp = np.array([[[5.0, 5.0], [1.0, 9.0]], [[5.0, 5.0], [1.0, 9.95]]])
     reason = radius_reason([0.0, 1.0], wp, 1, 0.15, 0.15, box)
     assert reason.startswith("robot x1 comes 0.05 from the wall x[1] = 10 at t = 1.000")
+    miss = radius_miss([0.0, 1.0], wp, 1, 0.15, 0.15, box)
+    assert (miss.contact, miss.between, miss.t, miss.need) == ("wall", ("x1", "x[1] = 10"),
+                                                               1.0, 0.15)
+    assert miss.distance == pytest.approx(0.05) and miss.category == "wall"
 
 
 def test_a_contact_in_a_gap_with_room_for_one_robot_names_the_gap_and_the_effort():
@@ -130,11 +157,15 @@ def test_a_contact_in_a_gap_with_room_for_one_robot_names_the_gap_and_the_effort
             "wide, room for one robot (2 radius = 0.3) with 0.008 to spare; the refinement's "
             "fixed steps did not clear it") in reason
     assert "crosses the gap" not in reason and "no motion" not in reason
+    miss = radius_miss([0.0, 1.0], wp, 1, 0.15, 0.15, box)
+    assert miss.gap.between == ("o1", "x[1] = 0") and not miss.gap.narrow
+    assert miss.gap.spare == pytest.approx(0.008) and miss.category == "obstacle"
     for y in (0.15 + TIGHT * 0.3 + 1e-9, 2.0):  # room for two robots side by side
         wp[:, 0] = [5.0, y]
         wp[:, 1, 1] = y - 0.25
         reason = radius_reason([0.0, 1.0], wp, 1, 0.15, 0.15, box)
         assert "gap" not in reason and "more effort" in reason, reason
+        assert radius_miss([0.0, 1.0], wp, 1, 0.15, 0.15, box).gap is None
     # between two obstacles whose discs leave 0.45: named, the narrowest of those crossed
     wp = np.array([[[0.0, 0.375], [0.0, -0.375], [0.0, 5.0], [-1.0, 0.1]],
                    [[0.0, 0.375], [0.0, -0.375], [0.0, 5.0], [1.0, 0.1]]])
@@ -154,6 +185,9 @@ def test_two_robots_pressed_together_in_a_gap_no_robot_passes():
     assert reason.startswith("robots x1 and x2 come 0.03 apart")
     assert ("robot x1's path crosses the gap between obstacle o1 and the wall x[1] = 0, 0.15 "
             "wide") in reason
+    miss = radius_miss([0.0, 1.0], wp, 1, 0.15, 0.15, box)
+    assert (miss.contact, miss.between, miss.gap.robot) == ("robots", ("x1", "x2"), "x1")
+    assert miss.category == "gap"
     # the obstacle lifted out of the way: the same contact, no gap, the effort's knob
     wp[:, 0] = [5.0, 3.0]
     reason = radius_reason([0.0, 1.0], wp, 1, 0.15, 0.15, box)
@@ -178,6 +212,17 @@ def test_a_plan_gives_its_reason_in_the_api_the_json_and_the_cli(capsys, tmp_pat
     assert batch[0].radius_reason == boxed.radius_reason
     assert plan_to_dict(boxed)["radius_reason"] == boxed.radius_reason
     assert plan_to_dict(free)["radius_reason"] is None
+    # the same reason for a program: the fields, in the plan, the batch and the JSON
+    miss = boxed.radius_miss
+    assert isinstance(miss, RadiusMiss) and str(miss) == boxed.radius_reason
+    assert miss.gap.robot == "x4" and miss.gap.between == ("o6", "x[1] = 0")
+    assert miss.category == "gap" and free.radius_miss is None
+    assert batch.radius_miss[0] == miss
+    fields = plan_to_dict(boxed)["radius_miss"]
+    assert json.loads(json.dumps(fields)) == fields
+    assert fields["category"] == "gap" and fields["gap"]["between"] == ["o6", "x[1] = 0"]
+    assert fields["between"] == list(miss.between) and fields["distance"] == miss.distance
+    assert plan_to_dict(free)["radius_miss"] is None
     path = tmp_path / "room.json"
     path.write_text(json.dumps({**ROOM, "bounds": [0, 10]}))
     assert cli.main(["plan", str(path), "--refine", "--radius", "0.15",
@@ -192,9 +237,11 @@ def test_a_plan_gives_its_reason_in_the_api_the_json_and_the_cli(capsys, tmp_pat
     assert f"radii respected by 0 of 2 (query 0: {boxed.radius_reason})" in out
     with np.load(tmp_path / "out.npz") as res:  # every query's reason, in the npz
         assert res["radius_reason"].tolist() == [boxed.radius_reason] * 2
+        assert res["radius_category"].tolist() == ["gap"] * 2
     # the batch's reasons: None where the radii are kept
     both = pmplan.plan_batch(np.stack([o, o]), np.stack([s, s]), np.stack([g, g]), **kw)
     assert both.respects_radius.all() and both.radius_reason.tolist() == [None, None]
+    assert both.radius_miss.tolist() == [None, None]
     twice = pmplan.plan_batch(np.stack([o, o]), np.stack([s, s]), np.stack([g, g]),
                               bounds=(0, 10), **kw)
     assert twice.radius_reason.tolist() == [boxed.radius_reason] * 2
@@ -219,6 +266,10 @@ def test_the_reason_is_none_exactly_when_the_radii_are_kept():
             who, dist, when = _quoted(p.radius_reason)
             need = 2 * radius
             assert dist <= need * (1 + 1e-6) and 0 <= when <= 1
+            assert str(p.radius_miss) == p.radius_reason
+            assert p.radius_miss.distance <= p.radius_miss.need * (1 + 1e-12)
+        else:
+            assert p.radius_miss is None
     assert seen[False] > 0 and seen[True] > 0
 
 

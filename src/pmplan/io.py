@@ -16,7 +16,9 @@ Batch npz (``pmplan batch``): arrays ``obstacles`` (B, m, d), ``start`` (B, n, d
 refined motions (:data:`REFINE_FIELDS`, issue 14): ``refined``, ``radius``, ``obstacle_radius``
 (B,) always; for a refined batch also ``respects_radius`` (B,), the exact minima
 ``robot_distance``, ``obstacle_distance`` (B,), ``radius_reason`` (B,) strings (why a plan
-misses its radii, :mod:`pmplan.reasons`; empty where it keeps them) and the unrefined plans'
+misses its radii, :mod:`pmplan.reasons`; empty where it keeps them), ``radius_category`` (B,)
+strings (its :attr:`~pmplan.reasons.RadiusMiss.category`: ``gap``, ``robots``, ``obstacle`` or
+``wall``; empty where it keeps them) and the unrefined plans'
 ``raw_clearance`` (B,)
 (an unrefined batch has radius 0, and its minimum distance is ``clearance``: measuring the two
 minima apart would cost a pass over all pairs, so ``pmplan batch`` without ``--refine`` stays
@@ -209,6 +211,10 @@ def plan_to_dict(plan, samples: int | None = None) -> dict:
     """Return the JSON-ready dict of a :class:`~pmplan.Plan`.
 
     With ``samples=K`` the path is given as K equally spaced samples instead of its waypoints.
+    A plan that misses its radii says why twice: ``radius_reason``, the sentence, and
+    ``radius_miss``, its fields (:meth:`pmplan.reasons.RadiusMiss.as_dict`: ``contact``,
+    ``between``, ``distance``, ``need``, ``t``, ``gap`` and ``category``); both are null when
+    the radii are kept.
     """
     out = {
         "planner": plan.planner,
@@ -225,6 +231,8 @@ def plan_to_dict(plan, samples: int | None = None) -> dict:
         else:  # a length: JSON has no infinity (no pair to measure: null)
             out[key] = float(value) if np.isfinite(value) else None
     out["radius_reason"] = plan.radius_reason  # (None when the radii are kept)
+    miss = plan.radius_miss
+    out["radius_miss"] = None if miss is None else miss.as_dict()
     if samples is not None:
         if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) \
                 or not 2 <= samples <= MAX_SAMPLES:
@@ -393,6 +401,15 @@ def read_queries(path: str | Path) -> dict:
     return out
 
 
+
+def _misses(batch) -> dict:
+    """The npz arrays of why a refined batch's plans miss their radii: ``radius_reason`` and
+    ``radius_category`` (B,) strings, empty where the radii are kept."""
+    misses = batch.radius_miss
+    return {"radius_reason": np.array([mi.sentence if mi else "" for mi in misses], dtype=str),
+            "radius_category": np.array([mi.category if mi else "" for mi in misses],
+                                        dtype=str)}
+
 def write_plans(path: str | Path, batch) -> Path:
     """Write a :class:`~pmplan.PlanBatch` to an npz file (see the module docstring).
 
@@ -418,8 +435,7 @@ def write_plans(path: str | Path, batch) -> Path:
         planner=np.array(batch.planner),
         **{key: np.asarray(getattr(batch, key))
            for key in (REFINE_FIELDS if refined else REFINE_FIELDS[:3])},
-        **({"radius_reason": np.array([r or "" for r in batch.radius_reason], dtype=str)}
-           if refined else {}),
+        **(_misses(batch) if refined else {}),
         **({} if batch.bounds is None else {"bounds": np.asarray(batch.bounds)}),
     )
     return path

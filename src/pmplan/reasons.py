@@ -14,6 +14,11 @@ a robot but narrower than two side by side (:data:`TIGHT`), it names that gap to
 leaves to spare: a motion through it may keep the radii, near the gap's middle and one robot at
 a time.
 
+The reason is a :class:`RadiusMiss`, which a program reads by its fields (the contact, the
+two things that meet, the distance against the need, the time, and the :class:`Gap` it names)
+and a user by its sentence (``str``); :func:`radius_miss` builds it and :func:`radius_reason`
+gives the sentence alone.
+
 The decision itself (``respects_radius``) stays exact (:func:`pmplan.certify.radius_report`);
 the distances quoted here are the closed-form piece minima in floating point, evaluated in the
 path's power-of-two frame (no square underflows or overflows at any magnitude).
@@ -21,14 +26,16 @@ path's power-of-two frame (no square underflows or overflows at any magnitude).
 
 from __future__ import annotations
 
+from dataclasses import asdict, dataclass
 from decimal import Decimal, localcontext
 from fractions import Fraction
+from typing import Literal
 
 import numpy as np
 
 from .certify import point_pairs, power_of_two_frame, segment_closest
 
-__all__ = ["TIGHT", "radius_reason"]
+__all__ = ["TIGHT", "Gap", "RadiusMiss", "radius_miss", "radius_reason"]
 
 _MSG_ROBOTS = ("robots x{i} and x{j} come {dist} apart at t = {t:.3f}, closer than "
                "2 radius = {need}")
@@ -56,6 +63,99 @@ _MSG_EFFORT = ("the refinement's fixed steps did not clear it: more effort (larg
                "`waypoints` and `steps` of pmplan.refine) may")
 
 
+
+@dataclass(frozen=True)
+class Gap:
+    """A gap of the scene, in the plane, that a robot's path passes through: between two
+    obstacles' discs, or between an obstacle's disc and a wall of the workspace box.
+
+    Attributes
+    ----------
+    robot : str
+        The robot whose path passes through it, ``"x1"`` .. ``"xn"``.
+    between : tuple of str
+        What leaves the gap: two obstacles (``("o5", "o6")``) or an obstacle and a wall
+        (``("o5", "x[1] = 0")``, the wall where coordinate 1 is 0).
+    width : float
+        The room the gap leaves: the distance between the two discs, or from the disc to the
+        wall.
+    robot_width : float
+        A robot's width, ``2 radius``.
+    """
+
+    robot: str
+    between: tuple[str, str]
+    width: float
+    robot_width: float
+
+    @property
+    def narrow(self) -> bool:
+        """Whether the gap is narrower than a robot: no motion that crosses it keeps the radii
+        (else it has room for one robot, and fewer than :data:`TIGHT` side by side)."""
+        return self.width < self.robot_width
+
+    @property
+    def spare(self) -> float:
+        """``width - robot_width``: what the gap leaves to spare around one robot (negative
+        for a narrow gap)."""
+        return self.width - self.robot_width
+
+
+@dataclass(frozen=True)
+class RadiusMiss:
+    """Why a refined plan misses its radii: the worst contact of its path, measured against
+    what the two need, and the gap of the scene it passes through there, if any
+    (:func:`radius_miss`). ``str()`` gives the sentence (:attr:`pmplan.Plan.radius_reason`).
+
+    Attributes
+    ----------
+    contact : {"robots", "obstacle", "wall"}
+        Two robots, a robot and an obstacle, or a robot and a wall of the workspace box.
+    between : tuple of str
+        The two that meet: ``("x1", "x7")``, ``("x8", "o2")`` or ``("x3", "x[1] = 0")``.
+    distance : float
+        How close they come (the closed-form piece minimum, in floating point).
+    need : float
+        What they need: ``2 radius``, ``radius + obstacle_radius`` or ``radius``.
+    t : float
+        When, in [0, 1].
+    gap : Gap or None
+        In the plane, the gap the path (either robot's, for two robots) passes through there:
+        the narrowest one narrower than a robot (:attr:`Gap.narrow`), else the narrowest with
+        room for fewer than :data:`TIGHT` robots side by side; None when it passes through
+        neither.
+    sentence : str
+        The reason in one sentence a user can read.
+    """
+
+    contact: Literal["robots", "obstacle", "wall"]
+    between: tuple[str, str]
+    distance: float
+    need: float
+    t: float
+    gap: Gap | None
+    sentence: str
+
+    @property
+    def category(self) -> Literal["gap", "robots", "obstacle", "wall"]:
+        """``"gap"`` when the path crosses a gap narrower than a robot (the scene leaves no
+        room: no refinement clears it), else the contact the refinement did not clear."""
+        return "gap" if self.gap is not None and self.gap.narrow else self.contact
+
+    def as_dict(self) -> dict:
+        """The fields as JSON-ready values, with :attr:`category` (the ``radius_miss`` of
+        :func:`pmplan.io.plan_to_dict`)."""
+        out = asdict(self)
+        out["between"] = list(self.between)
+        if self.gap is not None:
+            out["gap"]["between"] = list(self.gap.between)
+        out["category"] = self.category
+        return out
+
+    def __str__(self) -> str:
+        return self.sentence
+
+
 def _shown(dist: float, need: Fraction) -> dict:
     """``dist`` and the exact bound ``need`` as text: six significant digits, or seventeen when
     six would show them equal (a contact decided exactly, within rounding of the bound)."""
@@ -69,7 +169,8 @@ def _shown(dist: float, need: Fraction) -> dict:
 
 def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: float,
                   bounds=None) -> str:
-    """Return why the path does not keep the radii, in one sentence a user can read.
+    """Return why the path does not keep the radii, in one sentence a user can read: the
+    sentence of :func:`radius_miss` (empty when there is no pair to measure).
 
     Parameters
     ----------
@@ -101,6 +202,32 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
     >>> print(radius_reason([0.0, 1.0], wp, 2, 0.2, 0.4))
     robot x1 comes 0.5 from obstacle o1 at t = 0.500, closer than radius + obstacle_radius = 0.6; its path crosses the gap between obstacles o1 and o2, whose discs leave 0.2, narrower than a robot (2 radius = 0.4): no motion that crosses that gap keeps the radii
     """
+    miss = radius_miss(times, waypoints, m, radius, obstacle_radius, bounds)
+    return "" if miss is None else miss.sentence
+
+
+def radius_miss(times, waypoints, m: int, radius: float, obstacle_radius: float,
+                bounds=None) -> RadiusMiss | None:
+    """Return why the path does not keep the radii, as a :class:`RadiusMiss` (its fields, and
+    the sentence of :func:`radius_reason`); None when there is no pair to measure (no radii).
+
+    The parameters are :func:`radius_reason`'s.
+
+    Examples
+    --------
+    A robot 0.5 wide (radius 0.25) that must pass between two obstacles (radius 0.5) whose
+    discs leave 0.25:
+
+    >>> wp = np.array([[[0.0, 0.625], [0.0, -0.625], [-1.0, 0.0]],
+    ...                [[0.0, 0.625], [0.0, -0.625], [1.0, 0.0]]])
+    >>> miss = radius_miss([0.0, 1.0], wp, 2, 0.25, 0.5)
+    >>> miss.contact, miss.between, miss.distance, miss.need, miss.t
+    ('obstacle', ('x1', 'o1'), 0.625, 0.75, 0.5)
+    >>> miss.gap
+    Gap(robot='x1', between=('o1', 'o2'), width=0.25, robot_width=0.5)
+    >>> miss.gap.narrow, miss.category
+    (True, 'gap')
+    """
     t = np.asarray(times, dtype=float)
     wp = np.asarray(waypoints, dtype=float)
     _, p, d = wp.shape
@@ -124,30 +251,33 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
         side, k, i, c = np.unravel_index(int(np.argmin(slack)), slack.shape)
         cands.append((float(slack[side, k, i, c]) / rad, "wall", (side, k, i, c)))
     if not cands:
-        return ""
+        return None
     _, kind, data = min(cands, key=lambda x: x[0])
     all_walls = [(side, c) for side in (0, 1) for c in range(d)]
     if kind == "wall":
         side, k, i, c = data
         dist = float(np.ldexp(slack[side, k, i, c], e))
-        head = _MSG_WALL.format(i=i + 1, c=c, wall=float(bounds[side][c]), t=float(t[k]),
-                                **_shown(dist, Fraction(radius)))
+        when, bound = float(t[k]), Fraction(radius)
+        head = _MSG_WALL.format(i=i + 1, c=c, wall=float(bounds[side][c]), t=when,
+                                **_shown(dist, bound))
+        contact, between = "wall", (f"x{i + 1}", _wall(bounds, side, c))
         robots, ks, walls = (m + i,), range(m), [(side, c)]
     else:
         j, q, dist, frac = data
+        dist = float(np.ldexp(dist, e))
         when = float(t[j] + frac * (t[j + 1] - t[j]))
         a, b = int(pa[q]), int(pb[q])
         if a >= m:
-            head = _MSG_ROBOTS.format(i=a - m + 1, j=b - m + 1, t=when,
-                                      **_shown(float(np.ldexp(dist, e)), 2 * Fraction(radius)))
+            bound = 2 * Fraction(radius)
+            head = _MSG_ROBOTS.format(i=a - m + 1, j=b - m + 1, t=when, **_shown(dist, bound))
+            contact, between = "robots", (f"x{a - m + 1}", f"x{b - m + 1}")
             # two robots pressed together: either one's path may cross a gap no robot passes
             # (then its own radii are lost there too, whatever the refinement does)
             robots, ks, walls = (a, b), range(m), all_walls
         else:
-            head = _MSG_OBSTACLE.format(i=b - m + 1, k=a + 1,
-                                        **_shown(float(np.ldexp(dist, e)),
-                                                 Fraction(radius) + Fraction(obstacle_radius)),
-                                        t=when)
+            bound = Fraction(radius) + Fraction(obstacle_radius)
+            head = _MSG_OBSTACLE.format(i=b - m + 1, k=a + 1, **_shown(dist, bound), t=when)
+            contact, between = "obstacle", (f"x{b - m + 1}", f"o{a + 1}")
             robots, ks, walls = (b,), [a], all_walls
     width = 2.0 * float(radius)
     found = []  # (robot, the narrowest gap narrower than TIGHT robots its path crosses)
@@ -159,8 +289,9 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
                 found.append((robot, gap))
     # a gap no robot passes first (of either robot, in order), else one only one robot passes
     found.sort(key=lambda rg: not rg[1][-1] < 2.0 * rad)
+    miss = dict(contact=contact, between=between, distance=dist, need=float(bound), t=when)
     if not found:
-        return f"{head}; {_MSG_EFFORT}"
+        return RadiusMiss(**miss, gap=None, sentence=f"{head}; {_MSG_EFFORT}")
     robot, gap = found[0]
     narrow = gap[-1] < 2.0 * rad
     whose = "its" if len(robots) == 1 else f"robot x{robot - m + 1}'s"
@@ -169,13 +300,22 @@ def radius_reason(times, waypoints, m: int, radius: float, obstacle_radius: floa
         words = dict(whose=whose, k=gap[1] + 1, l=gap[2] + 1, gap=size, width=width)
         why = (_MSG_GAP_OBSTACLES.format(**words) if narrow else
                _MSG_TIGHT_OBSTACLES.format(**words, spare=size - width))
+        pair = (f"o{gap[1] + 1}", f"o{gap[2] + 1}")
     else:
         _, k, side, c, _ = gap
         words = dict(whose=whose, k=k + 1, c=c, wall=float(bounds[side][c]), gap=size,
                      width=width)
         why = (_MSG_GAP_WALL.format(**words) if narrow else
                _MSG_TIGHT_WALL.format(**words, spare=size - width))
-    return f"{head}; {why}" if narrow else f"{head}; {why}; {_MSG_EFFORT}"
+        pair = (f"o{k + 1}", _wall(bounds, side, c))
+    sentence = f"{head}; {why}" if narrow else f"{head}; {why}; {_MSG_EFFORT}"
+    return RadiusMiss(**miss, gap=Gap(f"x{robot - m + 1}", pair, size, width),
+                      sentence=sentence)
+
+
+def _wall(bounds, side: int, c: int) -> str:
+    """The name of a wall of the box, as the sentences name it: ``"x[1] = 0"``."""
+    return f"x[{c}] = {float(bounds[side][c]):.6g}"
 
 
 def _crosses(path: np.ndarray, p: np.ndarray, q: np.ndarray) -> bool:

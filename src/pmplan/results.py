@@ -14,7 +14,7 @@ import numpy as np
 
 from .path import PiecewiseLinearPath
 from .planners.base import REGISTRY
-from .reasons import radius_reason
+from .reasons import RadiusMiss, radius_miss
 
 __all__ = ["Plan", "PlanBatch", "PlannerInfo"]
 
@@ -52,6 +52,11 @@ class Plan:
         (two robots, a robot and an obstacle, or a robot and a wall), where and how close, and
         the gap of the scene it passes through when that gap is narrower than a robot
         (:func:`pmplan.reasons.radius_reason`).
+    radius_miss : RadiusMiss or None
+        The same reason for a program (None when the radii are kept): the contact, the two
+        that meet, the distance against the need, the time, the gap and its width, and
+        ``category`` (``"gap"`` when the scene leaves no room there;
+        :class:`pmplan.reasons.RadiusMiss`).
     raw_clearance : float
         The clearance of the unrefined plan (``clearance`` itself when unrefined), or in a
         workspace box of the refinement's start, the plan at the raw breakpoints
@@ -118,13 +123,21 @@ class Plan:
         return self._measured[2]
 
     @cached_property
-    def radius_reason(self) -> str | None:
-        """Why the radii are not kept, in one sentence a user can read; None when they are
-        (:func:`pmplan.reasons.radius_reason`)."""
+    def radius_miss(self) -> RadiusMiss | None:
+        """Why the radii are not kept, for a program: a :class:`~pmplan.reasons.RadiusMiss`
+        (its fields, and its sentence :attr:`radius_reason`); None when they are kept
+        (:func:`pmplan.reasons.radius_miss`)."""
         if self.respects_radius:
             return None
-        return radius_reason(self.path.times, self.path.waypoints, self.m, self.radius,
-                             self.obstacle_radius, self.bounds)
+        return radius_miss(self.path.times, self.path.waypoints, self.m, self.radius,
+                           self.obstacle_radius, self.bounds)
+
+    @property
+    def radius_reason(self) -> str | None:
+        """Why the radii are not kept, in one sentence a user can read; None when they are
+        (:func:`pmplan.reasons.radius_reason`; the sentence of :attr:`radius_miss`)."""
+        miss = self.radius_miss
+        return None if miss is None else miss.sentence
 
     @property
     def m(self) -> int:
@@ -233,13 +246,25 @@ class PlanBatch:
                                 "Whether every path keeps the radii (B,) bool, decided exactly.")
 
     @property
+    def radius_miss(self) -> np.ndarray:
+        """Why each plan misses its radii, for a program (B,) object array: the
+        :class:`~pmplan.reasons.RadiusMiss` of :attr:`Plan.radius_miss` where
+        ``respects_radius`` is False, None where it holds (computed for the missing rows only,
+        on each access)."""
+        out = np.full(len(self), None, dtype=object)
+        for i in np.flatnonzero(~np.asarray(self.respects_radius, dtype=bool)):
+            out[i] = self._plan(int(i)).radius_miss
+        return out
+
+    @property
     def radius_reason(self) -> np.ndarray:
         """Why each plan misses its radii (B,) object array: the sentence of
         :attr:`Plan.radius_reason` where ``respects_radius`` is False, None where it holds
         (computed for the missing rows only, on each access)."""
         out = np.full(len(self), None, dtype=object)
-        for i in np.flatnonzero(~np.asarray(self.respects_radius, dtype=bool)):
-            out[i] = self._plan(int(i)).radius_reason
+        for i, miss in enumerate(self.radius_miss):
+            if miss is not None:
+                out[i] = miss.sentence
         return out
 
     def __len__(self) -> int:
