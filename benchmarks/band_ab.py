@@ -17,7 +17,7 @@ Rows: the scene families of ``benchmarks/scenes.py`` (room, swap, room_walls, sw
 room3d) with n = 2, 4, 8 and 16, 16 queries each; pmplan's default plan in the box
 (``bounds=(0, 10)``) refined at its default effort with radius = obstacle_radius = r/2. Four
 variants, in one process on the same queries: the band 1/8 (pmplan's), 3/16, 1/4 and 5/16 (the
-map of :mod:`pmplan.running` replaced for the measurement by the same map with another band;
+band of :mod:`pmplan.running`'s map set for the measurement, ``pmplan.running.BAND``;
 nothing else changes). Per row and variant: the queries valid (keep the radii and stay in the
 box, decided exactly), why the others are not (``Plan.radius_reason``), the median length / LB,
 and the modulus of continuity: every point of each query moved by delta times a vector uniform
@@ -37,7 +37,6 @@ Not a test module.
 
 from __future__ import annotations
 
-import functools
 import importlib
 import sys
 from pathlib import Path
@@ -57,7 +56,7 @@ VARIANTS = list(BANDS)
 DESIGN = {1, 2, 4, 5}
 SEEN = set(range(6, 14))
 RUNNING = importlib.import_module("pmplan.running")
-_FROM, _INTO = RUNNING.from_box_linear, RUNNING.path_into_box_linear
+_BAND = RUNNING.BAND
 #: the moved queries of the continuity probe: scenes_compare's pmplan default in the box
 _PROBE = scenes_compare.PmplanRunner(None, bounded=True)
 
@@ -65,8 +64,7 @@ _PROBE = scenes_compare.PmplanRunner(None, bounded=True)
 def variant(name: str) -> None:
     """Switch pmplan's map of the box to the band of one variant (None: pmplan's own)."""
     band = BANDS[name]
-    RUNNING.from_box_linear = _FROM if band is None else functools.partial(_FROM, frac=band)
-    RUNNING.path_into_box_linear = _INTO if band is None else functools.partial(_INTO, frac=band)
+    RUNNING.BAND = _BAND if band is None else band
 
 
 def row(fam: str, n: int, seed: int, count: int) -> dict:

@@ -24,7 +24,8 @@ from pmplan.refine import refine_paths, targets
 
 #: the functions (and constants) of the protocol, in every backend module
 PROTOCOL = ("NAME", "available", "arrays", "plan", "validates", "certify", "single_query",
-            "sequence_query", "refine", "measure")
+            "sequence_query", "refine", "measure", "from_box_linear", "into_box",
+            "path_into_box_linear")
 CASES = [("obstacle_line", (2, 3, 2)), ("obstacle_line", (3, 2, 3)),
          ("obstacle_line", (2, 2, 4)), ("planar_three", (2, 1, 3))]
 
@@ -208,3 +209,39 @@ def test_every_backend_certifies_as_the_reference(name, dims, kind):
         want = certificate(w, s, g, m, times=times)
         np.testing.assert_array_equal(got[0], want[0])
         np.testing.assert_array_equal(got[1], want[1])
+
+
+@pytest.mark.parametrize("kind", ["random", "integer"])
+@pytest.mark.parametrize("name", sorted(backends.REGISTRY))
+def test_every_backend_maps_the_box_as_the_reference(name, kind):
+    """The maps of a workspace box: the queries mapped out of [0, 10]^d, the reference's plans
+    of them mapped back in (every piece cut at the nodes), and those paths brought into the
+    box shrunk by a radius, bit for bit :mod:`pmplan.workspace` (integer queries: points on
+    the nodes of the map)."""
+    from pmplan import workspace as W
+
+    be = _backend(name)
+    for dims in [(2, 3, 2), (3, 2, 3), (2, 8, 6)]:
+        d, n, m = dims
+        obstacles, configs = _queries(dims, kind, 12, seed=_seed(name, "box", dims, kind))
+        box = np.array([[0.0] * d, [10.0] * d])
+        obstacles = W.into_box_linear(obstacles, box)
+        configs = [W.into_box_linear(c, box) for c in configs]
+        if kind == "integer":  # (on the nodes 8.75, 10 (the wall, left out), and eighths)
+            obstacles = np.clip(np.round(obstacles * 8) / 8, 0.125, 9.875)
+            configs = [np.clip(np.round(c * 8) / 8, 0.125, 9.875) for c in configs]
+        outs = [be.from_box_linear(x, box, W.BAND) for x in [obstacles] + configs]
+        wants = [W.from_box_linear(x, box) for x in [obstacles] + configs]
+        for got, want in zip(outs, wants):
+            np.testing.assert_array_equal(got, want)
+        p = REGISTRY["obstacle_line"]
+        out = p.allocate(12, 2, m, n, d)
+        ok = backends.select("numpy").plan(p, wants[0], wants[1:], 1.0, out)
+        assert ok.any()
+        got = be.path_into_box_linear(out["times"], out["waypoints"], box, W.BAND)
+        want = W.path_into_box_linear(out["times"], out["waypoints"], box)
+        np.testing.assert_array_equal(got[0], want[0])
+        np.testing.assert_array_equal(got[1], want[1])
+        inner = W.shrunk(box, 0.15)
+        np.testing.assert_array_equal(be.into_box(out["waypoints"], inner, W.SQUEEZE),
+                                      W.into_box(out["waypoints"], inner, W.SQUEEZE))

@@ -42,13 +42,12 @@ from .refine import (
 )
 from .results import Plan, PlanBatch, extra_row
 from .workspace import (
+    BAND,
     check_bounds,
     check_inside,
     check_walls,
     crossing_width,
-    from_box_linear,
     inside,
-    path_into_box_linear,
     restore,
 )
 
@@ -532,7 +531,8 @@ def _raw_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers, 
     :func:`run_loop`)."""
     box = check_bounds(bounds, obstacles.shape[2])
     check_inside(obstacles, configs, box, batched=batched)
-    res = run_loop(p, from_box_linear(obstacles, box), [from_box_linear(c, box) for c in configs],
+    out_of = backends.select(backend).from_box_linear
+    res = run_loop(p, out_of(obstacles, box, BAND), [out_of(c, box, BAND) for c in configs],
                    lift, batched=batched, progress=progress, backend=backend, workers=workers)
     return box, res
 
@@ -593,7 +593,8 @@ def _plan_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers,
     raw_times, raw = np.asarray(res["times"]), np.asarray(res["waypoints"])
     fixed = p.fixed_waypoints(raw_times)
     try:
-        times, wp = path_into_box_linear(raw_times, raw, box, width=width)
+        times, wp = backends.select(backend).path_into_box_linear(raw_times, raw, box, BAND,
+                                                                  width)
     except ValueError:  # (a width too small; its crossings counted again only here)
         need = crossing_width(raw_times, raw, box)
         if width is None or need <= width:

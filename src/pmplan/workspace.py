@@ -46,6 +46,11 @@ Both maps are computed in the box's unit coordinates ``u = (x - lo) / (hi - lo)`
 ``BAND`` there): nothing underflows or overflows at any magnitude of the box, and a query and
 its box scaled together by a power of two give the same plan scaled, bit for bit (with
 ``lift="scene"``, whose plans are themselves equivariant).
+
+The functions here are the references; the planning functions call the maps through the
+backend seam (:mod:`pmplan.backends`: ``from_box_linear``, ``path_into_box_linear``,
+``into_box``), and the numba backend runs them as kernels, bit for bit these
+(``pmplan.kernels.box``).
 """
 
 from __future__ import annotations

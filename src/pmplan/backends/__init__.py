@@ -28,6 +28,12 @@ place that maps a name (``backend=`` of every planning function) to an implement
     The refined paths' clearance and robot and obstacle distances (B, 3), whether they keep
     the distances ``need`` (B,), and the rows too close to call, which the refinement then
     decides exactly; None: it decides every row exactly.
+``from_box_linear``, ``into_box``, ``path_into_box_linear``
+    The maps of a workspace box, bit for bit the references of :mod:`pmplan.workspace` with
+    the band ``frac`` an argument: ``from_box_linear(x, box, frac)`` maps the queries out of
+    it, ``into_box(z, box, frac)`` brings a refined path back in, and
+    ``path_into_box_linear(times, waypoints, box, frac, width=None)`` is the exact image of
+    paths.
 
 Two backends are registered (:data:`REGISTRY`): :mod:`pmplan.backends.numpy`, the references
 (exact, every planner's mathematics in numpy), and :mod:`pmplan.backends.numba`, the fused

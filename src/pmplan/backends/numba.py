@@ -23,8 +23,9 @@ from ..planners.planar_three import PLANAR_THREE
 from . import kernel_array, kernels, planar_kernels, shared_kernels
 from . import numpy as reference
 
-__all__ = ["NAME", "arrays", "available", "certify", "measure", "plan", "redecide", "refine",
-           "sequence_query", "single_query", "validates"]
+__all__ = ["NAME", "arrays", "available", "certify", "from_box_linear", "into_box", "measure",
+           "path_into_box_linear", "plan", "redecide", "refine", "sequence_query",
+           "single_query", "validates"]
 
 NAME = "numba"
 
@@ -336,3 +337,27 @@ def refine(times, waypoints, m: int, r: int, target, s: int, steps: int, walls=N
     from ..refine.kernel import refine_batch  # (the refinement imports the backends: not at import)
 
     return refine_batch(times, waypoints, m, r, target, s, steps, walls)
+
+
+def from_box_linear(x, box, frac: float):
+    """Points of the box mapped out of it, the kernel (``pmplan.kernels.box``; bit for bit
+    :func:`pmplan.workspace.from_box_linear`)."""
+    from ..kernels.box import from_box_linear as kernel
+
+    return kernel(x, box, frac)
+
+
+def into_box(z, box, frac: float):
+    """The algebraic map into the box, the kernel (bit for bit
+    :func:`pmplan.workspace.into_box`)."""
+    from ..kernels.box import into_box as kernel
+
+    return kernel(z, box, frac)
+
+
+def path_into_box_linear(times, waypoints, box, frac: float, width: int | None = None):
+    """The exact image of paths in the box, the kernel (bit for bit
+    :func:`pmplan.workspace.path_into_box_linear`, the same error for a ``width`` too small)."""
+    from ..kernels.box import path_into_box_linear as kernel
+
+    return kernel(times, waypoints, box, frac, width)

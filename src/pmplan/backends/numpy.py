@@ -1,15 +1,18 @@
 """The numpy backend: every planner's reference (:meth:`pmplan.planners.base.Planner.reference`,
 exact, in numpy), certified by :func:`pmplan.certify.certificate`; the refinement's reference
-map (:func:`pmplan.refine.reference.refine_paths`). The functions of :mod:`pmplan.backends`."""
+map (:func:`pmplan.refine.reference.refine_paths`); the maps of a workspace box
+(:mod:`pmplan.workspace`). The functions of :mod:`pmplan.backends`."""
 
 from __future__ import annotations
 
 import numpy as np
 
+from .. import workspace
 from ..certify import certificate
 
-__all__ = ["NAME", "arrays", "available", "certify", "measure", "plan", "plan_rows", "refine",
-           "sequence_query", "single_query", "validates"]
+__all__ = ["NAME", "arrays", "available", "certify", "from_box_linear", "into_box", "measure",
+           "path_into_box_linear", "plan", "plan_rows", "refine", "sequence_query",
+           "single_query", "validates"]
 
 NAME = "numpy"
 
@@ -88,3 +91,19 @@ def refine(times, waypoints, m: int, r: int, target, s: int, steps: int, walls=N
     from ..refine.reference import refine_paths  # (the refinement imports the backends: not at import)
 
     return refine_paths(times, waypoints, m, r, target, s, steps, walls)
+
+
+def from_box_linear(x, box, frac: float):
+    """Points of the box mapped out of it, the reference (:func:`pmplan.workspace.from_box_linear`)."""
+    return workspace.from_box_linear(x, box, frac)
+
+
+def into_box(z, box, frac: float):
+    """The algebraic map into the box, the reference (:func:`pmplan.workspace.into_box`)."""
+    return workspace.into_box(z, box, frac)
+
+
+def path_into_box_linear(times, waypoints, box, frac: float, width: int | None = None):
+    """The exact image of paths in the box, the reference
+    (:func:`pmplan.workspace.path_into_box_linear`)."""
+    return workspace.path_into_box_linear(times, waypoints, box, frac, width)

@@ -6,7 +6,8 @@
 * :mod:`~pmplan.kernels.obstacle_line` -- the obstacle-line planner and its certificate (the
   scalar kernel and the SIMD lanes);
 * :mod:`~pmplan.kernels.planar` -- the planar three-obstacle planner and its certificate;
-* :mod:`~pmplan.kernels.validation` -- finite coordinates, distinct points.
+* :mod:`~pmplan.kernels.validation` -- finite coordinates, distinct points;
+* :mod:`~pmplan.kernels.box` -- the maps of a workspace box (:mod:`pmplan.workspace`).
 
 A new planner's kernel is one module here, called by its glue in :mod:`pmplan.backends.numba`.
 """

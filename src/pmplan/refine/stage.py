@@ -25,7 +25,7 @@ from ..certify import (
 from ..configuration import configuration_names
 from ..errors import CertificationError, CollisionError, InputError
 from ..planners.base import Stage
-from ..workspace import SQUEEZE, identity_box, inside, into_box, restore, shrunk
+from ..workspace import SQUEEZE, identity_box, inside, restore, shrunk
 from .frame import from_frame, limits_to_frame, to_frame
 from .grid import (
     KAPPA,
@@ -269,7 +269,7 @@ class RefineStage(Stage):
         for kj in self.fixed:
             out[:, kj * self.s] = raw[:, kj]
         if self.box is not None:  # into the box shrunk by the radius (pmplan.workspace)
-            out[...] = into_box(out, shrunk(self.box, self.radius), SQUEEZE)
+            out[...] = self.backend.into_box(out, shrunk(self.box, self.radius), SQUEEZE)
             restore(out, self.m, [kj * self.s for kj in self.fixed],
                     [raw[:, kj, self.m:] for kj in self.fixed], raw[:, 0, :self.m])
         self._certify(lo, hi, raw, out, np.zeros(hi - lo, dtype=bool))
