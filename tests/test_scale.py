@@ -542,6 +542,37 @@ def test_cluster_refined_dask_arrays_and_store(cluster, tmp_path):
     assert_same_refined(read_store(tmp_path / "p.zarr"), ref)
 
 
+def test_cluster_first_pass_of_a_store_in_a_box_runs_on_the_cluster(cluster, tmp_path):
+    """The first pass of a store of plans in a box (the breakpoints every piece gets) runs as
+    one task per chunk on the cluster, the input's rows read by the workers from an input
+    store or sent with the tasks, and the store equals the in-memory batch; an invalid query
+    is reported with its rows, and nothing is written."""
+    import zarr
+
+    c, client = cluster
+    o, s, g = random_queries(400, seed=12)
+    o, s, g = o + 5.0, s + 5.0, g + 5.0  # inside the box (0, 10)
+    want = pmplan.plan_batch(o, s, g, bounds=(0, 10))
+    src = write_store(tmp_path / "in.zarr", o, s, g, chunks=(100, 100, 100))
+    for source, out in ((str(src), tmp_path / "a.zarr"),
+                        ({"obstacles": o, "start": s, "goal": g}, tmp_path / "b.zarr")):
+        with distributed.get_task_stream(client) as stream:
+            rep = scale.plan_store(source, out, chunk=100, bounds=(0, 10),
+                                   scheduler=c.scheduler_address)
+        keys = [str(t["key"]) for t in stream.data]
+        assert sum("_width_task" in k for k in keys) == 4, keys  # the first pass, per chunk
+        assert sum("_run_chunk" in k for k in keys) == 4 and rep.planned == 4
+        group = zarr.open_group(str(out), mode="r")
+        assert group.attrs["box_width"] > 0
+        assert np.array_equal(group["waypoints"][:], want.waypoints)
+        assert np.array_equal(group["times"][:], want.times)
+    s[257, 1] = o[257, 1]  # a robot on an obstacle, in the third chunk
+    with pytest.raises(pmplan.CollisionError, match=r"query 257 .*\[chunk 2: queries 200\.\.299"):
+        scale.plan_store({"obstacles": o, "start": s, "goal": g}, tmp_path / "c.zarr",
+                         chunk=100, bounds=(0, 10), scheduler=c.scheduler_address)
+    assert not (tmp_path / "c.zarr").exists()
+
+
 def test_dask_workers_option_starts_a_local_cluster(tmp_path):
     """``pmplan batch --dask-workers 2`` as a user runs it: its own process, its own cluster."""
     o, s, g = random_queries(600, seed=9)

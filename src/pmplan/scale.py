@@ -42,6 +42,7 @@ extra ``pip install "pmplan[dask]"`` (dask[array], distributed, zarr).
 
 from __future__ import annotations
 
+import dataclasses
 import errno
 import hashlib
 import logging
@@ -590,7 +591,7 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
     held its result died) is not planned again: its summary is read back from the store.
     """
     zarr = _need("zarr")
-    lo, hi = i * spec.chunk, min(spec.b, (i + 1) * spec.chunk)
+    lo, hi = _rows(spec, i)
     try:
         if rows is None:
             rows = _read_rows(_open_input(Path(spec.source)), lo, hi)
@@ -722,6 +723,10 @@ _OPTIONS = {"planner": "--planner (planner=)", "lift": "--lift (lift=)",
             "r": "the input's configurations per query (via)", "format": "the store's format"}
 _MSG_CREATE = "cannot create the output store {out}: {cause}; nothing was written: {fix}"
 _MSG_INCOMPLETE = "{out} is incomplete ({done} of {total} chunks written): {fix}"
+_MSG_FIRST_PASS = ("the dask cluster failed during the first pass over the input, which fixes "
+                   "the shapes of plans in a workspace box ({cause}); nothing was written to "
+                   "{out}: rerun (a running scheduler, or no --scheduler to plan in this "
+                   "process)")
 _MSG_UNREACHABLE = ("chunk {i} could not open its stores on host {host} ({cause}); every worker "
                     "must see the input and output stores at the same absolute paths")
 _MSG_DIFFERENT_INPUT = (
@@ -896,10 +901,11 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
         may differ (the fixed input of an interrupted run).
     scheduler, dask_workers : optional
         Plan the chunks as tasks on the dask.distributed scheduler at this address, or on a
-        LocalCluster of this many worker processes (one thread each). The workers read the
-        input store and write the output store themselves (both sent as absolute paths), so
-        they must see the same files (one machine, or a shared filesystem). Default: in this
-        process.
+        LocalCluster of this many worker processes (one thread each), and, for raw plans in a
+        box, the first pass that fixes the store's shapes (one task per chunk). The workers
+        read the input store and write the output store themselves (both sent as absolute
+        paths), so they must see the same files (one machine, or a shared filesystem).
+        Default: in this process.
     workers : int
         Threads per chunk (as in :func:`pmplan.plan_batch`).
     compress : bool
@@ -956,21 +962,29 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     group = _open_for_resume(out, attrs, resume)
     if group is not None:
         _check_fingerprints(group, arrays, b, chunk, out)
-    width = None
-    if _needs_width(p, r, box, refine):  # the shapes of plans in a box
-        width = group.attrs["box_width"] if group is not None else \
-            _store_width(arrays, b, chunk, p.name, lift, backend, workers, box)
     spec = _Spec(source=None if src_path is None else str(src_path), out=str(out),
                  names=tuple(arrays), b=b, chunk=chunk, planner=p.name, lift=lift,
-                 backend=backend, workers=workers, refine=refine, bounds=box, width=width)
+                 backend=backend, workers=workers, refine=refine, bounds=box)
     # connect before anything is written: an unreachable scheduler leaves no output behind
     client, cluster, owned = (None, None, False) if scheduler is None and dask_workers is None \
         else _connect(scheduler, dask_workers)
+    if _needs_width(p, r, box, refine):  # the shapes of plans in a box
+        try:
+            width = group.attrs["box_width"] if group is not None else \
+                _store_width(spec, arrays, nchunks, client)
+        except BaseException as exc:
+            _disconnect(client, cluster, owned)
+            if _is_cluster_error(exc):
+                raise StoreError(_MSG_FIRST_PASS.format(
+                    out=out, cause=f"{type(exc).__name__}: {exc}"), path=out,
+                    resumable=False) from None
+            raise
+        spec = dataclasses.replace(spec, width=width)
     stopped = None
     try:
         if group is None:
-            group = _create_output(out, {**attrs, "box_width": width},
-                                   _template(p, r, m, n, d, refine, box is not None, width), b,
+            group = _create_output(out, {**attrs, "box_width": spec.width},
+                                   _template(p, r, m, n, d, refine, box is not None, spec.width), b,
                                    chunk, nchunks, compress)
         rows_of = None if src_path is not None else \
             (lambda i: _read_rows(arrays, i * chunk, min(b, (i + 1) * chunk)))
@@ -991,18 +1005,56 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
                        summary["kept"])
 
 
-def _store_width(arrays: dict, b: int, chunk: int, planner: str, lift, backend, workers: int,
-                 box: list) -> int:
-    """The first pass of :func:`plan_store` for raw plans in a box, chunk by chunk in this
-    process: the largest :func:`pmplan.running.box_width` (the raw plans only, not certified
-    nor written), which fixes the shapes of the store's ``times`` and ``waypoints``."""
+def _store_width(spec: _Spec, arrays: dict, nchunks: int, client) -> int:
+    """The first pass of :func:`plan_store` for raw plans in a box: the largest
+    :func:`pmplan.running.box_width` over the chunks (the raw plans only, not certified nor
+    written), which fixes the shapes of the store's ``times`` and ``waypoints``. Chunk by chunk
+    in this process, or one task per chunk on ``client``'s cluster, as the chunks are planned
+    after it (a task reads its rows from the input store, or gets them with it)."""
+    if client is None:
+        return max(_width_task(spec, i, _read_rows(arrays, *_rows(spec, i)))
+                   for i in range(nchunks))
+    distributed = _need("distributed")
+    pending = {client.submit(_width_task, spec, i, None if spec.source is not None
+                             else _read_rows(arrays, *_rows(spec, i)), pure=False)
+               for i in range(nchunks)}
     width = 0
-    for i in range(-(-b // chunk)):
-        lo, hi = i * chunk, min(b, (i + 1) * chunk)
-        obstacles, configs = _read_rows(arrays, lo, hi)
-        width = max(width, _chunk_width(obstacles, configs, planner, lift, backend, workers,
-                                        np.array(box), lo, f"chunk {i}"))
+    try:
+        for fut in distributed.as_completed(pending):
+            width = max(width, fut.result())
+            pending.discard(fut)
+            fut.release()
+    except BaseException:
+        import contextlib
+
+        with contextlib.suppress(Exception):
+            client.cancel(list(pending))
+        raise
     return width
+
+
+def _rows(spec: _Spec, i: int) -> tuple[int, int]:
+    """The rows ``lo, hi`` of chunk ``i``."""
+    return i * spec.chunk, min(spec.b, (i + 1) * spec.chunk)
+
+
+def _width_task(spec: _Spec, i: int, rows=None) -> int:
+    """The first pass over chunk ``i`` (:func:`_store_width`): its rows (read from the input
+    store when not given), their :func:`pmplan.running.box_width`. Runs in-process or as a
+    dask.distributed task."""
+    lo, hi = _rows(spec, i)
+    if rows is None:
+        try:
+            rows = _read_rows(_open_input(Path(spec.source)), lo, hi)
+        except (InputError, OSError) as exc:
+            import socket
+
+            raise StoreError(_MSG_UNREACHABLE.format(host=socket.gethostname(), i=i,
+                                                     cause=exc), path=spec.out,
+                             resumable=False) from None
+    obstacles, configs = rows
+    return _chunk_width(obstacles, configs, spec.planner, spec.lift, spec.backend,
+                        spec.workers, np.array(spec.bounds), lo, f"chunk {i}")
 
 
 def _run(spec: _Spec, group, client, rows_of, nchunks: int, progress: bool, on_chunk) -> dict:
