@@ -5,6 +5,10 @@ queries.
 Usage (from the repository root; needs ``pmplan[bench]``, i.e. ``ompl``)::
 
     python benchmarks/paired_spread.py              # seeds 1 and 2, 10 runs, n <= 8 (~5 min)
+    python benchmarks/paired_spread.py --seeds 61,62,63,64 --queries 64 --out paired_spread_large
+
+The second run judges the rows on four times the queries of seeds no benchmark had used
+before (none was looked at while a default was chosen), into its own report.
 
 ``scenes_compare.py`` runs RRTConnect once per query, so its paired ratio (the median over the
 queries both planners solve validly of length(pmplan) / length(RRTConnect)) is one sample of a
@@ -17,7 +21,8 @@ its smallest, median and largest -- and in how many runs it meets issue 25's goa
 n <= 4, <= 1.6 for n = 8); beside it the ratio against RRTConnect's per-query median length over
 the runs (the typical RRTConnect path), the row's verdict without the luck of one run.
 
-Writes ``benchmarks/paired_spread.json`` and ``.md``. Not a test module.
+Writes ``benchmarks/paired_spread.json`` and ``.md`` (``--out``: another name). Not a test
+module.
 """
 
 from __future__ import annotations
@@ -80,7 +85,8 @@ def row(fam: str, n: int, seed: int, runs: int, count: int, kernels) -> dict:
 def markdown(res: dict) -> str:
     lines = ["# The paired length ratio over repeated RRTConnect runs", "",
              (f"Command: `{res['command'].strip()}` ({res['date']}, {res['seconds']:.0f} s). "
-             f"{res['count']} queries per row (those of `scenes_compare.py`), r = {scenes.R}; "
+             f"{res['count']} queries per row (the draws of `benchmarks/scenes.py`; seeds 1 "
+             f"and 2 are those of `scenes_compare.py`), r = {scenes.R}; "
              "pmplan's default plan in the box refined at radius = obstacle_radius = r/2, "
              f"once; OMPL RRTConnect (+ simplifySolution) {res['runs']} times per query, its "
              "generator seeded once with 1. *Paired* = median over the queries both solve "
@@ -104,10 +110,12 @@ def main(argv=None) -> int:
     ap.add_argument("--runs", type=int, default=10, help="RRTConnect runs per query")
     ap.add_argument("--queries", type=int, default=16)
     ap.add_argument("--families", default=",".join(FAMILIES))
+    ap.add_argument("--out", default="paired_spread",
+                    help="the report's name: benchmarks/<out>.json and .md")
     ap.add_argument("--from-json", action="store_true", help="rewrite the .md from the .json")
     args = ap.parse_args(argv)
     if args.from_json:
-        rewrite_report("paired_spread", markdown)
+        rewrite_report(args.out, markdown)
         return 0
     if start_ompl(1) is None:
         return 2
@@ -119,7 +127,7 @@ def main(argv=None) -> int:
                argv if argv is not None else sys.argv[1:]),
            "date": _dt.date.today().isoformat(), "runs": args.runs, "count": args.queries,
            "seconds": time.perf_counter() - t0, "rows": rows}
-    write_report("paired_spread", res, markdown)
+    write_report(args.out, res, markdown)
     return 0
 
 
