@@ -345,22 +345,26 @@ def ab_row(fam: str, n: int, seed: int, count: int, switch, names) -> dict:
     """One row of an A/B of the raw construction: every variant of ``names`` (``switch(name)``
     switches pmplan to it; the first is switched back at the end) on the same queries and the
     same probe moves (:class:`ReferenceRunner`, :func:`continuity`): the valid queries, the
-    median len/LB, the raw clearance (median, smallest) and :func:`probe_summary`."""
+    invalid ones by reason (``gap``: :func:`scenes.reason_category` says the path crosses a gap
+    narrower than a robot; ``contact``: the others), the median len/LB, the raw clearance
+    (median, smallest) and :func:`probe_summary`."""
     qs = scenes.queries(fam, n, count, seed)
     runner = ReferenceRunner()
     out = {"family": fam, "n": n, "seed": seed, "variants": {}}
     for name in names:
         switch(name)
         rng = np.random.default_rng([seed, scenes.FAMILIES[fam].index, n, 99])
-        valid, lens, craw, probes = 0, [], [], []
+        valid, gap, lens, craw, probes = 0, 0, [], [], []
         for o, s, g in qs:
             _, res = runner.plan(o, s, g)
             p = res[0]
             valid += bool(p.respects_radius)
+            gap += not p.respects_radius and scenes.reason_category(p) == "gap"
             lens.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
             craw.append(p.raw_clearance)
             probes += continuity(runner, o, s, g, res, rng)
-        cell = {"valid": valid, "count": len(qs), "len_lb": float(np.median(lens)),
+        cell = {"valid": valid, "count": len(qs), "gap": gap,
+                "contact": len(qs) - valid - gap, "len_lb": float(np.median(lens)),
                 "c_raw_median": float(np.median(craw)), "c_raw_min": float(min(craw)),
                 **probe_summary(probes)}
         print(f"seed {seed} {fam} n={n} {name}: {valid}/{len(qs)} len/LB {cell['len_lb']:.3f} "
