@@ -63,7 +63,6 @@ _MSG_EFFORT = ("the refinement's fixed steps did not clear it: more effort (larg
                "`waypoints` and `steps` of pmplan.refine) may")
 
 
-
 @dataclass(frozen=True)
 class Gap:
     """A gap of the scene, in the plane, that a robot's path passes through: between two

@@ -28,8 +28,8 @@ _BIG = np.finfo(float).max
 @njit(**INLINE)
 def _pow2(f, k):  # pragma: no cover - compiled
     """``f 2^k`` for an integer-valued float ``k`` (``workspace._pow2``)."""
-    if k != k:  # (NaN: the reference's int64 of NaN, an exponent far below every float)
-        return math.ldexp(f, -4000) * 0.0
+    if k != k:  # (NaN: the reference's int64 of NaN is an exponent far below every float)
+        return 0.0
     return math.ldexp(f, int(min(max(k, -4000.0), 4000.0)))
 
 
