@@ -598,10 +598,7 @@ def _run_chunk(spec: _Spec, i: int, rows=None, group=None):
         if group is None:
             group = zarr.open_group(spec.out, mode="r+")
     except (InputError, OSError) as exc:
-        import socket
-
-        raise StoreError(_MSG_UNREACHABLE.format(host=socket.gethostname(), i=i, cause=exc),
-                         path=spec.out, resumable=True) from None
+        raise _unreachable(spec, i, exc, resumable=True) from None
     fingerprint = _fingerprint(rows)
     refined = spec.refine is not None
     if bool(group["done"][i]) and np.array_equal(group["inputs"][i], fingerprint):
@@ -968,10 +965,12 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     # connect before anything is written: an unreachable scheduler leaves no output behind
     client, cluster, owned = (None, None, False) if scheduler is None and dask_workers is None \
         else _connect(scheduler, dask_workers)
+    # the rows sent with a chunk's task (None: the task reads them from the input store)
+    rows_of = None if src_path is not None else (lambda i: _read_rows(arrays, *_rows(spec, i)))
     if _needs_width(p, r, box, refine):  # the shapes of plans in a box
         try:
             width = group.attrs["box_width"] if group is not None else \
-                _store_width(spec, arrays, nchunks, client)
+                _store_width(spec, arrays, nchunks, client, rows_of)
         except BaseException as exc:
             _disconnect(client, cluster, owned)
             if _is_cluster_error(exc):
@@ -984,10 +983,8 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     try:
         if group is None:
             group = _create_output(out, {**attrs, "box_width": spec.width},
-                                   _template(p, r, m, n, d, refine, box is not None, spec.width), b,
-                                   chunk, nchunks, compress)
-        rows_of = None if src_path is not None else \
-            (lambda i: _read_rows(arrays, i * chunk, min(b, (i + 1) * chunk)))
+                                   _template(p, r, m, n, d, refine, box is not None,
+                                             spec.width), b, chunk, nchunks, compress)
         summary = _run(spec, group, client, rows_of, nchunks, progress, on_chunk)
     except Exception as exc:  # told once the cluster is closed: the count of chunks is final
         stopped = exc
@@ -1005,32 +1002,27 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
                        summary["kept"])
 
 
-def _store_width(spec: _Spec, arrays: dict, nchunks: int, client) -> int:
+def _store_width(spec: _Spec, arrays: dict, nchunks: int, client, rows_of) -> int:
     """The first pass of :func:`plan_store` for raw plans in a box: the largest
     :func:`pmplan.running.box_width` over the chunks (the raw plans only, not certified nor
     written), which fixes the shapes of the store's ``times`` and ``waypoints``. Chunk by chunk
-    in this process, or one task per chunk on ``client``'s cluster, as the chunks are planned
-    after it (a task reads its rows from the input store, or gets them with it)."""
+    in this process (the rows read from ``arrays``), or one task per chunk on ``client``'s
+    cluster (:func:`_distributed`), as the chunks are planned after it."""
     if client is None:
         return max(_width_task(spec, i, _read_rows(arrays, *_rows(spec, i)))
                    for i in range(nchunks))
-    distributed = _need("distributed")
-    pending = {client.submit(_width_task, spec, i, None if spec.source is not None
-                             else _read_rows(arrays, *_rows(spec, i)), pure=False)
-               for i in range(nchunks)}
-    width = 0
-    try:
-        for fut in distributed.as_completed(pending):
-            width = max(width, fut.result())
-            pending.discard(fut)
-            fut.release()
-    except BaseException:
-        import contextlib
+    widths: list = []
+    _distributed(client, _width_task, spec, range(nchunks), rows_of, widths.append)
+    return max(widths)
 
-        with contextlib.suppress(Exception):
-            client.cancel(list(pending))
-        raise
-    return width
+
+def _unreachable(spec: _Spec, i: int, cause: BaseException, resumable: bool) -> StoreError:
+    """The error of chunk ``i``'s task that could not open its stores on its host (resumable
+    once the output exists, not in the first pass, before anything is written)."""
+    import socket
+
+    return StoreError(_MSG_UNREACHABLE.format(host=socket.gethostname(), i=i, cause=cause),
+                      path=spec.out, resumable=resumable)
 
 
 def _rows(spec: _Spec, i: int) -> tuple[int, int]:
@@ -1047,11 +1039,7 @@ def _width_task(spec: _Spec, i: int, rows=None) -> int:
         try:
             rows = _read_rows(_open_input(Path(spec.source)), lo, hi)
         except (InputError, OSError) as exc:
-            import socket
-
-            raise StoreError(_MSG_UNREACHABLE.format(host=socket.gethostname(), i=i,
-                                                     cause=exc), path=spec.out,
-                             resumable=False) from None
+            raise _unreachable(spec, i, exc, resumable=False) from None
     obstacles, configs = rows
     return _chunk_width(obstacles, configs, spec.planner, spec.lift, spec.backend,
                         spec.workers, np.array(spec.bounds), lo, f"chunk {i}")
@@ -1090,7 +1078,7 @@ def _run(spec: _Spec, group, client, rows_of, nchunks: int, progress: bool, on_c
             for i in todo:
                 record(_run_chunk(spec, i, None if rows_of is None else rows_of(i), group))
         else:
-            _distributed(client, spec, todo, rows_of, record)
+            _distributed(client, _run_chunk, spec, todo, rows_of, record)
     finally:
         if bar is not None:
             bar.close()
@@ -1133,8 +1121,10 @@ def _disconnect(client, cluster, owned: bool) -> None:
             cluster.close(timeout=5)
 
 
-def _distributed(client, spec: _Spec, todo: list, rows_of, record) -> None:
-    """Run the chunk tasks on a dask.distributed cluster; ``record`` each result as it comes.
+def _distributed(client, task, spec: _Spec, todo, rows_of, record) -> None:
+    """Run ``task(spec, i, rows)`` for the chunks ``todo`` on a dask.distributed cluster (the
+    chunks' planning, :func:`_run_chunk`, or the first pass, :func:`_width_task`); ``record``
+    each result as it comes.
 
     The future of a finished chunk is released at once, so a worker that dies later does not
     make the scheduler compute that chunk again; a task whose worker dies before it finishes is
@@ -1143,7 +1133,7 @@ def _distributed(client, spec: _Spec, todo: list, rows_of, record) -> None:
     done.
     """
     distributed = _need("distributed")
-    pending = {client.submit(_run_chunk, spec, i, None if rows_of is None else rows_of(i),
+    pending = {client.submit(task, spec, i, None if rows_of is None else rows_of(i),
                              pure=False) for i in todo}
     try:
         for fut in distributed.as_completed(pending):
