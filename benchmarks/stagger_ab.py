@@ -17,9 +17,10 @@ the first half of the slide, the others on the second half (at most every other 
 side moves at a time; the waypoints are the same continuous functions of the query, so the
 section is continuous where pmplan's is, and two points never meet: the robots that wait sit
 at their lanes' ends, which pmplan's section passes as well). The raw plans come from the numpy
-reference with :func:`pmplan.planners.obstacle_line.two_configuration_path` and
-:func:`~pmplan.planners.obstacle_line.path_times` replaced for the measurement (9 breakpoints
-for 2 configurations instead of 8), in the box ``(0, 10)``, refined at the default effort with
+reference, :func:`pmplan.planners.obstacle_line.two_configuration_path` and
+:func:`~pmplan.planners.obstacle_line.path_times` called with this section (``build=``,
+``section_times=``; 9 breakpoints for 2 configurations instead of 8) for the measurement, in
+the box ``(0, 10)``, refined at the default effort with
 radius = obstacle_radius = r/2 (``scenes_compare.ab_row``). Per row and variant: the valid
 queries, the median len/LB, the raw clearance, the largest K at delta = 1e-6, 1e-9, 1e-12, and
 the invalid ones by their reason (*gap*: the path crosses a gap narrower than a robot;
@@ -32,7 +33,7 @@ Writes ``benchmarks/stagger_ab.json`` and ``.md``. Not a test module.
 from __future__ import annotations
 
 import sys
-from functools import cache
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -41,7 +42,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes
 import scenes_compare
 
-from pmplan.path import DIRECT_AT, PiecewiseLinearPath, compose_via_deformations, join
+from pmplan.path import PiecewiseLinearPath
 from pmplan.planners import base, obstacle_line
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls"]
@@ -51,7 +52,7 @@ VARIANTS = ["together", "staggered"]
 DESIGN = {11}
 _COMPOSE, _TIMES = obstacle_line.two_configuration_path, obstacle_line.path_times
 #: the section's breakpoints: up to the lanes, the first turn, the second, down
-_SECTION = np.array([0.0, 1.0 / 3.0, 0.5, 2.0 / 3.0, 1.0])
+_SECTION = (0.0, 1.0 / 3.0, 0.5, 2.0 / 3.0, 1.0)
 
 
 def _first_turn(n: int) -> np.ndarray:
@@ -60,42 +61,24 @@ def _first_turn(n: int) -> np.ndarray:
     return (k % 2.0) == 1.0
 
 
-def staggered(fr, obstacles, h_start, h_goal, heights, direct: bool = False):
-    """``two_configuration_path`` with the slide in two turns (the direct lift kept)."""
-    m = obstacles.shape[1]
-    x, y = h_start.waypoints[:, -1], h_goal.waypoints[:, -1]
-    off = np.zeros_like(x)
+def staggered_section(fr, x_start, x_goal, heights, m: int) -> PiecewiseLinearPath:
+    """:func:`pmplan.planners.obstacle_line.section` with the slide in two turns."""
+    off = np.zeros_like(x_start)
     off[:, m:] = heights[..., None] * fr.nu[:, None, :]
-    up, across = x + off, y + off
+    up, across = x_start + off, x_goal + off
     half = up.copy()
     first = np.flatnonzero(_first_turn(heights.shape[1])) + m
     half[:, first] = across[:, first]
-    sec = PiecewiseLinearPath(_SECTION.copy(), np.stack([x, up, half, across, y], axis=1))
-    path = compose_via_deformations(h_start, sec, h_goal)
-    if direct:  # (the waypoints at tau = 1/3 and 2/3, as pmplan's direct lift places them)
-        wp, k = path.waypoints, path.waypoints.shape[1]
-        wp[:, 2, m:] = wp[:, 1, m:] + DIRECT_AT * (wp[:, 3, m:] - wp[:, 1, m:])
-        wp[:, k - 3, m:] = wp[:, k - 2, m:] + DIRECT_AT * (wp[:, k - 4, m:] - wp[:, k - 2, m:])
-    return path
-
-
-@cache
-def staggered_times(r: int) -> np.ndarray:
-    """``path_times`` of the staggered section, by the same path algebra."""
-    empty = PiecewiseLinearPath(np.array([0.0, 0.5, 1.0]), np.zeros((0, 3, 1, 1)))
-    sec = PiecewiseLinearPath(_SECTION.copy(), np.zeros((0, 5, 1, 1)))
-    leg = compose_via_deformations(empty, sec, empty)
-    path = leg if r == 2 else join([leg] * (r - 1), [k / (r - 1) for k in range(1, r - 1)])
-    out = path.times.copy()
-    out.flags.writeable = False
-    return out
+    return PiecewiseLinearPath(np.array(_SECTION),
+                               np.stack([x_start, up, half, across, x_goal], axis=1))
 
 
 def variant(name: str) -> None:
     """Switch the raw construction to a variant (the breakpoints the planner shares with it)."""
     stagger = name == "staggered"
-    obstacle_line.two_configuration_path = staggered if stagger else _COMPOSE
-    obstacle_line.path_times = staggered_times if stagger else _TIMES
+    obstacle_line.two_configuration_path = (partial(_COMPOSE, build=staggered_section)
+                                            if stagger else _COMPOSE)
+    obstacle_line.path_times = partial(_TIMES, section_times=_SECTION) if stagger else _TIMES
     base._shared_times.cache_clear()
 
 

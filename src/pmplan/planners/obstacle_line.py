@@ -58,6 +58,7 @@ __all__ = [
     "deformation",
     "offset",
     "section",
+    "SECTION_TIMES",
     "path_times",
     "ObstacleLinePlanner",
     "CompactLinePlanner",
@@ -178,6 +179,10 @@ def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
                     -(hm[:, None] + u[:, None] * k[None, :]))
 
 
+#: the breakpoints of :func:`section`: up to the lanes, along them, down
+SECTION_TIMES = (0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0)
+
+
 def section(fr: Frame, x_start, x_goal, heights: np.ndarray, m: int) -> PiecewiseLinearPath:
     """Return the section over collinear pairs, paper (3.8), Figure 4.
 
@@ -192,40 +197,45 @@ def section(fr: Frame, x_start, x_goal, heights: np.ndarray, m: int) -> Piecewis
     off = np.zeros_like(x_start)
     off[:, m:] = heights[..., None] * fr.nu[:, None, :]
     wp = np.stack([x_start, x_start + off, x_goal + off, x_goal], axis=1)
-    return PiecewiseLinearPath(np.array([0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0]), wp)
+    return PiecewiseLinearPath(np.array(SECTION_TIMES), wp)
 
 
-def two_configuration_path(fr, obstacles, h_start, h_goal, heights,
-                           direct: bool = False) -> PiecewiseLinearPath:
+def two_configuration_path(fr, obstacles, h_start, h_goal, heights, direct: bool = False,
+                           build=section) -> PiecewiseLinearPath:
     """Compose H(C), the section and H(C') reversed (paper Remark, via the path algebra).
 
     With ``direct`` (the compact lanes in the plane, Mathematics §4.4) every robot moves
     straight from its desingularized position to its lane, and back: waypoint 2 is replaced
     by ``W1 + DIRECT_AT (W3 - W1)`` and waypoint 5 by ``W6 + DIRECT_AT (W4 - W6)``
     (:data:`pmplan.path.DIRECT_AT`), the robots' rows only, so no robot stops on the obstacle
-    line on its way.
+    line on its way (counted from the end of the path on its goal side: ``K - 3`` from ``K -
+    2`` and ``K - 4``, for a section of ``build`` with more breakpoints than :func:`section`'s).
+    ``build(fr, x_start, x_goal, heights, m)`` makes the section (:func:`section`; a benchmark
+    measures another one with it).
     """
     m = obstacles.shape[1]
-    sec = section(fr, h_start.waypoints[:, -1], h_goal.waypoints[:, -1], heights, m)
+    sec = build(fr, h_start.waypoints[:, -1], h_goal.waypoints[:, -1], heights, m)
     path = compose_via_deformations(h_start, sec, h_goal)
     if not direct:
         return path
     wp = path.waypoints
     wp[:, 2, m:] = wp[:, 1, m:] + DIRECT_AT * (wp[:, 3, m:] - wp[:, 1, m:])
-    wp[:, 5, m:] = wp[:, 6, m:] + DIRECT_AT * (wp[:, 4, m:] - wp[:, 6, m:])
+    wp[:, -3, m:] = wp[:, -2, m:] + DIRECT_AT * (wp[:, -4, m:] - wp[:, -2, m:])
     return path
 
 
 @cache
-def path_times(r: int) -> np.ndarray:
-    """Return the breakpoints of a path through r >= 2 configurations, shape (7 (r - 1) + 1,).
+def path_times(r: int, section_times: tuple = SECTION_TIMES) -> np.ndarray:
+    """Return the breakpoints of a path through r >= 2 configurations, shape (7 (r - 1) + 1,)
+    (with a section of other breakpoints ``section_times``, ``(len(section_times) + 3) (r -
+    1) + 1``).
 
     They are computed by the reference path algebra itself (:func:`~pmplan.path.compose_via_deformations`
     and :meth:`~pmplan.path.PiecewiseLinearPath.join` on an empty batch), so both backends share them bitwise:
     tau = 0, 1/6, 1/3, 4/9, 5/9, 2/3, 5/6, 1 for r = 2.
     """
     empty = PiecewiseLinearPath(np.array([0.0, 0.5, 1.0]), np.zeros((0, 3, 1, 1)))
-    sec = PiecewiseLinearPath(np.array([0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0]), np.zeros((0, 4, 1, 1)))
+    sec = PiecewiseLinearPath(np.array(section_times), np.zeros((0, len(section_times), 1, 1)))
     leg = compose_via_deformations(empty, sec, empty)
     path = leg if r == 2 else join([leg] * (r - 1), [k / (r - 1) for k in range(1, r - 1)])
     out = path.times.copy()
