@@ -188,7 +188,7 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
     for o, s, g in qs:
         p = scenes.refined_in_box(o, s, g)
         why.append("" if p.respects_radius else
-                   "gap" if scenes.reason_category(p) == "gap" else "contact")
+                   "gap" if p.radius_miss.category == "gap" else "contact")
     mx = np.array([r["max"] for r in res])
     al = np.array([r["all"] for r in res])
     se = lambda a: float(a.std(ddof=1) / np.sqrt(len(a)))

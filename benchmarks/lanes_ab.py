@@ -112,7 +112,7 @@ def row(task) -> dict:
                 _, res = runner.plan(o, s, g)
                 p = res[0]
                 ok = bool(p.respects_radius)
-                why.append("" if ok else "gap" if scenes.reason_category(p) == "gap"
+                why.append("" if ok else "gap" if p.radius_miss.category == "gap"
                            else "contact")
                 lens.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum()
                             if ok else np.nan)

@@ -76,7 +76,7 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
         out["far"].append(_far_share(p))
         if p.respects_radius:
             continue
-        miss = {"query": qi, "why": scenes.reason_category(p), "tight": tight_gap(p),
+        miss = {"query": qi, "why": p.radius_miss.category, "tight": tight_gap(p),
                 "reason": p.radius_reason, "worst": _worst(p),
                 "raw_clearance": float(p.raw_clearance), "efforts": {}}
         # the raw plan of p: the default unit of a refined plan is the robots' diameter

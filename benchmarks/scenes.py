@@ -41,7 +41,6 @@ __all__ = [
     "group_table",
     "length_total",
     "queries",
-    "reason_category",
     "refined_in_box",
     "rows_main",
     "summary",
@@ -188,19 +187,12 @@ def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv
     return 0
 
 
-def reason_category(plan) -> str:
-    """Why a refined plan that misses the radii misses them: the ``category`` of its
-    ``radius_miss`` (:class:`pmplan.reasons.RadiusMiss`): ``"gap"`` (its path crosses a gap of
-    the scene narrower than a robot), else the worst contact the refinement did not clear:
-    ``"robots"``, ``"wall"`` or ``"obstacle"``."""
-    return plan.radius_miss.category
-
-
 def summary(label: str, qs: list, plan) -> dict:
     """One cell of a per-row scene benchmark: ``plan(o, s, g)`` (a refined pmplan.Plan) on
     every query of ``qs``; the valid count (``respects_radius``, the walls included), the
     median time per query (ms), the median length / LB and the invalid ones per
-    :func:`reason_category`, printed after ``label``."""
+    ``category`` of their ``radius_miss`` (:class:`pmplan.reasons.RadiusMiss`), printed after
+    ``label``."""
     import time
 
     ok, times, ratios, why = 0, [], [], {}
@@ -210,7 +202,7 @@ def summary(label: str, qs: list, plan) -> dict:
         times.append(time.perf_counter() - t0)
         ok += bool(p.respects_radius)
         if not p.respects_radius:
-            cat = reason_category(p)
+            cat = p.radius_miss.category
             why[cat] = why.get(cat, 0) + 1
         ratios.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
     out = {"valid": ok, "count": len(times), "time_ms": 1e3 * float(np.median(times)),

@@ -275,13 +275,14 @@ def _label_change(a, b) -> bool:
 
 
 def why_category(plan, keeps: bool, inside: bool) -> str | None:
-    """Why an invalid pmplan path is invalid: :func:`scenes.reason_category` (the category of
-    its ``radius_miss``), or ``"outside"`` (keeps r but leaves the box: planned without it)."""
+    """Why an invalid pmplan path is invalid: the ``category`` of its ``radius_miss``
+    (:class:`pmplan.reasons.RadiusMiss`: ``gap``, ``robots``, ``obstacle``, ``wall``), or
+    ``"outside"`` (keeps r but leaves the box: planned without it)."""
     if keeps and inside:
         return None
     if keeps:
         return "outside"
-    return scenes.reason_category(plan)
+    return plan.radius_miss.category
 
 
 def continuity(runner, o, s, g, res, rng) -> list[dict]:
@@ -345,7 +346,7 @@ def ab_row(fam: str, n: int, seed: int, count: int, switch, names) -> dict:
     """One row of an A/B of the raw construction: every variant of ``names`` (``switch(name)``
     switches pmplan to it; the first is switched back at the end) on the same queries and the
     same probe moves (:class:`ReferenceRunner`, :func:`continuity`): the valid queries, the
-    invalid ones by reason (``gap``: :func:`scenes.reason_category` says the path crosses a gap
+    invalid ones by reason (``gap``: its ``radius_miss.category`` says the path crosses a gap
     narrower than a robot; ``contact``: the others), the median len/LB, the raw clearance
     (median, smallest) and :func:`probe_summary`."""
     qs = scenes.queries(fam, n, count, seed)
@@ -359,7 +360,7 @@ def ab_row(fam: str, n: int, seed: int, count: int, switch, names) -> dict:
             _, res = runner.plan(o, s, g)
             p = res[0]
             valid += bool(p.respects_radius)
-            gap += not p.respects_radius and scenes.reason_category(p) == "gap"
+            gap += not p.respects_radius and p.radius_miss.category == "gap"
             lens.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
             craw.append(p.raw_clearance)
             probes += continuity(runner, o, s, g, res, rng)
