@@ -70,10 +70,8 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
 
 
 def markdown(res: dict) -> str:
-    prose = (f"Command: `{res['command']}` ({res['date']}). The scene families, r = "
-             f"{scenes.R}, {res['count']} queries per row, pmplan's default plan in the box "
-             "refined at its default effort, radius = obstacle_radius = r/2; *line*: the compact "
-             "lanes through the obstacle line (every robot on it, in space on its hyperplane, at "
+    prose = (scenes.run_head(res, "The scene families") + "; *line*: the compact lanes"
+             " through the obstacle line (every robot on it, in space on its hyperplane, at "
              "tau = 1/3: pmplan's in space); *direct*: each robot straight from the "
              "desingularized configuration to its lane (pmplan's in the plane since this run). "
              + scenes_compare.AB_COLUMNS + " Rows of seeds 1 to 4, 10, 12, 15 and 18 were "

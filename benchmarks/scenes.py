@@ -43,6 +43,7 @@ __all__ = [
     "queries",
     "refined_in_box",
     "rows_main",
+    "run_head",
     "summary",
     "valid_total",
     "variant_rows",
@@ -287,14 +288,22 @@ def group_table(res: dict, groups: list, totals, names: list) -> list[str]:
     return lines
 
 
+def run_head(res: dict, scene: str) -> str:
+    """The opening of a scene A/B report: the command and date of the run ``res``, then
+    ``scene`` (what the rows are), r, the queries per row and the plans compared -- pmplan's
+    default plan in the box, refined at its default effort with radius = obstacle_radius =
+    r/2 -- without a final stop."""
+    return (f"Command: `{res['command']}` ({res['date']}). {scene}, r = {R}, {res['count']} "
+            "queries per row, pmplan's default plan in the box refined at its default effort, "
+            "radius = obstacle_radius = r/2")
+
+
 def variants_markdown(res: dict, title: str, prose: str, names: list, new: str,
                       base: str) -> str:
     """The report of an A/B scene benchmark (rows of :func:`variants_row`): per row and
     variant the valid count, median ms and median length / LB; per seed the totals and the
     rows where ``new`` keeps the radii on more / fewer queries than ``base``."""
-    lines = [f"# {title}", "", f"Command: `{res['command']}` ({res['date']}). Rooms 10 x 10, "
-             f"r = {R}, {res['count']} queries per row, pmplan's default plan in the box "
-             "refined at its default effort, radius = obstacle_radius = r/2. " + prose
+    lines = [f"# {title}", "", run_head(res, "Rooms 10 x 10") + ". " + prose
              + " valid = keeps the radii and the walls (decided exactly); time = median ms per "
              "query (plan + refinement, one core; a shared machine: compare within a row); "
              "len/LB = median length / sum of the straight distances.", "",

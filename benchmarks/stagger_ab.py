@@ -88,9 +88,7 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
 
 
 def markdown(res: dict) -> str:
-    prose = (f"Command: `{res['command']}` ({res['date']}). The scene families, r = "
-             f"{scenes.R}, {res['count']} queries per row, pmplan's default plan in the box "
-             "refined at its default effort, radius = obstacle_radius = r/2; *together*: "
+    prose = (scenes.run_head(res, "The scene families") + "; *together*: "
              "pmplan's compact lanes, every robot sliding at once; *staggered*: the robots on "
              "the odd lanes of each side slide first, the others then (one more breakpoint). "
              + scenes_compare.AB_COLUMNS + " Rows of seed 11 were looked at while trying the "
