@@ -315,7 +315,10 @@ class ReferenceRunner:
     """The runner of the A/B benchmarks that switch a part of the raw construction
     (``offsets_ab``, ``direct_ab``): pmplan's default plan in the box at the unit of its refined
     plan, the raw plan from the numpy reference (bitwise the numba kernel's, and the one a
-    variant can replace), refined at the default effort with radius = obstacle_radius = r/2."""
+    variant can replace), refined at the default effort with radius = obstacle_radius = r/2;
+    ``planner`` (None: pmplan's default) another planner (``shared_ab``)."""
+
+    planner = None
 
     def __init__(self):
         from pmplan.configuration import default_lift
@@ -326,7 +329,7 @@ class ReferenceRunner:
         t0 = time.perf_counter()
         try:
             raw = pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), backend="numpy",
-                              lift=self.lift)
+                              lift=self.lift, planner=self.planner)
             p = pmplan.refine(raw, radius=HALF, obstacle_radius=HALF)
         except pmplan.PmplanError:
             return time.perf_counter() - t0, None
@@ -373,6 +376,17 @@ def ab_row(fam: str, n: int, seed: int, count: int, switch, names) -> dict:
               f"K {cell['k_max']:.0f} ({cell['k_over']})", flush=True)
         out["variants"][name] = cell
     switch(names[0])
+    return out
+
+
+def reason_cells(rows: list, names: list) -> list[str]:
+    """Per variant of ``names`` over the rows of :func:`ab_row`: ``valid / gap / contact of
+    queries`` (the invalid ones by reason)."""
+    out = []
+    for v in names:
+        es = [r["variants"][v] for r in rows]
+        out.append(f"{sum(e['valid'] for e in es)} / {sum(e['gap'] for e in es)} / "
+                   f"{sum(e['contact'] for e in es)} of {sum(e['count'] for e in es)}")
     return out
 
 

@@ -106,11 +106,7 @@ def markdown(res: dict) -> str:
                     and (r["seed"] in DESIGN) == (seeds is not None)]
             if not rows:
                 continue
-            cells = []
-            for v in VARIANTS:
-                es = [r["variants"][v] for r in rows]
-                cells.append(f"{sum(e['valid'] for e in es)} / {sum(e['gap'] for e in es)} / "
-                             f"{sum(e['contact'] for e in es)} of {sum(e['count'] for e in es)}")
+            cells = scenes_compare.reason_cells(rows, VARIANTS)
             names = ", ".join(str(s) for s in sorted({r["seed"] for r in rows}))
             lines.append(f"| {group} {names} | {fam} | " + " | ".join(cells) + " |")
     return out + "\n".join(lines) + "\n"

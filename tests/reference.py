@@ -164,8 +164,32 @@ def _exact_point(p):
     return [Fraction(c) for c in p]
 
 
+def lanes_of(configs, o1, w) -> list:
+    """The compact lanes' chains (Mathematics §4.4), literally: every robot's lane on its side,
+    1, 2, ... In ``H(C, 1)`` the robots are in the order of their exact columns, robots of one
+    column in the order of their index (the desingularization moves robot j by j eps); the odd
+    robots (i = 1, 3, ...) and the even ones are taken separately, in that order in
+    ``H(C_1, 1)``, and each joins the first chain whose last robot is before it in every
+    configuration, or opens a new one."""
+    n = len(configs[0])
+    keys = [[(_dot(_sub(x, o1), w), j) for j, x in enumerate(c)] for c in configs]
+    lanes = [0] * n
+    for side in (0, 1):
+        chains = []
+        for j in sorted(range(side, n, 2), key=lambda j: keys[0][j]):
+            for c, chain in enumerate(chains):
+                if all(key[chain[-1]] < key[j] for key in keys):
+                    chain.append(j)
+                    lanes[j] = c + 1
+                    break
+            else:
+                chains.append([j])
+                lanes[j] = len(chains)
+    return lanes
+
+
 def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
-                   compact: bool = False) -> Reference:
+                   compact: bool = False, shared: bool = False, configs=None) -> Reference:
     """Return the reference plan for one query (obstacles (m, d), start, goal (n, d)).
 
     Implements Mathematics §3 (m = 2, d even), §4.1 (odd d) and §4.2 (any m >= 2) literally:
@@ -173,7 +197,9 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
     robots to ``L``, lift by ``i lambda nu(e)``, slide, descend, and the reverse deformation of C'.
     ``lam`` overrides lambda (to show that ``lambda = lift`` alone is not enough).
     ``compact``: the compact lanes of Mathematics §4.4 (``obstacle_line_compact``): robot i at
-    ``+(H_+ + k lift)`` (odd i) or ``-(H_- + k lift)`` (even i), ``k = ceil(i / 2)``; in
+    ``+(H_+ + k lift)`` (odd i) or ``-(H_- + k lift)`` (even i), ``k = ceil(i / 2)``, or
+    with ``shared`` (``obstacle_line_shared``) its lane on its side (:func:`lanes_of`, over
+    ``configs``, all the robot configurations of the query; by default start and goal); in
     d >= 3 the projection keeps the robots' offsets, in the plane every robot goes straight to
     its lane (waypoints 2 and 5 3/5 of the way from the desingularized robot to its lane).
     """
@@ -206,8 +232,9 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
         hp = max([Fraction(0)] + ts)
         hm = max([Fraction(0)] + [-t for t in ts])
         u = Fraction(lift)
-        heights = [hp + (i // 2 + 1) * u if i % 2 == 0 else -(hm + (i // 2 + 1) * u)
-                   for i in range(len(xs))]
+        every = [xs, ys] if configs is None else [[_exact_point(x) for x in c] for c in configs]
+        k = lanes_of(every, o1, w) if shared else [i // 2 + 1 for i in range(len(xs))]
+        heights = [hp + k[i] * u if i % 2 == 0 else -(hm + k[i] * u) for i in range(len(xs))]
     lifted1 = [_add(x, _mul(h, nu)) for h, x in zip(heights, p1)]
     lifted2 = [_add(x, _mul(h, nu)) for h, x in zip(heights, p2)]
     if compact and len(o1) == 2:  # the direct lift (Mathematics §4.4): 3/5 of the way up
@@ -221,7 +248,8 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
                      eps_s, eps_g, lam, nu, pole)
 
 
-def reference_sequence(obstacles, configs, lift: float = 1.0, compact: bool = False):
+def reference_sequence(obstacles, configs, lift: float = 1.0, compact: bool = False,
+                       shared: bool = False):
     """Return ``(label, record, times, waypoints)`` of Mathematics §4.3 through r configurations.
 
     The two-configuration path from C_k to C_{k+1} runs on ``[(k-1)/(r-1), k/(r-1)]``;
@@ -232,7 +260,8 @@ def reference_sequence(obstacles, configs, lift: float = 1.0, compact: bool = Fa
     times, wps = [], []
     cps = []
     for k in range(r - 1):
-        ref = reference_plan(obstacles, configs[k], configs[k + 1], lift, compact=compact)
+        ref = reference_plan(obstacles, configs[k], configs[k + 1], lift, compact=compact,
+                             shared=shared, configs=configs)
         lo = Fraction(k, r - 1)
         ts = [lo + t / (r - 1) for t in ref.times]
         start = 0 if k == 0 else 1

@@ -137,6 +137,20 @@ def test_sequence_equals_reference(case):
             assert np.array_equal(fast.waypoints[:, 7 * k, obstacles.shape[1]:], configs[k])
 
 
+@settings(max_examples=40)
+@given(batches() | batches(r=3) | batches(r=4, ns=(1, 2, 3)))
+def test_shared_lanes_equal_reference(case):
+    """The shared lanes (Mathematics §4.4): the kernels' chains (ranks by the exact classes and
+    by index, or in the lanes by the projections) are the reference's, on random and exactly
+    degenerate batches through 2 to 4 configurations, bit for bit."""
+    _, obstacles, configs = case
+    fast = _outcome(pmplan.plan_sequence_batch, obstacles, configs, backend="numba",
+                    planner="obstacle_line_shared")
+    ref = _outcome(pmplan.plan_sequence_batch, obstacles, configs, backend="numpy",
+                   planner="obstacle_line_shared")
+    assert_same_batch(fast, ref)
+
+
 def test_integer_grid_queries_are_decided_by_the_kernel():
     """Exact degeneracies on small integers are settled by the error-free stage, in-kernel."""
     rng = np.random.default_rng(7)
@@ -473,7 +487,7 @@ def _mixed_batch(rng, b, d, m, n, r, special):
     return o, cs
 
 
-def _run_chunk(o, cs, lift, scalar_only, compact=False):
+def _run_chunk(o, cs, lift, scalar_only, compact=False, shared=False):
     b, m, d = o.shape
     n, r = cs[0].shape[1], len(cs)
     middle = np.stack(cs[1:-1]) if r > 2 else np.empty((0, b, n, d))
@@ -484,26 +498,28 @@ def _run_chunk(o, cs, lift, scalar_only, compact=False):
     with np.errstate(all="ignore"):
         if scalar_only:
             kernels_line.plan_queries(o, cs[0], cs[-1], middle, lift, True, *out, tab,
-                                      np.arange(b), b, compact)
+                                      np.arange(b), b, compact, shared)
         else:
-            kernels_line.plan_chunk(o, cs[0], cs[-1], middle, lift, True, *out, tab, compact)
+            kernels_line.plan_chunk(o, cs[0], cs[-1], middle, lift, True, *out, tab, compact,
+                                    shared)
     return out
 
 
 @settings(max_examples=30)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3, 4, 5]), st.sampled_from([2, 3, 5]),
        st.sampled_from([1, 2, 4, 9]), st.sampled_from([2, 2, 3]), st.integers(0, 40),
-       st.sampled_from([1.0, 0.25]), st.booleans())
-def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift, compact):
+       st.sampled_from([1.0, 0.25]), st.sampled_from([(False, False), (True, False), (True, True)]))
+def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift, sections):
     """The SIMD path decides the generic queries of a chunk and hands every other one to the
     scalar kernel: the outputs (waypoints, labels, strata, clearances, flags -- also of invalid
     queries, validated) are identical to the scalar kernel's on every query, the lanes really
     decide the generic ones, and they never decide a query that is not generic."""
     rng = np.random.default_rng(seed)
     b = int(rng.integers(kernels_line.LANES_MIN, 3 * kernels_line.lanes(r, m, n, d) + 7))
+    compact, shared = sections  # the paper's lanes, the compact ones, the shared ones
     o, cs = _mixed_batch(rng, b, d, m, n, r, special)
-    lanes = _run_chunk(o, cs, lift, scalar_only=False, compact=compact)
-    scalar = _run_chunk(o, cs, lift, scalar_only=True, compact=compact)
+    lanes = _run_chunk(o, cs, lift, scalar_only=False, compact=compact, shared=shared)
+    scalar = _run_chunk(o, cs, lift, scalar_only=True, compact=compact, shared=shared)
     flags = scalar[4]
     assert np.array_equal(lanes[4], flags)
     for a, z in zip(lanes[1:4], scalar[1:4]):
@@ -518,7 +534,7 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift, compact)
     out = [np.empty_like(x) for x in lanes]
     with np.errstate(all="ignore"):
         nt = kernels_line._plan_lanes(o, cs[0], cs[-1], middle, lift, *out, todo,
-                                      kernels_line.lanes(r, m, n, d), compact)
+                                      kernels_line.lanes(r, m, n, d), compact, shared)
     decided = np.ones(b, bool)
     decided[todo[:nt]] = False
     strata = scalar[2]

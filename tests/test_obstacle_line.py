@@ -48,8 +48,9 @@ _TIMES = np.array([float(t) for t in TIMES])
 BACKENDS = [None, "numpy"]
 
 
-#: the paper's lanes and the compact ones (Mathematics §4.4): one construction, two sections
-PLANNERS = ["obstacle_line", "obstacle_line_compact"]
+#: the paper's lanes, the compact ones and the shared ones (Mathematics §4.4): one
+#: construction, three sections
+PLANNERS = ["obstacle_line", "obstacle_line_compact", "obstacle_line_shared"]
 
 
 def _plan(q, lift=1.0, backend=None, planner="obstacle_line"):
@@ -63,7 +64,8 @@ def _batch(qs, lift=1.0, backend=None, planner="obstacle_line"):
 
 def assert_matches_reference(q, plan, record, lift=1.0):
     """Compare one library plan (and its stratum record) with the reference, and certify it."""
-    ref = reference_plan(*q, lift=lift, compact=plan.planner == "obstacle_line_compact")
+    ref = reference_plan(*q, lift=lift, compact=plan.planner != "obstacle_line",
+                         shared=plan.planner == "obstacle_line_shared")
     assert plan.domain == ref.label
     assert tuple(int(v) for v in record) == ref.record
     assert plan.waypoints.shape == (8,) + (q[0].shape[0] + q[1].shape[0], q[0].shape[1])
@@ -437,6 +439,52 @@ def test_compact_lanes_are_a_unit_apart_and_clear_the_obstacles(d, m, n, lift, d
             assert abs(abs(h) - lift * (i // 2 + 1)) <= 1e-12 * scale
 
 
+@settings(max_examples=60)
+@given(d=st.sampled_from([2, 3, 4]), m=st.sampled_from([2, 3, 5]), n=st.sampled_from([1, 2, 5, 9]),
+       lift=st.sampled_from([1.0, 0.3, 0.01]), data=st.data())
+def test_shared_lanes_are_a_unit_apart_and_clear_the_obstacles(d, m, n, lift, data):
+    """The shared lanes (obstacle_line_shared): during the slide (waypoints 3 and 4) the robots'
+    nu-components are their lanes h_i: odd robots above the line, even ones below; two robots
+    share a lane only if their columns
+    are in the same order at both ends of the slide (so they never share a column on it: the
+    chains of Mathematics §4.4), other pairs are at least u apart; every lane is at least u
+    from every obstacle's nu-component; a side's lanes are 1, 2, ... units beyond its
+    obstacles, none skipped (the reference's rational waypoints, each rounded to a double: up
+    to a relative 1e-12)."""
+    q = data.draw(queries(d, m, n, degenerate=data.draw(st.booleans())))
+    ref = reference_plan(*q, lift=lift, compact=True, shared=True)
+    nu, o1 = ref.nu, ref.exact[0][0]
+    o2 = ref.exact[0][1]
+    scale = max(abs(c) for conf in ref.exact for p in conf for c in p)
+    u = Fraction(lift) - Fraction(1, 10**12) * scale
+
+    def height(p):
+        return sum((a - b) * c for a, b, c in zip(p, o1, nu))
+
+    def column(p):
+        return sum((a - b) * (c - b) for a, b, c in zip(p, o1, o2))
+
+    ts = [height(o) for o in ref.exact[0][:m]]
+    hs = [height(x) for x in ref.exact[3][m:]]  # (the lanes pass through the line's feet)
+    ends = [[column(x) for x in ref.exact[t][m:]] for t in (3, 4)]
+    for i, h in enumerate(hs):
+        assert (h > 0) == (i % 2 == 0)
+        assert all(abs(h - t) >= u for t in ts)  # (t = 0 for o_1, o_2)
+        for j, g in enumerate(hs[:i]):
+            if abs(h - g) < u:  # one lane: the same order at both ends, never one column
+                assert abs(h - g) <= Fraction(1, 10**12) * scale
+                assert (ends[0][i] - ends[0][j]) * (ends[1][i] - ends[1][j]) > 0
+    tol = Fraction(1, 10**12) * scale
+    for side in (0, 1):
+        base = max([0] + [t if side == 0 else -t for t in ts])
+        ks = []
+        for h in hs[side::2]:  # lane k: k units beyond the side's obstacles
+            k = round((abs(h) - base) / Fraction(lift))
+            assert abs(abs(h) - base - k * Fraction(lift)) <= tol
+            ks.append(k)
+        assert sorted(set(ks)) == list(range(1, len(set(ks)) + 1))  # none skipped
+
+
 def test_compact_lanes_pass_where_the_papers_climb():
     """The example of Mathematics §4.2 (o_3 far off the line): the paper's lanes climb by
     lambda = lift + |r(o_3)| per robot, the compact ones by the unit; both are certified."""
@@ -450,6 +498,50 @@ def test_compact_lanes_pass_where_the_papers_climb():
     np.testing.assert_array_equal(lanes(compact), [5.0, -1.0, 6.0])  # 4 + 1, -(0 + 1), 4 + 2
     assert compact.path.length() < 0.6 * paper.path.length()
     assert compact.clearance > 0 and paper.clearance > 0
+
+
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+def test_shared_lanes_are_those_of_robots_that_keep_their_order(backend):
+    """Mathematics §4.4, the shared lanes: robots 1 and 3 (one side) whose columns are in the
+    same order at the start and the goal share the first lane (the compact planner, the
+    default, gives every robot its own); when robot 3's goal passes robot 1's
+    they take lanes 1 and 2; robots in one start column (one above the other) are ordered by
+    their index, as the desingularization orders them; a sequence shares a lane only if the
+    order holds in every configuration. The domain is the same, every plan is certified, and
+    both backends agree bit for bit."""
+    o = [[0.0, 0.0], [1.0, 0.0]]
+    lanes = lambda p, k=0: p.path.waypoints[7 * k + 3, 2:, 1]  # noqa: E731 (the line y = 0)
+    s = [[2.0, 1.0], [3.0, 2.0], [4.0, -1.0]]
+    planner = "obstacle_line_shared"
+    kept = pmplan.plan(o, s, [[5.0, 1.0], [-3.0, 1.0], [7.0, 2.0]], backend=backend,
+                       planner=planner)
+    np.testing.assert_array_equal(lanes(pmplan.plan(o, s, [[5.0, 1.0], [-3.0, 1.0], [7.0, 2.0]],
+                                                    backend=backend)), [1.0, -1.0, 2.0])
+    np.testing.assert_array_equal(lanes(kept), [1.0, -1.0, 1.0])
+    crossed = pmplan.plan(o, s, [[5.0, 1.0], [-3.0, 1.0], [3.0, 2.0]], backend=backend,
+                          planner=planner)
+    np.testing.assert_array_equal(lanes(crossed), [1.0, -1.0, 2.0])
+    assert kept.domain == crossed.domain and min(kept.clearance, crossed.clearance) > 0
+    # one start column: robot 3 is after robot 1 in H(C, 1), whatever their heights
+    tied = [[2.0, 1.0], [3.0, 2.0], [2.0, -1.0]]
+    after = pmplan.plan(o, tied, [[5.0, 1.0], [-3.0, 1.0], [7.0, 2.0]], backend=backend,
+                        planner=planner)
+    before = pmplan.plan(o, tied, [[7.0, 1.0], [-3.0, 1.0], [5.0, 2.0]], backend=backend,
+                         planner=planner)
+    np.testing.assert_array_equal(lanes(after), [1.0, -1.0, 1.0])
+    np.testing.assert_array_equal(lanes(before), [1.0, -1.0, 2.0])
+    assert min(after.clearance, before.clearance) > 0
+    seq = pmplan.plan_sequence(o, [s, [[5.0, 1.0], [-3.0, 1.0], [7.0, 2.0]],
+                                   [[5.0, 1.0], [-3.0, 1.0], [3.0, 2.0]]], backend=backend,
+                               planner=planner)
+    np.testing.assert_array_equal(lanes(seq, 0), [1.0, -1.0, 2.0])
+    np.testing.assert_array_equal(lanes(seq, 1), [1.0, -1.0, 2.0])
+    assert seq.clearance > 0
+    for p in (kept, crossed, after, before, seq):
+        ref = pmplan.plan_sequence(o, [p.path.waypoints[7 * k][2:] for k in
+                                       range(len(p.path.times) // 7 + 1)], backend="numpy",
+                                   planner=planner)
+        np.testing.assert_array_equal(ref.path.waypoints, p.path.waypoints)
 
 
 @settings(max_examples=60)

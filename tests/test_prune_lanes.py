@@ -61,9 +61,11 @@ def _guess(rng, mode: str, w: np.ndarray, m: int) -> tuple[float, float]:
             "random": (float(rng.uniform(0, 2)), float(rng.uniform(0.5, 2)))}[mode]
 
 
-def _prune(ws: np.ndarray, m: int, gaps, norms, estimate: bool) -> np.ndarray:
+def _prune(ws: np.ndarray, m: int, gaps, norms, estimate: bool, shared: bool = False
+           ) -> np.ndarray:
     """_prune_plane on lanes of waypoints ``ws`` (L, kk, p, 2): every lane's minimum (its guess
-    from the rows GAP, NORM, or with ``estimate`` from the waypoints, :func:`_guess_plane`)."""
+    from the rows GAP, NORM, or with ``estimate`` from the waypoints, :func:`_guess_plane`;
+    with ``shared`` the slide's test of the shared lanes too)."""
     lanes, kk, p, d = ws.shape
     wf = np.ascontiguousarray(ws, dtype=float).reshape(lanes, -1)
     s = np.ascontiguousarray(wf.T)
@@ -77,13 +79,14 @@ def _prune(ws: np.ndarray, m: int, gaps, norms, estimate: bool) -> np.ndarray:
     t[NORM] = norms
     r = (kk - 1) // 7 + 1
     row = kernels_line._prune_plane(s, t, wf, 0, r, m, p, p * d, kk, MX, np.int64(MN), BAD,
-                                    THR2, GAP, NORM, estimate)
+                                    THR2, GAP, NORM, estimate, shared)
     return t[row]
 
 
-def _check_lanes(rng, ws: np.ndarray, m: int, modes, estimate: bool) -> None:
+def _check_lanes(rng, ws: np.ndarray, m: int, modes, estimate: bool,
+                 shared: bool = False) -> None:
     gaps, norms = zip(*(_guess(rng, mode, w, m) for w, mode in zip(ws, modes)))
-    got = _prune(ws, m, np.array(gaps), np.array(norms), estimate)
+    got = _prune(ws, m, np.array(gaps), np.array(norms), estimate, shared)
     for lane, w in enumerate(ws):
         amax = float(np.abs(w).max())
         if 1e-130 < amax < 1e130:  # (other lanes go to the scalar kernel)
@@ -94,10 +97,12 @@ def _check_lanes(rng, ws: np.ndarray, m: int, modes, estimate: bool) -> None:
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3, 5]),
        st.sampled_from([14, 16, 30, 62, 120]), st.sampled_from([2, 3]),
-       st.sampled_from(FAMILIES), st.sampled_from([1, 5, 16]), st.booleans())
-def test_prune_equals_every_pair_on_arbitrary_waypoints(seed, m, n, r, family, lanes, estimate):
+       st.sampled_from(FAMILIES), st.sampled_from([1, 5, 16]), st.booleans(), st.booleans())
+def test_prune_equals_every_pair_on_arbitrary_waypoints(seed, m, n, r, family, lanes, estimate,
+                                                        shared):
     """Waypoints that are no planner's path (the directions are then arbitrary: the bound must
-    hold for any), every guess mode across the lanes, and the estimate of the compact lanes."""
+    hold for any), every guess mode across the lanes, the estimate of the compact lanes, with
+    and without the slide's test of the shared lanes."""
     rng = np.random.default_rng(seed)
     kk, p = 7 * (r - 1) + 1, m + n
     ws = np.stack([_stationary(_points(rng, family, (kk, p, 2)), m) for _ in range(lanes)])
@@ -107,15 +112,16 @@ def test_prune_equals_every_pair_on_arbitrary_waypoints(seed, m, n, r, family, l
             w[t, i] = w[rng.integers(0, kk), rng.integers(0, p)]
         ws = np.stack([_stationary(w, m) for w in ws])
     _check_lanes(rng, ws, m, [GUESSES[rng.integers(len(GUESSES))] for _ in range(lanes)],
-                 estimate)
+                 estimate, shared)
 
 
 @settings(max_examples=25, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3]), st.sampled_from([14, 16, 40, 100]),
-       st.sampled_from(FAMILIES), st.sampled_from(GUESSES + ("estimate",)))
+       st.sampled_from(FAMILIES), st.sampled_from(GUESSES + ("estimate", "shared")))
 def test_prune_equals_every_pair_on_planned_paths(seed, m, n, family, mode):
     """Paths of the obstacle-line planners (the directions the pruning is made for): the
-    paper's lanes with every guess, the compact lanes' direct lift with its estimate."""
+    paper's lanes with every guess, the compact lanes' direct lift with its estimate, the
+    shared lanes (robots of one lane at one height through the slide) with the slide's test."""
     rng = np.random.default_rng(seed)
     o, s, g = (_points(rng, family, (8, k, 2)) for k in (m, n, n))
     ok = ~(coincident_pairs(np.concatenate([o, s], 1)) | coincident_pairs(np.concatenate([o, g],
@@ -124,19 +130,21 @@ def test_prune_equals_every_pair_on_planned_paths(seed, m, n, family, mode):
     if not ok.any():
         return
     try:
-        planner = "obstacle_line_compact" if mode == "estimate" else "obstacle_line"
+        planner = {"estimate": "obstacle_line_compact",
+                   "shared": "obstacle_line_shared"}.get(mode, "obstacle_line")
         wp = pmplan.plan_batch(o[ok], s[ok], g[ok], planner=planner).waypoints
     except pmplan.errors.PmplanError:
         return  # (a path whose certificate fails is not returned)
-    _check_lanes(rng, wp, m, [mode if mode != "estimate" else "nan"] * len(wp),
-                 mode == "estimate")
+    _check_lanes(rng, wp, m, [mode if mode in GUESSES else "nan"] * len(wp),
+                 mode in ("estimate", "shared"), mode == "shared")
 
 
 @settings(max_examples=12, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([(2, 16, 2), (2, 14, 3), (2, 30, 2),
                                                    (2, 64, 2), (2, 100, 5), (2, 130, 2)]),
-       st.sampled_from(["random", "clustered", "integer"]), st.sampled_from([2, 3]))
-def test_plan_batch_with_the_pruning_equals_the_reference(seed, dims, family, r):
+       st.sampled_from(["random", "clustered", "integer"]), st.sampled_from([2, 3]),
+       st.sampled_from([None, "obstacle_line_shared"]))
+def test_plan_batch_with_the_pruning_equals_the_reference(seed, dims, family, r, planner):
     """From ``PRUNE_LANES[0]`` points in the plane, plan_batch and plan_sequence_batch (the
     SIMD kernel's pruned pass, from ``PRUNE_LANES[1]`` its sweep lane by lane, the scalar
     kernel for the rest of the batch) equal the numpy reference bit for bit."""
@@ -153,27 +161,29 @@ def test_plan_batch_with_the_pruning_equals_the_reference(seed, dims, family, r)
     if len(o) == 0:
         return
     try:
-        fast = pmplan.plan_sequence_batch(o, cs, backend="numba")
+        fast = pmplan.plan_sequence_batch(o, cs, backend="numba", planner=planner)
     except pmplan.errors.PmplanError as exc:
         try:
-            pmplan.plan_sequence_batch(o, cs, backend="numpy")
+            pmplan.plan_sequence_batch(o, cs, backend="numpy", planner=planner)
         except pmplan.errors.PmplanError as ref:
             assert (type(exc), str(exc)) == (type(ref), str(ref))
             return
         raise
-    ref = pmplan.plan_sequence_batch(o, cs, backend="numpy")
+    ref = pmplan.plan_sequence_batch(o, cs, backend="numpy", planner=planner)
     assert np.array_equal(fast.waypoints, ref.waypoints)
     assert np.array_equal(fast.clearance, ref.clearance)
     assert np.array_equal(fast.clearance, reference_clearance(fast.waypoints, m))
 
 
 @pytest.mark.parametrize(("planner", "bound"), [("obstacle_line", 12),
-                                                ("obstacle_line_compact", 6)])
+                                                ("obstacle_line_compact", 6),
+                                                ("obstacle_line_shared", 6)])
 def test_prune_prunes(planner, bound):
     """The pruning really prunes: on random (2, 64, 2) paths the lanes evaluate a few pairs
     each, not the 2,079 pairs with a moving point (counted through the Python version): the
     paper's lanes from the column-class test's gap, the compact lanes (the default) from the
-    estimate of :func:`_guess_plane`."""
+    estimate of :func:`_guess_plane`, the shared lanes too (their robots of one lane, at one
+    height through the slide, are passed by the slide's test along the line)."""
     rng = np.random.default_rng(5)
     n, m = 64, 2
     ws = pmplan.plan_batch(*(rng.normal(size=(8, k, 2)) for k in (m, n, n)),
@@ -201,7 +211,7 @@ def test_prune_prunes(planner, bound):
         t[GAP] = gaps
         t[NORM] = norms
         row = plane(s, t, wf, 0, 2, m, n + m, 2 * (n + m), 8, MX, MN, BAD, THR2, GAP, NORM,
-                    planner == "obstacle_line_compact")
+                    planner != "obstacle_line", planner == "obstacle_line_shared")
     finally:
         names.update(saved)
     for lane, w in enumerate(ws):

@@ -18,8 +18,9 @@ ULPS = 16
 def _check_one(obstacles, configs, plan, record, lift=1.0):
     r = len(configs)
     m = obstacles.shape[0]
-    compact = plan.planner == "obstacle_line_compact"
-    label, ref_record, times, wps = reference_sequence(obstacles, configs, lift, compact)
+    compact = plan.planner != "obstacle_line"
+    label, ref_record, times, wps = reference_sequence(obstacles, configs, lift, compact,
+                                                       plan.planner == "obstacle_line_shared")
     assert plan.domain == label == stratum_of((obstacles, *configs)).label
     assert tuple(int(v) for v in record) == ref_record
     assert plan.waypoints.shape[0] == 7 * (r - 1) + 1
@@ -38,7 +39,8 @@ def _check_one(obstacles, configs, plan, record, lift=1.0):
 @given(seed=st.integers(0, 2**32 - 1), d=st.sampled_from([2, 3, 4]),
        m=st.sampled_from([2, 3, 4]), n=st.sampled_from([1, 2, 3]), r=st.integers(2, 5),
        lift=st.sampled_from([1.0, 0.5, 2.0]),
-       planner=st.sampled_from([None, "obstacle_line", "obstacle_line_compact"]))
+       planner=st.sampled_from([None, "obstacle_line", "obstacle_line_compact",
+                                "obstacle_line_shared"]))
 def test_sequence_matches_reference(seed, d, m, n, r, lift, planner):
     rng = np.random.default_rng(seed)
     cp_o = int(rng.integers(2, m + 1))

@@ -51,13 +51,13 @@ def check_sequential(planner: str | None) -> None:
     through intermediate configurations (a query with ``via``)."""
     if planner is not None and not (planner in REGISTRY and REGISTRY[planner].sequential):
         names = [p.name for p in REGISTRY.values() if p.sequential]
-        raise UnsupportedError(f"a query with 'via' is planned by the {' or '.join(names)} "
-                               "planner")
+        which = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " or " + names[-1]
+        raise UnsupportedError(f"a query with 'via' is planned by the {which} planner")
 
 
 def planner_names() -> list[str]:
-    """Return the registered planner names: ``obstacle_line``, ``obstacle_line_compact`` and
-    ``planar_three``."""
+    """Return the registered planner names: ``obstacle_line``, ``obstacle_line_compact``,
+    ``obstacle_line_shared`` and ``planar_three``."""
     return sorted(REGISTRY)
 
 

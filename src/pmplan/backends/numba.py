@@ -18,7 +18,12 @@ import numpy as np
 from ..certify import CLEARANCE, check_paths
 from ..certify import clearance as exact_clearance
 from ..planar_strata import EVEN
-from ..planners.obstacle_line import OBSTACLE_LINE, OBSTACLE_LINE_COMPACT, path_times
+from ..planners.obstacle_line import (
+    OBSTACLE_LINE,
+    OBSTACLE_LINE_COMPACT,
+    OBSTACLE_LINE_SHARED,
+    path_times,
+)
 from ..planners.planar_three import PLANAR_THREE
 from . import kernel_array, kernels, planar_kernels, shared_kernels
 from . import numpy as reference
@@ -69,7 +74,8 @@ def _obstacle_line_arrays(obstacles, configs):
 
 
 def _obstacle_line_kernel(obstacles, configs, lift: float, out: dict,
-                          validate: bool, compact: bool = False) -> np.ndarray | None:
+                          validate: bool, compact: bool = False,
+                          shared: bool = False) -> np.ndarray | None:
     """Plan a chunk with :func:`pmplan.kernels.obstacle_line.plan_chunk` into ``out``; return
     its flags.
 
@@ -89,7 +95,7 @@ def _obstacle_line_kernel(obstacles, configs, lift: float, out: dict,
     flags = np.empty(b, np.uint8)
     kern.plan_chunk(obstacles, configs[0], configs[-1], middle, lift, validate,
                     out["waypoints"], out["domain"], out["strata"], out["clearance"], flags,
-                    kern.tables(r, m, n, d), compact)
+                    kern.tables(r, m, n, d), compact, shared)
     return flags
 
 
@@ -98,7 +104,8 @@ def _obstacle_line_validates(d: int) -> bool:
     return d <= kernels().MAX_D
 
 
-def _obstacle_line_single(m: int, n: int, d: int, compact: bool = False):
+def _obstacle_line_single(m: int, n: int, d: int, compact: bool = False,
+                          shared: bool = False):
     """``run(obstacles, start, goal, lift) -> (times, waypoints, domain, row, clearance) |
     None`` -- the caller guarantees C-contiguous, aligned, writeable float64 arrays of shapes
     (m, d), (n, d), (n, d) and a float ``lift`` (positive, or
@@ -114,7 +121,7 @@ def _obstacle_line_single(m: int, n: int, d: int, compact: bool = False):
 
     def run(obstacles, start, goal, lift):
         wp, domain, cp1, cp2, cp_o, pole, clr, flags = kernel(obstacles, start, goal, lift,
-                                                              tab, compact)
+                                                              tab, compact, shared)
         if flags or not clr > 0:
             return None
         return times.copy(), wp, domain, (cp1, cp2, cp_o, pole), clr
@@ -122,7 +129,8 @@ def _obstacle_line_single(m: int, n: int, d: int, compact: bool = False):
     return run
 
 
-def _obstacle_line_sequence(r: int, m: int, n: int, d: int, compact: bool = False):
+def _obstacle_line_sequence(r: int, m: int, n: int, d: int, compact: bool = False,
+                            shared: bool = False):
     """``run(obstacles, configs, lift) -> (times, waypoints, domain, row, clearance) | None``
     for one query through ``r >= 2`` configurations -- the caller guarantees C-contiguous,
     aligned, writeable float64 arrays ``obstacles`` (m, d) and ``configs`` (a sequence of r
@@ -163,7 +171,7 @@ def _obstacle_line_sequence(r: int, m: int, n: int, d: int, compact: bool = Fals
         flags = empty(1, u8)
         kernel(obstacles.reshape(oshape), configs[0].reshape(rshape),
                configs[-1].reshape(rshape), middle, lift, True, wp, domain, strata,
-               clearance, flags, tab, sel, 1, compact)
+               clearance, flags, tab, sel, 1, compact, shared)
         clr = clearance.item()
         if flags.item() or not clr > 0:
             return None
@@ -244,6 +252,11 @@ PLANNERS = {
     OBSTACLE_LINE_COMPACT: (_obstacle_line_arrays, partial(_obstacle_line_kernel, compact=True),
                             _obstacle_line_validates, partial(_obstacle_line_single, compact=True),
                             partial(_obstacle_line_sequence, compact=True)),
+    OBSTACLE_LINE_SHARED: (_obstacle_line_arrays,
+                           partial(_obstacle_line_kernel, compact=True, shared=True),
+                           _obstacle_line_validates,
+                           partial(_obstacle_line_single, compact=True, shared=True),
+                           partial(_obstacle_line_sequence, compact=True, shared=True)),
     PLANAR_THREE: (_planar_arrays, _planar_kernel, _planar_validates, _planar_single, None),
 }
 

@@ -235,8 +235,11 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
     Same semantics as :func:`pmplan.predicates.projection_classes`: float projections
     ``(y - o1).w`` with one error bound per configuration (the max over its points), stable
     sort, neighbours farther apart than the bound are distinct, the others are decided by the
-    error-free stage (and must not be misordered). Returns ``(decided, cp, cp_o, gap)``; ``decided`` is False where the
-    reference would need its exact rational stage (or its full exact pass).
+    error-free stage (and must not be misordered). Returns ``(decided, cp, cp_o, gap,
+    labelled)``; ``decided`` is False where the reference would need its exact rational stage
+    (or its full exact pass); ``labelled`` is False in the generic case, every projection
+    farther than the bound from every other (then ``lab`` is not written, and the float order
+    of ``vals`` is the exact order), True where ``lab`` holds the exact classes.
     """
     absum = 0.0
     finite = True
@@ -254,7 +257,7 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
             absum = a
     bound = (d + 2) * 1.01 * U * absum + (d + 1) * TINY
     if not (finite and math.isfinite(bound)):
-        return False, 0, 0, 0.0
+        return False, 0, 0, 0.0, False
     thr = 2.0 * (2.0 * bound) * (1 + 4 * U)
     # all projections pairwise farther apart than thr (the generic case): every point is its
     # own column, and the smallest gap between neighbours in the sorted order is the smallest
@@ -266,7 +269,7 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
             df = abs(vi - vals[j])
             mind = df if df < mind else mind  # noqa: FURB136 (branch-free, as below)
     if mind > thr:
-        return True, p, m, mind
+        return True, p, m, mind, False
     # stable argsort (numpy's argsort(kind="stable") order) by ranks, branch-free: the rank of
     # point i is the number of points before it (smaller value, or equal value and index)
     for i in range(p):
@@ -288,12 +291,12 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
         if unc:
             ok, sgn = _exact_sign(y, k, order[i], order[i + 1], d)
             if not ok:
-                return False, 0, 0, 0.0
+                return False, 0, 0, 0.0, False
             eq = sgn == 0
             # a run of >= 2 undecided neighbours with an unequal pair, or a pair the float sort
             # put in the wrong order, needs the full exact pass
             if sgn > 0 or (prev_unc and not (prev_eq and eq)):
-                return False, 0, 0, 0.0
+                return False, 0, 0, 0.0, False
         if not eq:
             label += 1
             if diff < gap:  # noqa: PLR1730 (explicit compare: NaN is never selected)
@@ -309,7 +312,57 @@ def _classes(y, k, p, m, d, w, vals, order, lab):  # pragma: no cover - compiled
                 new = False
         if new:
             cp_o += 1
-    return True, label + 1, cp_o, gap
+    return True, label + 1, cp_o, gap, True
+
+
+@njit(**INLINE)
+def _before(kv, k, a, b):  # pragma: no cover - compiled
+    """Whether robot ``a`` is before robot ``b`` in ``H(C_k, 1)``: by the key ``kv[k]`` (the
+    exact class, or the projection where every one is its own), then by index (paper (3.2)
+    moves robot j by j eps)."""
+    return (kv[k, a] < kv[k, b]) | ((kv[k, a] == kv[k, b]) & (a < b))
+
+
+@njit(**INLINE)
+def _lane_chains(kv, r, n, order, lane, tail):  # pragma: no cover - compiled
+    """``lane[j]``: robot j's lane on its side, 1, 2, ...
+    (:func:`pmplan.planners.obstacle_line.lane_chains`: the robots of a side in the order of
+    ``H(C_1, 1)``, ``order`` (robot of rank t, -1 for none), each in the first chain whose last
+    robot is before it in every ``H(C_k, 1)``). For r = 2 the chains' last robots are in
+    decreasing order in ``H(C_2, 1)`` (a robot opens a chain only when it is before every last
+    one, and replaces the first last one before it), so the first chain is found by bisection."""
+    for j in range(n):
+        lane[j] = 1
+    for side in range(2):
+        nch = 0
+        for t in range(n):
+            x = order[t]
+            if x < 0 or x % 2 != side:
+                continue
+            if r == 2:
+                lo = 0
+                hi = nch
+                while lo < hi:
+                    mid = (lo + hi) // 2
+                    if _before(kv, 1, tail[mid], x):
+                        hi = mid
+                    else:
+                        lo = mid + 1
+                pick = lo
+            else:
+                pick = nch
+                for c in range(nch):
+                    ok = True
+                    for k in range(1, r):
+                        if not _before(kv, k, tail[c], x):
+                            ok = False
+                    if ok:
+                        pick = c
+                        break
+            lane[x] = pick + 1
+            tail[pick] = x
+            if pick == nch:
+                nch += 1
 
 
 @njit(**INLINE)
@@ -914,7 +967,7 @@ def lanes(r, m, n, d):  # pragma: no cover - compiled
 #     with inline="always" +4 to +8 % on (2,1,2).
 @njit(**OPTS)
 def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance, flags,
-          tab, sel, nsel, compact):  # pragma: no cover - compiled
+          tab, sel, nsel, compact, shared):  # pragma: no cover - compiled
     """Plan and certify a chunk of queries of the obstacle-line planner (Mathematics §3, §4.1-§4.3).
 
     Parameters
@@ -947,6 +1000,10 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
     compact : bool
         The compact lanes of Mathematics §4.4 (the planner ``obstacle_line_compact``) instead of
         the paper's ``i lambda`` (:func:`pmplan.planners.obstacle_line.lane_heights`).
+    shared : bool
+        With ``compact``, the shared lanes of Mathematics §4.4 (the planner
+        ``obstacle_line_shared``): the robots of a side that keep their order share a lane
+        (:func:`pmplan.planners.obstacle_line.lane_chains`).
 
     Notes
     -----
@@ -970,6 +1027,12 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
     order = np.empty(p, np.int64)
     lab = np.empty(p, np.int64)
     cps = np.empty(r, np.int64)
+    kv = np.empty((r, n))  # the compact lanes' chains (obstacle_line.lane_chains): keys,
+    lane = np.empty(n, np.int64)  # lanes, the last robot of every chain, the order in C_1
+    tail = np.empty(n, np.int64)
+    rorder = np.empty(n, np.int64)
+    bk = np.empty(n, np.int64)
+    cnt = np.empty(n + 1, np.int64)
     # the values the waypoints are made of, in one vector: 0.0, then the configurations C_k
     # (waypoints 7k), the desingularized robots F(C_k, 1), the projected robots
     # phi(F(C_k, 1), 1), and the lift i lambda nu(e) of robot i
@@ -1068,10 +1131,13 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
         # --- columns, desingularization of paper (3.2), projection of paper (3.6) -------
         cp_o = 0
         for k in range(r):
-            ok, cp, cpo_k, gap = _classes(y, k, p, m, d, w, vals, order, lab)
+            ok, cp, cpo_k, gap, labelled = _classes(y, k, p, m, d, w, vals, order, lab)
             if not ok:
                 fl |= FALLBACK
                 break
+            if shared:  # the exact class, or where each is its own the projection
+                for j in range(n):
+                    kv[k, j] = float(lab[m + j]) if labelled else vals[m + j]
             cps[k] = cp
             cp_o = cpo_k
             eps = gap / norm / nfl
@@ -1120,8 +1186,11 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
                     hp = t
                 if -t > hm:
                     hm = -t
+            if shared:
+                _bucket_sort(kv[0], rorder, n, bk, cnt)  # (stable: ties by index)
+                _lane_chains(kv, r, n, rorder, lane, tail)
             for j in range(n):
-                kq = float(j // 2 + 1)
+                kq = float(lane[j]) if shared else float(j // 2 + 1)
                 li = hp + unit * kq if j % 2 == 0 else -(hm + unit * kq)
                 for c in range(d):
                     off[j, c] = li * nu[c]
@@ -1312,24 +1381,24 @@ def _pair_plane(S, w0, a, b, row, T, src, dst):  # pragma: no cover - compiled
 
 
 @njit(**INLINE)
-def _lane_thresholds(D, EW, T32, nseg, l):  # pragma: no cover - compiled
-    """Lane l's float32 thresholds of :func:`_prune_pass` (rows of ``T32``, one per segment and
-    group) from its ``s = sqrt(min(best, guess))`` (rows BEST, GUESS of ``D``; ``-inf``: the
-    lane is left out): ``(thr + EW) (1 + 2**-21)`` rounded to float32, ``thr = (s |u| + margin)
-    (1 + _PRUNE_REL)`` as in :func:`_sweep_min` (u0 for groups A, C; u1 for group B)."""
+def _lane_thresholds(D, EW, T32, nseg, l, ng):  # pragma: no cover - compiled
+    """Lane l's float32 thresholds of :func:`_prune_pass` (rows of ``T32``, ``ng`` per segment:
+    one per group) from its ``s = sqrt(min(best, guess))`` (rows BEST, GUESS of ``D``; ``-inf``:
+    the lane is left out): ``(thr + EW) (1 + 2**-21)`` rounded to float32, ``thr = (s |u| +
+    margin) (1 + _PRUNE_REL)`` as in :func:`_sweep_min` (u1 for group B, u0 for the others)."""
     z = D[_BEST, l]
     g = D[_GUESS, l]
     sq = math.sqrt(z if z < g else g)  # noqa: FURB136 (a select, as elsewhere)
     sq = sq if D[_OUT, l] == 0 else -np.inf
     t0 = (sq * D[_WN0, l] + D[_MG0, l]) * (1.0 + _PRUNE_REL)
     t1 = (sq * D[_WN1, l] + D[_MG1, l]) * (1.0 + _PRUNE_REL)
-    for x in range(3 * nseg):
-        t = t1 if x % 3 == 1 else t0
+    for x in range(ng * nseg):
+        t = t1 if x % ng == 1 else t0
         T32[x, l] = np.float32((t + EW[x, l]) * _UP32)
 
 
 @njit(**OPTS)
-def _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk):  # pragma: no cover - compiled
+def _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk, shared):  # pragma: no cover - compiled
     """One pass of :func:`_prune_plane` over every pair with a moving point: a pair is
     evaluated (:func:`_pair_lane` over the segment, and at the last configuration) in a lane
     where the float32 distance of its centres along ``u0`` (groups A, C) or ``u1`` (group B) is
@@ -1338,26 +1407,52 @@ def _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk):  # pragma: no cover
     loop on float32 rows: the test reads the bytes of a few rows per pair, so that their size
     bounds its speed), its verdict in ``NEED``, counted; the few lanes that need a pair evaluate
     it one by one (a block of lanes would evaluate it where it is not needed, and numba leaves
-    a loop over a few lanes scalar anyway)."""
+    a loop over a few lanes scalar anyway).
+
+    With ``shared`` (the shared lanes, Mathematics §4.4, whose robots of one lane keep one
+    height along the whole slide, so that their spans along u1 meet) the slide also passes a
+    pair whose float32 positions along u0 at its two ends (groups 3 and 4, single waypoints:
+    no span) are above their thresholds with the same sign: the exact relative position along
+    u0 is then above ``thr`` at both ends, with one sign, and it moves linearly on the piece,
+    so it is above ``thr`` on the whole piece -- the premise of :func:`_sweep_min`'s argument
+    (there from disjoint spans), whose conclusion follows word for word."""
     L = S.shape[1]
     r0 = (kk - 1) * row
+    ng = 5 if shared else 3
     for k in range(r - 1):
         w0 = 7 * k * row
-        ga = 3 * k * p  # the rows of C32 of groups A, B, C of segment k
+        ga = ng * k * p  # the rows of C32 of groups A, B, C (and the slide's ends) of segment k
         gb = ga + p
         gc = gb + p
-        ta = 3 * k  # their rows of T32
+        g3 = gc + p
+        g4 = g3 + p
+        ta = ng * k  # their rows of T32
         for i in range(p - 1):
             for j in range(max(i + 1, m), p):
                 cnt = 0
-                for l in range(L):
-                    xa = abs(C32[ga + j, l] - C32[ga + i, l])
-                    xb = abs(C32[gb + j, l] - C32[gb + i, l])
-                    xc = abs(C32[gc + j, l] - C32[gc + i, l])
-                    # (NaN is never above: then the pair is evaluated)
-                    nd = not ((xa > T32[ta, l]) & (xb > T32[ta + 1, l]) & (xc > T32[ta + 2, l]))
-                    NEED[l] = nd
-                    cnt += nd
+                if shared:  # (a loop of its own: the compact lanes' loop stays as it was)
+                    for l in range(L):
+                        xa = abs(C32[ga + j, l] - C32[ga + i, l])
+                        xb = abs(C32[gb + j, l] - C32[gb + i, l])
+                        xc = abs(C32[gc + j, l] - C32[gc + i, l])
+                        y3 = C32[g3 + j, l] - C32[g3 + i, l]
+                        y4 = C32[g4 + j, l] - C32[g4 + i, l]
+                        fb = (xb > T32[ta + 1, l]) | ((abs(y3) > T32[ta + 3, l])
+                                                      & (abs(y4) > T32[ta + 4, l])
+                                                      & ((y3 > 0) == (y4 > 0)))
+                        nd = not ((xa > T32[ta, l]) & fb & (xc > T32[ta + 2, l]))
+                        NEED[l] = nd
+                        cnt += nd
+                else:
+                    for l in range(L):
+                        xa = abs(C32[ga + j, l] - C32[ga + i, l])
+                        xb = abs(C32[gb + j, l] - C32[gb + i, l])
+                        xc = abs(C32[gc + j, l] - C32[gc + i, l])
+                        # (NaN is never above: then the pair is evaluated)
+                        nd = not ((xa > T32[ta, l]) & (xb > T32[ta + 1, l])
+                                  & (xc > T32[ta + 2, l]))
+                        NEED[l] = nd
+                        cnt += nd
                 if cnt == 0:
                     continue
                 for l in range(L):  # the lanes that need the pair, one by one
@@ -1370,7 +1465,7 @@ def _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk):  # pragma: no cover
                         a = x0 * x0 + y0 * y0
                         z = D[_BEST, l]
                         D[_BEST, l] = a if a < z else z  # noqa: FURB136
-                    _lane_thresholds(D, EW, T32, r - 1, l)
+                    _lane_thresholds(D, EW, T32, r - 1, l, ng)
 
 
 # the rows of D in _prune_plane / _prune_pass: the directions u0, u1 and their norms and
@@ -1445,7 +1540,7 @@ def _guess_plane(S, D, T, mx, r, m, p, row):  # pragma: no cover - compiled
 
 @njit(**OPTS)
 def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
-                 NORM, compact):  # pragma: no cover - compiled
+                 NORM, compact, shared):  # pragma: no cover - compiled
     """Row ``mn`` of T = every lane's minimum over the pairs with a moving point of the plane
     (d = 2), exactly that of the brute-force pass of :func:`_certify_lanes` (bitwise), the
     pairs pruned as :func:`_sweep_min` prunes them, without sorting.
@@ -1487,18 +1582,19 @@ def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
         for x in range(8):
             D[x, l] = aux[x]
     nseg = r - 1
-    C32 = np.empty((3 * nseg * p, L), np.float32)
-    EW = np.empty((3 * nseg, L))
-    T32 = np.empty((3 * nseg, L), np.float32)
+    ng = 5 if shared else 3  # groups A, B, C (and the slide's two ends along u0, _prune_pass)
+    C32 = np.empty((ng * nseg * p, L), np.float32)
+    EW = np.empty((ng * nseg, L))
+    T32 = np.empty((ng * nseg, L), np.float32)
     NEED = np.empty(L, np.bool_)
     LO = np.empty((2, L))
     for k in range(nseg):
-        for g in range(3):
-            ts = 7 * k + (0 if g == 0 else (3 if g == 1 else 4))
-            te = ts + (1 if g == 1 else 3)
+        for g in range(ng):
+            ts = 7 * k + (0 if g == 0 else (3 if g == 1 or g == 3 else 4))
+            te = ts + (1 if g == 1 else (3 if g < 3 else 0))
             dr = 2 if g == 1 else 0
-            y = (3 * k + g) * p
-            ew = 3 * k + g
+            y = (ng * k + g) * p
+            ew = ng * k + g
             for l in range(L):
                 D[_BEST, l] = 0.0  # (scratch here) the group's C
                 EW[ew, l] = 0.0  # its W
@@ -1539,17 +1635,17 @@ def _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP,
     for l in range(L):
         D[_BEST, l] = np.inf
         D[_OUT, l] = 0.0
-        _lane_thresholds(D, EW, T32, nseg, l)
-    _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk)
+        _lane_thresholds(D, EW, T32, nseg, l, ng)
+    _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk, shared)
     again = False
     for l in range(L):  # a lane whose guess was too small: a second pass from its best
         poor = (T[BAD, l] == 0) & (T[THR2, l] < np.inf) & (not D[_BEST, l] <= D[_GUESS, l])
         again |= poor
         D[_GUESS, l] = np.inf
         D[_OUT, l] = 0.0 if poor else 1.0
-        _lane_thresholds(D, EW, T32, nseg, l)
+        _lane_thresholds(D, EW, T32, nseg, l, ng)
     if again:
-        _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk)
+        _prune_pass(S, C32, T32, D, EW, NEED, r, m, p, row, kk, shared)
     for l in range(L):
         T[mn, l] = D[_BEST, l]
     return mn
@@ -1698,7 +1794,7 @@ def _max_finite(S, T, x0, x1, mx, mx2, BAD):  # pragma: no cover - compiled
 
 @njit(**OPTS)
 def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2, wf,
-                   b0, GAP, NORM, compact):  # pragma: no cover - compiled
+                   b0, GAP, NORM, compact, shared):  # pragma: no cover - compiled
     """The certificate of :func:`_plan_lanes` for one block of L queries (Mathematics §6).
 
     ``S`` holds the waypoints of the block (row x: coordinate x of every lane), ``T`` the
@@ -1740,7 +1836,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
         # the plane, many points: every pair tested, the few that may reach the minimum
         # evaluated (exactly pruned, blocks of eight lanes)
         mn = _prune_plane(S, T, wf, b0, r, m, p, row, kk, mx, mn, BAD, THR2, GAP, NORM,
-                          compact)
+                          compact, shared)
     elif _sweeps(p, d):
         # many points: the exact pruned sweep, lane by lane (each lane has its own order)
         _sweep_lanes(wf, b0, T, mx, mn, THR2, BAD, kk, p, m, d)
@@ -1852,7 +1948,7 @@ def _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, 
 #     8632269: 0.85, 0.66, 0.68.
 @njit(**OPTS)
 def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance, flags, todo,
-               L, compact):  # pragma: no cover - compiled
+               L, compact, shared):  # pragma: no cover - compiled
     """Plan and certify the *generic* queries of a chunk, ``L`` queries at a time (SIMD).
 
     The same computation as :func:`plan_queries`, operation for operation (so the results are bitwise
@@ -1891,6 +1987,14 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
     X1 = np.empty((r * nd, L))  # robot j of F(C_k, 1): row (k n + j) d + c
     X2 = np.empty((r * nd, L))  # robot j of phi(F(C_k, 1), 1)
     OFF = np.empty((nd, L))  # the lift of robot j: row j d + c
+    CV = np.empty((r * n, L))  # robot j's projection in C_k (row k n + j), for the chains
+    KQ = np.empty((n, L))  # robot j's lane on its side
+    kv = np.empty((r, n))
+    lane = np.empty(n, np.int64)
+    rorder = np.empty(n, np.int64)
+    tail = np.empty(n, np.int64)
+    bk = np.empty(n, np.int64)
+    cnt = np.empty(n + 1, np.int64)
     W = np.empty((d, L))
     E = np.empty((d, L))
     NU = np.empty((d, L))
@@ -2006,6 +2110,10 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     mn, mn2 = mn2, mn
             for l in range(L):
                 T[BAD, l] += 0.0 if T[mn, l] > T[THR, l] else 1.0
+            if shared:  # generic: the float order of the projections is exact
+                for j in range(n):
+                    for l in range(L):
+                        CV[k * n + j, l] = V[m + j, l]
             if gap_guess:  # (own loop: a select written back into its row costs (2,1,2) 5 %)
                 for l in range(L):
                     z = T[GAP, l]
@@ -2103,16 +2211,30 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     T[HP, l] = t if t > z else z
                     z = T[HM, l]
                     T[HM, l] = -t if -t > z else z
+            # the shared lanes' chains (plan_queries' _lane_chains), lane by lane (generic:
+            # the projections are distinct and their float order is exact)
+            if shared:
+                for l in range(L):
+                    for k in range(r):
+                        for j in range(n):
+                            kv[k, j] = CV[k * n + j, l]
+                    _bucket_sort(kv[0], rorder, n, bk, cnt)
+                    _lane_chains(kv, r, n, rorder, lane, tail)
+                    for j in range(n):
+                        KQ[j, l] = float(lane[j])
+            else:
+                for j in range(n):
+                    for l in range(L):
+                        KQ[j, l] = float(j // 2 + 1)
             for j in range(n):
-                kq = float(j // 2 + 1)
                 if j % 2 == 0:
                     for c in range(d):
                         for l in range(L):
-                            OFF[j * d + c, l] = (T[HP, l] + T[UNIT, l] * kq) * NU[c, l]
+                            OFF[j * d + c, l] = (T[HP, l] + T[UNIT, l] * KQ[j, l]) * NU[c, l]
                 else:
                     for c in range(d):
                         for l in range(L):
-                            OFF[j * d + c, l] = (-(T[HM, l] + T[UNIT, l] * kq)) * NU[c, l]
+                            OFF[j * d + c, l] = (-(T[HM, l] + T[UNIT, l] * KQ[j, l])) * NU[c, l]
         else:
             for j in range(n):
                 for c in range(d):
@@ -2175,7 +2297,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
         write_lanes(S, wf, b0, L, size)
         # --- certificate: finite, clearance (:func:`_certify_lanes`) -------------------------
         mn = _certify_lanes(S, T, size, r, m, p, d, row, kk, mx, mx2, BAD, ACC, ACC2, Q, THR2,
-                            wf, b0, GAP, NORM, compact)
+                            wf, b0, GAP, NORM, compact, shared)
         # --- the decided queries' records ----------------------------------------------------
         for l in range(L):
             b = b0 + l
@@ -2197,7 +2319,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
 
 
 def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
-               flags, tab, compact=False):
+               flags, tab, compact=False, shared=False):
     """Plan and certify a chunk of queries of the obstacle-line planner (Mathematics §3, §4.1-§4.3), with
     the index tables ``tab`` of :func:`tables`.
 
@@ -2219,13 +2341,13 @@ def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strat
     nt = nb
     if nb >= LANES_MIN:
         nt = _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, clearance,
-                         flags, todo, lanes(r, m, n, d), compact)
+                         flags, todo, lanes(r, m, n, d), compact, shared)
     else:
         for b in range(nb):
             todo[b] = b
     if nt:  # (so that a run whose every query is generic never compiles plan_queries)
         plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
-              flags, tab, todo, nt, compact)
+              flags, tab, todo, nt, compact, shared)
 
 
 _TABLES: dict = {}
@@ -2243,11 +2365,11 @@ def tables(r: int, m: int, n: int, d: int) -> np.ndarray:
 
 
 @njit(**OPTS)
-def plan_one(obstacles, start, goal, lift, tab, compact):  # pragma: no cover - compiled
+def plan_one(obstacles, start, goal, lift, tab, compact, shared):  # pragma: no cover - compiled
     """One query, validated, planned and certified: the lean path of ``pmplan.plan``.
 
     ``obstacles`` (m, d), ``start``, ``goal`` (n, d), C-contiguous float64; ``tab`` is
-    :func:`tables` ``(2, m, n, d)``; ``compact`` as in :func:`plan_queries`. Returns
+    :func:`tables` ``(2, m, n, d)``; ``compact``, ``shared`` as in :func:`plan_queries`. Returns
     ``(waypoints (8, m+n, d), domain, cp(C), cp(C'), cp_o, [e == N], clearance, flags)`` (see
     :func:`plan_queries`, called with ``validate=True``).
     """
@@ -2262,6 +2384,6 @@ def plan_one(obstacles, start, goal, lift, tab, compact):  # pragma: no cover - 
     sel = np.zeros(1, np.int64)  # (and a run-time count, not the literal 1, for the same reason)
     plan_queries(obstacles.reshape((1, m, d)), start.reshape((1, n, d)), goal.reshape((1, n, d)),
           np.empty((0, 1, n, d)), lift, validate, wp, domain, strata, clearance, flags, tab,
-          sel, sel.shape[0], compact)
+          sel, sel.shape[0], compact, shared)
     return (wp[0], domain[0], strata[0, 0], strata[0, 1], strata[0, 2], strata[0, 3],
             clearance[0], flags[0])

@@ -64,7 +64,10 @@ __all__ = [
     "CompactLinePlanner",
     "OBSTACLE_LINE",
     "OBSTACLE_LINE_COMPACT",
+    "OBSTACLE_LINE_SHARED",
+    "SharedLinePlanner",
     "lane_heights",
+    "lane_chains",
 ]
 
 
@@ -78,23 +81,33 @@ class ColumnStructure:
     cp_o : ndarray of int64, shape (B,)    distinct columns among the obstacles
     desingularize : ndarray of bool        some robot shares its column (cp < cp_o + n)
     eps : ndarray of float, shape (B,)     eps(C)
+    rank : ndarray of int64, shape (B, n)  the rank of every robot's column in ``H(C, 1)``
+                                           among the robots' (0 the least): by its column
+                                           class, then (robots the desingularization
+                                           separates, paper (3.2)) by its index
     """
 
     cp: np.ndarray
     cp_o: np.ndarray
     desingularize: np.ndarray
     eps: np.ndarray
+    rank: np.ndarray
 
 
 def column_structure(fr: Frame, obstacles: np.ndarray, robots: np.ndarray) -> ColumnStructure:
-    """Return cp(C), cp_o, whether to desingularize, and eps(C), all decided exactly."""
+    """Return cp(C), cp_o, whether to desingularize, eps(C) and the robots' ranks, all decided
+    exactly."""
     m, n = obstacles.shape[1], robots.shape[1]
     pts = np.concatenate([obstacles, robots], axis=1)
     labels, cp, gap = projection_classes(pts, obstacles[:, 0], obstacles[:, 1])
     olab = np.sort(labels[:, :m], axis=1)
     cp_o = 1 + (np.diff(olab, axis=1) != 0).sum(axis=1)
     eps = gap / fr.norm / (n + m)
-    return ColumnStructure(cp=cp, cp_o=cp_o, desingularize=cp < cp_o + n, eps=eps)
+    # robot j of a class moves by j eps(C) e (paper (3.2)) and eps(C) is below every gap
+    # between classes: in H(C, 1) the robots are ordered by class, then by index
+    key = labels[:, m:] * n + np.arange(n)[None, :]
+    rank = np.argsort(np.argsort(key, axis=1), axis=1).astype(np.int64)
+    return ColumnStructure(cp=cp, cp_o=cp_o, desingularize=cp < cp_o + n, eps=eps, rank=rank)
 
 
 def deformation(fr: Frame, obstacles, robots, cols: ColumnStructure,
@@ -145,8 +158,46 @@ def lift_height(fr: Frame, obstacles: np.ndarray, lift: float) -> np.ndarray:
     return u + np.sqrt((r * r).sum(-1)).max(axis=1)
 
 
+def lane_chains(ranks: list[np.ndarray]) -> np.ndarray:
+    """Return the lane of every robot on its side of the line, 1, 2, ..., shape (B, n), for the
+    compact lanes (Mathematics §4.4).
+
+    ``ranks`` holds, for every configuration ``C_k`` of the query, the robots' ranks of
+    :class:`ColumnStructure` (B, n). The odd robots (i = 1, 3, ...) take the side of ``nu``,
+    the even ones the other. On each side the robots, taken in the order of their columns in
+    ``H(C_1, 1)``, form *chains*: a robot joins the first chain whose last robot is before it
+    in every ``H(C_k, 1)`` (they *keep their order*), else it opens a new one; the robots of the
+    c-th chain share lane c. Two robots of one lane are in the same order in every
+    configuration, so their columns, which move linearly between consecutive configurations
+    during the slides, are never equal.
+    """
+    rk = np.stack(ranks, axis=1)  # (B, r, n)
+    b, _, n = rk.shape
+    rows = np.arange(b)
+    lane = np.zeros((b, n), np.int64)
+    for side in (0, 1):  # robots 1, 3, ... (index 0, 2, ...), then 2, 4, ...
+        own = np.arange(side, n, 2)
+        if own.size == 0:
+            continue
+        sub = rk[:, :, own]
+        order = np.argsort(sub[:, 0], axis=1, kind="stable")
+        tail = np.zeros((b, own.size), np.int64)  # the last robot (of ``own``) of chain c
+        count = np.zeros(b, np.int64)
+        for t in range(own.size):
+            x = order[:, t]
+            here = sub[rows, :, x]  # (B, r)
+            pick = count.copy()
+            for c in range(own.size - 1, -1, -1):  # the first chain that takes it
+                before = (sub[rows, :, tail[:, c]] < here).all(axis=1)
+                pick = np.where((c < count) & before, c, pick)
+            lane[rows, own[x]] = pick + 1
+            tail[rows, pick] = x
+            count = np.maximum(count, pick + 1)
+    return lane
+
+
 def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
-                 compact: bool = False) -> np.ndarray:
+                 compact: bool = False, lanes: np.ndarray | None = None) -> np.ndarray:
     """Return the signed height ``h_i`` of every robot's lane above the line, shape (B, n):
     robot i slides at ``h_i nu(e)``.
 
@@ -154,10 +205,12 @@ def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
       ``h_i = i lambda`` with ``lambda`` = ``lift_height``, every robot on the side of
       ``nu``.
     * The compact lanes (``compact=True``; Mathematics §4.4): the odd robots on the side of
-      ``nu``, the even ones on the other, robot i at ``+-(H_+- + k u)``, ``k = ceil(i / 2)``,
-      where ``u`` is the unit and ``H_+ = max(0, max_k t_k)``, ``H_- = max(0, max_k -t_k)``
-      for the obstacles' heights ``t_k = (o_k - o_1).nu`` (k >= 3). Two robots' lanes differ
-      by at least ``u``; a lane is at least ``u`` above (or below) every obstacle's height.
+      ``nu``, the even ones on the other, robot i at ``+-(H_+- + k_i u)``, where ``k_i`` is its
+      lane on its side (``lanes``, (B, n), from :func:`lane_chains`; without it
+      ``k_i = ceil(i / 2)``, every robot its own lane), ``u`` is the unit and
+      ``H_+ = max(0, max_k t_k)``, ``H_- = max(0, max_k -t_k)`` for the obstacles' heights
+      ``t_k = (o_k - o_1).nu`` (k >= 3). Two lanes differ by at least ``u``; a lane is at
+      least ``u`` above (or below) every obstacle's height.
     """
     i = np.arange(1, n + 1, dtype=float)
     if not compact:
@@ -173,10 +226,10 @@ def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
             t = t + (obstacles[:, k, c] - obstacles[:, 0, c]) * fr.nu[:, c]
         hp = np.where(t > hp, t, hp)
         hm = np.where(-t > hm, -t, hm)
-    k = np.ceil(i / 2.0)
+    k = np.ceil(i / 2.0)[None, :] if lanes is None else lanes.astype(float)
     up = (i % 2.0) == 1.0
-    return np.where(up[None, :], hp[:, None] + u[:, None] * k[None, :],
-                    -(hm[:, None] + u[:, None] * k[None, :]))
+    return np.where(up[None, :], hp[:, None] + u[:, None] * k,
+                    -(hm[:, None] + u[:, None] * k))
 
 
 #: the breakpoints of :func:`section`: up to the lanes, along them, down
@@ -267,6 +320,9 @@ class ObstacleLinePlanner(Planner):
     #: the lanes of the section: the paper's ``i lambda`` (False) or the compact ones of
     #: Mathematics §4.4 (:func:`lane_heights`)
     compact: bool = False
+    #: with the compact lanes, the robots of a side that keep their order share a lane
+    #: (Mathematics §4.4, :func:`lane_chains`)
+    shared: bool = False
     #: planning ``2**k C`` with ``lift * 2**k`` gives exactly ``2**k`` times the path of C (every
     #: length of the construction is built from the coordinates and ``lift``): queries at
     #: extreme magnitudes are planned scaled (:mod:`pmplan.magnitude`)
@@ -322,7 +378,8 @@ class ObstacleLinePlanner(Planner):
         fr = Frame(obstacles[:, 0], obstacles[:, 1])
         cols = [column_structure(fr, obstacles, c) for c in configs]
         hs = [deformation(fr, obstacles, c, cs, self.compact) for c, cs in zip(configs, cols)]
-        heights = lane_heights(fr, obstacles, lift, configs[0].shape[1], self.compact)
+        lanes = lane_chains([c.rank for c in cols]) if self.shared else None
+        heights = lane_heights(fr, obstacles, lift, configs[0].shape[1], self.compact, lanes)
         direct = self.compact and obstacles.shape[2] == 2  # (Mathematics §4.4)
         legs = [two_configuration_path(fr, obstacles, hs[k], hs[k + 1], heights, direct)
                 for k in range(r - 1)]
@@ -375,5 +432,25 @@ class CompactLinePlanner(ObstacleLinePlanner):
     priority = 1
 
 
+class SharedLinePlanner(CompactLinePlanner):
+    """The compact lanes with *shared* lanes (Mathematics §4.4, "Shared lanes"): the robots of
+    one side whose columns are in the same order in every ``H(C_k, 1)`` never share a column
+    during a slide, so they may share a lane (:func:`lane_chains`). The same deformation,
+    strata, domains and labels as :class:`CompactLinePlanner`, so it is optimal on the same
+    domains (paper Theorem 2.6); the lanes are fewer, so a crowd slides nearer the obstacles'
+    line. A raw plan costs more than with the compact lanes: the chains are computed query by
+    query, and the certificate tests more (``benchmarks/shared_ab.py`` measures that cost and
+    the refined plans in crowded rooms)."""
+
+    name = "obstacle_line_shared"
+    summary = (
+        "the compact lanes (same domains and labels) shared by the robots of a side that keep "
+        "their order (Mathematics §4.4): fewer lanes, a crowd nearer the line o1o2"
+    )
+    shared = True
+    priority = 0
+
+
 OBSTACLE_LINE = register(ObstacleLinePlanner())
 OBSTACLE_LINE_COMPACT = register(CompactLinePlanner())
+OBSTACLE_LINE_SHARED = register(SharedLinePlanner())
