@@ -438,7 +438,10 @@ class SharedLinePlanner(CompactLinePlanner):
     during a slide, so they may share a lane (:func:`lane_chains`). The same deformation,
     strata, domains and labels as :class:`CompactLinePlanner`, so it is optimal on the same
     domains (paper Theorem 2.6); the lanes are fewer, so a crowd slides nearer the obstacles'
-    line. A raw plan costs more than with the compact lanes: the chains are computed query by
+    line. Two robots of one lane are only as far apart during the slide as their columns, so
+    a query whose columns nearly coincide may be refused by the certificate (Mathematics §6.2)
+    where the compact lanes keep them a unit apart. A raw plan costs more than with the
+    compact lanes: the chains are computed query by
     query, and the certificate tests more (``benchmarks/shared_ab.py`` measures that cost and
     the refined plans in crowded rooms)."""
 
