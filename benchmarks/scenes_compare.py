@@ -390,6 +390,41 @@ def reason_cells(rows: list, names: list) -> list[str]:
     return out
 
 
+def share_cell(seed: int, fam: str, n: int, count: int, names: list, plan) -> dict:
+    """One large row of :func:`share_rows`: ``count`` queries of the family's row, per variant
+    of ``names`` the valid plans and the gap misses of ``plan(name, o, s, g)`` (a refined
+    ``pmplan.Plan``); printed."""
+    cell = {"seed": seed, "family": fam, "n": n, "count": count}
+    qs = scenes.queries(fam, n, count, seed)
+    for v in names:
+        valid = gap = 0
+        for o, s, g in qs:
+            p = plan(v, o, s, g)
+            valid += bool(p.respects_radius)
+            gap += not p.respects_radius and p.radius_miss.category == "gap"
+        cell[v] = {"valid": valid, "gap": gap}
+    print(cell, flush=True)
+    return cell
+
+
+def share_rows(cells: list, names: list, ns) -> list[str]:
+    """The table of large rows (``{"seed", "family", "n", "count", <name>: {"valid", "gap"}}``):
+    per row and variant of ``names`` the valid plans, the gap misses in brackets and the share
+    valid; then per robot count of ``ns`` the totals over the rows."""
+    lines = ["| seed | row | " + " | ".join(names) + " |", "|---|---|" + "---|" * len(names)]
+    for c in cells:
+        lines.append(f"| {c['seed']} | {c['family']} n = {c['n']} | " + " | ".join(
+            f"{c[v]['valid']} ({c[v]['gap']}), {c[v]['valid'] / c['count']:.1%}"
+            for v in names) + " |")
+    for n in ns:
+        cs = [c for c in cells if c["n"] == n]
+        tot = sum(c["count"] for c in cs)
+        lines.append(f"| all | n = {n} | " + " | ".join(
+            f"{sum(c[v]['valid'] for c in cs)} of {tot}, "
+            f"{sum(c[v]['valid'] for c in cs) / tot:.1%}" for v in names) + " |")
+    return lines
+
+
 def ab_totals(rows: list, names: list, base: str) -> list[str]:
     """Per variant of ``names`` over the rows of :func:`ab_row`: valid queries, rows meeting
     the continuity goal (the largest K), the geometric mean of the row's median raw clearance

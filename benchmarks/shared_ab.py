@@ -93,27 +93,18 @@ def raw_timing(rounds: int = 7) -> list[dict]:
     return out
 
 
+def _refined(name: str, o, s, g) -> pmplan.Plan:
+    """A variant's plan of one query in the box, refined (``scenes.refined_in_box`` with the
+    variant's planner)."""
+    return pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), refine=True, radius=scenes.R / 2,
+                       obstacle_radius=scenes.R / 2, planner=PLANNERS[name])
+
+
 def large_rows() -> list[dict]:
-    """The LARGE rows: per row and planner the valid plans and the gap misses (pmplan.plan in
-    the box, refined, numba; ``scenes.refined_in_box`` with the planner)."""
+    """The LARGE rows: per row and planner the valid plans and the gap misses (numba)."""
     seeds, fams, ns, count = LARGE
-    out = []
-    for seed in seeds:
-        for fam in fams:
-            for n in ns:
-                cell = {"seed": seed, "family": fam, "n": n, "count": count}
-                for v in VARIANTS:
-                    valid = gap = 0
-                    for o, s, g in scenes.queries(fam, n, count, seed):
-                        p = pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), refine=True,
-                                        radius=scenes.R / 2, obstacle_radius=scenes.R / 2,
-                                        planner=PLANNERS[v])
-                        valid += bool(p.respects_radius)
-                        gap += not p.respects_radius and p.radius_miss.category == "gap"
-                    cell[v] = {"valid": valid, "gap": gap}
-                print(cell, flush=True)
-                out.append(cell)
-    return out
+    return [scenes_compare.share_cell(seed, fam, n, count, VARIANTS, _refined)
+            for seed in seeds for fam in fams for n in ns]
 
 
 def _totals(rows: list) -> str:
@@ -155,19 +146,7 @@ def markdown(res: dict) -> str:
                        "on seeds whose first 48 queries other variants were tried on, never this "
                        "one: valid (gap misses) per planner, and the share valid (issue 25's goal "
                        "for 16 robots: 80 %)."), "",
-                  "| seed | row | " + " | ".join(VARIANTS) + " |",
-                  "|---|---|" + "---|" * len(VARIANTS)]
-        for c in res["large"]:
-            cells = [f"{c[v]['valid']} ({c[v]['gap']}), {c[v]['valid'] / c['count']:.1%}"
-                     for v in VARIANTS]
-            lines.append(f"| {c['seed']} | {c['family']} n = {c['n']} | " + " | ".join(cells)
-                         + " |")
-        for n in LARGE[2]:
-            cs = [c for c in res["large"] if c["n"] == n]
-            tot = sum(c["count"] for c in cs)
-            cells = [f"{sum(c[v]['valid'] for c in cs)} of {tot}, "
-                     f"{sum(c[v]['valid'] for c in cs) / tot:.1%}" for v in VARIANTS]
-            lines.append(f"| all | n = {n} | " + " | ".join(cells) + " |")
+                  *scenes_compare.share_rows(res["large"], VARIANTS, LARGE[2])]
     if res.get("timing"):
         lines += ["", ("The cost of a raw plan: `pmplan.plan_batch` (numba, one core) of random "
                        "normal queries, microseconds per query, best of 7 calls, the planners "
