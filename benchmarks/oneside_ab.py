@@ -10,9 +10,10 @@ Mathematics §8 ("How often") bounds the narrow gaps every planner continuous on
 domains must cross, and says why the compact lanes cross about twice as many: the odd robots
 pass an obstacle on one side, the even ones on the other, so a gap on either side fails some
 robot. The section measured here puts every lane on the side of ``nu``, ``h_i = H_+ + k_i u``,
-with ``k_i`` robot i's chain among *all* the robots (first fit in the order of ``H(C_1, 1)``,
-a robot joining the first chain whose last robot is before it in ``H(C_2, 1)`` too: the
-shared lanes of Mathematics §4.4 with one side instead of two). It is continuous on the same
+with ``k_i`` robot i's chain among *all* the robots
+(:func:`pmplan.planners.obstacle_line.lane_chains` with ``sides=1``, on the columns of the
+section's configurations: the shared lanes of Mathematics §4.4 with one side instead of
+two). It is continuous on the same
 domains by the argument of the shared lanes (the chains depend on the order of the columns
 only), collision-free by the same one (robots of one lane never share a column; lanes are
 ``u`` apart and ``u`` above every obstacle), so it is optimal with the same labels. It is a
@@ -61,23 +62,6 @@ _COMPOSE = obstacle_line.two_configuration_path
 _RUNNER = scenes_compare.ReferenceRunner()
 
 
-def chains(start: np.ndarray, goal: np.ndarray) -> np.ndarray:
-    """Every robot's chain, 1, 2, ..., among all the robots (first fit in the order of
-    ``start``, a robot joining the first chain whose last robot is before it in ``goal``)."""
-    lane = np.empty(len(start), np.int64)
-    last: list[float] = []
-    for i in np.argsort(start, kind="stable"):
-        for c, v in enumerate(last):
-            if v < goal[i]:
-                last[c] = goal[i]
-                lane[i] = c + 1
-                break
-        else:
-            last.append(goal[i])
-            lane[i] = len(last)
-    return lane
-
-
 def one_side_section(fr, x_start, x_goal, heights, m: int):
     """The section of Mathematics §4.4 with the lanes all on the side of nu, shared by chains
     (``heights``, the compact lanes, give the unit: their first lane is ``H_+ + u``)."""
@@ -85,9 +69,8 @@ def one_side_section(fr, x_start, x_goal, heights, m: int):
     hp = np.maximum(0.0, t.max(axis=1)) if m > 2 else np.zeros(len(x_start))
     u = heights[:, 0] - hp
     col = lambda x: ((x[:, m:] - x[:, :1]) * fr.e[:, None]).sum(-1)  # noqa: E731
-    s, g = col(x_start), col(x_goal)
-    h = np.stack([hp[b] + chains(s[b], g[b]) * u[b] for b in range(len(x_start))])
-    return obstacle_line.section(fr, x_start, x_goal, h, m)
+    lanes = obstacle_line.lane_chains([col(x_start), col(x_goal)], sides=1)
+    return obstacle_line.section(fr, x_start, x_goal, hp[:, None] + lanes * u[:, None], m)
 
 
 def variant(name: str) -> None:

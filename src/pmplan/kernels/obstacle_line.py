@@ -327,17 +327,16 @@ def _before(kv, k, a, b):  # pragma: no cover - compiled
 def _lane_chains(kv, r, n, order, lane, tail):  # pragma: no cover - compiled
     """``lane[j]``: robot j's lane on its side, 1, 2, ...
     (:func:`pmplan.planners.obstacle_line.lane_chains`: the robots of a side in the order of
-    ``H(C_1, 1)``, ``order`` (robot of rank t, -1 for none), each in the first chain whose last
-    robot is before it in every ``H(C_k, 1)``). For r = 2 the chains' last robots are in
-    decreasing order in ``H(C_2, 1)`` (a robot opens a chain only when it is before every last
-    one, and replaces the first last one before it), so the first chain is found by bisection."""
-    for j in range(n):
-        lane[j] = 1
+    ``H(C_1, 1)``, ``order`` (a permutation, :func:`_bucket_sort`'s), each in the first chain
+    whose last robot is before it in every ``H(C_k, 1)``). For r = 2 the chains' last robots
+    are in decreasing order in ``H(C_2, 1)`` (a robot opens a chain only when it is before every
+    last one, and replaces the first last one before it), so the first chain is found by
+    bisection."""
     for side in range(2):
         nch = 0
         for t in range(n):
             x = order[t]
-            if x < 0 or x % 2 != side:
+            if x % 2 != side:
                 continue
             if r == 2:
                 lo = 0

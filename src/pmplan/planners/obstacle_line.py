@@ -81,22 +81,23 @@ class ColumnStructure:
     cp_o : ndarray of int64, shape (B,)    distinct columns among the obstacles
     desingularize : ndarray of bool        some robot shares its column (cp < cp_o + n)
     eps : ndarray of float, shape (B,)     eps(C)
-    rank : ndarray of int64, shape (B, n)  the rank of every robot's column in ``H(C, 1)``
-                                           among the robots' (0 the least): by its column
-                                           class, then (robots the desingularization
-                                           separates, paper (3.2)) by its index
+    key : ndarray of int64, shape (B, n)   every robot's place in the column order of
+                                           ``H(C, 1)`` (the smaller key the smaller column): by
+                                           its column class, then (robots the
+                                           desingularization separates, paper (3.2)) by its
+                                           index
     """
 
     cp: np.ndarray
     cp_o: np.ndarray
     desingularize: np.ndarray
     eps: np.ndarray
-    rank: np.ndarray
+    key: np.ndarray
 
 
 def column_structure(fr: Frame, obstacles: np.ndarray, robots: np.ndarray) -> ColumnStructure:
-    """Return cp(C), cp_o, whether to desingularize, eps(C) and the robots' ranks, all decided
-    exactly."""
+    """Return cp(C), cp_o, whether to desingularize, eps(C) and the robots' order keys, all
+    decided exactly."""
     m, n = obstacles.shape[1], robots.shape[1]
     pts = np.concatenate([obstacles, robots], axis=1)
     labels, cp, gap = projection_classes(pts, obstacles[:, 0], obstacles[:, 1])
@@ -106,8 +107,7 @@ def column_structure(fr: Frame, obstacles: np.ndarray, robots: np.ndarray) -> Co
     # robot j of a class moves by j eps(C) e (paper (3.2)) and eps(C) is below every gap
     # between classes: in H(C, 1) the robots are ordered by class, then by index
     key = labels[:, m:] * n + np.arange(n)[None, :]
-    rank = np.argsort(np.argsort(key, axis=1), axis=1).astype(np.int64)
-    return ColumnStructure(cp=cp, cp_o=cp_o, desingularize=cp < cp_o + n, eps=eps, rank=rank)
+    return ColumnStructure(cp=cp, cp_o=cp_o, desingularize=cp < cp_o + n, eps=eps, key=key)
 
 
 def deformation(fr: Frame, obstacles, robots, cols: ColumnStructure,
@@ -158,25 +158,26 @@ def lift_height(fr: Frame, obstacles: np.ndarray, lift: float) -> np.ndarray:
     return u + np.sqrt((r * r).sum(-1)).max(axis=1)
 
 
-def lane_chains(ranks: list[np.ndarray]) -> np.ndarray:
+def lane_chains(keys: list[np.ndarray], sides: int = 2) -> np.ndarray:
     """Return the lane of every robot on its side of the line, 1, 2, ..., shape (B, n), for the
-    compact lanes (Mathematics §4.4).
+    shared lanes (Mathematics §4.4).
 
-    ``ranks`` holds, for every configuration ``C_k`` of the query, the robots' ranks of
-    :class:`ColumnStructure` (B, n). The odd robots (i = 1, 3, ...) take the side of ``nu``,
-    the even ones the other. On each side the robots, taken in the order of their columns in
-    ``H(C_1, 1)``, form *chains*: a robot joins the first chain whose last robot is before it
-    in every ``H(C_k, 1)`` (they *keep their order*), else it opens a new one; the robots of the
-    c-th chain share lane c. Two robots of one lane are in the same order in every
-    configuration, so their columns, which move linearly between consecutive configurations
-    during the slides, are never equal.
+    ``keys`` holds, for every configuration ``C_k`` of the query, the robots' order keys of
+    :class:`ColumnStructure` (B, n), distinct in each row. The odd robots (i = 1, 3, ...) take
+    the side of ``nu``, the even ones the other (``sides=1``: every robot one side, as
+    ``benchmarks/oneside_ab.py`` measures). On each side the robots, taken in the order of
+    their columns in ``H(C_1, 1)``, form *chains*: a robot joins the first chain whose last
+    robot is before it in every ``H(C_k, 1)`` (they *keep their order*), else it opens a new
+    one; the robots of the c-th chain share lane c. Two robots of one lane are in the same
+    order in every configuration, so their columns, which move linearly between consecutive
+    configurations during the slides, are never equal.
     """
-    rk = np.stack(ranks, axis=1)  # (B, r, n)
+    rk = np.stack(keys, axis=1)  # (B, r, n)
     b, _, n = rk.shape
     rows = np.arange(b)
     lane = np.zeros((b, n), np.int64)
-    for side in (0, 1):  # robots 1, 3, ... (index 0, 2, ...), then 2, 4, ...
-        own = np.arange(side, n, 2)
+    for side in range(sides):  # robots 1, 3, ... (index 0, 2, ...), then 2, 4, ...
+        own = np.arange(side, n, sides)
         if own.size == 0:
             continue
         sub = rk[:, :, own]
@@ -378,7 +379,7 @@ class ObstacleLinePlanner(Planner):
         fr = Frame(obstacles[:, 0], obstacles[:, 1])
         cols = [column_structure(fr, obstacles, c) for c in configs]
         hs = [deformation(fr, obstacles, c, cs, self.compact) for c, cs in zip(configs, cols)]
-        lanes = lane_chains([c.rank for c in cols]) if self.shared else None
+        lanes = lane_chains([c.key for c in cols]) if self.shared else None
         heights = lane_heights(fr, obstacles, lift, configs[0].shape[1], self.compact, lanes)
         direct = self.compact and obstacles.shape[2] == 2  # (Mathematics §4.4)
         legs = [two_configuration_path(fr, obstacles, hs[k], hs[k + 1], heights, direct)
