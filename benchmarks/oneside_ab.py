@@ -16,11 +16,13 @@ section's configurations: the shared lanes of Mathematics §4.4 with one side in
 two). It is continuous on the same
 domains by the argument of the shared lanes (the chains depend on the order of the columns
 only), collision-free by the same one (robots of one lane never share a column; lanes are
-``u`` apart and ``u`` above every obstacle), so it is optimal with the same labels. It is a
-*measured design*, not a planner of pmplan: the raw plans come from the numpy reference with
+``u`` apart and ``u`` above every obstacle), so it is optimal with the same labels. This is
+where it was designed, as a prototype: the raw plans come from the numpy reference with
 :func:`pmplan.planners.obstacle_line.two_configuration_path` called with this section
 (``build=``), in the box ``(0, 10)``, refined at the default effort with radius =
-obstacle_radius = r/2.
+obstacle_radius = r/2. The section is now the planner ``obstacle_line_oneside`` (its raw
+plans equal the prototype's up to rounding), measured as the default of refined crowds by
+``benchmarks/crowd_default.py``.
 
 Two parts. *Rows*: room and swap, n = 8 and 16, seeds 18 and 19, 48 queries per row
 (``scenes_compare.ab_row``: valid, len/LB, raw clearance, the continuity probes at delta =
@@ -104,10 +106,10 @@ def large_rows() -> list[dict]:
 def markdown(res: dict) -> str:
     prose = (scenes.run_head(res, "Rooms 10 x 10 (room, swap)") + "; *compact*: pmplan's "
              "default lanes; *one side*: every lane on the side of nu, shared by the robots "
-             "that keep their order (a measured design, not a planner of pmplan). "
+             "that keep their order (the prototype of the planner obstacle_line_oneside). "
              + scenes_compare.AB_COLUMNS + " The variant was found on 48 queries of seeds "
              "11-13 and has no parameter; nothing was changed after these rows were first run.")
-    out = scenes_compare.ab_markdown(res, "One side, shared lanes: a measured design", prose,
+    out = scenes_compare.ab_markdown(res, "One side, shared lanes: the prototype", prose,
                                      set(), "compact")
     lines = ["", "Valid / gap / contact per row of the seeds above:", "",
              "| seed | row | " + " | ".join(VARIANTS) + " |", "|---|---|---|---|"]

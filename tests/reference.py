@@ -164,19 +164,19 @@ def _exact_point(p):
     return [Fraction(c) for c in p]
 
 
-def lanes_of(configs, o1, w) -> list:
+def lanes_of(configs, o1, w, sides: int = 2) -> list:
     """The compact lanes' chains (Mathematics §4.4), literally: every robot's lane on its side,
     1, 2, ... In ``H(C, 1)`` the robots are in the order of their exact columns, robots of one
     column in the order of their index (the desingularization moves robot j by j eps); the odd
-    robots (i = 1, 3, ...) and the even ones are taken separately, in that order in
-    ``H(C_1, 1)``, and each joins the first chain whose last robot is before it in every
-    configuration, or opens a new one."""
+    robots (i = 1, 3, ...) and the even ones are taken separately (``sides=1``: all of them
+    together), in that order in ``H(C_1, 1)``, and each joins the first chain whose last robot
+    is before it in every configuration, or opens a new one."""
     n = len(configs[0])
     keys = [[(_dot(_sub(x, o1), w), j) for j, x in enumerate(c)] for c in configs]
     lanes = [0] * n
-    for side in (0, 1):
+    for side in range(sides):
         chains = []
-        for j in sorted(range(side, n, 2), key=lambda j: keys[0][j]):
+        for j in sorted(range(side, n, sides), key=lambda j: keys[0][j]):
             for c, chain in enumerate(chains):
                 if all(key[chain[-1]] < key[j] for key in keys):
                     chain.append(j)
@@ -188,8 +188,12 @@ def lanes_of(configs, o1, w) -> list:
     return lanes
 
 
+#: the lanes' sharing of each section (``shared`` of :func:`reference_plan`), by planner name
+SHARING = {"obstacle_line_shared": 2, "obstacle_line_oneside": 1}
+
+
 def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
-                   compact: bool = False, shared: bool = False, configs=None) -> Reference:
+                   compact: bool = False, shared: int = 0, configs=None) -> Reference:
     """Return the reference plan for one query (obstacles (m, d), start, goal (n, d)).
 
     Implements Mathematics §3 (m = 2, d even), §4.1 (odd d) and §4.2 (any m >= 2) literally:
@@ -198,8 +202,10 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
     ``lam`` overrides lambda (to show that ``lambda = lift`` alone is not enough).
     ``compact``: the compact lanes of Mathematics §4.4 (``obstacle_line_compact``): robot i at
     ``+(H_+ + k lift)`` (odd i) or ``-(H_- + k lift)`` (even i), ``k = ceil(i / 2)``, or
-    with ``shared`` (``obstacle_line_shared``) its lane on its side (:func:`lanes_of`, over
-    ``configs``, all the robot configurations of the query; by default start and goal); in
+    with ``shared = 2`` (``obstacle_line_shared``) its lane on its side (:func:`lanes_of`, over
+    ``configs``, all the robot configurations of the query; by default start and goal), with
+    ``shared = 1`` (``obstacle_line_oneside``) every robot at ``+(H_+ + k lift)``, ``k`` its
+    chain among all the robots; in
     d >= 3 the projection keeps the robots' offsets, in the plane every robot goes straight to
     its lane (waypoints 2 and 5 3/5 of the way from the desingularized robot to its lane).
     """
@@ -233,8 +239,10 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
         hm = max([Fraction(0)] + [-t for t in ts])
         u = Fraction(lift)
         every = [xs, ys] if configs is None else [[_exact_point(x) for x in c] for c in configs]
-        k = lanes_of(every, o1, w) if shared else [i // 2 + 1 for i in range(len(xs))]
-        heights = [hp + k[i] * u if i % 2 == 0 else -(hm + k[i] * u) for i in range(len(xs))]
+        k = (lanes_of(every, o1, w, shared) if shared
+             else [i // 2 + 1 for i in range(len(xs))])
+        heights = [hp + k[i] * u if i % 2 == 0 or shared == 1 else -(hm + k[i] * u)
+                   for i in range(len(xs))]
     lifted1 = [_add(x, _mul(h, nu)) for h, x in zip(heights, p1)]
     lifted2 = [_add(x, _mul(h, nu)) for h, x in zip(heights, p2)]
     if compact and len(o1) == 2:  # the direct lift (Mathematics §4.4): 3/5 of the way up
@@ -249,7 +257,7 @@ def reference_plan(obstacles, start, goal, lift: float = 1.0, *, lam=None,
 
 
 def reference_sequence(obstacles, configs, lift: float = 1.0, compact: bool = False,
-                       shared: bool = False):
+                       shared: int = 0):
     """Return ``(label, record, times, waypoints)`` of Mathematics §4.3 through r configurations.
 
     The two-configuration path from C_k to C_{k+1} runs on ``[(k-1)/(r-1), k/(r-1)]``;

@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 import pmplan
 from explore_server import need_extra, request, running_server
 from pmplan.cli import main
-from pmplan.io import parse_query, plan_to_dict, with_unit
+from pmplan.io import parse_query, plan_to_dict, with_defaults
 from strategies import queries
 
 SRC = Path(__file__).resolve().parents[1] / "src"
@@ -102,7 +102,7 @@ def test_refined_plan_is_pmplan_plan_refine_output(base, tmp_path, capsys, radiu
     assert status == 200, body
     raw = body.pop("raw")
     assert body == cli and body["refined"] is True and body["radius"] == radius
-    unrefined = pmplan.plan_query(with_unit(parse_query(REFINE_Q),
+    unrefined = pmplan.plan_query(with_defaults(parse_query(REFINE_Q),
                                             {"radius": radius, "obstacle_radius": radius}))
     assert raw == _roundtrip({"times": unrefined.path.times.tolist(),
                               "waypoints": unrefined.path.waypoints.tolist()})

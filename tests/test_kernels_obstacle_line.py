@@ -138,16 +138,17 @@ def test_sequence_equals_reference(case):
 
 
 @settings(max_examples=40)
-@given(batches() | batches(r=3) | batches(r=4, ns=(1, 2, 3)))
-def test_shared_lanes_equal_reference(case):
-    """The shared lanes (Mathematics §4.4): the kernels' chains (ranks by the exact classes and
-    by index, or in the lanes by the projections) are the reference's, on random and exactly
-    degenerate batches through 2 to 4 configurations, bit for bit."""
+@given(batches() | batches(r=3) | batches(r=4, ns=(1, 2, 3)),
+       st.sampled_from(["obstacle_line_shared", "obstacle_line_oneside"]))
+def test_shared_lanes_equal_reference(case, planner):
+    """The shared lanes (Mathematics §4.4), on two sides or one: the kernels' chains (ranks by
+    the exact classes and by index, or in the lanes by the projections) are the reference's,
+    on random and exactly degenerate batches through 2 to 4 configurations, bit for bit."""
     _, obstacles, configs = case
     fast = _outcome(pmplan.plan_sequence_batch, obstacles, configs, backend="numba",
-                    planner="obstacle_line_shared")
+                    planner=planner)
     ref = _outcome(pmplan.plan_sequence_batch, obstacles, configs, backend="numpy",
-                   planner="obstacle_line_shared")
+                   planner=planner)
     assert_same_batch(fast, ref)
 
 
@@ -487,7 +488,7 @@ def _mixed_batch(rng, b, d, m, n, r, special):
     return o, cs
 
 
-def _run_chunk(o, cs, lift, scalar_only, compact=False, shared=False):
+def _run_chunk(o, cs, lift, scalar_only, compact=False, shared=0):
     b, m, d = o.shape
     n, r = cs[0].shape[1], len(cs)
     middle = np.stack(cs[1:-1]) if r > 2 else np.empty((0, b, n, d))
@@ -508,7 +509,7 @@ def _run_chunk(o, cs, lift, scalar_only, compact=False, shared=False):
 @settings(max_examples=30)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3, 4, 5]), st.sampled_from([2, 3, 5]),
        st.sampled_from([1, 2, 4, 9]), st.sampled_from([2, 2, 3]), st.integers(0, 40),
-       st.sampled_from([1.0, 0.25]), st.sampled_from([(False, False), (True, False), (True, True)]))
+       st.sampled_from([1.0, 0.25]), st.sampled_from([(False, 0), (True, 0), (True, 2), (True, 1)]))
 def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift, sections):
     """The SIMD path decides the generic queries of a chunk and hands every other one to the
     scalar kernel: the outputs (waypoints, labels, strata, clearances, flags -- also of invalid
@@ -516,7 +517,7 @@ def test_lanes_equal_the_scalar_kernel(seed, d, m, n, r, special, lift, sections
     decide the generic ones, and they never decide a query that is not generic."""
     rng = np.random.default_rng(seed)
     b = int(rng.integers(kernels_line.LANES_MIN, 3 * kernels_line.lanes(r, m, n, d) + 7))
-    compact, shared = sections  # the paper's lanes, the compact ones, the shared ones
+    compact, shared = sections  # the paper's lanes, the compact ones, the shared ones (2 sides, 1)
     o, cs = _mixed_batch(rng, b, d, m, n, r, special)
     lanes = _run_chunk(o, cs, lift, scalar_only=False, compact=compact, shared=shared)
     scalar = _run_chunk(o, cs, lift, scalar_only=True, compact=compact, shared=shared)

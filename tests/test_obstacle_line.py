@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reference import TIMES, nu_exact, paper_plan_m2, reference_plan
+from reference import SHARING, TIMES, nu_exact, paper_plan_m2, reference_plan
 from strategies import queries
 
 import pmplan
@@ -48,9 +48,10 @@ _TIMES = np.array([float(t) for t in TIMES])
 BACKENDS = [None, "numpy"]
 
 
-#: the paper's lanes, the compact ones and the shared ones (Mathematics §4.4): one
-#: construction, three sections
-PLANNERS = ["obstacle_line", "obstacle_line_compact", "obstacle_line_shared"]
+#: the paper's lanes, the compact ones, the shared ones and the shared ones on one side
+#: (Mathematics §4.4): one construction, four sections
+PLANNERS = ["obstacle_line", "obstacle_line_compact", "obstacle_line_shared",
+            "obstacle_line_oneside"]
 
 
 def _plan(q, lift=1.0, backend=None, planner="obstacle_line"):
@@ -65,7 +66,7 @@ def _batch(qs, lift=1.0, backend=None, planner="obstacle_line"):
 def assert_matches_reference(q, plan, record, lift=1.0):
     """Compare one library plan (and its stratum record) with the reference, and certify it."""
     ref = reference_plan(*q, lift=lift, compact=plan.planner != "obstacle_line",
-                         shared=plan.planner == "obstacle_line_shared")
+                         shared=SHARING.get(plan.planner, 0))
     assert plan.domain == ref.label
     assert tuple(int(v) for v in record) == ref.record
     assert plan.waypoints.shape == (8,) + (q[0].shape[0] + q[1].shape[0], q[0].shape[1])
@@ -441,10 +442,11 @@ def test_compact_lanes_are_a_unit_apart_and_clear_the_obstacles(d, m, n, lift, d
 
 @settings(max_examples=60)
 @given(d=st.sampled_from([2, 3, 4]), m=st.sampled_from([2, 3, 5]), n=st.sampled_from([1, 2, 5, 9]),
-       lift=st.sampled_from([1.0, 0.3, 0.01]), data=st.data())
-def test_shared_lanes_are_a_unit_apart_and_clear_the_obstacles(d, m, n, lift, data):
-    """The shared lanes (obstacle_line_shared): during the slide (waypoints 3 and 4) the robots'
-    nu-components are their lanes h_i: odd robots above the line, even ones below; two robots
+       lift=st.sampled_from([1.0, 0.3, 0.01]), sides=st.sampled_from([2, 1]), data=st.data())
+def test_shared_lanes_are_a_unit_apart_and_clear_the_obstacles(d, m, n, lift, sides, data):
+    """The shared lanes (obstacle_line_shared, and with one side obstacle_line_oneside): during
+    the slide (waypoints 3 and 4) the robots' nu-components are their lanes h_i: odd robots
+    above the line, even ones below (one side: every robot above); two robots
     share a lane only if their columns
     are in the same order at both ends of the slide (so they never share a column on it: the
     chains of Mathematics §4.4), other pairs are at least u apart; every lane is at least u
@@ -452,7 +454,7 @@ def test_shared_lanes_are_a_unit_apart_and_clear_the_obstacles(d, m, n, lift, da
     obstacles, none skipped (the reference's rational waypoints, each rounded to a double: up
     to a relative 1e-12)."""
     q = data.draw(queries(d, m, n, degenerate=data.draw(st.booleans())))
-    ref = reference_plan(*q, lift=lift, compact=True, shared=True)
+    ref = reference_plan(*q, lift=lift, compact=True, shared=sides)
     nu, o1 = ref.nu, ref.exact[0][0]
     o2 = ref.exact[0][1]
     scale = max(abs(c) for conf in ref.exact for p in conf for c in p)
@@ -468,17 +470,17 @@ def test_shared_lanes_are_a_unit_apart_and_clear_the_obstacles(d, m, n, lift, da
     hs = [height(x) for x in ref.exact[3][m:]]  # (the lanes pass through the line's feet)
     ends = [[column(x) for x in ref.exact[t][m:]] for t in (3, 4)]
     for i, h in enumerate(hs):
-        assert (h > 0) == (i % 2 == 0)
+        assert (h > 0) == (i % 2 == 0 or sides == 1)
         assert all(abs(h - t) >= u for t in ts)  # (t = 0 for o_1, o_2)
         for j, g in enumerate(hs[:i]):
             if abs(h - g) < u:  # one lane: the same order at both ends, never one column
                 assert abs(h - g) <= Fraction(1, 10**12) * scale
                 assert (ends[0][i] - ends[0][j]) * (ends[1][i] - ends[1][j]) > 0
     tol = Fraction(1, 10**12) * scale
-    for side in (0, 1):
+    for side in range(sides):
         base = max([0] + [t if side == 0 else -t for t in ts])
         ks = []
-        for h in hs[side::2]:  # lane k: k units beyond the side's obstacles
+        for h in hs[side::sides]:  # lane k: k units beyond the side's obstacles
             k = round((abs(h) - base) / Fraction(lift))
             assert abs(abs(h) - base - k * Fraction(lift)) <= tol
             ks.append(k)
@@ -522,6 +524,13 @@ def test_shared_lanes_are_those_of_robots_that_keep_their_order(backend):
                           planner=planner)
     np.testing.assert_array_equal(lanes(crossed), [1.0, -1.0, 2.0])
     assert kept.domain == crossed.domain and min(kept.clearance, crossed.clearance) > 0
+    # one side: robot 2 (index 1) goes before robot 1 at the goal, so it opens lane 2; robot 3
+    # joins robot 1's chain when it stays after it, robot 2's when it passes robot 1
+    ones = [pmplan.plan(o, s, [[5.0, 1.0], [-3.0, 1.0], [x, 2.0]], backend=backend,
+                        planner="obstacle_line_oneside") for x in (7.0, 3.0)]
+    np.testing.assert_array_equal(lanes(ones[0]), [1.0, 2.0, 1.0])
+    np.testing.assert_array_equal(lanes(ones[1]), [1.0, 2.0, 2.0])
+    assert ones[0].domain == kept.domain and min(p.clearance for p in ones) > 0
     # one start column: robot 3 is after robot 1 in H(C, 1), whatever their heights
     tied = [[2.0, 1.0], [3.0, 2.0], [2.0, -1.0]]
     after = pmplan.plan(o, tied, [[5.0, 1.0], [-3.0, 1.0], [7.0, 2.0]], backend=backend,
@@ -537,10 +546,10 @@ def test_shared_lanes_are_those_of_robots_that_keep_their_order(backend):
     np.testing.assert_array_equal(lanes(seq, 0), [1.0, -1.0, 2.0])
     np.testing.assert_array_equal(lanes(seq, 1), [1.0, -1.0, 2.0])
     assert seq.clearance > 0
-    for p in (kept, crossed, after, before, seq):
+    for p in (kept, crossed, after, before, seq, *ones):
         ref = pmplan.plan_sequence(o, [p.path.waypoints[7 * k][2:] for k in
                                        range(len(p.path.times) // 7 + 1)], backend="numpy",
-                                   planner=planner)
+                                   planner=p.planner)
         np.testing.assert_array_equal(ref.path.waypoints, p.path.waypoints)
 
 

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from reference import SHARING
 from test_certificate_sweep import FAMILIES, _points  # (the same waypoint families)
 
 import pmplan
@@ -61,7 +62,7 @@ def _guess(rng, mode: str, w: np.ndarray, m: int) -> tuple[float, float]:
             "random": (float(rng.uniform(0, 2)), float(rng.uniform(0.5, 2)))}[mode]
 
 
-def _prune(ws: np.ndarray, m: int, gaps, norms, estimate: bool, shared: bool = False
+def _prune(ws: np.ndarray, m: int, gaps, norms, estimate: bool, shared: int = 0
            ) -> np.ndarray:
     """_prune_plane on lanes of waypoints ``ws`` (L, kk, p, 2): every lane's minimum (its guess
     from the rows GAP, NORM, or with ``estimate`` from the waypoints, :func:`_guess_plane`;
@@ -84,7 +85,7 @@ def _prune(ws: np.ndarray, m: int, gaps, norms, estimate: bool, shared: bool = F
 
 
 def _check_lanes(rng, ws: np.ndarray, m: int, modes, estimate: bool,
-                 shared: bool = False) -> None:
+                 shared: int = 0) -> None:
     gaps, norms = zip(*(_guess(rng, mode, w, m) for w, mode in zip(ws, modes)))
     got = _prune(ws, m, np.array(gaps), np.array(norms), estimate, shared)
     for lane, w in enumerate(ws):
@@ -97,7 +98,8 @@ def _check_lanes(rng, ws: np.ndarray, m: int, modes, estimate: bool,
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3, 5]),
        st.sampled_from([14, 16, 30, 62, 120]), st.sampled_from([2, 3]),
-       st.sampled_from(FAMILIES), st.sampled_from([1, 5, 16]), st.booleans(), st.booleans())
+       st.sampled_from(FAMILIES), st.sampled_from([1, 5, 16]), st.booleans(),
+       st.sampled_from([0, 2]))
 def test_prune_equals_every_pair_on_arbitrary_waypoints(seed, m, n, r, family, lanes, estimate,
                                                         shared):
     """Waypoints that are no planner's path (the directions are then arbitrary: the bound must
@@ -117,11 +119,12 @@ def test_prune_equals_every_pair_on_arbitrary_waypoints(seed, m, n, r, family, l
 
 @settings(max_examples=25, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3]), st.sampled_from([14, 16, 40, 100]),
-       st.sampled_from(FAMILIES), st.sampled_from(GUESSES + ("estimate", "shared")))
+       st.sampled_from(FAMILIES), st.sampled_from(GUESSES + ("estimate", "shared", "oneside")))
 def test_prune_equals_every_pair_on_planned_paths(seed, m, n, family, mode):
     """Paths of the obstacle-line planners (the directions the pruning is made for): the
     paper's lanes with every guess, the compact lanes' direct lift with its estimate, the
-    shared lanes (robots of one lane at one height through the slide) with the slide's test."""
+    shared lanes, on two sides or one (robots of one lane at one height through the slide) with
+    the slide's test."""
     rng = np.random.default_rng(seed)
     o, s, g = (_points(rng, family, (8, k, 2)) for k in (m, n, n))
     ok = ~(coincident_pairs(np.concatenate([o, s], 1)) | coincident_pairs(np.concatenate([o, g],
@@ -130,20 +133,20 @@ def test_prune_equals_every_pair_on_planned_paths(seed, m, n, family, mode):
     if not ok.any():
         return
     try:
-        planner = {"estimate": "obstacle_line_compact",
-                   "shared": "obstacle_line_shared"}.get(mode, "obstacle_line")
+        planner = {"estimate": "obstacle_line_compact", "shared": "obstacle_line_shared",
+                   "oneside": "obstacle_line_oneside"}.get(mode, "obstacle_line")
         wp = pmplan.plan_batch(o[ok], s[ok], g[ok], planner=planner).waypoints
     except pmplan.errors.PmplanError:
         return  # (a path whose certificate fails is not returned)
     _check_lanes(rng, wp, m, [mode if mode in GUESSES else "nan"] * len(wp),
-                 mode in ("estimate", "shared"), mode == "shared")
+                 mode in ("estimate", "shared", "oneside"), SHARING.get(planner, 0))
 
 
 @settings(max_examples=12, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([(2, 16, 2), (2, 14, 3), (2, 30, 2),
                                                    (2, 64, 2), (2, 100, 5), (2, 130, 2)]),
        st.sampled_from(["random", "clustered", "integer"]), st.sampled_from([2, 3]),
-       st.sampled_from([None, "obstacle_line_shared"]))
+       st.sampled_from([None, "obstacle_line_shared", "obstacle_line_oneside"]))
 def test_plan_batch_with_the_pruning_equals_the_reference(seed, dims, family, r, planner):
     """From ``PRUNE_LANES[0]`` points in the plane, plan_batch and plan_sequence_batch (the
     SIMD kernel's pruned pass, from ``PRUNE_LANES[1]`` its sweep lane by lane, the scalar
@@ -177,7 +180,8 @@ def test_plan_batch_with_the_pruning_equals_the_reference(seed, dims, family, r,
 
 @pytest.mark.parametrize(("planner", "bound"), [("obstacle_line", 12),
                                                 ("obstacle_line_compact", 6),
-                                                ("obstacle_line_shared", 6)])
+                                                ("obstacle_line_shared", 6),
+                                                ("obstacle_line_oneside", 6)])
 def test_prune_prunes(planner, bound):
     """The pruning really prunes: on random (2, 64, 2) paths the lanes evaluate a few pairs
     each, not the 2,079 pairs with a moving point (counted through the Python version): the
@@ -211,7 +215,7 @@ def test_prune_prunes(planner, bound):
         t[GAP] = gaps
         t[NORM] = norms
         row = plane(s, t, wf, 0, 2, m, n + m, 2 * (n + m), 8, MX, MN, BAD, THR2, GAP, NORM,
-                    planner != "obstacle_line", planner == "obstacle_line_shared")
+                    planner != "obstacle_line", SHARING.get(planner, 0))
     finally:
         names.update(saved)
     for lane, w in enumerate(ws):

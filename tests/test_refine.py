@@ -687,7 +687,9 @@ def test_a_crowd_gets_the_crowds_default_effort(n, d):
     o, x, y = (rng.uniform(0, 10, size=(3, 6, d)), rng.uniform(0, 10, size=(3, n, d)),
                rng.uniform(0, 10, size=(3, n, d)))
     kw = dict(radius=1e-3, obstacle_radius=1e-3)
-    raw = pmplan.plan_batch(o, x, y, lift=2e-3)  # the refined plans' default unit
+    # the refined plans' default unit and planner
+    planner = pmplan.choose_planner(d, n, 6, refining=True).name
+    raw = pmplan.plan_batch(o, x, y, lift=2e-3, planner=planner)
     default = pmplan.refine(raw, **kw)
     asked = pmplan.refine(raw, waypoints=s, steps=k, **kw)
     other = pmplan.refine(raw, waypoints=2 * s, steps=k, **kw)
@@ -701,8 +703,8 @@ def test_a_crowd_gets_the_crowds_default_effort(n, d):
     full = pmplan.plan_batch(o, x, y, refine=True, **kw)
     assert full.waypoints.tobytes() == default.waypoints.tobytes()
     one = pmplan.plan(o[0], x[0], y[0], refine=True, **kw)
-    asked_one = pmplan.refine(pmplan.plan(o[0], x[0], y[0], lift=2e-3), waypoints=s, steps=k,
-                              **kw)
+    asked_one = pmplan.refine(pmplan.plan(o[0], x[0], y[0], lift=2e-3, planner=planner),
+                              waypoints=s, steps=k, **kw)
     assert one.path.waypoints.tobytes() == asked_one.path.waypoints.tobytes()
     # a steps-only request keeps the crowd's waypoints, and the reverse
     assert pmplan.refine(raw, steps=3, **kw).waypoints.shape == default.waypoints.shape

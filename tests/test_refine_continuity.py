@@ -59,8 +59,9 @@ def _probes(d, n, m, lift, size, count, seed, integer=False):
         before = len(out)
         o, s, g = _query(rng, d, n, m, size, integer)
         rad = 0.0 if integer else RADIUS * size
-        try:
-            raw = pmplan.plan(o, s, g, lift=lift)
+        try:  # (the planner a refined plan takes by default: pmplan.choose_planner)
+            raw = pmplan.plan(o, s, g, lift=lift,
+                              planner=pmplan.choose_planner(d, n, m, refining=rad > 0).name)
             ref = pmplan.refine(raw, radius=rad)
         except PmplanError:
             continue

@@ -65,7 +65,7 @@ def test_plan_refine_radius_is_the_refined_plan(tmp_path, capsys, query):
                            "--radius", "0.05")
     assert status == 0 and err == ""
     res = json.loads(out)
-    raw = pmplan.plan_query(io.with_unit(io.parse_query(query), {"radius": 0.05}))
+    raw = pmplan.plan_query(io.with_defaults(io.parse_query(query), {"radius": 0.05}))
     assert raw.path.waypoints.max() < 3.0  # (lanes 0.1 apart: the default unit, 2 radius)
     ref = pmplan.refine(raw, radius=0.05)
     # the same domain and stratum as the raw plan; the refined path, bit for bit

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reference import reference_sequence
+from reference import SHARING, reference_sequence
 
 import pmplan
 from pmplan.certify import clearance
@@ -20,7 +20,7 @@ def _check_one(obstacles, configs, plan, record, lift=1.0):
     m = obstacles.shape[0]
     compact = plan.planner != "obstacle_line"
     label, ref_record, times, wps = reference_sequence(obstacles, configs, lift, compact,
-                                                       plan.planner == "obstacle_line_shared")
+                                                       SHARING.get(plan.planner, 0))
     assert plan.domain == label == stratum_of((obstacles, *configs)).label
     assert tuple(int(v) for v in record) == ref_record
     assert plan.waypoints.shape[0] == 7 * (r - 1) + 1
@@ -40,7 +40,7 @@ def _check_one(obstacles, configs, plan, record, lift=1.0):
        m=st.sampled_from([2, 3, 4]), n=st.sampled_from([1, 2, 3]), r=st.integers(2, 5),
        lift=st.sampled_from([1.0, 0.5, 2.0]),
        planner=st.sampled_from([None, "obstacle_line", "obstacle_line_compact",
-                                "obstacle_line_shared"]))
+                                "obstacle_line_shared", "obstacle_line_oneside"]))
 def test_sequence_matches_reference(seed, d, m, n, r, lift, planner):
     rng = np.random.default_rng(seed)
     cp_o = int(rng.integers(2, m + 1))

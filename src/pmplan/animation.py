@@ -494,6 +494,7 @@ def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
     from matplotlib.figure import Figure
 
     from .api import plan_query
+    from .io import with_defaults
 
     out = Path(out)
     suffix = out.suffix.lower()
@@ -512,7 +513,7 @@ def animate_query(q: dict, out, *, frames: int = 120, fps: int = 30,
         writer = manim.FFMpegWriter(fps=int(fps))
     else:
         from PIL import Image
-    plan = plan_query(q, planner)
+    plan = plan_query(with_defaults(q, refine), planner)  # (the unit of a refined plan)
     if refine is not None:
         from .api import refine as refine_plan
 

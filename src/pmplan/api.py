@@ -56,8 +56,12 @@ def plan_batch(
         Dask arrays (chunked along the batch axis only) are planned lazily by
         :func:`pmplan.scale.plan_batch`: the PlanBatch then holds dask arrays.
     planner : str, optional
-        ``"obstacle_line_compact"``, ``"obstacle_line"`` (the paper's lanes) or
-        ``"planar_three"``; default chosen from (d, n, m).
+        A name of :func:`planner_names`: ``"obstacle_line"`` (the paper's lanes),
+        ``"obstacle_line_compact"``, ``"obstacle_line_shared"``, ``"obstacle_line_oneside"``
+        or ``"planar_three"``. Default chosen from (d, n, m)
+        (:func:`~pmplan.checks.choose_planner`): ``planar_three`` for (2, 1, 3),
+        ``obstacle_line_compact`` otherwise, but ``obstacle_line_oneside`` for a refined plan
+        of at least :data:`pmplan.planners.base.CROWD_LANES` robots (Mathematics §8, "Crowds").
     lift : float or "scene", optional
         The unit of the motion (the spacing of the lanes of the obstacle-line planners, the 1
         of ``H`` and ``s3`` in the planar one). Default: for a refined plan (``refine=True``
@@ -134,7 +138,8 @@ def plan_batch(
                                 progress=progress, backend=backend, workers=workers, out=out,
                                 refine=_radii(refining, radius, obstacle_radius), bounds=bounds)
     batch = plan_arrays(obstacles, [start, goal], planner=planner, lift=lift, backend=backend,
-                        workers=workers, progress=progress, out=out, bounds=bounds)
+                        workers=workers, progress=progress, out=out, bounds=bounds,
+                        refining=refining)
     if refining:
         return refine_plans(batch, radius=radius, obstacle_radius=obstacle_radius,
                             progress=progress, workers=workers, backend=backend)
@@ -153,8 +158,12 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     start, goal : array_like, shape (n, d)
         Robot positions x_1..x_n and x'_1..x'_n.
     planner : str, optional
-        ``"obstacle_line_compact"``, ``"obstacle_line"`` (the paper's lanes) or
-        ``"planar_three"``; default chosen from (d, n, m).
+        A name of :func:`planner_names`: ``"obstacle_line"`` (the paper's lanes),
+        ``"obstacle_line_compact"``, ``"obstacle_line_shared"``, ``"obstacle_line_oneside"``
+        or ``"planar_three"``. Default chosen from (d, n, m)
+        (:func:`~pmplan.checks.choose_planner`): ``planar_three`` for (2, 1, 3),
+        ``obstacle_line_compact`` otherwise, but ``obstacle_line_oneside`` for a refined plan
+        of at least :data:`pmplan.planners.base.CROWD_LANES` robots (Mathematics §8, "Crowds").
     lift : float or "scene", optional
         The unit of the motion (default: the robots' diameter for a refined plan, else 1, the
         paper's; ``"scene"``: each query's obstacles' radius): see :func:`plan_batch`.
@@ -189,13 +198,9 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     """
     refining = asks_refine(refine, radius, obstacle_radius)
     lift = default_lift(lift, radius, obstacle_radius, refining)
-    if bounds is not None:
+    if bounds is not None or refining:
         return plan_one_in_box(obstacles, [start, goal], bounds, planner, lift, backend,
                                radii=(radius, obstacle_radius) if refining else None)
-    if refining:
-        raw = plan(obstacles, start, goal, planner=planner, lift=lift, backend=backend)
-        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
-                            backend=backend)
     return plan_one(obstacles, start, goal, planner, lift, backend)
 
 
@@ -232,8 +237,8 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str | None = None,
     ``obstacles`` (B, m, d); ``configs`` a list of r arrays (B, n, d). The path passes through
     configuration k at tau = (k-1)/(r-1); labels sum_k cp(C_k) - (r-1) cp_o + 2 (- 1 when
     e == N in odd d). ``lift``, ``backend``, ``progress``, ``workers``, ``out``, ``bounds``:
-    see :func:`plan_batch`. ``planner``: a sequential planner (``"obstacle_line_compact"``,
-    the default, or ``"obstacle_line"``, the paper's lanes).
+    see :func:`plan_batch`. ``planner``: a sequential planner (an obstacle-line one: default
+    as in :func:`plan_batch`).
     """
     refining = asks_refine(refine, radius, obstacle_radius, out)
     lift = default_lift(lift, radius, obstacle_radius, refining)
@@ -246,7 +251,7 @@ def plan_sequence_batch(obstacles, configs, *, lift: float | str | None = None,
                                          bounds=bounds, planner=planner)
     batch = plan_arrays(obstacles, as_config_list(configs), lift=lift, backend=backend,
                         workers=workers, progress=progress, out=out, sequential=True,
-                        bounds=bounds, planner=planner)
+                        bounds=bounds, planner=planner, refining=refining)
     if refining:
         return refine_plans(batch, radius=radius, obstacle_radius=obstacle_radius,
                             progress=progress, workers=workers, backend=backend)
@@ -268,8 +273,7 @@ def plan_sequence(obstacles, configs, *, lift: float | str | None = None,
     backend : {"numba", "numpy"}, optional
         See :func:`plan_batch`.
     planner : str, optional
-        A sequential planner: ``"obstacle_line_compact"`` (the default) or ``"obstacle_line"``
-        (the paper's lanes).
+        A sequential planner (an obstacle-line one: default as in :func:`plan_batch`).
 
     Examples
     --------
@@ -281,13 +285,9 @@ def plan_sequence(obstacles, configs, *, lift: float | str | None = None,
     """
     refining = asks_refine(refine, radius, obstacle_radius)
     lift = default_lift(lift, radius, obstacle_radius, refining)
-    if bounds is not None:
+    if bounds is not None or refining:
         return plan_one_in_box(obstacles, configs, bounds, planner, lift, backend, sequential=True,
                                radii=(radius, obstacle_radius) if refining else None)
-    if refining:
-        raw = plan_sequence(obstacles, configs, lift=lift, backend=backend, planner=planner)
-        return refine_plans(raw, radius=radius, obstacle_radius=obstacle_radius,
-                            backend=backend)
     return plan_one_sequence(obstacles, configs, lift, backend, planner)
 
 

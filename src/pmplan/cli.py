@@ -163,6 +163,7 @@ def _version() -> str:
 def build_parser() -> argparse.ArgumentParser:
     """Return the argument parser of ``pmplan``."""
     from .checks import planner_names
+    from .planners.base import CROWD_LANES
 
     parser = _Parser(
         prog="pmplan",
@@ -176,7 +177,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     names = planner_names()
     planner_help = ("planner name (default: chosen from d, n, m: planar_three for one robot "
-                    "among three obstacles in the plane, obstacle_line_compact otherwise; "
+                    "among three obstacles in the plane, obstacle_line_compact otherwise, "
+                    f"obstacle_line_oneside for --refine with {CROWD_LANES} robots or more; "
                     "obstacle_line: the paper's lanes)")
 
     _parser_plan(sub, names, planner_help)
@@ -415,32 +417,30 @@ def _with_options(q: dict, args, source: str) -> dict:
 
 def cmd_plan(args) -> int:
     from .api import plan_query
-    from .io import plan_to_dict, with_unit
+    from .io import plan_to_dict, with_defaults
 
     q = _with_options(_read_query_arg(args.query), args, _source(args.query))
     options = _refine_options(args)
-    result = _refined(plan_query(with_unit(q, options)), options)
+    result = _refined(plan_query(with_defaults(q, options)), options)
     print(json.dumps(plan_to_dict(result, samples=args.samples), indent=args.indent))
     return 0
 
 
 def cmd_batch(args) -> int:
     from . import api
-    from .io import read_queries, with_unit, write_plans
+    from .io import read_queries, with_defaults, write_plans
 
     options = _refine_options(args)
     if _streams(args):  # Zarr in or out, or a dask option: chunk by chunk (pmplan.scale)
         return _cmd_batch_store(args, options)
-    q = _with_options(read_queries(args.queries), args, args.queries)
-    common = dict(lift=with_unit(q, options)["lift"], progress=not args.no_progress,
-                  workers=args.workers, bounds=q.get("bounds"))
+    q = with_defaults(_with_options(read_queries(args.queries), args, args.queries), options)
+    common = dict(lift=q["lift"], progress=not args.no_progress, workers=args.workers,
+                  bounds=q.get("bounds"), planner=q.get("planner"))
     if "via" in q:
         configs = [q["start"], *np.moveaxis(q["via"], 1, 0), q["goal"]]
-        batch = api.plan_sequence_batch(q["obstacles"], configs, planner=q.get("planner"),
-                                        **common)
+        batch = api.plan_sequence_batch(q["obstacles"], configs, **common)
     else:
-        batch = api.plan_batch(q["obstacles"], q["start"], q["goal"], planner=q.get("planner"),
-                               **common)
+        batch = api.plan_batch(q["obstacles"], q["start"], q["goal"], **common)
     batch = _refined(batch, options, workers=args.workers, progress=not args.no_progress)
     written = write_plans(args.out, batch)
     if len(batch):

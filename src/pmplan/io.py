@@ -38,6 +38,7 @@ import numpy as np
 
 from .configuration import as_lift, as_real, default_lift
 from .errors import InputError
+from .planners.base import default_planner, out_of_scope
 
 __all__ = [
     "MAX_POINTS",
@@ -49,19 +50,31 @@ __all__ = [
     "plan_to_dict",
     "read_queries",
     "same_value",
-    "with_unit",
+    "with_defaults",
     "write_plans",
 ]
 
-def with_unit(query: dict, refine: dict | None) -> dict:
-    """The query ``query`` with its unit: its own ``"lift"``, else the default of a plan refined
-    with the keywords ``refine`` (of :func:`pmplan.refine`; None: a raw plan), as the planning
-    functions choose it (``pmplan.configuration.default_lift``). The faces (``pmplan plan``,
-    ``pmplan batch``, ``pmplan explore``) plan raw, then refine: this gives their raw plan the
-    unit ``pmplan.plan(..., refine=True)`` would use. The radii are checked by the refinement."""
+def with_defaults(query: dict, refine: dict | None) -> dict:
+    """The query ``query`` with the unit and the planner of its plan: its own ``"lift"`` and
+    ``"planner"``, else those of a plan refined with the keywords ``refine`` (of
+    :func:`pmplan.refine`; None: a raw plan), as the planning functions choose them
+    (``pmplan.configuration.default_lift``; ``pmplan.checks.choose_planner``, whose default
+    for a refined crowd is ``obstacle_line_oneside``). The faces (``pmplan plan``, ``pmplan
+    batch``, ``pmplan explore``) plan raw, then refine: this gives their raw plan the unit and
+    the planner ``pmplan.plan(..., refine=True)`` would use. ``query`` holds arrays
+    (:func:`parse_query`, :func:`read_queries`: one query or a batch). The radii are checked
+    by the refinement."""
     radii = refine or {}
-    return dict(query, lift=default_lift(query.get("lift"), radii.get("radius", 0.0),
-                                         radii.get("obstacle_radius", 0.0), refine is not None))
+    out = dict(query, lift=default_lift(query.get("lift"), radii.get("radius", 0.0),
+                                        radii.get("obstacle_radius", 0.0), refine is not None))
+    if refine is not None and query.get("planner") is None:
+        try:
+            (m, d), n = np.shape(query["obstacles"])[-2:], np.shape(query["start"])[-2]
+        except (ValueError, IndexError):  # malformed: the planning function says how
+            return out
+        if out_of_scope(d, n, m) is None:  # (else the planning function says why)
+            out["planner"] = default_planner(d, n, m, "via" in query, refining=True)
+    return out
 
 
 #: largest number of points (m + n) accepted in one query read from a file

@@ -478,7 +478,8 @@ def single_plan(planner: Planner, dims: tuple[int, int, int], out: dict) -> Plan
 def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.0,
                 backend: str | None = None, workers: int = 1, progress: bool = False,
                 out: PlanBatch | None = None, sequential: bool = False,
-                bounds=None, batched: bool = True, width: int | None = None) -> PlanBatch:
+                bounds=None, batched: bool = True, width: int | None = None,
+                refining: bool = False) -> PlanBatch:
     """The one entry below the facade: plan a batch of queries through the configurations
     ``configs`` (r >= 2 arrays (B, n, d): start, intermediate ones, goal) among ``obstacles``
     (B, m, d): the arguments checked, the input validated, the planner chosen, the run loop.
@@ -491,12 +492,13 @@ def plan_arrays(obstacles, configs: list, *, planner: str | None = None, lift=1.
     it; ``width``: the breakpoints added to every piece of a path in the box
     (:func:`pmplan.workspace.path_into_box_linear`; default the most the batch needs, fixed
     first by :func:`box_width` where the output shapes are fixed before planning);
-    ``batched=False``: one query (the messages name no query index).
+    ``batched=False``: one query (the messages name no query index); ``refining``: the plans
+    will be refined (the default planner may then differ, :func:`~pmplan.checks.choose_planner`).
     """
     lift = check_lift(lift)
     workers = check_workers(workers)
     p, obstacles, configs, deferred = _prepare(obstacles, configs, planner, backend, sequential,
-                                               bounds)
+                                               bounds, refining)
     _, m, d = obstacles.shape
     n = configs[0].shape[1]
     if bounds is not None:
@@ -537,7 +539,8 @@ def _raw_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers, 
     return box, res
 
 
-def _prepare(obstacles, configs, planner, backend, sequential: bool, bounds):
+def _prepare(obstacles, configs, planner, backend, sequential: bool, bounds,
+             refining: bool = False):
     """The checks of :func:`plan_arrays` before planning: ``(planner, obstacles, configs,
     deferred)``, the queries as arrays, and whether the planner's kernel validates them
     (else they are validated here)."""
@@ -550,7 +553,7 @@ def _prepare(obstacles, configs, planner, backend, sequential: bool, bounds):
         _, m, d = obstacles.shape
         n = start.shape[1]
         try:
-            p = choose_planner(d, n, m, planner)
+            p = choose_planner(d, n, m, planner, refining=refining)
             check_backend(backend)
         except PmplanError:  # an invalid query is reported first, as always
             check_query(obstacles, start, goal, batched=True)
@@ -564,7 +567,7 @@ def _prepare(obstacles, configs, planner, backend, sequential: bool, bounds):
         obstacles, configs = check_sequence(obstacles, configs, batched=True)
         _, m, d = obstacles.shape
         n = configs[0].shape[1]
-        p = choose_planner(d, n, m, planner, sequential=True)
+        p = choose_planner(d, n, m, planner, sequential=True, refining=refining)
         check_backend(backend)
         deferred = False
     return p, obstacles, configs, deferred

@@ -48,8 +48,9 @@ def plan_one_in_box(obstacles, configs: list, bounds, planner: str | None = None
                     backend: str | None = None, sequential: bool = False,
                     radii: tuple[float, float] | None = None) -> Plan:
     """:func:`pmplan.plan` or :func:`pmplan.plan_sequence` in a workspace box (``bounds``,
-    :mod:`pmplan.workspace`): a batch of one (the box's map runs on the batch), refined when
-    ``radii`` = (radius, obstacle_radius) are given."""
+    :mod:`pmplan.workspace`; None: in R^d) as a batch of one (the box's map runs on the
+    batch), refined when ``radii`` = (radius, obstacle_radius) are given (with the default
+    planner of a refined plan, :func:`~pmplan.checks.choose_planner`)."""
     if sequential:
         check_sequential(planner)  # (the planner first, as plan_arrays checks it)
         obstacles, configs = check_sequence(obstacles, configs, batched=False)
@@ -57,7 +58,8 @@ def plan_one_in_box(obstacles, configs: list, bounds, planner: str | None = None
         obstacles, start, goal = check_query(obstacles, configs[0], configs[1], batched=False)
         configs = [start, goal]
     batch = plan_arrays(obstacles, configs, planner=planner, lift=lift, backend=backend,
-                        sequential=sequential, bounds=bounds, batched=False)
+                        sequential=sequential, bounds=bounds, batched=False,
+                        refining=radii is not None)
     if radii is not None:
         return refine_plans(batch[0], radius=radii[0], obstacle_radius=radii[1],
                             backend=backend)

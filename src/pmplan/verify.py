@@ -602,9 +602,8 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     Parameters
     ----------
     planner : str, optional
-        ``"obstacle_line_compact"``, ``"obstacle_line"`` (the paper's lanes) or
-        ``"planar_three"``; default chosen from (d, n, m) as in
-        :func:`pmplan.plan`.
+        A name of :func:`pmplan.planner_names`; default chosen from (d, n, m) as in
+        :func:`pmplan.plan` (with ``refine``, as for a refined plan).
     d, n, m : int
         Dimension, robots, obstacles.
     lift : float or str
@@ -644,7 +643,8 @@ def verify(*, planner: str | None = None, d: int = 2, n: int = 2, m: int = 2,
     (True, True)
     """
     _check_arguments(queries, seed, refine)
-    check = _Check(api.choose_planner(d, n, m, planner), d, n, m, lift, int(queries),
+    check = _Check(api.choose_planner(d, n, m, planner, refining=bool(refine)), d, n, m, lift,
+                   int(queries),
                    int(seed), bool(refine), progress)
     check.plan_families()
     if refine:

@@ -21,6 +21,7 @@ from ..planar_strata import EVEN
 from ..planners.obstacle_line import (
     OBSTACLE_LINE,
     OBSTACLE_LINE_COMPACT,
+    OBSTACLE_LINE_ONESIDE,
     OBSTACLE_LINE_SHARED,
     path_times,
 )
@@ -75,7 +76,7 @@ def _obstacle_line_arrays(obstacles, configs):
 
 def _obstacle_line_kernel(obstacles, configs, lift: float, out: dict,
                           validate: bool, compact: bool = False,
-                          shared: bool = False) -> np.ndarray | None:
+                          shared: int = 0) -> np.ndarray | None:
     """Plan a chunk with :func:`pmplan.kernels.obstacle_line.plan_chunk` into ``out``; return
     its flags.
 
@@ -105,7 +106,7 @@ def _obstacle_line_validates(d: int) -> bool:
 
 
 def _obstacle_line_single(m: int, n: int, d: int, compact: bool = False,
-                          shared: bool = False):
+                          shared: int = 0):
     """``run(obstacles, start, goal, lift) -> (times, waypoints, domain, row, clearance) |
     None`` -- the caller guarantees C-contiguous, aligned, writeable float64 arrays of shapes
     (m, d), (n, d), (n, d) and a float ``lift`` (positive, or
@@ -130,7 +131,7 @@ def _obstacle_line_single(m: int, n: int, d: int, compact: bool = False,
 
 
 def _obstacle_line_sequence(r: int, m: int, n: int, d: int, compact: bool = False,
-                            shared: bool = False):
+                            shared: int = 0):
     """``run(obstacles, configs, lift) -> (times, waypoints, domain, row, clearance) | None``
     for one query through ``r >= 2`` configurations -- the caller guarantees C-contiguous,
     aligned, writeable float64 arrays ``obstacles`` (m, d) and ``configs`` (a sequence of r
@@ -253,10 +254,15 @@ PLANNERS = {
                             _obstacle_line_validates, partial(_obstacle_line_single, compact=True),
                             partial(_obstacle_line_sequence, compact=True)),
     OBSTACLE_LINE_SHARED: (_obstacle_line_arrays,
-                           partial(_obstacle_line_kernel, compact=True, shared=True),
+                           partial(_obstacle_line_kernel, compact=True, shared=2),
                            _obstacle_line_validates,
-                           partial(_obstacle_line_single, compact=True, shared=True),
-                           partial(_obstacle_line_sequence, compact=True, shared=True)),
+                           partial(_obstacle_line_single, compact=True, shared=2),
+                           partial(_obstacle_line_sequence, compact=True, shared=2)),
+    OBSTACLE_LINE_ONESIDE: (_obstacle_line_arrays,
+                            partial(_obstacle_line_kernel, compact=True, shared=1),
+                            _obstacle_line_validates,
+                            partial(_obstacle_line_single, compact=True, shared=1),
+                            partial(_obstacle_line_sequence, compact=True, shared=1)),
     PLANAR_THREE: (_planar_arrays, _planar_kernel, _planar_validates, _planar_single, None),
 }
 

@@ -324,19 +324,20 @@ def _before(kv, k, a, b):  # pragma: no cover - compiled
 
 
 @njit(**INLINE)
-def _lane_chains(kv, r, n, order, lane, tail):  # pragma: no cover - compiled
+def _lane_chains(kv, r, n, order, lane, tail, sides):  # pragma: no cover - compiled
     """``lane[j]``: robot j's lane on its side, 1, 2, ...
-    (:func:`pmplan.planners.obstacle_line.lane_chains`: the robots of a side in the order of
+    (:func:`pmplan.planners.obstacle_line.lane_chains` with ``sides`` 2, the odd robots and
+    the even ones apart, or 1, every robot on one side: the robots of a side in the order of
     ``H(C_1, 1)``, ``order`` (a permutation, :func:`_bucket_sort`'s), each in the first chain
     whose last robot is before it in every ``H(C_k, 1)``). For r = 2 the chains' last robots
     are in decreasing order in ``H(C_2, 1)`` (a robot opens a chain only when it is before every
     last one, and replaces the first last one before it), so the first chain is found by
     bisection."""
-    for side in range(2):
+    for side in range(sides):
         nch = 0
         for t in range(n):
             x = order[t]
-            if x % 2 != side:
+            if sides == 2 and x % 2 != side:
                 continue
             if r == 2:
                 lo = 0
@@ -999,10 +1000,12 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
     compact : bool
         The compact lanes of Mathematics §4.4 (the planner ``obstacle_line_compact``) instead of
         the paper's ``i lambda`` (:func:`pmplan.planners.obstacle_line.lane_heights`).
-    shared : bool
-        With ``compact``, the shared lanes of Mathematics §4.4 (the planner
-        ``obstacle_line_shared``): the robots of a side that keep their order share a lane
-        (:func:`pmplan.planners.obstacle_line.lane_chains`).
+    shared : int
+        With ``compact``, the shared lanes of Mathematics §4.4
+        (:func:`pmplan.planners.obstacle_line.lane_chains`): 0, every robot its own lane; 2
+        (the planner ``obstacle_line_shared``), the robots of a side that keep their order
+        share a lane; 1 (``obstacle_line_oneside``), every robot on the side of ``nu``, the
+        robots that keep their order sharing a lane.
 
     Notes
     -----
@@ -1187,10 +1190,10 @@ def plan_queries(obstacles, first, last, middle, lift, validate, wp, domain, str
                     hm = -t
             if shared:
                 _bucket_sort(kv[0], rorder, n, bk, cnt)  # (stable: ties by index)
-                _lane_chains(kv, r, n, rorder, lane, tail)
+                _lane_chains(kv, r, n, rorder, lane, tail, shared)
             for j in range(n):
                 kq = float(lane[j]) if shared else float(j // 2 + 1)
-                li = hp + unit * kq if j % 2 == 0 else -(hm + unit * kq)
+                li = hp + unit * kq if j % 2 == 0 or shared == 1 else -(hm + unit * kq)
                 for c in range(d):
                     off[j, c] = li * nu[c]
         else:
@@ -2218,7 +2221,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                         for j in range(n):
                             kv[k, j] = CV[k * n + j, l]
                     _bucket_sort(kv[0], rorder, n, bk, cnt)
-                    _lane_chains(kv, r, n, rorder, lane, tail)
+                    _lane_chains(kv, r, n, rorder, lane, tail, shared)
                     for j in range(n):
                         KQ[j, l] = float(lane[j])
             else:
@@ -2226,7 +2229,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
                     for l in range(L):
                         KQ[j, l] = float(j // 2 + 1)
             for j in range(n):
-                if j % 2 == 0:
+                if j % 2 == 0 or shared == 1:
                     for c in range(d):
                         for l in range(L):
                             OFF[j * d + c, l] = (T[HP, l] + T[UNIT, l] * KQ[j, l]) * NU[c, l]
@@ -2318,7 +2321,7 @@ def _plan_lanes(obstacles, first, last, middle, lift, wp, domain, strata, cleara
 
 
 def plan_chunk(obstacles, first, last, middle, lift, validate, wp, domain, strata, clearance,
-               flags, tab, compact=False, shared=False):
+               flags, tab, compact=False, shared=0):
     """Plan and certify a chunk of queries of the obstacle-line planner (Mathematics §3, §4.1-§4.3), with
     the index tables ``tab`` of :func:`tables`.
 

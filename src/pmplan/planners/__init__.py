@@ -4,6 +4,7 @@
 * ``obstacle_line_compact`` -- the same with compact lanes (Mathematics §4.4), the default.
 * ``obstacle_line_shared`` -- the compact lanes shared by robots that keep their order
   (Mathematics §4.4).
+* ``obstacle_line_oneside`` -- the shared lanes all on one side of the line (Mathematics §4.4).
 * ``planar_three`` -- paper Section 4 (d = 2, n = 1, m = 3).
 
 A new planner is one module here that subclasses :class:`~pmplan.planners.base.Planner` and
@@ -13,8 +14,13 @@ queries to another one).
 """
 
 from .base import REGISTRY, Planner, RawPlan, default_planner
-from .obstacle_line import OBSTACLE_LINE, OBSTACLE_LINE_COMPACT, OBSTACLE_LINE_SHARED
+from .obstacle_line import (
+                            OBSTACLE_LINE,
+                            OBSTACLE_LINE_COMPACT,
+                            OBSTACLE_LINE_ONESIDE,
+                            OBSTACLE_LINE_SHARED,
+)
 from .planar_three import PLANAR_THREE
 
 __all__ = ["REGISTRY", "Planner", "RawPlan", "OBSTACLE_LINE", "OBSTACLE_LINE_COMPACT",
-           "OBSTACLE_LINE_SHARED", "PLANAR_THREE", "default_planner"]
+           "OBSTACLE_LINE_ONESIDE", "OBSTACLE_LINE_SHARED", "PLANAR_THREE", "default_planner"]

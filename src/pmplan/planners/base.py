@@ -26,7 +26,7 @@ from .. import backends
 from ..errors import UnsupportedError
 from ..path import PiecewiseLinearPath
 
-__all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage", "default_planner",
+__all__ = ["CROWD_LANES", "RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage", "default_planner",
            "lift_code", "out_of_scope", "register", "scene_unit", "spec_of_class", "unit"]
 
 #: how the planners and their kernels receive ``lift="scene"``: a ``lift`` that is not > 0.
@@ -35,6 +35,12 @@ __all__ = ["RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage", "default_pla
 #: float (not a string or an array), so the kernels keep one signature and scaling the lift
 #: by a power of two keeps its meaning.
 SCENE_CODE = 0.0
+
+#: from this many robots a refined plan's default planner is the one that declares
+#: :attr:`Planner.crowd` (:func:`default_planner`): in rooms with walls its lanes, all on one
+#: side, cross fewer narrow gaps; below it they only lengthen the paths
+#: (``benchmarks/crowd_default.py`` measures both, per robot count)
+CROWD_LANES = 16
 
 
 def lift_code(lift) -> float:
@@ -96,7 +102,7 @@ class Planner:
     * the mathematics (required): :attr:`name`, :attr:`summary`, :meth:`supports`,
       :meth:`domain_labels`, :meth:`stratum_name`, :meth:`reference` (the numpy reference)
       and :meth:`allocate`; optional :attr:`equivariant`, :attr:`sequential`,
-      :attr:`priority`, :meth:`path_times`, :meth:`fixed_waypoints`;
+      :attr:`priority`, :attr:`crowd`, :meth:`path_times`, :meth:`fixed_waypoints`;
     * how a batch is computed is a backend's (:mod:`pmplan.backends`), what ``pmplan verify``
       needs is the planner's :class:`~pmplan.strata.StrataSpec` (:mod:`pmplan.strata`), and
       what the faces show of it its :class:`~pmplan.display.DisplaySpec`
@@ -117,6 +123,9 @@ class Planner:
     sequential: ClassVar[bool] = False
     #: the default planner of the (d, n, m) it supports is the one of highest priority
     priority: ClassVar[int] = 0
+    #: the default instead, where it supports (d, n, m), for a refined plan of at least
+    #: :data:`CROWD_LANES` robots (:func:`default_planner`)
+    crowd: ClassVar[bool] = False
 
     # --- what the planner covers ---------------------------------------------------------
     def supports(self, d: int, n: int, m: int) -> str | None:
@@ -294,14 +303,22 @@ def out_of_scope(d: int, n: int, m: int, r: int = 2) -> str | None:
     return None
 
 
-def default_planner(d: int, n: int, m: int, sequential: bool = False) -> str:
+def default_planner(d: int, n: int, m: int, sequential: bool = False,
+                    refining: bool = False) -> str:
     """The name of the default planner for (d, n, m): among the registered planners that
     support it (and, for a sequence of configurations, are :attr:`~Planner.sequential`), the one of
     highest :attr:`~Planner.priority` -- ``planar_three`` (paper Section 4) for (2, 1, 3),
-    ``obstacle_line`` (paper Section 3 and Mathematics §4) otherwise. When none does, the most general
-    one (lowest priority), whose :meth:`~Planner.supports` then says why."""
+    ``obstacle_line_compact`` (paper Section 3 and Mathematics §4.4) otherwise -- but for a
+    plan to be refined (``refining``) of at least :data:`CROWD_LANES` robots the one that declares
+    :attr:`~Planner.crowd` (``obstacle_line_oneside``; Mathematics §8, "Crowds"). Each is
+    one section on all the queries of its (d, n, m), so the plans stay continuous on its
+    domains. When none supports (d, n, m), the most general one (lowest priority), whose
+    :meth:`~Planner.supports` then says why."""
     pool = [p for p in REGISTRY.values() if p.sequential or not sequential]
     fit = [p for p in pool if p.supports(d, n, m) is None]
+    crowd = [p for p in fit if p.crowd] if refining and n >= CROWD_LANES else []
+    if crowd:
+        return crowd[0].name
     if fit:
         return max(fit, key=lambda p: p.priority).name
     return min(pool, key=lambda p: p.priority).name

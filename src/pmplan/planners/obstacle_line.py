@@ -64,6 +64,7 @@ __all__ = [
     "CompactLinePlanner",
     "OBSTACLE_LINE",
     "OBSTACLE_LINE_COMPACT",
+    "OBSTACLE_LINE_ONESIDE",
     "OBSTACLE_LINE_SHARED",
     "SharedLinePlanner",
     "lane_heights",
@@ -164,8 +165,8 @@ def lane_chains(keys: list[np.ndarray], sides: int = 2) -> np.ndarray:
 
     ``keys`` holds, for every configuration ``C_k`` of the query, the robots' order keys of
     :class:`ColumnStructure` (B, n), distinct in each row. The odd robots (i = 1, 3, ...) take
-    the side of ``nu``, the even ones the other (``sides=1``: every robot one side, as
-    ``benchmarks/oneside_ab.py`` measures). On each side the robots, taken in the order of
+    the side of ``nu``, the even ones the other (``sides=1``: every robot on the side of
+    ``nu``, the planner ``obstacle_line_oneside``). On each side the robots, taken in the order of
     their columns in ``H(C_1, 1)``, form *chains*: a robot joins the first chain whose last
     robot is before it in every ``H(C_k, 1)`` (they *keep their order*), else it opens a new
     one; the robots of the c-th chain share lane c. Two robots of one lane are in the same
@@ -198,7 +199,8 @@ def lane_chains(keys: list[np.ndarray], sides: int = 2) -> np.ndarray:
 
 
 def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
-                 compact: bool = False, lanes: np.ndarray | None = None) -> np.ndarray:
+                 compact: bool = False, lanes: np.ndarray | None = None,
+                 sides: int = 2) -> np.ndarray:
     """Return the signed height ``h_i`` of every robot's lane above the line, shape (B, n):
     robot i slides at ``h_i nu(e)``.
 
@@ -212,6 +214,8 @@ def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
       ``H_+ = max(0, max_k t_k)``, ``H_- = max(0, max_k -t_k)`` for the obstacles' heights
       ``t_k = (o_k - o_1).nu`` (k >= 3). Two lanes differ by at least ``u``; a lane is at
       least ``u`` above (or below) every obstacle's height.
+    * ``sides=1`` (with ``lanes`` from :func:`lane_chains` with ``sides=1``; the planner
+      ``obstacle_line_oneside``): every robot on the side of ``nu``, ``h_i = H_+ + k_i u``.
     """
     i = np.arange(1, n + 1, dtype=float)
     if not compact:
@@ -228,7 +232,7 @@ def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
         hp = np.where(t > hp, t, hp)
         hm = np.where(-t > hm, -t, hm)
     k = np.ceil(i / 2.0)[None, :] if lanes is None else lanes.astype(float)
-    up = (i % 2.0) == 1.0
+    up = ((i % 2.0) == 1.0) | (sides == 1)
     return np.where(up[None, :], hp[:, None] + u[:, None] * k,
                     -(hm[:, None] + u[:, None] * k))
 
@@ -321,9 +325,10 @@ class ObstacleLinePlanner(Planner):
     #: the lanes of the section: the paper's ``i lambda`` (False) or the compact ones of
     #: Mathematics §4.4 (:func:`lane_heights`)
     compact: bool = False
-    #: with the compact lanes, the robots of a side that keep their order share a lane
-    #: (Mathematics §4.4, :func:`lane_chains`)
-    shared: bool = False
+    #: with the compact lanes, the robots that keep their order share a lane (Mathematics §4.4,
+    #: :func:`lane_chains`): 0, never; 2, the robots of a side (odd robots on the side of
+    #: ``nu``, even ones on the other); 1, every robot on the side of ``nu``
+    shared: int = 0
     #: planning ``2**k C`` with ``lift * 2**k`` gives exactly ``2**k`` times the path of C (every
     #: length of the construction is built from the coordinates and ``lift``): queries at
     #: extreme magnitudes are planned scaled (:mod:`pmplan.magnitude`)
@@ -379,8 +384,10 @@ class ObstacleLinePlanner(Planner):
         fr = Frame(obstacles[:, 0], obstacles[:, 1])
         cols = [column_structure(fr, obstacles, c) for c in configs]
         hs = [deformation(fr, obstacles, c, cs, self.compact) for c, cs in zip(configs, cols)]
-        lanes = lane_chains([c.key for c in cols]) if self.shared else None
-        heights = lane_heights(fr, obstacles, lift, configs[0].shape[1], self.compact, lanes)
+        sides = self.shared or 2
+        lanes = lane_chains([c.key for c in cols], sides) if self.shared else None
+        heights = lane_heights(fr, obstacles, lift, configs[0].shape[1], self.compact, lanes,
+                               sides)
         direct = self.compact and obstacles.shape[2] == 2  # (Mathematics §4.4)
         legs = [two_configuration_path(fr, obstacles, hs[k], hs[k + 1], heights, direct)
                 for k in range(r - 1)]
@@ -451,10 +458,33 @@ class SharedLinePlanner(CompactLinePlanner):
         "the compact lanes (same domains and labels) shared by the robots of a side that keep "
         "their order (Mathematics §4.4): fewer lanes, a crowd nearer the line o1o2"
     )
-    shared = True
+    shared = 2
     priority = 0
+
+
+class OneSideLinePlanner(CompactLinePlanner):
+    """The shared lanes with *one side* (Mathematics §4.4, "One side"): every robot slides on
+    the side of ``nu``, at ``H_+ + k_i u``, where ``k_i`` is its chain among all the robots
+    (:func:`lane_chains` with ``sides=1``: the robots that keep their order share a lane). The
+    same deformation, strata, domains and labels as :class:`CompactLinePlanner`, so it is
+    optimal on the same domains (paper Theorem 2.6), collision-free by the argument of
+    :class:`SharedLinePlanner`. Every robot passes every obstacle on the same side, so a narrow
+    gap on the other side of the obstacles' line stops no robot: in a crowded room it crosses
+    about half as many narrow gaps as the lanes on both sides (Mathematics §8), at the price of
+    longer paths for a few robots: the default of a refined plan of at least
+    :data:`~pmplan.planners.base.CROWD_LANES` robots (``benchmarks/crowd_default.py``)."""
+
+    name = "obstacle_line_oneside"
+    summary = (
+        "the compact lanes (same domains and labels) all on one side of the line o1o2, shared by "
+        "the robots that keep their order (Mathematics §4.4): a crowd crosses fewer narrow gaps"
+    )
+    shared = 1
+    priority = 0
+    crowd = True
 
 
 OBSTACLE_LINE = register(ObstacleLinePlanner())
 OBSTACLE_LINE_COMPACT = register(CompactLinePlanner())
 OBSTACLE_LINE_SHARED = register(SharedLinePlanner())
+OBSTACLE_LINE_ONESIDE = register(OneSideLinePlanner())

@@ -50,7 +50,7 @@ from .. import api
 from ..configuration import as_real
 from ..display import display_for
 from ..errors import CertificationError, InputError, PmplanError
-from ..io import json_int, parse_query, plan_to_dict, with_unit
+from ..io import json_int, parse_query, plan_to_dict, with_defaults
 from ..magnitude import LIMIT, needs_scaling
 from ..refine import check_radius, check_refine_flag
 from ..workspace import check_bounds, interior
@@ -145,7 +145,7 @@ def plan_json(obj, samples=None, refine: dict | None = None) -> dict:
     motion under ``raw``."""
     query = parse_query(obj)
     _check_size(query)
-    plan = api.plan_query(with_unit(query, refine))
+    plan = api.plan_query(with_defaults(query, refine))
     if refine is None:
         return plan_to_dict(plan, samples=samples)
     out = plan_to_dict(api.refine(plan, **refine), samples=samples)
