@@ -1,8 +1,9 @@
 """The default planner of a refined crowd (Mathematics §8, "Crowds"): a plan to be refined of
-at least ``CROWD_LANES`` robots takes ``obstacle_line_oneside`` by default, a raw plan or a smaller
-crowd ``obstacle_line_compact``, at every entry point (the library's functions, dask arrays,
-the command line, a query file's faces); a named planner is always the one used. The refined
-plan is then exactly the refinement of the one-side raw plan at the refined plan's unit."""
+at least ``CROWD_LANES`` robots in the plane takes ``obstacle_line_oneside`` by default, a raw
+plan, a smaller crowd or a crowd in space ``obstacle_line_compact``, at every entry point (the
+library's functions, dask arrays, the command line, a query file's faces); a named planner is
+always the one used. The refined plan is then exactly the refinement of the one-side raw plan
+at the refined plan's unit."""
 
 from __future__ import annotations
 
@@ -35,7 +36,7 @@ def test_default_planner_by_robot_count_and_refinement(d, m):
             refined = default_planner(d, n, m, sequential, refining=True)
             assert raw == ("planar_three" if (d, n, m) == (2, 1, 3) and not sequential
                            else COMPACT)
-            assert refined == (ONESIDE if n >= CROWD_LANES else raw)
+            assert refined == (ONESIDE if n >= CROWD_LANES and d == 2 else raw)
             chosen = pmplan.choose_planner(d, n, m, sequential=sequential, refining=True)
             assert chosen.name == refined
             assert pmplan.choose_planner(d, n, m, COMPACT, refining=True).name == COMPACT
@@ -57,6 +58,9 @@ def test_every_function_refines_a_crowd_with_the_one_side_lanes(bounds):
     assert pmplan.plan(o, s, g, bounds=bounds).planner == COMPACT
     assert pmplan.plan(o, s, g, planner=COMPACT, **kw).planner == COMPACT
     assert pmplan.plan(o, s[1:], g[1:], **kw).planner == COMPACT  # CROWD_LANES - 1 robots
+    o3, s3, g3 = _query(CROWD_LANES, d=3)
+    space = None if bounds is None else (-1.0, 11.0)
+    assert pmplan.plan(o3, s3, g3, refine=True, radius=RADIUS, bounds=space).planner == COMPACT
     batch = pmplan.plan_batch(o[None], s[None], g[None], **kw)
     assert batch.planner == ONESIDE
     np.testing.assert_array_equal(batch.waypoints[0], got.path.waypoints)

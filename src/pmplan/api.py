@@ -61,7 +61,8 @@ def plan_batch(
         or ``"planar_three"``. Default chosen from (d, n, m)
         (:func:`~pmplan.checks.choose_planner`): ``planar_three`` for (2, 1, 3),
         ``obstacle_line_compact`` otherwise, but ``obstacle_line_oneside`` for a refined plan
-        of at least :data:`pmplan.planners.base.CROWD_LANES` robots (Mathematics §8, "Crowds").
+        of at least :data:`pmplan.planners.base.CROWD_LANES` robots in the plane
+        (Mathematics §8, "Crowds").
     lift : float or "scene", optional
         The unit of the motion (the spacing of the lanes of the obstacle-line planners, the 1
         of ``H`` and ``s3`` in the planar one). Default: for a refined plan (``refine=True``
@@ -163,7 +164,8 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
         or ``"planar_three"``. Default chosen from (d, n, m)
         (:func:`~pmplan.checks.choose_planner`): ``planar_three`` for (2, 1, 3),
         ``obstacle_line_compact`` otherwise, but ``obstacle_line_oneside`` for a refined plan
-        of at least :data:`pmplan.planners.base.CROWD_LANES` robots (Mathematics §8, "Crowds").
+        of at least :data:`pmplan.planners.base.CROWD_LANES` robots in the plane
+        (Mathematics §8, "Crowds").
     lift : float or "scene", optional
         The unit of the motion (default: the robots' diameter for a refined plan, else 1, the
         paper's; ``"scene"``: each query's obstacles' radius): see :func:`plan_batch`.

@@ -69,7 +69,8 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None,
     The default is ``planar_three`` (paper Section 4) for (d, n, m) = (2, 1, 3) and
     ``obstacle_line_compact`` (paper Section 3 and Mathematics §4, with the compact lanes of
     Mathematics §4.4) for every other m >= 2, but ``obstacle_line_oneside`` for a plan to be
-    refined (``refining``) of at least :data:`~pmplan.planners.base.CROWD_LANES` robots;
+    refined (``refining``) of at least :data:`~pmplan.planners.base.CROWD_LANES` robots in
+    the plane;
     ``obstacle_line`` is the paper's. With ``sequential`` (a query through intermediate
     configurations) the default is the sequential planner of (d, n, m)
     (:func:`~pmplan.planners.base.default_planner`); the caller checks a named one with

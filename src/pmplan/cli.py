@@ -178,7 +178,8 @@ def build_parser() -> argparse.ArgumentParser:
     names = planner_names()
     planner_help = ("planner name (default: chosen from d, n, m: planar_three for one robot "
                     "among three obstacles in the plane, obstacle_line_compact otherwise, "
-                    f"obstacle_line_oneside for --refine with {CROWD_LANES} robots or more; "
+                    f"obstacle_line_oneside for --refine with {CROWD_LANES} robots or more in "
+                    "the plane; "
                     "obstacle_line: the paper's lanes)")
 
     _parser_plan(sub, names, planner_help)

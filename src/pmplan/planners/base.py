@@ -26,8 +26,9 @@ from .. import backends
 from ..errors import UnsupportedError
 from ..path import PiecewiseLinearPath
 
-__all__ = ["CROWD_LANES", "RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage", "default_planner",
-           "lift_code", "out_of_scope", "register", "scene_unit", "spec_of_class", "unit"]
+__all__ = ["CROWD_LANES", "RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage",
+           "default_planner", "lift_code", "out_of_scope", "register", "scene_unit",
+           "spec_of_class", "unit"]
 
 #: how the planners and their kernels receive ``lift="scene"``: a ``lift`` that is not > 0.
 #: A positive lift is the unit itself; SCENE_CODE (0.0) asks for the unit u(O) of every query
@@ -36,10 +37,10 @@ __all__ = ["CROWD_LANES", "RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage
 #: by a power of two keeps its meaning.
 SCENE_CODE = 0.0
 
-#: from this many robots a refined plan's default planner is the one that declares
-#: :attr:`Planner.crowd` (:func:`default_planner`): in rooms with walls its lanes, all on one
-#: side, cross fewer narrow gaps; below it they only lengthen the paths
-#: (``benchmarks/crowd_default.py`` measures both, per robot count)
+#: from this many robots a refined plan's default planner in the plane is the one that
+#: declares :attr:`Planner.crowd` (:func:`default_planner`): in rooms with walls its lanes, all
+#: on one side, cross fewer narrow gaps; below it, or in space, where a path can go around a
+#: gap, they only lengthen the paths (``benchmarks/crowd_default.py`` measures both)
 CROWD_LANES = 16
 
 
@@ -124,7 +125,7 @@ class Planner:
     #: the default planner of the (d, n, m) it supports is the one of highest priority
     priority: ClassVar[int] = 0
     #: the default instead, where it supports (d, n, m), for a refined plan of at least
-    #: :data:`CROWD_LANES` robots (:func:`default_planner`)
+    #: :data:`CROWD_LANES` robots in the plane (:func:`default_planner`)
     crowd: ClassVar[bool] = False
 
     # --- what the planner covers ---------------------------------------------------------
@@ -309,14 +310,15 @@ def default_planner(d: int, n: int, m: int, sequential: bool = False,
     support it (and, for a sequence of configurations, are :attr:`~Planner.sequential`), the one of
     highest :attr:`~Planner.priority` -- ``planar_three`` (paper Section 4) for (2, 1, 3),
     ``obstacle_line_compact`` (paper Section 3 and Mathematics §4.4) otherwise -- but for a
-    plan to be refined (``refining``) of at least :data:`CROWD_LANES` robots the one that declares
-    :attr:`~Planner.crowd` (``obstacle_line_oneside``; Mathematics §8, "Crowds"). Each is
+    plan to be refined (``refining``) of at least :data:`CROWD_LANES` robots in the plane the
+    one that declares :attr:`~Planner.crowd` (``obstacle_line_oneside``; Mathematics §8,
+    "Crowds"). Each is
     one section on all the queries of its (d, n, m), so the plans stay continuous on its
     domains. When none supports (d, n, m), the most general one (lowest priority), whose
     :meth:`~Planner.supports` then says why."""
     pool = [p for p in REGISTRY.values() if p.sequential or not sequential]
     fit = [p for p in pool if p.supports(d, n, m) is None]
-    crowd = [p for p in fit if p.crowd] if refining and n >= CROWD_LANES else []
+    crowd = [p for p in fit if p.crowd] if refining and d == 2 and n >= CROWD_LANES else []
     if crowd:
         return crowd[0].name
     if fit:

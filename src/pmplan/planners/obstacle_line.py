@@ -472,7 +472,8 @@ class OneSideLinePlanner(CompactLinePlanner):
     gap on the other side of the obstacles' line stops no robot: in a crowded room it crosses
     about half as many narrow gaps as the lanes on both sides (Mathematics §8), at the price of
     longer paths for a few robots: the default of a refined plan of at least
-    :data:`~pmplan.planners.base.CROWD_LANES` robots (``benchmarks/crowd_default.py``)."""
+    :data:`~pmplan.planners.base.CROWD_LANES` robots in the plane
+    (``benchmarks/crowd_default.py``)."""
 
     name = "obstacle_line_oneside"
     summary = (
