@@ -149,7 +149,7 @@ def _gain(res: dict, part: str, n: int, fams: tuple) -> str:
 
 def markdown(res: dict) -> str:
     lines = [
-        "## The default section of a refined crowd",
+        "# The default section of a refined crowd",
         "",
         f"`{res['command']}` ({res['date']}, {res['seconds']:.0f} s). {res['count']} queries per "
         "row, refined at radius = obstacle_radius = r/2 in the box (0, 10), the unit at its "
