@@ -3,7 +3,7 @@ robot count, on the scene families of issue 25.
 
 Usage (from the repository root)::
 
-    python benchmarks/crowd_default.py              # about 8 minutes, two processes
+    python benchmarks/crowd_default.py              # about 6 minutes, two processes
     python benchmarks/crowd_default.py --from-json  # rewrite the report
 
 The compact lanes (``obstacle_line_compact``) send the odd robots past an obstacle on one side
@@ -58,6 +58,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes
 import scenes_compare
 from _common import rewrite_report, write_report
+from shared_ab import raw_timing
 
 import pmplan
 from pmplan.planners.base import CROWD_LANES
@@ -216,6 +217,16 @@ def markdown(res: dict) -> str:
         lines += ["", "All rows: " + "; ".join(
             f"*{SHORT[p]}* K > 1e3 on {t[1]} of {t[0]} probes (in {t[3]} of {len(cont)} rows), "
             f"K_eff > 1e3 on {t[2]}" for p, t in zip(PLANNERS, tot)) + "."]
+    if res.get("timing"):
+        lines += ["", "Raw plan cost (`plan_batch` of generic queries, numba, one core, best of 7 "
+                  "calls each, the planners interleaved; microseconds per query): what a "
+                  "refined crowd's raw plan costs more with the one-side lanes (the chains are "
+                  "computed query by query), a small part of a refined plan's time "
+                  "(`scenes_time.py` measures it).", "",
+                  "| (d,n,m) | batch | compact | one side | ratio |", "|---|---|---|---|---|"]
+        for t in res["timing"]:
+            lines.append(f"| {t['case']} | {t['batch']:,} | {t['compact']:.3g} | "
+                         f"{t['one side']:.3g} | {t['one side'] / t['compact']:.2f}x |")
     return "\n".join(lines) + "\n"
 
 
@@ -233,10 +244,12 @@ def main(argv=None) -> int:
         out = pool.map(_seed_rows, jobs)
     rows = [r for (part, _, _), rs in zip(jobs, out) if part != "continuity" for r in rs]
     cont = [r for (part, _, _), rs in zip(jobs, out) if part == "continuity" for r in rs]
+    timing = raw_timing(planners={SHORT[p]: p for p in PLANNERS})  # (alone, after the pool)
     res = {"command": " ".join(["python benchmarks/crowd_default.py",
                                 *(argv or sys.argv[1:])]),
            "date": _dt.date.today().isoformat(), "count": COUNT, "crowd": CROWD_LANES,
-           "seconds": time.perf_counter() - t0, "rows": rows, "continuity": cont}
+           "seconds": time.perf_counter() - t0, "rows": rows, "continuity": cont,
+           "timing": timing}
     write_report("crowd_default", res, markdown)
     return 0
 

@@ -72,23 +72,25 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
     return scenes_compare.ab_row(fam, n, seed, count, variant, VARIANTS)
 
 
-def raw_timing(rounds: int = 7) -> list[dict]:
-    """Microseconds per raw plan of both planners on the batches of TIMED (best of ``rounds``
-    calls each, interleaved)."""
+def raw_timing(rounds: int = 7, planners: dict | None = None) -> list[dict]:
+    """Microseconds per raw plan of the ``planners`` (variant -> planner name or None; default
+    both of :data:`PLANNERS`) on the batches of TIMED (best of ``rounds`` calls each,
+    interleaved)."""
+    planners = PLANNERS if planners is None else planners
     out = []
     rng = np.random.default_rng(18)
     for d, n, m, b in TIMED:
         o, s, g = (rng.standard_normal((b, k, d)) for k in (m, n, n))
-        best = {v: np.inf for v in VARIANTS}
-        for v in VARIANTS:  # compile / warm
-            pmplan.plan_batch(o[:200], s[:200], g[:200], planner=PLANNERS[v])
+        best = {v: np.inf for v in planners}
+        for v, name in planners.items():  # compile / warm
+            pmplan.plan_batch(o[:200], s[:200], g[:200], planner=name)
         for _ in range(rounds):
-            for v in VARIANTS:
+            for v, name in planners.items():
                 t0 = time.perf_counter()
-                pmplan.plan_batch(o, s, g, planner=PLANNERS[v])
+                pmplan.plan_batch(o, s, g, planner=name)
                 best[v] = min(best[v], time.perf_counter() - t0)
         out.append({"case": f"({d},{n},{m})", "batch": b,
-                    **{v: best[v] / b * 1e6 for v in VARIANTS}})
+                    **{v: best[v] / b * 1e6 for v in planners}})
         print(out[-1], flush=True)
     return out
 
