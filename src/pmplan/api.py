@@ -159,13 +159,8 @@ def plan(obstacles, start, goal, *, planner: str | None = None, lift: float | st
     start, goal : array_like, shape (n, d)
         Robot positions x_1..x_n and x'_1..x'_n.
     planner : str, optional
-        A name of :func:`planner_names`: ``"obstacle_line"`` (the paper's lanes),
-        ``"obstacle_line_compact"``, ``"obstacle_line_shared"``, ``"obstacle_line_oneside"``
-        or ``"planar_three"``. Default chosen from (d, n, m)
-        (:func:`~pmplan.checks.choose_planner`): ``planar_three`` for (2, 1, 3),
-        ``obstacle_line_compact`` otherwise, but ``obstacle_line_oneside`` for a refined plan
-        of at least :data:`pmplan.planners.base.CROWD_LANES` robots in the plane
-        (Mathematics §8, "Crowds").
+        A name of :func:`planner_names`; default chosen from (d, n, m): see
+        :func:`plan_batch`.
     lift : float or "scene", optional
         The unit of the motion (default: the robots' diameter for a refined plan, else 1, the
         paper's; ``"scene"``: each query's obstacles' radius): see :func:`plan_batch`.

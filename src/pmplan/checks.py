@@ -70,8 +70,7 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None,
     ``obstacle_line_compact`` (paper Section 3 and Mathematics §4, with the compact lanes of
     Mathematics §4.4) for every other m >= 2, but ``obstacle_line_oneside`` for a plan to be
     refined (``refining``) of at least :data:`~pmplan.planners.base.CROWD_LANES` robots in
-    the plane;
-    ``obstacle_line`` is the paper's. With ``sequential`` (a query through intermediate
+    the plane; ``obstacle_line`` is the paper's. With ``sequential`` (a query through intermediate
     configurations) the default is the sequential planner of (d, n, m)
     (:func:`~pmplan.planners.base.default_planner`); the caller checks a named one with
     ``check_sequential``.

@@ -245,24 +245,20 @@ def _planar_single(m: int, n: int, d: int):
     return run
 
 
+def _obstacle_line_glue(planner) -> tuple:
+    """The kernel glue of an obstacle-line planner: its lanes (``compact``, ``shared``) bound
+    into the kernel calls."""
+    lanes = dict(compact=planner.compact, shared=planner.shared)
+    return (_obstacle_line_arrays, partial(_obstacle_line_kernel, **lanes),
+            _obstacle_line_validates, partial(_obstacle_line_single, **lanes),
+            partial(_obstacle_line_sequence, **lanes))
+
+
 #: every planner's kernel glue, by planner (the registered object itself, so that another
 #: planner under the same name gets none): (arrays, kernel, validates, single, sequence)
 PLANNERS = {
-    OBSTACLE_LINE: (_obstacle_line_arrays, _obstacle_line_kernel, _obstacle_line_validates,
-                    _obstacle_line_single, _obstacle_line_sequence),
-    OBSTACLE_LINE_COMPACT: (_obstacle_line_arrays, partial(_obstacle_line_kernel, compact=True),
-                            _obstacle_line_validates, partial(_obstacle_line_single, compact=True),
-                            partial(_obstacle_line_sequence, compact=True)),
-    OBSTACLE_LINE_SHARED: (_obstacle_line_arrays,
-                           partial(_obstacle_line_kernel, compact=True, shared=2),
-                           _obstacle_line_validates,
-                           partial(_obstacle_line_single, compact=True, shared=2),
-                           partial(_obstacle_line_sequence, compact=True, shared=2)),
-    OBSTACLE_LINE_ONESIDE: (_obstacle_line_arrays,
-                            partial(_obstacle_line_kernel, compact=True, shared=1),
-                            _obstacle_line_validates,
-                            partial(_obstacle_line_single, compact=True, shared=1),
-                            partial(_obstacle_line_sequence, compact=True, shared=1)),
+    **{p: _obstacle_line_glue(p) for p in (OBSTACLE_LINE, OBSTACLE_LINE_COMPACT,
+                                           OBSTACLE_LINE_SHARED, OBSTACLE_LINE_ONESIDE)},
     PLANAR_THREE: (_planar_arrays, _planar_kernel, _planar_validates, _planar_single, None),
 }
 

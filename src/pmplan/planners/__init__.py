@@ -15,10 +15,10 @@ queries to another one).
 
 from .base import REGISTRY, Planner, RawPlan, default_planner
 from .obstacle_line import (
-                            OBSTACLE_LINE,
-                            OBSTACLE_LINE_COMPACT,
-                            OBSTACLE_LINE_ONESIDE,
-                            OBSTACLE_LINE_SHARED,
+    OBSTACLE_LINE,
+    OBSTACLE_LINE_COMPACT,
+    OBSTACLE_LINE_ONESIDE,
+    OBSTACLE_LINE_SHARED,
 )
 from .planar_three import PLANAR_THREE
 

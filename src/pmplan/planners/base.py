@@ -312,9 +312,8 @@ def default_planner(d: int, n: int, m: int, sequential: bool = False,
     ``obstacle_line_compact`` (paper Section 3 and Mathematics §4.4) otherwise -- but for a
     plan to be refined (``refining``) of at least :data:`CROWD_LANES` robots in the plane the
     one that declares :attr:`~Planner.crowd` (``obstacle_line_oneside``; Mathematics §8,
-    "Crowds"). Each is
-    one section on all the queries of its (d, n, m), so the plans stay continuous on its
-    domains. When none supports (d, n, m), the most general one (lowest priority), whose
+    "Crowds"). Each is one section on all the queries of its (d, n, m), so the plans stay
+    continuous on its domains. When none supports (d, n, m), the most general one (lowest priority), whose
     :meth:`~Planner.supports` then says why."""
     pool = [p for p in REGISTRY.values() if p.sequential or not sequential]
     fit = [p for p in pool if p.supports(d, n, m) is None]
