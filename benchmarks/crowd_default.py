@@ -58,7 +58,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes
 import scenes_compare
 from _common import rewrite_report, write_report
-from shared_ab import raw_timing
+from shared_ab import raw_timing, timing_rows
 
 import pmplan
 from pmplan.planners.base import CROWD_LANES
@@ -223,10 +223,7 @@ def markdown(res: dict) -> str:
                   "refined crowd's raw plan costs more with the one-side lanes (the chains are "
                   "computed query by query), a small part of a refined plan's time "
                   "(`scenes_time.py` measures it).", "",
-                  "| (d,n,m) | batch | compact | one side | ratio |", "|---|---|---|---|---|"]
-        for t in res["timing"]:
-            lines.append(f"| {t['case']} | {t['batch']:,} | {t['compact']:.3g} | "
-                         f"{t['one side']:.3g} | {t['one side'] / t['compact']:.2f}x |")
+                  *timing_rows(res["timing"], SHORT[PLANNERS[1]])]
     return "\n".join(lines) + "\n"
 
 
