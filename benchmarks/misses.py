@@ -79,8 +79,9 @@ def row(fam: str, n: int, seed: int, count: int) -> dict:
         miss = {"query": qi, "why": p.radius_miss.category, "tight": tight_gap(p),
                 "reason": p.radius_reason, "worst": _worst(p),
                 "raw_clearance": float(p.raw_clearance), "efforts": {}}
-        # the raw plan of p: the default unit of a refined plan is the robots' diameter
-        raw = pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), lift=2 * HALF)
+        # the raw plan of p: the default unit of a refined plan is the robots' diameter, and
+        # its planner the refined default's (the one-side lanes for a crowd in the plane)
+        raw = pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), lift=2 * HALF, planner=p.planner)
         again = pmplan.refine(raw, radius=HALF, obstacle_radius=HALF)
         assert np.array_equal(again.waypoints, p.waypoints), "not the default plan's raw plan"
         for w, k in EFFORTS:
