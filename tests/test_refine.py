@@ -369,6 +369,27 @@ def test_kernel_equals_reference_bitwise_with_walls(dims, wp, steps):
     assert not np.array_equal(free, x1)  # (the walls acted)
 
 
+@pytest.mark.parametrize("walled", [False, True])
+def test_kernel_equals_reference_bitwise_for_a_crowd_in_the_plane(walled):
+    """More than CROWD robots in the plane: the crowd's clearing-only steps (CROWD_FINAL of
+    the steps, grid.final_steps) are the same in the kernel and the reference, bit for bit."""
+    from pmplan.refine.grid import CROWD, final_steps
+
+    n, m = CROWD + 1, 2
+    assert final_steps(4, n, 2) > final_steps(4, n, 3)  # (the crowd's, not the default's)
+    rng = np.random.default_rng(CROWD + walled)
+    b = pmplan.plan_batch(rng.normal(size=(2, m, 2)), rng.normal(size=(2, n, 2)),
+                          rng.normal(size=(2, n, 2)))
+    target = np.stack([b.clearance * 0.7, b.clearance * 1.5], axis=1)
+    walls = None
+    if walled:
+        lo, hi = b.waypoints.min(axis=(1, 2)), b.waypoints.max(axis=(1, 2))
+        walls = np.stack([lo + 0.2 * (hi - lo), hi - 0.2 * (hi - lo)], axis=1)
+    t1, x1 = refine_paths(b.times, b.waypoints, m, 2, target, 2, 4, walls)
+    t2, x2 = refine_batch(b.times, b.waypoints, m, 2, target, 2, 4, walls)
+    assert np.array_equal(t1, t2) and np.array_equal(x1, x2)
+
+
 @pytest.mark.parametrize("c", [1e-3, 1e-6, 1e-9, 1e-12])
 @pytest.mark.parametrize("shift", [0.0, 0.1])
 def test_a_pair_that_nearly_touches_mid_piece_is_pushed_out(c, shift):

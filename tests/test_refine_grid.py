@@ -35,6 +35,18 @@ def test_schedule_sums_to_the_steps(w, steps):
     assert final_steps(steps) >= 1
 
 
+@given(steps=st.integers(1, 5000), n=st.integers(1, 40), d=st.integers(2, 5))
+def test_final_steps_depend_on_the_crowd_in_the_plane(steps, n, d):
+    """The clearing-only steps: FINAL of the steps, CROWD_FINAL of them for more than CROWD
+    robots in the plane (a function of (d, n) and the effort alone), at least one."""
+    from pmplan.refine.grid import CROWD, CROWD_FINAL, FINAL
+
+    share = CROWD_FINAL if n > CROWD and d == 2 else FINAL
+    assert final_steps(steps, n, d) == max(1, int(share * steps))
+    assert final_steps(steps) == final_steps(steps, 1, 2) == max(1, int(FINAL * steps))
+    assert CROWD_FINAL > FINAL
+
+
 @settings(max_examples=40)
 @given(data=st.data(), k=st.integers(2, 6), s=st.sampled_from([1, 2, 4]))
 def test_subdivision_keeps_breakpoints_and_the_polyline(data, k, s):

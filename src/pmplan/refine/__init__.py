@@ -80,10 +80,12 @@ from ..certify import radius_report
 from .frame import from_frame, to_frame  # noqa: F401
 from .grid import (  # noqa: F401 (the limits, for the faces)
     CROWD,
+    CROWD_FINAL,
     CROWD_STEPS,
     CROWD_WAYPOINTS,
     DEFAULT_STEPS,
     DEFAULT_WAYPOINTS,
+    FINAL,
     KAPPA,
     MAX_STEPS,
     MAX_WAYPOINTS,
@@ -109,10 +111,12 @@ from .stage import (  # noqa: F401 (the stage and its checks, for the run loop a
 
 __all__ = [
     "CROWD",
+    "CROWD_FINAL",
     "CROWD_STEPS",
     "CROWD_WAYPOINTS",
     "DEFAULT_STEPS",
     "DEFAULT_WAYPOINTS",
+    "FINAL",
     "SPACE_CROWD_STEPS",
     "check_parameters",
     "check_radii",

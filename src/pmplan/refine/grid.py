@@ -26,6 +26,7 @@ __all__ = [
     "DEFAULT_STEPS",
     "DEFAULT_WAYPOINTS",
     "ETA",
+    "CROWD_FINAL",
     "FINAL",
     "GAMMA",
     "GROWTH",
@@ -76,6 +77,14 @@ DECAY = 2.0
 #: (seeds 2, 4, 5, 6; 64 rows) 1/4 keeps the radii on 9 more queries, in 6 rows, on fewer in
 #: no row, at the same lengths (benchmarks/final_ab.py)
 FINAL = 0.25
+#: the clearing-only steps of a crowd in the plane (more than ``CROWD`` robots, d = 2), a
+#: multiple of ``steps`` (:func:`final_steps`). A crowd's refinement leaves pairs pressed
+#: together where the shortening and the clearing balance; steps that only clear settle them
+#: at their targets, which keeps the radii on more queries and makes the refined plan less
+#: sensitive to its query (a settled push is a fixed point, a push under way amplifies a
+#: move of the raw plan). benchmarks/crowd_effort.py measures it against more steps and more
+#: waypoints, with 16 robots, on design and held-out seeds
+CROWD_FINAL = 2.0
 #: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
 MOBILITY = 4.0
 #: no self-squeezing (two levels, both held): a pair never goes below ``HOLD min(T (1 +
@@ -114,13 +123,14 @@ DEFAULT_STEPS = 56
 CROWD = 8
 #: default ``waypoints`` for more than ``CROWD`` robots
 CROWD_WAYPOINTS = 4
-#: default ``steps`` for more than ``CROWD`` robots in the plane: four times ``DEFAULT_STEPS``.
-#: 224 rather than 112 (benchmarks/crowd_ab.py; 16 robots, the same queries and probe moves):
-#: in the 2-D rooms and swaps valid on more queries in 23 of 52 rows and on fewer in none; 6
-#: rows reach issue 25's 80 % with it, none lose it; shorter; 15.0-16.6 ms per query against
-#: 8.7-9.0 (benchmarks/scenes_time.py). Seeds 1, 2, 4, 5, 6 were looked at before the choice,
-#: 42-49 were not. In space see :data:`SPACE_CROWD_STEPS`
-CROWD_STEPS = 224
+#: default ``steps`` for more than ``CROWD`` robots in the plane, followed by ``CROWD_FINAL``
+#: times as many clearing-only steps (:func:`final_steps`). 96 and 192 rather than 224 and 56
+#: (benchmarks/crowd_effort.py; 16 robots, the same raw plans): in the rooms and swaps of 100
+#: queries more plans keep the radii, on design and held-out seeds alike, at the same time per
+#: query, for paths a few percent longer; more waypoints or more steps of both kinds cost more
+#: time for as much. Before, 224 steps rather than 112 (benchmarks/crowd_ab.py). In space see
+#: :data:`SPACE_CROWD_STEPS`
+CROWD_STEPS = 96
 #: default ``steps`` for more than ``CROWD`` robots in d >= 3: twice ``DEFAULT_STEPS``. There
 #: the offsets keep the robots apart (Mathematics §4.4): every 3-D room with 16 robots keeps the
 #: radii at 112, 168 and 224 steps alike, and more steps shorten by under 0.5 %. The steps do
@@ -238,9 +248,17 @@ def overshoot(level: int) -> float:
     return ETA * DECAY**-level
 
 
-def final_steps(steps: int) -> int:
-    """The clearing-only steps after the last level: ``FINAL`` of ``steps``, at least 1."""
-    return max(1, int(FINAL * steps))
+def final_steps(steps: int, n: int = 1, d: int = 2) -> int:
+    """The clearing-only steps after the last level of a refinement of ``n`` robots in R^d:
+    ``FINAL`` of ``steps``, and ``CROWD_FINAL`` of them for a crowd in the plane (more than
+    ``CROWD`` robots, d = 2), at least 1. It depends on (d, n) and the effort alone, so the
+    refinement stays continuous on the same domains.
+
+    >>> final_steps(56), final_steps(96, 16), final_steps(96, 16, 3)
+    (14, 192, 24)
+    """
+    share = CROWD_FINAL if n > CROWD and d == 2 else FINAL
+    return max(1, int(share * steps))
 
 
 @lru_cache(maxsize=256)
@@ -260,12 +278,12 @@ def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def default_effort(n: int, d: int = 2) -> tuple[int, int]:
     """The default ``(waypoints, steps)`` of a refinement of plans with ``n`` robots in R^d:
     ``(DEFAULT_WAYPOINTS, DEFAULT_STEPS)`` = (4, 56), and for a crowd of more than ``CROWD`` =
-    8 robots ``(CROWD_WAYPOINTS, CROWD_STEPS)`` = (4, 224) in the plane, ``(CROWD_WAYPOINTS,
+    8 robots ``(CROWD_WAYPOINTS, CROWD_STEPS)`` = (4, 96) in the plane, ``(CROWD_WAYPOINTS,
     SPACE_CROWD_STEPS)`` = (4, 112) in d >= 3. It depends on (d, n) alone, which every query
     of a domain shares, so the refinement stays continuous on the same domains.
 
     >>> default_effort(8), default_effort(16), default_effort(16, 3)
-    ((4, 56), (4, 224), (4, 112))
+    ((4, 56), (4, 96), (4, 112))
     """
     if n <= CROWD:
         return DEFAULT_WAYPOINTS, DEFAULT_STEPS

@@ -377,6 +377,6 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
                 _clear(x, m, a, b, c, tgt, mob, eta, True, hold, walls)
             _clear(x, m, a, b, c, tgt, mob, eta, False, hold, walls)
             _shorten(x, m, a, b, c, tgt, frac, mob)
-    for _ in range(final_steps(steps)):
+    for _ in range(final_steps(steps, x.shape[2] - m, x.shape[3])):
         _clear(x, m, a, b, c, tgt, mob, eta, False, hold, walls)
     return t, x

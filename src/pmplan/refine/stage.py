@@ -84,7 +84,7 @@ def check_parameters(radius, obstacle_radius, waypoints, steps, n: int = 1, d: i
     >>> check_parameters(0, 0.5, None, None)
     (0.0, 0.5, 4, 56)
     >>> check_parameters(0, 0.5, None, None, n=16)
-    (0.0, 0.5, 4, 224)
+    (0.0, 0.5, 4, 96)
     >>> check_parameters(0, 0.5, None, None, n=16, d=3)
     (0.0, 0.5, 4, 112)
     >>> check_parameters(-1.0, 0, None, None)
