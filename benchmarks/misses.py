@@ -13,9 +13,10 @@ listed with its reason (``Plan.radius_reason``: *gap*, the path crosses a gap of
 narrower than a robot, which no planner continuous on these domains avoids on every query,
 Mathematics §8; *robots*, *obstacle*, *wall*: the worst contact, which the refinement's
 steps did not clear), its worst distances and its raw clearance, and the same raw plan refined
-again at the efforts ``EFFORTS`` (waypoints / steps; larger than the default up to 8 robots,
-and from the second on with 16, where 4/224 is the default itself): does it keep the radii
-there, the worst distance, the time of that refinement (one core).
+again at the efforts ``EFFORTS`` (waypoints / steps, larger than the default; with 16 robots
+in the plane each followed by ``CROWD_FINAL`` times as many clearing-only steps, as the
+default is): does it keep the radii there, the worst distance, the time of that refinement
+(one core).
 
 Per row it also gives the share of (piece, pair) combinations of the default refined paths
 whose least distance exceeds ``3 r``: the pairs the refinement measures at every step without
