@@ -510,7 +510,8 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         if level:
             x = subdivide(x)
         if x.shape[0]:
+            last = level == len(levels) - 1
             _level(x, m, a, b, c, tgt, hold, frac, mob, n_steps,
-                   final_steps(steps, p - m, x.shape[3]) if level == len(levels) - 1 else 0, kp, overshoot(level),
+                   final_steps(steps, p - m, x.shape[3]) if last else 0, kp, overshoot(level),
                    level == 0, walls, has_walls, start, members)
     return t, x
