@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
+import importlib
 import json
 import multiprocessing
 import sys
@@ -57,8 +58,6 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import importlib
-
 import scenes
 import scenes_compare
 from _common import rewrite_report, write_report
