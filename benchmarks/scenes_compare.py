@@ -17,7 +17,8 @@ least 2r + r/2 from the walls), n = 2, 4, 8, 16. Planners:
   closed-form minimum distance (double precision, no sampling along the motion);
 * ``pmplan default``: ``pmplan.plan(o, s, g, refine=True, radius=r/2, obstacle_radius=r/2)``,
   every other argument at its default: the planner ``obstacle_line_compact`` (Mathematics
-  §4.4) and the unit ``lift`` = the robots' diameter, r = 0.3 here
+  §4.4), ``obstacle_line_oneside`` from ``CROWD_LANES`` = 8 robots in the plane, and the unit
+  ``lift`` = the robots' diameter, r = 0.3 here
   (:func:`pmplan.configuration.default_lift`);
 * ``pmplan lift L``: the same with ``lift = L * 10`` (L in 0.03, 0.1, 0.3, 1; ``lift`` is an
   absolute length, the box side is 10) and ``lift = "scene"`` (each query's obstacles' radius).

@@ -37,14 +37,15 @@ def test_schedule_sums_to_the_steps(w, steps):
 
 @given(steps=st.integers(1, 5000), n=st.integers(1, 40), d=st.integers(2, 5))
 def test_final_steps_depend_on_the_crowd_in_the_plane(steps, n, d):
-    """The clearing-only steps: FINAL of the steps, CROWD_FINAL of them for more than CROWD
-    robots in the plane (a function of (d, n) and the effort alone), at least one."""
-    from pmplan.refine.grid import CROWD, CROWD_FINAL, FINAL
+    """The clearing-only steps: in the plane PLANE_FINAL of the steps, CROWD_FINAL of them
+    for more than CROWD robots; in d >= 3 FINAL of them (a function of (d, n) and the effort
+    alone), at least one."""
+    from pmplan.refine.grid import CROWD, CROWD_FINAL, FINAL, PLANE_FINAL
 
-    share = CROWD_FINAL if n > CROWD and d == 2 else FINAL
+    share = FINAL if d > 2 else CROWD_FINAL if n > CROWD else PLANE_FINAL
     assert final_steps(steps, n, d) == max(1, int(share * steps))
-    assert final_steps(steps) == final_steps(steps, 1, 2) == max(1, int(FINAL * steps))
-    assert CROWD_FINAL > FINAL
+    assert final_steps(steps) == final_steps(steps, 1, 2) == max(1, int(PLANE_FINAL * steps))
+    assert CROWD_FINAL > PLANE_FINAL > FINAL
 
 
 @settings(max_examples=40)

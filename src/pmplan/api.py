@@ -353,10 +353,11 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
         :data:`pmplan.refine.CROWD_STEPS` = 96 in the plane and
         :data:`pmplan.refine.SPACE_CROWD_STEPS` = 112 in d >= 3), split over the
         coarse-to-fine levels 1, 2, 4, .., ``waypoints``, then clearing-only steps at the
-        finest level: a quarter as many (:data:`pmplan.refine.FINAL`), twice as many for a
-        crowd in the plane (:data:`pmplan.refine.CROWD_FINAL`). The defaults were chosen
-        from the length / time measurements of ``benchmarks/refine_bench.py``, the crowd's from
-        ``benchmarks/scenes_effort.py``, ``benchmarks/crowd_ab.py`` and
+        finest level: as many in the plane (:data:`pmplan.refine.PLANE_FINAL`), twice as
+        many for a crowd in the plane (:data:`pmplan.refine.CROWD_FINAL`), a quarter as many
+        in d >= 3 (:data:`pmplan.refine.FINAL`). The defaults were chosen from the length /
+        time measurements of ``benchmarks/refine_bench.py`` and ``benchmarks/plane_final.py``,
+        the crowd's from ``benchmarks/scenes_effort.py``, ``benchmarks/crowd_ab.py`` and
         ``benchmarks/crowd_effort.py``; they depend on the dimension and the number of robots
         alone, so the refinement stays continuous on every domain
         (:func:`pmplan.refine.default_effort`, :func:`pmplan.refine.grid.final_steps`).

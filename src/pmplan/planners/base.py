@@ -40,8 +40,11 @@ SCENE_CODE = 0.0
 #: from this many robots a refined plan's default planner in the plane is the one that
 #: declares :attr:`Planner.crowd` (:func:`default_planner`): in rooms with walls its lanes, all
 #: on one side, cross fewer narrow gaps; below it, or in space, where a path can go around a
-#: gap, they only lengthen the paths (``benchmarks/crowd_default.py`` measures both)
-CROWD_LANES = 16
+#: gap, they only lengthen the paths (``benchmarks/crowd_default.py`` measures both). 8 rather
+#: than 16 since the refinement in the plane ends with as many clearing-only steps as steps
+#: (:data:`pmplan.refine.PLANE_FINAL`), which clear the contacts the one-side lanes left with 8
+#: robots
+CROWD_LANES = 8
 
 
 def lift_code(lift) -> float:

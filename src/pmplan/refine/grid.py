@@ -43,6 +43,7 @@ __all__ = [
     "OMEGA",
     "PHI",
     "PHI_WAYPOINT",
+    "PLANE_FINAL",
     "SHARE",
     "SLACK",
     "SPACE_CROWD_STEPS",
@@ -70,12 +71,13 @@ MARGIN = 2.0**-30
 GROWTH = 2.0
 #: the overshoot of a level is DECAY times smaller than that of the next coarser one
 DECAY = 2.0
-#: the clearing-only steps at the end, a fraction of ``steps`` (they settle the pairs the
-#: shortening pressed below their target). 1/4 rather than 1/8: on the scene families in the
-#: box (rooms and swaps of 10 x 10, n = 2 to 16, r = 0.3) two n = 8 queries of the design draw
-#: (seed 1) ended 0.98-0.99 of their target in a crowd still settling; on the held-out draws
-#: (seeds 2, 4, 5, 6; 64 rows) 1/4 keeps the radii on 9 more queries, in 6 rows, on fewer in
-#: no row, at the same lengths (benchmarks/final_ab.py)
+#: the clearing-only steps at the end, a fraction of ``steps``, in d >= 3 (they settle the pairs
+#: the shortening pressed below their target; in the plane see :data:`PLANE_FINAL` and
+#: :data:`CROWD_FINAL`). 1/4 rather than 1/8: on the scene families in the box (rooms and swaps
+#: of 10 x 10, n = 2 to 16, r = 0.3) two n = 8 queries of the design draw (seed 1) ended 0.98-0.99
+#: of their target in a crowd still settling; on the held-out draws (seeds 2, 4, 5, 6; 64 rows)
+#: 1/4 keeps the radii on 9 more queries, in 6 rows, on fewer in no row, at the same lengths
+#: (benchmarks/final_ab.py)
 FINAL = 0.25
 #: the clearing-only steps of a crowd in the plane (more than ``CROWD`` robots, d = 2), a
 #: multiple of ``steps`` (:func:`final_steps`). A crowd's refinement leaves pairs pressed
@@ -85,6 +87,14 @@ FINAL = 0.25
 #: move of the raw plan). benchmarks/crowd_effort.py measures it against more steps and more
 #: waypoints, with 16 robots, on design and held-out seeds
 CROWD_FINAL = 2.0
+#: the clearing-only steps in the plane of at most ``CROWD`` robots, a multiple of ``steps``
+#: (:func:`final_steps`): as many as the steps, 56. Rather than a quarter (:data:`FINAL`, the
+#: share before): from 8 robots a refined plan in the plane takes the one-side lanes
+#: (:data:`pmplan.planners.base.CROWD_LANES`), which press more pairs together, and with fewer
+#: robots the compact lanes' crowds settle too; more plans keep the radii, on design and
+#: held-out seeds, at the same lengths, within the 5 ms per query issue 25 asks of 8 robots
+#: (benchmarks/plane_final.py)
+PLANE_FINAL = 1.0
 #: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
 MOBILITY = 4.0
 #: no self-squeezing (two levels, both held): a pair never goes below ``HOLD min(T (1 +
@@ -250,14 +260,17 @@ def overshoot(level: int) -> float:
 
 def final_steps(steps: int, n: int = 1, d: int = 2) -> int:
     """The clearing-only steps after the last level of a refinement of ``n`` robots in R^d:
-    ``FINAL`` of ``steps``, and ``CROWD_FINAL`` of them for a crowd in the plane (more than
-    ``CROWD`` robots, d = 2), at least 1. It depends on (d, n) and the effort alone, so the
-    refinement stays continuous on the same domains.
+    in the plane ``PLANE_FINAL`` of ``steps``, and ``CROWD_FINAL`` of them for a crowd (more
+    than ``CROWD`` robots); in d >= 3 ``FINAL`` of them; at least 1. It depends on (d, n) and
+    the effort alone, so the refinement stays continuous on the same domains.
 
-    >>> final_steps(56), final_steps(96, 16), final_steps(96, 16, 3)
-    (14, 192, 24)
+    >>> final_steps(56), final_steps(96, 16), final_steps(56, 8, 3), final_steps(112, 16, 3)
+    (56, 192, 14, 28)
     """
-    share = CROWD_FINAL if n > CROWD and d == 2 else FINAL
+    if d != 2:
+        share = FINAL
+    else:
+        share = CROWD_FINAL if n > CROWD else PLANE_FINAL
     return max(1, int(share * steps))
 
 
