@@ -223,6 +223,16 @@ def markdown(rows: list, argv: list) -> str:
                    f"{r['bound_all']:.4f} +- {r['bound_all_se']:.4f} | "
                    f"{1 - r['bound_all']:.3f} | {r['pmplan_valid']:.3f} | "
                    f"{r['pmplan_gap']:.3f} | {r['pmplan_contact']:.3f} |")
+    kept = sorted({r["kept"] for r in rows if r.get("kept")})
+    if kept:
+        parts = []
+        for k in kept:
+            ks = [r for r in rows if r.get("kept") == k]
+            ns = ", ".join(str(n) for n in sorted({r["n"] for r in ks}))
+            seeds = ", ".join(str(x) for x in sorted({r["seed"] for r in ks}))
+            parts.append(f"n = {ns} (seeds {seeds}, {len(ks)} rows) from `{Path(k).name}`")
+        out += ["", "Rows kept from an earlier run (`--keep`), not planned again: "
+                + "; ".join(parts) + "."]
     return "\n".join(out) + "\n"
 
 
@@ -234,6 +244,9 @@ def main(argv=None) -> int:
     ap.add_argument("--families", default=",".join(FAMILIES))
     ap.add_argument("--ns", default=",".join(map(str, NS)))
     ap.add_argument("--out", default=str(HERE / "gap_bound"))
+    ap.add_argument("--keep", default=None, metavar="JSON",
+                    help="an earlier run's JSON: its rows this run does not plan are kept (the "
+                    "report says which)")
     a = ap.parse_args(argv)
     rows = []
     for seed in (int(x) for x in a.seeds.split(",")):
@@ -243,6 +256,13 @@ def main(argv=None) -> int:
                 rows.append(r)
                 print(f"seed {seed} {fam} n={n}: exposed {r['share_any']:.3f}, "
                       f"bound {r['bound_max']:.4f} / {r['bound_all']:.4f}", flush=True)
+    if a.keep:
+        done = {(r["seed"], r["family"], r["n"]) for r in rows}
+        kept = [dict(r, kept=r.get("kept") or a.keep)
+                for r in json.loads(Path(a.keep).read_text())
+                if (r["seed"], r["family"], r["n"]) not in done]
+        order = {f: i for i, f in enumerate(FAMILIES)}
+        rows = sorted(rows + kept, key=lambda r: (r["seed"], order.get(r["family"], 99), r["n"]))
     Path(a.out + ".json").write_text(json.dumps(rows, indent=1))
     Path(a.out + ".md").write_text(markdown(rows, argv))
     return 0

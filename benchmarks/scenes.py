@@ -181,7 +181,7 @@ def rows_main(name: str, doc: str, row, markdown, families, ns, seeds: str, argv
     t0 = time.perf_counter()
     rows = [row(f, n, int(seed), args.queries) for seed in args.seeds.split(",")
             for f in families for n in ns]
-    res = {"command": f"python benchmarks/{name}.py " + " ".join(argv or sys.argv[1:]),
+    res = {"command": " ".join([f"python benchmarks/{name}.py", *(argv or sys.argv[1:])]),
            "date": _dt.date.today().isoformat(), "count": args.queries,
            "seconds": time.perf_counter() - t0, "rows": rows}
     write_report(name, res, markdown)

@@ -37,15 +37,15 @@ def test_schedule_sums_to_the_steps(w, steps):
 
 @given(steps=st.integers(1, 5000), n=st.integers(1, 40), d=st.integers(2, 5))
 def test_final_steps_depend_on_the_crowd_in_the_plane(steps, n, d):
-    """The clearing-only steps: in the plane PLANE_FINAL of the steps, CROWD_FINAL of them
-    for more than CROWD robots; in d >= 3 FINAL of them (a function of (d, n) and the effort
-    alone), at least one."""
-    from pmplan.refine.grid import CROWD, CROWD_FINAL, FINAL, PLANE_FINAL
+    """The clearing-only steps: FINAL of the steps, but in the plane PLANE_FINAL of them for
+    more than SETTLE robots and CROWD_FINAL of them for more than CROWD (a function of (d, n)
+    and the effort alone), at least one."""
+    from pmplan.refine.grid import CROWD, CROWD_FINAL, FINAL, PLANE_FINAL, SETTLE
 
-    share = FINAL if d > 2 else CROWD_FINAL if n > CROWD else PLANE_FINAL
+    share = (FINAL if d > 2 or n <= SETTLE else CROWD_FINAL if n > CROWD else PLANE_FINAL)
     assert final_steps(steps, n, d) == max(1, int(share * steps))
-    assert final_steps(steps) == final_steps(steps, 1, 2) == max(1, int(PLANE_FINAL * steps))
-    assert CROWD_FINAL > PLANE_FINAL > FINAL
+    assert final_steps(steps) == final_steps(steps, 1, 2) == max(1, int(FINAL * steps))
+    assert CROWD_FINAL > PLANE_FINAL > FINAL and SETTLE < CROWD
 
 
 @settings(max_examples=40)

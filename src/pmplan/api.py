@@ -353,9 +353,10 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
         :data:`pmplan.refine.CROWD_STEPS` = 96 in the plane and
         :data:`pmplan.refine.SPACE_CROWD_STEPS` = 112 in d >= 3), split over the
         coarse-to-fine levels 1, 2, 4, .., ``waypoints``, then clearing-only steps at the
-        finest level: as many in the plane (:data:`pmplan.refine.PLANE_FINAL`), twice as
-        many for a crowd in the plane (:data:`pmplan.refine.CROWD_FINAL`), a quarter as many
-        in d >= 3 (:data:`pmplan.refine.FINAL`). The defaults were chosen from the length /
+        finest level: a quarter as many (:data:`pmplan.refine.FINAL`), but in the plane as
+        many for more than :data:`pmplan.refine.SETTLE` = 4 robots
+        (:data:`pmplan.refine.PLANE_FINAL`) and twice as many for a crowd
+        (:data:`pmplan.refine.CROWD_FINAL`). The defaults were chosen from the length /
         time measurements of ``benchmarks/refine_bench.py`` and ``benchmarks/plane_final.py``,
         the crowd's from ``benchmarks/scenes_effort.py``, ``benchmarks/crowd_ab.py`` and
         ``benchmarks/crowd_effort.py``; they depend on the dimension and the number of robots

@@ -41,9 +41,9 @@ SCENE_CODE = 0.0
 #: declares :attr:`Planner.crowd` (:func:`default_planner`): in rooms with walls its lanes, all
 #: on one side, cross fewer narrow gaps; below it, or in space, where a path can go around a
 #: gap, they only lengthen the paths (``benchmarks/crowd_default.py`` measures both). 8 rather
-#: than 16 since the refinement in the plane ends with as many clearing-only steps as steps
-#: (:data:`pmplan.refine.PLANE_FINAL`), which clear the contacts the one-side lanes left with 8
-#: robots
+#: than 16 since a refinement of 5 to 8 robots in the plane ends with as many clearing-only
+#: steps as steps (:data:`pmplan.refine.PLANE_FINAL`), which clear the contacts the one-side
+#: lanes left with 8 robots
 CROWD_LANES = 8
 
 

@@ -44,6 +44,7 @@ __all__ = [
     "PHI",
     "PHI_WAYPOINT",
     "PLANE_FINAL",
+    "SETTLE",
     "SHARE",
     "SLACK",
     "SPACE_CROWD_STEPS",
@@ -71,13 +72,13 @@ MARGIN = 2.0**-30
 GROWTH = 2.0
 #: the overshoot of a level is DECAY times smaller than that of the next coarser one
 DECAY = 2.0
-#: the clearing-only steps at the end, a fraction of ``steps``, in d >= 3 (they settle the pairs
-#: the shortening pressed below their target; in the plane see :data:`PLANE_FINAL` and
-#: :data:`CROWD_FINAL`). 1/4 rather than 1/8: on the scene families in the box (rooms and swaps
-#: of 10 x 10, n = 2 to 16, r = 0.3) two n = 8 queries of the design draw (seed 1) ended 0.98-0.99
-#: of their target in a crowd still settling; on the held-out draws (seeds 2, 4, 5, 6; 64 rows)
-#: 1/4 keeps the radii on 9 more queries, in 6 rows, on fewer in no row, at the same lengths
-#: (benchmarks/final_ab.py)
+#: the clearing-only steps at the end, a fraction of ``steps``, in d >= 3 and in the plane up to
+#: ``SETTLE`` robots (they settle the pairs the shortening pressed below their target; more
+#: robots in the plane: :data:`PLANE_FINAL` and :data:`CROWD_FINAL`). 1/4 rather than 1/8: on
+#: the scene families in the box (rooms and swaps of 10 x 10, n = 2 to 16, r = 0.3) two n = 8
+#: queries of the design draw (seed 1) ended 0.98-0.99 of their target in a crowd still
+#: settling; on the held-out draws (seeds 2, 4, 5, 6; 64 rows) 1/4 keeps the radii on 9 more
+#: queries, in 6 rows, on fewer in no row, at the same lengths (benchmarks/final_ab.py)
 FINAL = 0.25
 #: the clearing-only steps of a crowd in the plane (more than ``CROWD`` robots, d = 2), a
 #: multiple of ``steps`` (:func:`final_steps`). A crowd's refinement leaves pairs pressed
@@ -87,14 +88,20 @@ FINAL = 0.25
 #: move of the raw plan). benchmarks/crowd_effort.py measures it against more steps and more
 #: waypoints, with 16 robots, on design and held-out seeds
 CROWD_FINAL = 2.0
-#: the clearing-only steps in the plane of at most ``CROWD`` robots, a multiple of ``steps``
-#: (:func:`final_steps`): as many as the steps, 56. Rather than a quarter (:data:`FINAL`, the
-#: share before): from 8 robots a refined plan in the plane takes the one-side lanes
-#: (:data:`pmplan.planners.base.CROWD_LANES`), which press more pairs together, and with fewer
-#: robots the compact lanes' crowds settle too; more plans keep the radii, on design and
+#: the clearing-only steps in the plane of more than ``SETTLE`` and at most ``CROWD`` robots, a
+#: multiple of ``steps`` (:func:`final_steps`): as many as the steps, 56. Rather than a quarter
+#: (:data:`FINAL`, the share before): from 8 robots a refined plan in the plane takes the
+#: one-side lanes (:data:`pmplan.planners.base.CROWD_LANES`), which press more pairs together,
+#: and with 6 the compact lanes' pushes settle too; more plans keep the radii, on design and
 #: held-out seeds, at the same lengths, within the 5 ms per query issue 25 asks of 8 robots
 #: (benchmarks/plane_final.py)
 PLANE_FINAL = 1.0
+#: up to this many robots in the plane the refinement ends with ``FINAL`` of its steps that
+#: only clear, more take ``PLANE_FINAL``: with 2 and 4 robots as many clearing-only steps as
+#: steps keep the radii on a handful more of 1,600 queries (benchmarks/plane_final.py, an earlier
+#: run) and cost a fifth of the time of a refined (2,4,2) query, whose goals (at most 1 ms,
+#: at least 2,000 queries per second: benchmarks/refine_bench.py) they would miss
+SETTLE = 4
 #: mobility: clip(MOBILITY * (pieces) * (time to the nearest fixed time or neighbour), 0, 1)
 MOBILITY = 4.0
 #: no self-squeezing (two levels, both held): a pair never goes below ``HOLD min(T (1 +
@@ -260,14 +267,15 @@ def overshoot(level: int) -> float:
 
 def final_steps(steps: int, n: int = 1, d: int = 2) -> int:
     """The clearing-only steps after the last level of a refinement of ``n`` robots in R^d:
-    in the plane ``PLANE_FINAL`` of ``steps``, and ``CROWD_FINAL`` of them for a crowd (more
-    than ``CROWD`` robots); in d >= 3 ``FINAL`` of them; at least 1. It depends on (d, n) and
-    the effort alone, so the refinement stays continuous on the same domains.
+    ``FINAL`` of ``steps``; in the plane ``PLANE_FINAL`` of them for more than ``SETTLE``
+    robots and ``CROWD_FINAL`` of them for a crowd (more than ``CROWD``); at least 1. It
+    depends on (d, n) and the effort alone, so the refinement stays continuous on the same
+    domains.
 
-    >>> final_steps(56), final_steps(96, 16), final_steps(56, 8, 3), final_steps(112, 16, 3)
-    (56, 192, 14, 28)
+    >>> final_steps(56, 4), final_steps(56, 8), final_steps(96, 16), final_steps(56, 8, 3)
+    (14, 56, 192, 14)
     """
-    if d != 2:
+    if d != 2 or n <= SETTLE:
         share = FINAL
     else:
         share = CROWD_FINAL if n > CROWD else PLANE_FINAL
