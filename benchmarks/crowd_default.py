@@ -178,10 +178,8 @@ def markdown(res: dict) -> str:
               "count decides every larger crowd: with 12 robots nothing is gained or lost, with "
               "10, 16 and 20 the held-out seeds gain. (The count was 16 until a refinement of 5 "
               "to 8 robots in the plane ended with as many clearing-only steps as steps, "
-              "`PLANE_FINAL`: with a "
-              "quarter as many, the one-side lanes of 8 robots lost plans in the rooms with "
-              "clear walls.) Held out: "
-              + "; ".join(
+              "`PLANE_FINAL`: with a quarter as many, the one-side lanes of 8 robots lost plans "
+              "in the rooms with clear walls.) Held out: " + "; ".join(
                   f"n = {n}: {_gain(res, 'held out', n, ('room', 'swap'))} and "
                   f"{_gain(res, 'held out', n, ('room_walls', 'swap_walls'))}"
                   for n in PARTS[1][2]) + "."]

@@ -41,20 +41,14 @@ FAMILIES = ["room", "swap", "room_walls", "swap_walls"]
 NS = [2, 4, 6, 8]
 GRID = importlib.import_module("pmplan.refine.grid")
 _FINAL, _SETTLE = GRID.PLANE_FINAL, GRID.SETTLE
-#: name -> (PLANE_FINAL, SETTLE); the first is pmplan's default
-VARIANTS = {"final 1": (_FINAL, _SETTLE), "final 1/4": (0.25, _SETTLE),
-            "final 1 from 2": (_FINAL, 1)}
-
-
-def _switch(value: tuple):
-    def switch() -> None:
-        GRID.PLANE_FINAL, GRID.SETTLE = value
-    return switch
+#: name -> the constants it sets; the first is pmplan's default
+VARIANTS = {"final 1": {"PLANE_FINAL": _FINAL, "SETTLE": _SETTLE},
+            "final 1/4": {"PLANE_FINAL": 0.25, "SETTLE": _SETTLE},
+            "final 1 from 2": {"PLANE_FINAL": _FINAL, "SETTLE": 1}}
 
 
 def row(fam: str, n: int, seed: int, count: int) -> dict:
-    return scenes.variants_row(fam, n, seed, count,
-                               {name: _switch(v) for name, v in VARIANTS.items()})
+    return scenes.variants_row(fam, n, seed, count, scenes.attribute_variants(GRID, VARIANTS))
 
 
 def markdown(res: dict) -> str:

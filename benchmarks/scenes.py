@@ -228,6 +228,18 @@ def variants_row(fam: str, n: int, seed: int, count: int, variants: dict) -> dic
     return out
 
 
+def attribute_variants(module, variants: dict) -> dict:
+    """The switches :func:`variants_row` takes for variants that set attributes of ``module``
+    (constants a pmplan function reads at every call): ``variants`` maps a name to its
+    ``{attribute: value}``, the first pmplan's default."""
+    def switch(values: dict):
+        def apply() -> None:
+            for key, value in values.items():
+                setattr(module, key, value)
+        return apply
+    return {name: switch(values) for name, values in variants.items()}
+
+
 def refined_in_box(o: np.ndarray, s: np.ndarray, g: np.ndarray):
     """pmplan's default plan of one query in the box ``(0, SIZE)``, refined at its default
     effort with radius = obstacle_radius = R/2: the plan the per-row scene benchmarks measure."""

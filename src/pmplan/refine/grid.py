@@ -277,8 +277,10 @@ def final_steps(steps: int, n: int = 1, d: int = 2) -> int:
     """
     if d != 2 or n <= SETTLE:
         share = FINAL
+    elif n > CROWD:
+        share = CROWD_FINAL
     else:
-        share = CROWD_FINAL if n > CROWD else PLANE_FINAL
+        share = PLANE_FINAL
     return max(1, int(share * steps))
 
 
