@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+from functools import lru_cache
 
 import numpy as np
 
@@ -193,11 +194,16 @@ def check_paths(times, waypoints, start, goal, m: int, via=()) -> np.ndarray:
     return codes
 
 
+@lru_cache(maxsize=256)
 def point_pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray]:
-    """Index pairs (i < j) with at least one moving point (index >= m)."""
+    """Index pairs (i < j) with at least one moving point (index >= m): read-only, cached (one
+    per query shape; a refined query asks for them several times)."""
     i, j = np.triu_indices(p, k=1)
     keep = j >= m
-    return i[keep], j[keep]
+    i, j = i[keep], j[keep]
+    i.flags.writeable = False
+    j.flags.writeable = False
+    return i, j
 
 
 def segment_closest(r0: np.ndarray, r1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
