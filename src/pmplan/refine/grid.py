@@ -124,8 +124,9 @@ KAPPA_FLOOR = 0.125
 #: benchmarks/refine_bench.py's length / time trade-off on the unit square: with the same steps
 #: the finer level costs about as much (the steps are split over the levels, the coarse ones
 #: cheap), and on the scene families in the box (rooms and swaps of 10 x 10 with 2, 4 and 8
-#: robots, r = 0.3, seeds 1, 2, 4; benchmarks/scenes_effort.py) it keeps the radii on more
-#: queries in total at each n and on fewer in no row of 8 robots
+#: robots, r = 0.3, seeds 1, 2, 4; benchmarks/scenes_effort.py) it kept the radii on more
+#: queries in total at each n and on fewer in no row of 8 robots (rerun with the one-side lanes
+#: of 8 robots and the clearing-only steps: as many or more at each n, fewer in no row)
 DEFAULT_WAYPOINTS = 4
 #: default number of steps (each a clearing and a shortening substep), split over the levels
 DEFAULT_STEPS = 56
