@@ -341,8 +341,19 @@ def test_demo_draws_raw_and_refined_side_by_side(tmp_path, capsys, monkeypatch):
     rows = [line.split() for line in out.splitlines()
             if line.startswith(("obstacle_line", "planar_three"))]
     labels = pmplan.info(2, 2, 2).labels
-    assert [int(r[1].removeprefix("W_")) for r in rows if r[0] == "obstacle_line_compact"][:-1] \
+    assert [int(r[1].removeprefix("W_")) for r in rows if r[0] == "obstacle_line_compact"] \
         == list(labels)
+    # the crowded room, last: the plan pmplan.plan(..., refine=True) returns for 8 robots in the
+    # plane (the one-side lanes) and the raw plan it refines
+    assert rows[-1][0] == "obstacle_line_oneside" == drawn[-1].planner == drawn[-2].planner
+    from pmplan.examples import ROOM_GAP, crowded_room
+
+    o, s, g, bounds = crowded_room()
+    radii = {"radius": ROOM_GAP / 2, "obstacle_radius": ROOM_GAP / 2}
+    direct = pmplan.plan(o, s, g, bounds=bounds, refine=True, **radii)
+    np.testing.assert_array_equal(drawn[-1].path.waypoints, direct.path.waypoints)
+    np.testing.assert_array_equal(pmplan.refine(drawn[-2], **radii).path.waypoints,
+                                  direct.path.waypoints)
     assert len(rows) == len(drawn) // 2
     for r, raw in zip(rows, drawn[::2]):  # raw length, clearance; refined length, clearance
         raw_len, raw_clr, ref_len, ref_clr = map(float, r[-4:])

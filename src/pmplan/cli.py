@@ -626,14 +626,21 @@ def _picture_path(out: str) -> Path:
 
 
 def _crowded_room_demo():
-    """The crowded room of the demo (:func:`pmplan.examples.crowded_room`): raw in its box and
-    refined with robots and obstacles of radius half the room's required distance."""
+    """The crowded room of the demo (:func:`pmplan.examples.crowded_room`) in its box: the
+    refined plan ``pmplan.plan(..., refine=True)`` returns for robots and obstacles of radius
+    half the room's required distance, and the raw plan it refines (the planner and the unit a
+    refined plan takes by default: for 8 robots in the plane the one-side lanes, the robots'
+    diameter)."""
     from . import api
+    from .configuration import default_lift
     from .examples import ROOM_GAP, crowded_room
 
     o, s, g, bounds = crowded_room()
-    raw = api.plan(o, s, g, bounds=bounds)
-    return raw, api.refine(raw, radius=ROOM_GAP / 2, obstacle_radius=ROOM_GAP / 2)
+    r = ROOM_GAP / 2
+    refined = api.plan(o, s, g, bounds=bounds, refine=True, radius=r, obstacle_radius=r)
+    raw = api.plan(o, s, g, bounds=bounds, planner=refined.planner,
+                   lift=default_lift(None, r, r, refining=True))
+    return raw, refined
 
 
 def _planar_three_demo(lift=1.0):
