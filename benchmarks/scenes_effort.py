@@ -43,13 +43,18 @@ NS = [2, 4, 8, 16]
 HALF = scenes.R / 2
 
 
+def _label(effort: tuple[int, int]) -> str:
+    """An effort's name in the report: ``waypoints/steps``."""
+    return "{}/{}".format(*effort)
+
+
 def row(fam: str, n: int, seed: int, count: int) -> dict:
     qs = scenes.queries(fam, n, count, seed)
     planner = default_planner(2, n, scenes.FAMILIES[fam].m, refining=True)
     out = {"family": fam, "n": n, "seed": seed, "planner": planner, "efforts": {}}
     for w, k in EFFORTS:
-        out["efforts"][f"{w}/{k}"] = scenes.summary(
-            f"seed {seed} {fam} n={n} {w}/{k}", qs,
+        out["efforts"][_label((w, k))] = scenes.summary(
+            f"seed {seed} {fam} n={n} {_label((w, k))}", qs,
             lambda o, s, g, w=w, k=k: pmplan.refine(
                 pmplan.plan(o, s, g, bounds=(0.0, scenes.SIZE), lift=scenes.R, planner=planner),
                 radius=HALF, obstacle_radius=HALF, waypoints=w, steps=k))
@@ -71,10 +76,10 @@ def markdown(res: dict) -> str:
              "crowd's before `benchmarks/crowd_effort.py`. The waypoints 4 against 2 were "
              "chosen on seeds 1, 2 and 4, the crowd's steps 112 on seed 1 (2 and 4 held out); "
              "seeds 5 and 6 were not looked at for either.", "",
-             "| seed | row | " + " | ".join(f"{w}/{k}: valid, ms, len/LB" for w, k in EFFORTS)
+             "| seed | row | " + " | ".join(f"{_label(e)}: valid, ms, len/LB" for e in EFFORTS)
              + " |", "|---|---|" + "---|" * len(EFFORTS)]
     for r in res["rows"]:
-        default = "{}/{}".format(*default_effort(r["n"]))
+        default = _label(default_effort(r["n"]))
         cells = []
         for name, e in r["efforts"].items():
             cell = f"{e['valid']}/{e['count']}, {e['time_ms']:.1f}, {e['len_lb']:.2f}"
@@ -86,26 +91,26 @@ def markdown(res: dict) -> str:
               "robot (no planner continuous on these domains avoids them all: "
               "[gap_bound](gap_bound.md)); the rest of the invalid plans are contacts the "
               "refinement left. The default effort in bold.", "",
-              "| row | " + " | ".join(f"{w}/{k}" for w, k in EFFORTS) + " |",
+              "| row | " + " | ".join(_label(e) for e in EFFORTS) + " |",
               "|---|" + "---|" * len(EFFORTS)]
     for fam in FAMILIES:
         for n in NS:
             rows = [r for r in res["rows"] if r["family"] == fam and r["n"] == n]
             if not rows:
                 continue
-            default = "{}/{}".format(*default_effort(n))
+            default = _label(default_effort(n))
             cells = []
-            for w, k in EFFORTS:
-                es = [r["efforts"][f"{w}/{k}"] for r in rows]
+            for effort in EFFORTS:
+                es = [r["efforts"][_label(effort)] for r in rows]
                 cell = (f"{sum(e['valid'] for e in es)}/{sum(e['count'] for e in es)} "
                         f"({sum(e['why'].get('gap', 0) for e in es)})")
-                cells.append(f"**{cell}**" if f"{w}/{k}" == default else cell)
+                cells.append(f"**{cell}**" if _label(effort) == default else cell)
             lines.append(f"| {fam} n = {n} | " + " | ".join(cells) + " |")
-    most = "{}/{}".format(*EFFORTS[-1])
+    most = _label(EFFORTS[-1])
     gains: dict[int, int] = {}
     for r in res["rows"]:
         e = r["efforts"]
-        g = e[most]["valid"] - e["{}/{}".format(*default_effort(r["n"]))]["valid"]
+        g = e[most]["valid"] - e[_label(default_effort(r["n"]))]["valid"]
         gains[g] = gains.get(g, 0) + 1
     lines += ["", f"The most effort, {most}, against the default, per row (of {len(res['rows'])}"
               "): " + ", ".join(f"{c} row{'s' if c != 1 else ''} {'+' if g > 0 else ''}{g}"

@@ -85,8 +85,8 @@ def test_tutorial_python_blocks_run(tmp_path, monkeypatch):
         for line, text in _shown(code).items():
             out = printed.get(line)
             same = None if out is None else " ".join(out.split())  # (numpy pads its columns)
-            if same is None or not (" ".join(text.split()) == same or text.startswith(out + ":")
-                                    or " ".join(text.split()).startswith(same + ":")):
+            seen = " ".join(text.split())
+            if same is None or not (seen == same or seen.startswith(same + ":")):
                 stale.append(f"python block {k}, line {line}: shows {text!r}, prints {out!r}")
     assert not stale, "docs/tutorial.md shows stale output:\n" + "\n".join(stale)
     assert (tmp_path / "motion.gif").stat().st_size > 0

@@ -632,15 +632,15 @@ def _crowded_room_demo():
     refined plan takes by default: for 8 robots in the plane the one-side lanes, the robots'
     diameter)."""
     from . import api
-    from .configuration import default_lift
     from .examples import ROOM_GAP, crowded_room
+    from .io import with_defaults
 
     o, s, g, bounds = crowded_room()
-    r = ROOM_GAP / 2
-    refined = api.plan(o, s, g, bounds=bounds, refine=True, radius=r, obstacle_radius=r)
-    raw = api.plan(o, s, g, bounds=bounds, planner=refined.planner,
-                   lift=default_lift(None, r, r, refining=True))
-    return raw, refined
+    radii = {"radius": ROOM_GAP / 2, "obstacle_radius": ROOM_GAP / 2}
+    # (as pmplan plan --refine does: the raw plan with the unit and planner of a refined one)
+    raw = api.plan_query(with_defaults({"obstacles": o, "start": s, "goal": g,
+                                        "bounds": bounds}, radii))
+    return raw, api.refine(raw, **radii)
 
 
 def _planar_three_demo(lift=1.0):
