@@ -15,7 +15,7 @@ setting is measured on the same queries:
 * *pmplan, effort (w, s)*: ``pmplan.refine(pmplan.plan(o, s, g, bounds=(0, 10), lift=r),
   radius=r/2, obstacle_radius=r/2, waypoints=w, steps=s)`` (``lift=r``: the unit
   ``pmplan.plan(..., refine=True)`` takes, the robots' diameter; 4/56 is its default effort up
-  to 8 robots, 4/224 beyond);
+  to 4 robots and in space, 4/72 for 5 to 8 robots in the plane);
 * *OMPL RRTConnect* (+ ``simplifySolution``) and *OMPL RRT\\** (0.5 s), as in
   ``scenes_compare.py``.
 
@@ -58,9 +58,10 @@ from scenes_compare import (  # noqa: E402
 )
 
 
-#: the refinement efforts (waypoints, steps): (4, 56) is pmplan's default up to 8 robots
-#: (pmplan.refine.default_effort; beyond, (4, 224) in the plane and (4, 112) in space)
-EFFORTS = [(1, 8), (1, 28), (2, 56), (4, 56), (4, 112), (4, 224)]
+#: the refinement efforts (waypoints, steps): pmplan's defaults are (4, 56) up to 4 robots and in
+#: space up to 8, (4, 72) for 5 to 8 robots in the plane, (4, 112) beyond
+#: (pmplan.refine.default_effort)
+EFFORTS = [(1, 8), (1, 28), (2, 56), (4, 56), (4, 72), (4, 112), (4, 224)]
 ROWS = [("room", 4), ("room", 8), ("swap", 4), ("swap", 8), ("room3d", 8)]
 #: the default unit of a refined plan (pmplan.configuration.default_lift): here r
 UNIT = pmplan.configuration.default_lift(None, HALF, HALF, True)

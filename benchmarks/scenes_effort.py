@@ -10,9 +10,10 @@ with n = 2, 4, 8 and 16, 16 queries each; the raw plan in the box (``bounds=(0, 
 ``lift`` the robots' diameter) of pmplan's default planner for a refined plan
 (``obstacle_line_compact``, ``obstacle_line_oneside`` from ``CROWD_LANES`` = 8 robots on),
 refined with radius = obstacle_radius = r/2 at the efforts (waypoints/steps) 2/56 (the default
-before the refinement saw the walls), 4/56 (the default up to ``CROWD`` = 8 robots), 4/96 (the
-default for more), 4/112, 4/224 (the crowd's default before ``benchmarks/crowd_effort.py``),
-8/224 and 8/448; every effort ends with the clearing-only steps of
+before the refinement saw the walls), 4/56 (the default up to ``SETTLE`` = 4 robots), 4/72 (the
+default for 5 to 8, ``PLANE_STEPS``), 4/96 (the default for more before the still pieces,
+``benchmarks/still_ab.py``), 4/112 (the default for more), 4/224 (the crowd's default before
+``benchmarks/crowd_effort.py``), 8/224 and 8/448; every effort ends with the clearing-only steps of
 :func:`pmplan.refine.grid.final_steps`. Per row and effort: the queries that keep the radii
 (``respects_radius``, the walls included, decided exactly), the median time per query (plan
 and refinement, one core), the median length / LB; then per family and robot count the totals
@@ -37,7 +38,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-EFFORTS = [(2, 56), (4, 56), (4, 96), (4, 112), (4, 224), (8, 224), (8, 448)]
+EFFORTS = [(2, 56), (4, 56), (4, 72), (4, 96), (4, 112), (4, 224), (8, 224), (8, 448)]
 FAMILIES = ["room", "swap", "room_walls", "swap_walls"]
 NS = [2, 4, 8, 16]
 HALF = scenes.R / 2
@@ -71,9 +72,10 @@ def markdown(res: dict) -> str:
              "keeps the radii and the walls (decided exactly); time = median ms per query (plan "
              "+ refinement, one core; a shared machine: compare within a row); len/LB = median "
              "length / sum of the straight distances. The default effort "
-             "(`pmplan.refine.default_effort`) is 4/56 up to 8 robots, 4/96 for more (in "
-             "bold). 2/56 was the default before the refinement saw the walls, 4/224 the "
-             "crowd's before `benchmarks/crowd_effort.py`. The waypoints 4 against 2 were "
+             "(`pmplan.refine.default_effort`) is 4/56 up to 4 robots, 4/72 for 5 to 8, 4/112 "
+             "for more (in bold). 2/56 was the default before the refinement saw the walls, "
+             "4/224 the crowd's before `benchmarks/crowd_effort.py`, 4/96 before the still "
+             "pieces (`benchmarks/still_ab.py`). The waypoints 4 against 2 were "
              "chosen on seeds 1, 2 and 4, the crowd's steps 112 on seed 1 (2 and 4 held out); "
              "seeds 5 and 6 were not looked at for either.", "",
              "| seed | row | " + " | ".join(f"{_label(e)}: valid, ms, len/LB" for e in EFFORTS)

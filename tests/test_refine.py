@@ -28,7 +28,7 @@ from pmplan.refine import (
     refine_paths,
     schedule,
 )
-from pmplan.refine.grid import WALL_SLIDE, pairs, piece_minima
+from pmplan.refine.grid import WALL_SLIDE, pairs, piece_minima, raw_positions
 from pmplan.refine.reference import _wall_scale
 
 R = reference  # the map's reference (its substeps; the grid's constants through it)
@@ -107,15 +107,18 @@ def test_refined_plan_certified_same_domain(dims, degenerate, data):
     assert ref.clearance > 0
 
 
-def _assert_fixed_waypoints(raw_times, raw_wp, ref_times, ref_wp, fixed, full):
+def _assert_fixed_waypoints(planner, raw_times, raw_wp, ref_times, ref_wp, fixed, full):
     """The fixed waypoints ``fixed`` of one raw path are its r = len(full) configurations at the
-    times k / (r - 1), and the refined path keeps each exactly at waypoint ``fixed[k] S``."""
-    r = len(full)
-    s = (ref_times.shape[-1] - 1) // (raw_times.shape[-1] - 1)
-    assert s == DEFAULT_WAYPOINTS and fixed.shape == (r,)
-    for k, (kj, conf) in enumerate(zip(fixed.tolist(), full)):
-        assert raw_times[kj] == k / (r - 1) == ref_times[kj * s]
-        assert np.array_equal(raw_wp[kj], conf) and np.array_equal(ref_wp[kj * s], conf)
+    times k / (r - 1), and the refined path keeps each exactly where its raw waypoint is in
+    the refined grid (``raw_positions``: ``fixed[k] S`` less ``S - 1`` per still piece
+    before it)."""
+    r, k = len(full), raw_times.shape[-1]
+    at = raw_positions(k, DEFAULT_WAYPOINTS, planner.still_for(raw_times))
+    assert ref_times.shape[-1] == at[-1] + 1 and fixed.shape == (r,)
+    assert np.array_equal(ref_times[..., at], raw_times)
+    for j, (kj, conf) in enumerate(zip(fixed.tolist(), full)):
+        assert raw_times[kj] == j / (r - 1) == ref_times[at[kj]]
+        assert np.array_equal(raw_wp[kj], conf) and np.array_equal(ref_wp[at[kj]], conf)
 
 
 @pytest.mark.parametrize("degenerate", [False, True])
@@ -138,13 +141,13 @@ def test_refined_sequence_keeps_vias(degenerate, data, r, dims):
     full = [_full(o, c) for c in configs]
     planner = REGISTRY[raw.planner]
     fixed = planner.fixed_waypoints(raw.path.times)
-    _assert_fixed_waypoints(raw.path.times, raw.path.waypoints, ref.path.times,
+    _assert_fixed_waypoints(planner, raw.path.times, raw.path.waypoints, ref.path.times,
                             ref.path.waypoints, fixed, full)
     raw_b = pmplan.plan_sequence_batch(np.stack([o, o]), [np.stack([c, c]) for c in configs])
     ref_b = pmplan.refine(raw_b)
     assert np.array_equal(planner.fixed_waypoints(raw_b.times), fixed)
     for i in range(2):
-        _assert_fixed_waypoints(raw_b.times, raw_b.waypoints[i], ref_b.times,
+        _assert_fixed_waypoints(planner, raw_b.times, raw_b.waypoints[i], ref_b.times,
                                 ref_b.waypoints[i], fixed, full)
         assert np.array_equal(ref_b.waypoints[i], ref.path.waypoints)
 
@@ -163,14 +166,14 @@ def test_planar_fixed_waypoints_first_and_last(data, degenerate):
     k = raw.path.times.shape[0]
     fixed = planner.fixed_waypoints(raw.path.times)
     assert fixed.tolist() == [0, k - 1]
-    _assert_fixed_waypoints(raw.path.times, raw.path.waypoints, ref.path.times,
+    _assert_fixed_waypoints(planner, raw.path.times, raw.path.waypoints, ref.path.times,
                             ref.path.waypoints, fixed, full)
     raw_b = pmplan.plan_batch(o[None], s[None], g[None])
     assert raw_b.times.ndim == 2
     fixed_b = planner.fixed_waypoints(raw_b.times)
     assert fixed_b.tolist() == [0, raw_b.times.shape[1] - 1]
     ref_b = pmplan.refine(raw_b)
-    _assert_fixed_waypoints(raw_b.times[0], raw_b.waypoints[0], ref_b.times[0],
+    _assert_fixed_waypoints(planner, raw_b.times[0], raw_b.waypoints[0], ref_b.times[0],
                             ref_b.waypoints[0], fixed_b, full)
 
 
@@ -338,15 +341,21 @@ def test_translation_rotation_scaling_to_tolerance():
 
 @pytest.mark.parametrize("dims", [(2, 4, 2), (3, 2, 3), (2, 1, 3), (8, 2, 2), (5, 3, 2)])
 @pytest.mark.parametrize("wp,steps", [(1, 3), (2, 10), (4, 7)])
-def test_kernel_equals_reference_bitwise(dims, wp, steps):
+@pytest.mark.parametrize("still", [False, True])
+def test_kernel_equals_reference_bitwise(dims, wp, steps, still):
+    """With every piece cut, and with the planner's still pieces kept one piece
+    (Planner.still_pieces): the kernel is the reference, bit for bit."""
     d, n, m = dims
     rng = np.random.default_rng(sum(dims) + wp)
     b = pmplan.plan_batch(rng.normal(size=(5, m, d)), rng.normal(size=(5, n, d)),
                           rng.normal(size=(5, n, d)))
     target = np.stack([b.clearance * 0.7, b.clearance * 1.5], axis=1)
-    t1, x1 = refine_paths(b.times, b.waypoints, m, 2, target, wp, steps)
-    t2, x2 = refine_batch(b.times, b.waypoints, m, 2, target, wp, steps)
+    keep = REGISTRY[b.planner].still_for(b.times) if still else None
+    assert (keep is not None) == (still and b.times.ndim == 1)  # (planar_three: per query)
+    t1, x1 = refine_paths(b.times, b.waypoints, m, 2, target, wp, steps, None, keep)
+    t2, x2 = refine_batch(b.times, b.waypoints, m, 2, target, wp, steps, None, keep)
     assert np.array_equal(t1, t2) and np.array_equal(x1, x2)
+    assert x1.shape[1] == (b.times.shape[-1] - 1) * wp + 1 - (wp - 1) * sum(keep or ())
 
 
 @pytest.mark.parametrize("dims", [(2, 4, 2), (3, 3, 3), (2, 8, 4)])
@@ -692,17 +701,19 @@ def test_the_raw_clearance_is_reported_beside_the_refined_one():
 
 
 @pytest.mark.parametrize("n, d", [(8, 2), (9, 2), (16, 2), (9, 3)])
-def test_a_crowd_gets_the_crowds_default_effort(n, d):
+def test_a_crowd_gets_the_crowds_default_effort(n, d, monkeypatch):
     """More than CROWD robots: the defaults are (CROWD_WAYPOINTS, CROWD_STEPS) in the plane and
     (CROWD_WAYPOINTS, SPACE_CROWD_STEPS) in d >= 3, bit for bit the same refinement as asking
-    for them (in space not the plane's); up to CROWD, (DEFAULT_WAYPOINTS, DEFAULT_STEPS). The
-    batch, the single plan and the refine() call agree."""
+    for them (in space not the plane's); up to CROWD, DEFAULT_WAYPOINTS and PLANE_STEPS in the
+    plane (more than SETTLE robots). The batch, the single plan and the refine() call agree."""
     from pmplan.refine import (CROWD, CROWD_STEPS, CROWD_WAYPOINTS, DEFAULT_STEPS,
-                               DEFAULT_WAYPOINTS, SPACE_CROWD_STEPS, default_effort)
+                               DEFAULT_WAYPOINTS, PLANE_STEPS, SETTLE, SPACE_CROWD_STEPS,
+                               default_effort)
 
     crowd = n > CROWD
     steps = CROWD_STEPS if d == 2 else SPACE_CROWD_STEPS
-    s, k = (CROWD_WAYPOINTS, steps) if crowd else (DEFAULT_WAYPOINTS, DEFAULT_STEPS)
+    assert SETTLE < 8 <= CROWD and PLANE_STEPS != DEFAULT_STEPS
+    s, k = (CROWD_WAYPOINTS, steps) if crowd else (DEFAULT_WAYPOINTS, PLANE_STEPS)
     assert default_effort(n, d) == (s, k) and (s, k) != (DEFAULT_WAYPOINTS // 2, DEFAULT_STEPS)
     rng = np.random.default_rng(n)
     o, x, y = (rng.uniform(0, 10, size=(3, 6, d)), rng.uniform(0, 10, size=(3, n, d)),
@@ -714,13 +725,18 @@ def test_a_crowd_gets_the_crowds_default_effort(n, d):
     default = pmplan.refine(raw, **kw)
     asked = pmplan.refine(raw, waypoints=s, steps=k, **kw)
     other = pmplan.refine(raw, waypoints=2 * s, steps=k, **kw)
-    assert default.waypoints.shape[1] == (raw.waypoints.shape[1] - 1) * s + 1
+    still = REGISTRY[planner].still_for(raw.times)
+    assert default.waypoints.shape[1] == raw_positions(raw.times.shape[-1], s, still)[-1] + 1
     assert default.waypoints.tobytes() == asked.waypoints.tobytes()
     assert default.waypoints.shape != other.waypoints.shape
-    if crowd and d > 2:  # a crowd in space does not get the plane's steps
-        assert SPACE_CROWD_STEPS != CROWD_STEPS
-        plane = pmplan.refine(raw, waypoints=s, steps=CROWD_STEPS, **kw)
-        assert default.waypoints.tobytes() != plane.waypoints.tobytes()
+    if crowd and d > 2:  # a crowd in space does not get the plane's steps (both 112 today)
+        import importlib
+
+        grid = importlib.import_module("pmplan.refine.grid")
+        monkeypatch.setattr(grid, "CROWD_STEPS", CROWD_STEPS + 8)
+        assert default_effort(n, d) == (s, SPACE_CROWD_STEPS) != default_effort(n, 2)
+        assert pmplan.refine(raw, **kw).waypoints.tobytes() == default.waypoints.tobytes()
+        monkeypatch.undo()
     full = pmplan.plan_batch(o, x, y, refine=True, **kw)
     assert full.waypoints.tobytes() == default.waypoints.tobytes()
     one = pmplan.plan(o[0], x[0], y[0], refine=True, **kw)
@@ -754,3 +770,39 @@ def test_the_kernels_piece_minima_are_the_references(d):
                 assert np.array_equal(got.view(np.int64), want.view(np.int64))
         with pytest.raises(ValueError, match="scratch"):  # (not a write beyond it)
             minima(x, a, b, got, np.empty((d, w)))
+
+
+# --- the still pieces ----------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["obstacle_line", "obstacle_line_compact",
+                                  "obstacle_line_oneside"])
+@pytest.mark.parametrize("r", [2, 3])
+def test_still_pieces_are_still_for_generic_queries_and_refined_whole(name, r):
+    """What the obstacle-line planners declare still (Planner.still_pieces: the
+    desingularization and its reverse, the first and last piece of every leg) moves no point
+    for a generic query and moves robots of a query where two share a column; either way the
+    refined path keeps each still piece one piece, passes its configurations where the raw
+    waypoints are in its grid, and is certified (the degenerate one too)."""
+    planner = REGISTRY[name]
+    still = planner.still_pieces(r)
+    times = planner.path_times(r)
+    assert still.shape == (times.shape[0] - 1,) and still.sum() == 2 * (r - 1)
+    assert planner.still_for(times) == tuple(still.tolist())
+    assert planner.still_for(pmplan.path.cut_along(times, 2)) == tuple(np.repeat(still, 2))
+    rng = np.random.default_rng(r)
+    o = np.array([[0.0, 0.0], [1.0, 0.0], [0.5, 2.0]])
+    generic = [rng.normal(size=(3, 2)) * 3 for _ in range(r)]
+    shared = [np.array([[0.25, 1.0], [0.25, -1.0], [0.0, 1.5]]), *generic[1:]]  # one column
+    for configs, moves in ((generic, False), (shared, True)):
+        raw = pmplan.plan_sequence(o, configs, planner=name)
+        wp = raw.path.waypoints
+        moved = [not np.array_equal(wp[j], wp[j + 1]) for j in np.flatnonzero(still)]
+        assert any(moved) == moves
+        ref = pmplan.refine(raw, radius=0.01)
+        at = raw_positions(times.shape[0], DEFAULT_WAYPOINTS, tuple(still))
+        assert ref.path.times.shape[0] == at[-1] + 1 < (times.shape[0] - 1) * DEFAULT_WAYPOINTS + 1
+        assert np.array_equal(ref.path.times[at], times)
+        assert (np.diff(at)[still] == 1).all() and (np.diff(at)[~still] == DEFAULT_WAYPOINTS).all()
+        for kj, conf in zip(planner.fixed_waypoints(times).tolist(), configs):
+            assert np.array_equal(ref.path.waypoints[at[kj], 3:], conf)
+        _check_refined(raw, ref, configs, radius=0.01)

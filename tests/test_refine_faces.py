@@ -111,7 +111,7 @@ def test_plan_refine_tuning_options_reach_refine(tmp_path, capsys):
     ref = pmplan.refine(raw, waypoints=8, steps=5, obstacle_radius=0.01)
     np.testing.assert_array_equal(np.array(res["waypoints"]), ref.path.waypoints)
     assert res["obstacle_radius"] == 0.01
-    assert len(res["times"]) == 7 * 8 + 1  # 7 raw pieces, each cut in 8
+    assert len(res["times"]) == 5 * 8 + 2 + 1  # 7 raw pieces, each cut in 8 but the 2 still
 
 
 REFINE_ERRORS = [

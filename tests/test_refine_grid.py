@@ -20,8 +20,11 @@ from pmplan.refine.grid import (
     hold_levels,
     mobility,
     pairs,
+    piece_counts,
     piece_minima,
+    raw_positions,
     schedule,
+    split_mask,
     subdivide,
     subdivide_times,
 )
@@ -61,6 +64,39 @@ def test_subdivision_keeps_breakpoints_and_the_polyline(data, k, s):
     half = subdivide(wp)
     assert np.array_equal(half[:, ::2], wp)
     assert np.array_equal(half[:, 1::2], 0.5 * wp[:, :-1] + 0.5 * wp[:, 1:])
+
+
+@settings(max_examples=40)
+@given(data=st.data(), k=st.integers(2, 7), w=st.sampled_from([1, 2, 4, 8]))
+def test_still_pieces_stay_one_piece_at_every_level(data, k, w):
+    """With still pieces the grid of every level is the uniform one with the cuts inside the
+    still pieces left out (bit for bit), the raw breakpoints are at ``raw_positions``, and
+    halving the moving pieces level by level (``split_mask``, ``subdivide``) gives that grid:
+    the waypoints of the uniform subdivision at the kept cuts, exactly on integer paths."""
+    t = np.sort(np.array(data.draw(st.lists(st.integers(0, 8), min_size=k, max_size=k)),
+                         dtype=float)) / 8
+    t[0], t[-1] = 0.0, 1.0
+    still = tuple(data.draw(st.lists(st.booleans(), min_size=k - 1, max_size=k - 1)))
+    wp = np.array(data.draw(st.lists(st.integers(-4, 4), min_size=k * 4, max_size=k * 4)),
+                  dtype=float).reshape(1, k, 2, 2) * 64
+    x, uniform, prev = wp, wp, 1
+    for s, _ in schedule(w, 10):
+        if s > 1:
+            x = subdivide(x, split_mask(k, prev, still))
+            uniform = subdivide(uniform)
+        prev = s
+        cut, sub = subdivide_times(t, s), subdivide_times(t, s, still)
+        at = raw_positions(k, s, still)
+        counts = piece_counts(k, s, still)
+        assert sub.shape == (int(counts.sum()) + 1,) == (at[-1] + 1,) and x.shape[1] == at[-1] + 1
+        assert np.array_equal(sub[at], t) and np.array_equal(x[:, at], wp)
+        assert counts.tolist() == [1 if c else s for c in still]
+        keep = np.ones(cut.shape[0], dtype=bool)
+        for j, c in enumerate(still):
+            keep[j * s + 1:(j + 1) * s] = not c
+        assert np.array_equal(sub, cut[keep]) and np.array_equal(x, uniform[:, keep])
+    assert np.array_equal(subdivide_times(t, w, None), subdivide_times(t, w))
+    assert split_mask(k, w, (False,) * (k - 1)) is None
 
 
 def test_mobility_and_chord_fractions():

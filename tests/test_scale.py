@@ -483,7 +483,8 @@ def test_refined_zarr_store_resume_and_errors(tmp_path, capsys):
     assert dict(grp.attrs)["refine"] == {"radius": 0.25, "obstacle_radius": 0.0,
                                          "waypoints": DEFAULT_WAYPOINTS, "steps": 24}
     assert set(scale.REFINED_OUTPUTS) <= set(grp.array_keys())
-    assert grp["respects_radius"].dtype == bool and grp["waypoints"].shape == (450, 7 * DEFAULT_WAYPOINTS + 1, 5, 2)
+    assert grp["respects_radius"].dtype == bool  # 5 moving pieces cut, 2 still ones whole:
+    assert grp["waypoints"].shape == (450, 5 * DEFAULT_WAYPOINTS + 2 + 1, 5, 2)
     # a resume must ask for the same refinement (or none, for a raw store)
     before = {p: p.stat().st_mtime_ns for p in dst.rglob("*")}
     for extra in (["--refine", "--radius", 0.5], [], ["--refine", "--radius", 0.25]):
@@ -655,7 +656,7 @@ def test_dask_refined_crowd_gets_the_crowds_default_effort():
 
     o, s, g = random_queries(40, m=3, n=CROWD + 1, seed=5)
     ref = pmplan.plan_batch(o, s, g, refine=True, radius=1e-3)
-    assert ref.times.shape[-1] == 7 * CROWD_WAYPOINTS + 1
+    assert ref.times.shape[-1] == 5 * CROWD_WAYPOINTS + 2 + 1  # (2 still pieces of 7: whole)
     batch = pmplan.plan_batch(*lazy(o, s, g, chunks=16), refine=True, radius=1e-3)
     assert batch.times.shape == ref.times.shape
     assert_same_refined(scale.compute(batch, scheduler="threads"), ref)

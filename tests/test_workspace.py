@@ -22,6 +22,7 @@ from pmplan import workspace as W
 from pmplan.certify import clearance, radius_report
 from pmplan.io import parse_query
 from pmplan.path import PiecewiseLinearPath, cut_along
+from pmplan.refine.grid import DEFAULT_WAYPOINTS, raw_positions
 
 BOX = np.array([[0.0, 0.0], [10.0, 10.0]])
 
@@ -429,8 +430,9 @@ def test_the_refinement_in_a_box_starts_from_the_plan_at_the_raw_breakpoints(mon
     for q in range(12):
         assert np.abs(wp[q] - batch[q].path(t)).max() <= 1e-12 * 10
     refined = pmplan.refine(batch, radius=0.05, obstacle_radius=0.05)
-    s_ = (refined.times.size - 1) // (t.size - 1)
-    assert refined.times.ndim == 1 and np.array_equal(refined.times[::s_], t)
+    at = raw_positions(t.size, DEFAULT_WAYPOINTS, p.still_for(t))  # (still pieces: one piece)
+    assert refined.times.ndim == 1 and refined.times.size == at[-1] + 1
+    assert np.array_equal(refined.times[at], t)
     for q in (0, 5, 11):
         one = pmplan.refine(pmplan.plan(o[q], s[q], g[q], bounds=(0, 10), lift=0.3),
                             radius=0.05, obstacle_radius=0.05)

@@ -344,13 +344,16 @@ def refine(plan_or_batch: Plan | PlanBatch, *, radius: float = 0.0, obstacle_rad
         The obstacles' radius.
     waypoints : int, optional
         Sub-pieces per piece of the raw path at the finest level, a power of two (default
-        :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 4: 28 pieces per leg of the obstacle-line
+        :data:`pmplan.refine.DEFAULT_WAYPOINTS` = 4: 22 pieces per leg of the obstacle-line
         planner; for a crowd of more than :data:`pmplan.refine.CROWD` = 8 robots
-        :data:`pmplan.refine.CROWD_WAYPOINTS` = 4). The refined path has ``(K - 1) waypoints +
-        1`` breakpoints.
+        :data:`pmplan.refine.CROWD_WAYPOINTS` = 4). A piece the planner declares still (it
+        moves no point for almost every query, :meth:`pmplan.planners.base.Planner.still_pieces`:
+        the obstacle-line planner's desingularization) stays one piece. The refined path has
+        ``(K - 1) waypoints + 1`` breakpoints, less ``waypoints - 1`` per still piece.
     steps : int, optional
-        Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 56; for a crowd
-        :data:`pmplan.refine.CROWD_STEPS` = 96 in the plane and
+        Refinement steps (default :data:`pmplan.refine.DEFAULT_STEPS` = 56; in the plane
+        :data:`pmplan.refine.PLANE_STEPS` = 72 for 5 to 8 robots; for a crowd
+        :data:`pmplan.refine.CROWD_STEPS` = 112 in the plane and
         :data:`pmplan.refine.SPACE_CROWD_STEPS` = 112 in d >= 3), split over the
         coarse-to-fine levels 1, 2, 4, .., ``waypoints``, then clearing-only steps at the
         finest level: a quarter as many (:data:`pmplan.refine.FINAL`), but in the plane as

@@ -101,7 +101,7 @@ def _integer(text: str) -> int:
 def _add_refine_options(p) -> None:
     """``--refine``, ``--radius``, ``--obstacle-radius`` (and ``--waypoints``, ``--steps``)."""
     from .refine import (CROWD, CROWD_STEPS, CROWD_WAYPOINTS, DEFAULT_STEPS, DEFAULT_WAYPOINTS,
-                         MAX_STEPS, MAX_WAYPOINTS, SPACE_CROWD_STEPS)
+                         MAX_STEPS, MAX_WAYPOINTS, PLANE_STEPS, SETTLE, SPACE_CROWD_STEPS)
 
     p.add_argument("--refine", action="store_true",
                    help="refine the planned path (pmplan.refine): a fixed number of continuous, "
@@ -121,8 +121,9 @@ def _add_refine_options(p) -> None:
                       f"; {CROWD_WAYPOINTS} for more than {CROWD} robots") + ")")
     p.add_argument("--steps", type=_integer, default=None, metavar="K",
                    help=f"with --refine: number of refinement steps, 1 to {MAX_STEPS:,} "
-                   f"(default {DEFAULT_STEPS}; for more than {CROWD} robots {CROWD_STEPS} in "
-                   f"the plane, {SPACE_CROWD_STEPS} in d >= 3)")
+                   f"(default {DEFAULT_STEPS}; in the plane {PLANE_STEPS} for {SETTLE + 1} to "
+                   f"{CROWD} robots; for more than {CROWD} robots {CROWD_STEPS} in the plane, "
+                   f"{SPACE_CROWD_STEPS} in d >= 3)")
 
 
 def _refine_options(args) -> dict | None:

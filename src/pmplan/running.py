@@ -729,7 +729,7 @@ def refine_plans(plan_or_batch, *, radius: float = 0.0, obstacle_radius: float =
     if box is not None:
         clearance = _start_clearance(p, times, wp, m, fixed, backend, single)
     stage = RefineStage(times, wp, clearance, m, fixed, radius, obstacle_radius, s, steps, backend,
-                        box=box)
+                        box=box, still=p.still_for(np.asarray(times)))
     check_radii(wp[:, 0, :m], [wp[:, kj, m:] for kj in fixed], radius, obstacle_radius,
                 batched=not single, backend=stage.backend)
     if box is not None:

@@ -192,7 +192,8 @@ def _template(p, r: int, m: int, n: int, d: int, refine: dict | None, box: bool 
     """Empty outputs (B = 0) of planner ``p``: their shapes past the batch axis, and the shared
     breakpoints. A plan in a box has ``width`` more breakpoints in every piece, per query
     (:func:`pmplan.workspace.path_into_box_linear`); a refined motion has ``(K - 1) waypoints +
-    1`` breakpoints, with K those of the refinement's start (in a box,
+    1`` breakpoints, less ``waypoints - 1`` per still piece (:meth:`Planner.still_for
+    <pmplan.planners.base.Planner.still_for>`), with K those of the refinement's start (in a box,
     :func:`pmplan.running.box_start`: every raw piece cut into
     :data:`pmplan.workspace.RAW_CUTS`, or the plan itself)."""
     from .refine import subdivide_times
@@ -208,7 +209,8 @@ def _template(p, r: int, m: int, n: int, d: int, refine: dict | None, box: bool 
         times = subdivide_times(times, RAW_CUTS)
     if refine is not None:
         s, k = refine["waypoints"], times.shape[-1]
-        times = subdivide_times(times, s) if times.ndim == 1 else np.empty((0, (k - 1) * s + 1))
+        times = (subdivide_times(times, s, p.still_for(times)) if times.ndim == 1
+                 else np.empty((0, (k - 1) * s + 1)))
     return {**template, "times": times, "waypoints": np.empty((0, times.shape[-1], *points))}
 
 

@@ -21,9 +21,10 @@ place that maps a name (``backend=`` of every planning function) to an implement
     One query in one call, for :func:`pmplan.plan` / :func:`pmplan.plan_sequence`: a function
     ``run(...)`` (see :meth:`pmplan.backends.numba.single_query`), or None when the backend has
     none for that shape (the general path then plans it as a batch of one).
-``refine(times, waypoints, m, r, target, s, steps, walls=None)``
+``refine(times, waypoints, m, r, target, s, steps, walls=None, still=None)``
     The refinement's map (:mod:`pmplan.refine`), in its frame (``walls``: a workspace's
-    limits there, :func:`pmplan.refine.reference.refine_paths`).
+    limits there; ``still``: the raw pieces that stand still,
+    :func:`pmplan.refine.reference.refine_paths`).
 ``measure(waypoints, m, need) -> (values, kept, close) | None``
     The refined paths' clearance and robot and obstacle distances (B, 3), whether they keep
     the distances ``need`` (B,), and the rows too close to call, which the refinement then

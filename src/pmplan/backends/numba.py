@@ -347,11 +347,12 @@ def measure(waypoints, m: int, need):
     return vals, (flags & SHORT) == 0, (flags & (SUSPECT | CLOSE)) != 0
 
 
-def refine(times, waypoints, m: int, r: int, target, s: int, steps: int, walls=None):
+def refine(times, waypoints, m: int, r: int, target, s: int, steps: int, walls=None,
+           still=None):
     """The refinement's map, the kernel (``pmplan.refine.kernel.refine_batch``)."""
     from ..refine.kernel import refine_batch  # (the refinement imports the backends: not at import)
 
-    return refine_batch(times, waypoints, m, r, target, s, steps, walls)
+    return refine_batch(times, waypoints, m, r, target, s, steps, walls, still)
 
 
 def from_box_linear(x, box, frac: float):

@@ -86,11 +86,12 @@ def measure(waypoints, m: int, need):
     return None
 
 
-def refine(times, waypoints, m: int, r: int, target, s: int, steps: int, walls=None):
+def refine(times, waypoints, m: int, r: int, target, s: int, steps: int, walls=None,
+           still=None):
     """The refinement's map, the reference (:func:`pmplan.refine.reference.refine_paths`)."""
     from ..refine.reference import refine_paths  # (the refinement imports the backends: not at import)
 
-    return refine_paths(times, waypoints, m, r, target, s, steps, walls)
+    return refine_paths(times, waypoints, m, r, target, s, steps, walls, still)
 
 
 def from_box_linear(x, box, frac: float):

@@ -106,7 +106,8 @@ class Planner:
     * the mathematics (required): :attr:`name`, :attr:`summary`, :meth:`supports`,
       :meth:`domain_labels`, :meth:`stratum_name`, :meth:`reference` (the numpy reference)
       and :meth:`allocate`; optional :attr:`equivariant`, :attr:`sequential`,
-      :attr:`priority`, :attr:`crowd`, :meth:`path_times`, :meth:`fixed_waypoints`;
+      :attr:`priority`, :attr:`crowd`, :meth:`path_times`, :meth:`still_pieces`,
+      :meth:`fixed_waypoints`;
     * how a batch is computed is a backend's (:mod:`pmplan.backends`), what ``pmplan verify``
       needs is the planner's :class:`~pmplan.strata.StrataSpec` (:mod:`pmplan.strata`), and
       what the faces show of it its :class:`~pmplan.display.DisplaySpec`
@@ -213,6 +214,34 @@ class Planner:
             if rest == 0 and (times[..., ::c] == shared).all():
                 return r, c
         return None
+
+    def still_pieces(self, r: int) -> np.ndarray | None:
+        """The pieces of :meth:`path_times` ``(r)`` along which no point moves for almost
+        every query (bool (K-1,)), or None: none is declared.
+
+        Such a piece moves only on a closed set of measure zero (the desingularization of
+        paper (3.2) moves robots only when two share a column); elsewhere it is a constant
+        path, already as short as it can be. The refinement (:mod:`pmplan.refine`) keeps it
+        one piece at every level (its one waypoint inside the leg still moves, so the map
+        stays continuous where the piece does move) and spends its waypoints on the pieces
+        that move. What a planner declares here depends on r alone, never on a query, so the
+        refinement stays continuous on the same domains.
+        """
+        return None
+
+    def still_for(self, times: np.ndarray) -> tuple[bool, ...] | None:
+        """:meth:`still_pieces` for the breakpoints ``times`` (K,) or (B, K): when they are
+        :meth:`path_times` ``(r)`` with every piece cut into c pieces (:meth:`cut_structure`),
+        every cut of a still piece is still; else (per-query breakpoints of a planner without
+        shared ones) None."""
+        cut = self.cut_structure(times)
+        if cut is None:
+            return None
+        r, c = cut
+        still = self.still_pieces(r)
+        if still is None:
+            return None
+        return tuple(bool(v) for v in np.repeat(np.asarray(still, dtype=bool), c))
 
     def fixed_waypoints(self, times: np.ndarray) -> np.ndarray:
         """The indices of the waypoints where a path of this planner with breakpoints ``times``

@@ -402,6 +402,14 @@ class ObstacleLinePlanner(Planner):
         """Breakpoints of every path through r configurations (see :func:`path_times`)."""
         return path_times(r)
 
+    def still_pieces(self, r: int) -> np.ndarray:
+        """The first and the last piece of every leg: the desingularization ``F(C, .)`` of
+        paper (3.2) and its reverse, which move a robot only when it shares its column with
+        another point (``eps`` is 0 otherwise, :func:`column_structure`)."""
+        leg = np.zeros((path_times(r).shape[0] - 1) // (r - 1), dtype=bool)
+        leg[[0, -1]] = True
+        return np.tile(leg, r - 1)
+
     def allocate(self, b: int, r: int, m: int, n: int, d: int) -> dict:
         """Output arrays of a batch of b queries through r configurations (shared times)."""
         times = path_times(r)

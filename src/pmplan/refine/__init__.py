@@ -14,7 +14,10 @@ numbers, no discrete choice (only min, max and clip of continuous quantities):
 
 1. *Coarse-to-fine grid.* Every piece of the raw path is cut into ``s = 1, 2, 4, .., S`` equal
    sub-pieces (``S = waypoints``); going from ``s`` to ``2 s`` inserts the midpoint of every
-   piece, which keeps the path (and its collision-freeness) and is continuous in the query.
+   piece, which keeps the path (and its collision-freeness) and is continuous in the query. A
+   piece the planner declares still (:meth:`pmplan.planners.base.Planner.still_pieces`: it
+   moves no point for almost every query) stays one piece; the declaration depends on the
+   number of configurations alone, so the grid is the same on every domain.
    Every raw breakpoint stays a breakpoint, so the intermediate configurations stay exactly at
    their times.
 2. *Steps.* At each level, ``steps`` are split evenly; a step is a *clearing* substep followed
@@ -90,6 +93,7 @@ from .grid import (  # noqa: F401 (the limits, for the faces)
     MAX_STEPS,
     MAX_WAYPOINTS,
     PLANE_FINAL,
+    PLANE_STEPS,
     SETTLE,
     SPACE_CROWD_STEPS,
     default_effort,
@@ -120,6 +124,7 @@ __all__ = [
     "DEFAULT_WAYPOINTS",
     "FINAL",
     "PLANE_FINAL",
+    "PLANE_STEPS",
     "SETTLE",
     "SPACE_CROWD_STEPS",
     "check_parameters",

@@ -44,6 +44,7 @@ __all__ = [
     "PHI",
     "PHI_WAYPOINT",
     "PLANE_FINAL",
+    "PLANE_STEPS",
     "SETTLE",
     "SHARE",
     "SLACK",
@@ -56,9 +57,12 @@ __all__ = [
     "mobility",
     "overshoot",
     "pairs",
+    "piece_counts",
     "piece_minima",
     "push_points",
+    "raw_positions",
     "schedule",
+    "split_mask",
     "subdivide",
     "subdivide_times",
 ]
@@ -89,9 +93,10 @@ FINAL = 0.25
 #: waypoints, with 16 robots, on design and held-out seeds
 CROWD_FINAL = 2.0
 #: the clearing-only steps in the plane of more than ``SETTLE`` and at most ``CROWD`` robots, a
-#: multiple of ``steps`` (:func:`final_steps`): as many as the steps, 56. Rather than a quarter
-#: (:data:`FINAL`, the share before): from 8 robots a refined plan in the plane takes the
-#: one-side lanes (:data:`pmplan.planners.base.CROWD_LANES`), which press more pairs together,
+#: multiple of ``steps`` (:func:`final_steps`): as many as the steps (72, :data:`PLANE_STEPS`;
+#: 56 when it was chosen). Rather than a quarter (:data:`FINAL`, the share before): from 8
+#: robots a refined plan in the plane takes the one-side lanes
+#: (:data:`pmplan.planners.base.CROWD_LANES`), which press more pairs together,
 #: and with 6 the compact lanes' pushes settle too; more plans keep the radii, on design and
 #: held-out seeds, at the same lengths, within the 5 ms per query issue 25 asks of 8 robots
 #: (benchmarks/plane_final.py)
@@ -120,8 +125,9 @@ KAPPA_FLOOR = 0.125
 # --- the map's gains, floors and slack (the reference and the kernel read them here) ----------
 
 #: default sub-pieces per raw piece at the finest level (a power of two): 7 raw pieces per leg
-#: of the obstacle-line planner give 28 pieces per leg. 4 rather than the 2 of
-#: benchmarks/refine_bench.py's length / time trade-off on the unit square: with the same steps
+#: of the obstacle-line planner, 2 of them still (kept one piece,
+#: :meth:`pmplan.planners.base.Planner.still_pieces`), give 22 pieces per leg. 4 rather than
+#: the 2 of benchmarks/refine_bench.py's length / time trade-off on the unit square: with the same steps
 #: the finer level costs about as much (the steps are split over the levels, the coarse ones
 #: cheap), and on the scene families in the box (rooms and swaps of 10 x 10 with 2, 4 and 8
 #: robots, r = 0.3, seeds 1, 2, 4; benchmarks/scenes_effort.py) it kept the radii on more
@@ -130,6 +136,13 @@ KAPPA_FLOOR = 0.125
 DEFAULT_WAYPOINTS = 4
 #: default number of steps (each a clearing and a shortening substep), split over the levels
 DEFAULT_STEPS = 56
+#: default ``steps`` in the plane for more than ``SETTLE`` and at most ``CROWD`` robots,
+#: followed by as many clearing-only steps (:data:`PLANE_FINAL`). 72 rather than 56 since the
+#: refinement keeps the pieces that stand still one piece (the desingularization,
+#: :meth:`pmplan.planners.base.Planner.still_pieces`): 23 waypoints a leg rather than 29, and
+#: the time they saved spent on steps. Measured by benchmarks/still_ab.py (rooms and swaps of
+#: 10 x 10, r = 0.3, in the box; design seeds 11 and 12, held-out 30 and 31)
+PLANE_STEPS = 72
 #: a crowd: more robots than this get the crowd's default effort (``CROWD_WAYPOINTS``,
 #: ``CROWD_STEPS``, ``SPACE_CROWD_STEPS``). The effort depends on d and n alone, which every
 #: query of a batch and every query of a domain shares, so the refinement stays continuous on
@@ -142,13 +155,14 @@ CROWD = 8
 #: default ``waypoints`` for more than ``CROWD`` robots
 CROWD_WAYPOINTS = 4
 #: default ``steps`` for more than ``CROWD`` robots in the plane, followed by ``CROWD_FINAL``
-#: times as many clearing-only steps (:func:`final_steps`). 96 and 192 rather than 224 and 56
-#: (benchmarks/crowd_effort.py; 16 robots, the same raw plans): in the rooms and swaps of 100
-#: queries more plans keep the radii, on design and held-out seeds alike, at the same time per
-#: query, for paths a few percent longer; more waypoints or more steps of both kinds cost more
-#: time for as much. Before, 224 steps rather than 112 (benchmarks/crowd_ab.py). In space see
-#: :data:`SPACE_CROWD_STEPS`
-CROWD_STEPS = 96
+#: times as many clearing-only steps (:func:`final_steps`). 112 since the still pieces
+#: (:data:`PLANE_STEPS`) save the time of 16 more steps (benchmarks/still_ab.py); before, 96
+#: and 192 rather than 224 and 56 (benchmarks/crowd_effort.py; 16 robots, the same raw plans):
+#: in the rooms and swaps of 100 queries more plans keep the radii, on design and held-out
+#: seeds alike, at the same time per query, for paths a few percent longer; more waypoints or
+#: more steps of both kinds cost more time for as much. Before, 224 steps rather than 112
+#: (benchmarks/crowd_ab.py). In space see :data:`SPACE_CROWD_STEPS`
+CROWD_STEPS = 112
 #: default ``steps`` for more than ``CROWD`` robots in d >= 3: twice ``DEFAULT_STEPS``. There
 #: the offsets keep the robots apart (Mathematics §4.4): every 3-D room with 16 robots keeps the
 #: radii at 112, 168 and 224 steps alike, and more steps shorten by under 0.5 %. The steps do
@@ -273,8 +287,8 @@ def final_steps(steps: int, n: int = 1, d: int = 2) -> int:
     depends on (d, n) and the effort alone, so the refinement stays continuous on the same
     domains.
 
-    >>> final_steps(56, 4), final_steps(56, 8), final_steps(96, 16), final_steps(56, 8, 3)
-    (14, 56, 192, 14)
+    >>> final_steps(56, 4), final_steps(72, 8), final_steps(112, 16), final_steps(56, 8, 3)
+    (14, 72, 224, 14)
     """
     if d != 2 or n <= SETTLE:
         share = FINAL
@@ -301,33 +315,108 @@ def pairs(p: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def default_effort(n: int, d: int = 2) -> tuple[int, int]:
     """The default ``(waypoints, steps)`` of a refinement of plans with ``n`` robots in R^d:
-    ``(DEFAULT_WAYPOINTS, DEFAULT_STEPS)`` = (4, 56), and for a crowd of more than ``CROWD`` =
-    8 robots ``(CROWD_WAYPOINTS, CROWD_STEPS)`` = (4, 96) in the plane, ``(CROWD_WAYPOINTS,
+    ``(DEFAULT_WAYPOINTS, DEFAULT_STEPS)`` = (4, 56); in the plane ``PLANE_STEPS`` = 72 steps
+    for more than ``SETTLE`` = 4 robots; for a crowd of more than ``CROWD`` = 8 robots
+    ``(CROWD_WAYPOINTS, CROWD_STEPS)`` = (4, 112) in the plane, ``(CROWD_WAYPOINTS,
     SPACE_CROWD_STEPS)`` = (4, 112) in d >= 3. It depends on (d, n) alone, which every query
     of a domain shares, so the refinement stays continuous on the same domains.
 
-    >>> default_effort(8), default_effort(16), default_effort(16, 3)
-    ((4, 56), (4, 96), (4, 112))
+    >>> default_effort(4), default_effort(8), default_effort(8, 3), default_effort(16)
+    ((4, 56), (4, 72), (4, 56), (4, 112))
     """
     if n <= CROWD:
-        return DEFAULT_WAYPOINTS, DEFAULT_STEPS
+        return DEFAULT_WAYPOINTS, PLANE_STEPS if d == 2 and n > SETTLE else DEFAULT_STEPS
     return CROWD_WAYPOINTS, CROWD_STEPS if d == 2 else SPACE_CROWD_STEPS
 
 
-def subdivide_times(times: np.ndarray, s: int) -> np.ndarray:
+def piece_counts(k: int, s: int, still=None) -> np.ndarray:
+    """The sub-pieces of each of the ``k - 1`` raw pieces at the level of ``s`` (int64): ``s``,
+    and 1 for a piece that stands still (``still``, a bool per raw piece, or None: none does;
+    :meth:`pmplan.planners.base.Planner.still_pieces`).
+
+    >>> piece_counts(4, 4, (True, False, True)).tolist()
+    [1, 4, 1]
+    """
+    counts = np.full(k - 1, s, dtype=np.int64)
+    if still is not None:
+        counts[np.asarray(still, dtype=bool)] = 1
+    return counts
+
+
+def raw_positions(k: int, s: int, still=None) -> np.ndarray:
+    """Where the ``k`` raw breakpoints are in the grid of ``s`` (int64): ``s j``, or with
+    pieces that stand still the running sum of :func:`piece_counts`.
+
+    >>> raw_positions(4, 4).tolist(), raw_positions(4, 4, (True, False, True)).tolist()
+    ([0, 4, 8, 12], [0, 1, 5, 6])
+    """
+    out = np.zeros(k, dtype=np.int64)
+    out[1:] = np.cumsum(piece_counts(k, s, still))
+    return out
+
+
+def subdivide_times(times: np.ndarray, s: int, still=None) -> np.ndarray:
     """Breakpoints of every piece cut into ``s`` equal sub-pieces: ``t_k + (j/s)(t_{k+1} -
-    t_k)``, j = 0..s-1, then the last; shape (..., (K-1) s + 1). The raw breakpoints stay
-    (:func:`pmplan.path.cut_along`)."""
-    return cut_along(times, s, -1)
+    t_k)``, j = 0..s-1, then the last; shape (..., (K-1) s + 1); a piece that stands still
+    (``still``, see :func:`piece_counts`) stays one piece. The raw breakpoints stay, and the
+    other cuts are those of :func:`pmplan.path.cut_along`, bit for bit.
+
+    >>> subdivide_times(np.array([0.0, 1.0, 3.0]), 2, (True, False)).tolist()
+    [0.0, 1.0, 2.0, 3.0]
+    """
+    cut = cut_along(times, s, -1)
+    if still is None or not any(still):
+        return cut
+    return cut[..., _kept_cuts(len(still), s, tuple(bool(v) for v in still))]
 
 
-def subdivide(wp: np.ndarray) -> np.ndarray:
-    """Insert the midpoint ``0.5 P_i + 0.5 P_{i+1}`` of every piece: (B, K, P, d) -> (B, 2K-1,
-    P, d). The path is the same polyline (up to the rounding of the midpoints)."""
+@lru_cache(maxsize=256)
+def _kept_cuts(pieces: int, s: int, still: tuple) -> np.ndarray:
+    """The breakpoints of the uniform grid of ``s`` that :func:`subdivide_times` keeps."""
+    keep = np.ones(pieces * s + 1, dtype=bool)
+    for j in np.flatnonzero(still):
+        keep[j * s + 1:(j + 1) * s] = False
+    keep.flags.writeable = False
+    return keep
+
+
+def split_mask(k: int, s: int, still=None) -> tuple[bool, ...] | None:
+    """The pieces of the grid of ``s`` that :func:`subdivide` halves on the way to ``2 s``
+    (a bool per piece), or None: all of them (no piece stands still)."""
+    if still is None or not any(still):
+        return None
+    counts = piece_counts(k, s, still)
+    return tuple(bool(v) for v in np.repeat(~np.asarray(still, dtype=bool), counts))
+
+
+@lru_cache(maxsize=256)
+def _split_index(split: tuple) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For :func:`subdivide`: where the old waypoints go, where the midpoints go, and the
+    pieces halved (int64, read-only)."""
+    cut = np.asarray(split, dtype=bool)
+    old = np.arange(cut.shape[0] + 1)
+    old[1:] += np.cumsum(cut)
+    pieces = np.flatnonzero(cut)
+    out = (old, old[pieces] + 1, pieces)
+    for arr in out:
+        arr.flags.writeable = False
+    return out
+
+
+def subdivide(wp: np.ndarray, split: tuple | None = None) -> np.ndarray:
+    """Insert the midpoint ``0.5 P_i + 0.5 P_{i+1}`` of every piece (of the pieces ``split``, a
+    bool per piece, when given: :func:`split_mask`): (B, K, P, d) -> (B, 2K-1, P, d). The path
+    is the same polyline (up to the rounding of the midpoints)."""
     b, k = wp.shape[:2]
-    out = np.empty((b, 2 * k - 1) + wp.shape[2:])
-    out[:, ::2] = wp
-    out[:, 1::2] = 0.5 * wp[:, :-1] + 0.5 * wp[:, 1:]
+    if split is None:
+        out = np.empty((b, 2 * k - 1) + wp.shape[2:])
+        out[:, ::2] = wp
+        out[:, 1::2] = 0.5 * wp[:, :-1] + 0.5 * wp[:, 1:]
+        return out
+    old, mid, pieces = _split_index(tuple(split))
+    out = np.empty((b, k + pieces.shape[0]) + wp.shape[2:])
+    out[:, old] = wp
+    out[:, mid] = 0.5 * wp[:, pieces] + 0.5 * wp[:, pieces + 1]
     return out
 
 

@@ -28,6 +28,7 @@ from .grid import (
     overshoot,
     pairs,
     schedule,
+    split_mask,
     subdivide,
     subdivide_times,
 )
@@ -466,21 +467,26 @@ def constants() -> np.ndarray:
                      g.GAMMA, g.PHI_WAYPOINT, g.SLACK, g.WALL_SLIDE])
 
 
-def _grids(times: np.ndarray, r: int, waypoints_per_piece: int, steps: int, b: int):
-    """Per level ``(s, steps, times, mobility, chord fractions)``: shared breakpoints (K,)
-    give one row (cached), per-query ones (b, K) one row per query."""
+def _grids(times: np.ndarray, r: int, waypoints_per_piece: int, steps: int, b: int,
+           still=None):
+    """Per level ``(split, steps, times, mobility, chord fractions)`` (``split``: the pieces
+    the level halves on its way in, :func:`~pmplan.refine.grid.split_mask`): shared
+    breakpoints (K,) give one row (cached), per-query ones (b, K) one row per query."""
     key = None
+    still = None if still is None else tuple(bool(v) for v in still)
     if times.ndim == 1:
-        key = (times.tobytes(), r, waypoints_per_piece, steps)
+        key = (times.tobytes(), r, waypoints_per_piece, steps, still)
         hit = _GRIDS.get(key)
         if hit is not None:
             return hit
     out = []
+    k, prev = times.shape[-1], 1
     for s, n_steps in schedule(waypoints_per_piece, steps):
-        t = subdivide_times(times, s)
+        t = subdivide_times(times, s, still)
         tb = t[None] if t.ndim == 1 else t
-        out.append((s, n_steps, t, np.ascontiguousarray(mobility(tb, r)),
+        out.append((split_mask(k, prev, still), n_steps, t, np.ascontiguousarray(mobility(tb, r)),
                     np.ascontiguousarray(chord_fraction(tb))))
+        prev = s
     if key is not None and len(_GRIDS) < 256:
         _GRIDS[key] = out
     return out
@@ -491,7 +497,8 @@ _GRIDS: dict = {}
 
 def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
                  waypoints_per_piece: int, steps: int,
-                 walls: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                 walls: np.ndarray | None = None,
+                 still=None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`pmplan.refine.reference.refine_paths` by the kernel: same arguments, same (bitwise) result."""
     times = np.asarray(times, dtype=float)
     x = np.array(waypoints, dtype=float)
@@ -499,16 +506,16 @@ def refine_batch(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     a, b, c = pairs(p, m)
     tgt = np.ascontiguousarray(np.where(a >= m, target[:, :1], target[:, 1:2]))
     hold = np.ascontiguousarray(hold_levels(x, a, b, tgt))
-    levels = _grids(times, r, waypoints_per_piece, steps, x.shape[0])
+    levels = _grids(times, r, waypoints_per_piece, steps, x.shape[0], still)
     kp = constants()
     start, members = _members(p, m)
     has_walls = walls is not None
     # (no walls: one unused row, numba compiles one signature)
     walls = np.ascontiguousarray(walls, dtype=float) if has_walls else np.zeros((1, 2, x.shape[3]))
     t = times
-    for level, (s, n_steps, t, mob, frac) in enumerate(levels):
+    for level, (split, n_steps, t, mob, frac) in enumerate(levels):
         if level:
-            x = subdivide(x)
+            x = subdivide(x, split)
         if x.shape[0]:
             last = level == len(levels) - 1
             _level(x, m, a, b, c, tgt, hold, frac, mob, n_steps,

@@ -33,6 +33,7 @@ from .grid import (
     piece_minima,
     push_points,
     schedule,
+    split_mask,
     subdivide,
     subdivide_times,
 )
@@ -331,7 +332,8 @@ def _clear(x, m, a, b, c, tgt, mob, eta, at_waypoints: bool, hold=None, walls=No
 
 def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, target: np.ndarray,
                  waypoints_per_piece: int = DEFAULT_WAYPOINTS, steps: int = DEFAULT_STEPS,
-                 walls: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                 walls: np.ndarray | None = None,
+                 still=None) -> tuple[np.ndarray, np.ndarray]:
     """Apply the refinement map R to a batch of certified paths (the numpy reference).
 
     Parameters
@@ -351,11 +353,16 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
         A workspace: the lowest and highest coordinates the robots should keep (the clearing
         pushes them back from these limits and holds its moves toward them; the caller maps
         the result into the box). None: no walls.
+    still : tuple of bool, length K - 1, optional
+        The raw pieces that stand still for almost every query
+        (:meth:`pmplan.planners.base.Planner.still_pieces`): one sub-piece at every level
+        (:func:`~pmplan.refine.grid.subdivide_times`). None: every piece is cut.
 
     Returns
     -------
-    times : ndarray, shape ((K-1) S + 1,) or (B, (K-1) S + 1)
-    waypoints : ndarray, shape (B, (K-1) S + 1, P, d)
+    times : ndarray, shape (W,) or (B, W)
+        ``W = (K-1) S + 1``, less ``S - 1`` per piece that stands still.
+    waypoints : ndarray, shape (B, W, P, d)
     """
     times = np.asarray(times, dtype=float)
     x = np.array(waypoints, dtype=float)
@@ -364,10 +371,12 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     tgt = np.where(a >= m, target[:, :1], target[:, 1:2])  # (B, pairs)
     hold = hold_levels(x, a, b, tgt)
     t = times
+    k, prev = times.shape[-1], 1
     for level, (s, n_steps) in enumerate(schedule(waypoints_per_piece, steps)):
         if level:
-            x = subdivide(x)
-        t = subdivide_times(times, s)
+            x = subdivide(x, split_mask(k, prev, still))
+        prev = s
+        t = subdivide_times(times, s, still)
         tb = np.broadcast_to(t, x.shape[:2])
         mob = mobility(tb, r)
         frac = chord_fraction(tb)

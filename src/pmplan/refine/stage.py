@@ -33,6 +33,7 @@ from .grid import (
     MAX_WAYPOINTS,
     default_effort,
     pairs,
+    raw_positions,
     subdivide_times,
 )
 
@@ -84,7 +85,7 @@ def check_parameters(radius, obstacle_radius, waypoints, steps, n: int = 1, d: i
     >>> check_parameters(0, 0.5, None, None)
     (0.0, 0.5, 4, 56)
     >>> check_parameters(0, 0.5, None, None, n=16)
-    (0.0, 0.5, 4, 96)
+    (0.0, 0.5, 4, 112)
     >>> check_parameters(0, 0.5, None, None, n=16, d=3)
     (0.0, 0.5, 4, 112)
     >>> check_parameters(-1.0, 0, None, None)
@@ -205,11 +206,17 @@ class RefineStage(Stage):
     fixed : sequence of int, length r
         The raw waypoints the path passes through its r configurations (start, intermediate
         ones at ``k / (r - 1)``, goal): :meth:`pmplan.planners.base.Planner.fixed_waypoints`.
-        The refinement keeps them exactly (at refined waypoint ``fixed[k] * waypoints_per_piece``).
+        The refinement keeps them exactly (at the refined waypoint where raw waypoint
+        ``fixed[k]`` is, :func:`~pmplan.refine.grid.raw_positions`).
     radius, obstacle_radius : float
     waypoints_per_piece, steps : int
     backend : str or None
         ``"numpy"``: the reference; else the kernel.
+    box : ndarray, shape (2, d), optional
+        The workspace.
+    still : tuple of bool, length K - 1, optional
+        The raw pieces that stand still for almost every query, one sub-piece each
+        (:meth:`pmplan.planners.base.Planner.still_pieces`); None: every piece is cut.
     """
 
     chunk = 512
@@ -217,7 +224,7 @@ class RefineStage(Stage):
 
     def __init__(self, times, waypoints, clearance, m: int, fixed, radius: float,
                  obstacle_radius: float, waypoints_per_piece: int, steps: int, backend=None,
-                 box=None):
+                 box=None, still=None):
         self.box = box  # the workspace (2, d), or None (pmplan.workspace)
         self.raw_times = np.asarray(times, dtype=float)
         self.raw = waypoints
@@ -230,9 +237,11 @@ class RefineStage(Stage):
         self.raw_clearance = np.asarray(clearance, dtype=float)
         self.target = targets(radius, obstacle_radius, clearance)
         k = self.raw_times.shape[-1]
-        w = (k - 1) * self.s + 1
+        self.still = None if still is None else tuple(bool(v) for v in still)
+        self.at = raw_positions(k, self.s, self.still)  # the raw waypoints in the refined grid
+        w = int(self.at[-1]) + 1
         b, _, p, d = waypoints.shape
-        self.times = subdivide_times(self.raw_times, self.s)
+        self.times = subdivide_times(self.raw_times, self.s, self.still)
         self.waypoints = np.empty((b, w, p, d))
         self.clearance = np.empty(b)
         self.robot_distance = np.empty(b)
@@ -242,7 +251,8 @@ class RefineStage(Stage):
 
     def _refine(self, times, wp, target, walls=None):
         """The map in the frame, by the backend (:func:`pmplan.backends.select`)."""
-        return self.backend.refine(times, wp, self.m, self.r, target, self.s, self.steps, walls)
+        return self.backend.refine(times, wp, self.m, self.r, target, self.s, self.steps, walls,
+                                   self.still)
 
     def _walls(self, b: int, back):
         """The workspace's limits in the frame (B, 2, d), or None: the robots should keep to
@@ -264,13 +274,16 @@ class RefineStage(Stage):
         # the obstacles, and every raw waypoint the refinement left in place (the fixed
         # configurations, a padded row's repeated goal), exactly: the frame rounds them
         out[:, :, :self.m] = raw[:, :1, :self.m]
-        same = (ref[:, ::self.s] == y).all(axis=-1)  # (B, K, P)
-        out[:, ::self.s][same] = raw[same]
+        at = self.at
+        same = (ref[:, at] == y).all(axis=-1)  # (B, K, P)
+        kept = out[:, at]
+        kept[same] = raw[same]
+        out[:, at] = kept
         for kj in self.fixed:
-            out[:, kj * self.s] = raw[:, kj]
+            out[:, at[kj]] = raw[:, kj]
         if self.box is not None:  # into the box shrunk by the radius (pmplan.workspace)
             out[...] = self.backend.into_box(out, shrunk(self.box, self.radius), SQUEEZE)
-            restore(out, self.m, [kj * self.s for kj in self.fixed],
+            restore(out, self.m, [at[kj] for kj in self.fixed],
                     [raw[:, kj, self.m:] for kj in self.fixed], raw[:, 0, :self.m])
         self._certify(lo, hi, raw, out, np.zeros(hi - lo, dtype=bool))
         return self.clause[lo:hi] == 0
