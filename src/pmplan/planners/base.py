@@ -222,9 +222,9 @@ class Planner:
         Such a piece moves only on a closed set of measure zero (the desingularization of
         paper (3.2) moves robots only when two share a column); elsewhere it is a constant
         path, already as short as it can be. The refinement (:mod:`pmplan.refine`) keeps it
-        one piece at every level (its one waypoint inside the leg still moves, so the map
-        stays continuous where the piece does move) and spends its waypoints on the pieces
-        that move. What a planner declares here depends on r alone, never on a query, so the
+        one piece at every level (the waypoint at its end inside the path still moves, and
+        the map stays continuous where the piece does move) and spends its waypoints on the
+        pieces that move. What a planner declares here depends on r alone, never on a query, so the
         refinement stays continuous on the same domains.
         """
         return None
