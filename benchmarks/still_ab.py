@@ -21,9 +21,13 @@ planner class for its still pieces and ``pmplan.refine.grid`` for the effort at 
 
 Per row and variant: the queries valid (keep the radii and stay in the box, decided exactly),
 the median time per query (plan and refinement, one core; a shared machine) and the median
-length / LB. Seeds 11 and 12 are the design draws (the steps were chosen there among 1, 1.15,
-1.3 and 1.5 times the steps before, with 400 queries per row of up to 8 robots and 150 of 16);
-seeds 30 and 31 are held out.
+length / LB. Seeds 11 and 12 are the design draws: the steps were chosen there, in a
+prototype of this script with 400 queries per row of up to 8 robots and 150 of 16, among 1,
+1.15 and 1.3 times the steps before (and 1.5 with 8 robots in room and swap): with 8 robots 1.3
+(72) kept the radii on 1,458 of 1,600 room and swap plans against 1,438 before, 1.5 on 1,465
+at 20 % more time than before, near the 5 ms asked; with 16 robots 1.15 (112 rounded) on as
+many or more in every row at the time of before, 1.3 passed 19 ms. Seeds 30 and 31 are held
+out.
 
 Writes ``benchmarks/still_ab.json`` and ``.md``. Not a test module.
 """

@@ -127,10 +127,10 @@ KAPPA_FLOOR = 0.125
 #: default sub-pieces per raw piece at the finest level (a power of two): 7 raw pieces per leg
 #: of the obstacle-line planner, 2 of them still (kept one piece,
 #: :meth:`pmplan.planners.base.Planner.still_pieces`), give 22 pieces per leg. 4 rather than
-#: the 2 of benchmarks/refine_bench.py's length / time trade-off on the unit square: with the same steps
-#: the finer level costs about as much (the steps are split over the levels, the coarse ones
-#: cheap), and on the scene families in the box (rooms and swaps of 10 x 10 with 2, 4 and 8
-#: robots, r = 0.3, seeds 1, 2, 4; benchmarks/scenes_effort.py) it kept the radii on more
+#: the 2 of benchmarks/refine_bench.py's length / time trade-off on the unit square: with the
+#: same steps the finer level costs about as much (the steps are split over the levels, the
+#: coarse ones cheap), and on the scene families in the box (rooms and swaps of 10 x 10 with
+#: 2, 4 and 8 robots, r = 0.3, seeds 1, 2, 4; benchmarks/scenes_effort.py) it kept the radii on more
 #: queries in total at each n and on fewer in no row of 8 robots (rerun with the one-side lanes
 #: of 8 robots and the clearing-only steps: as many or more at each n, fewer in no row)
 DEFAULT_WAYPOINTS = 4
@@ -140,8 +140,10 @@ DEFAULT_STEPS = 56
 #: followed by as many clearing-only steps (:data:`PLANE_FINAL`). 72 rather than 56 since the
 #: refinement keeps the pieces that stand still one piece (the desingularization,
 #: :meth:`pmplan.planners.base.Planner.still_pieces`): 23 waypoints a leg rather than 29, and
-#: the time they saved spent on steps. Measured by benchmarks/still_ab.py (rooms and swaps of
-#: 10 x 10, r = 0.3, in the box; design seeds 11 and 12, held-out 30 and 31)
+#: the time they saved spent on steps. Measured by benchmarks/still_ab.py (the scene families
+#: in the box, r = 0.3, 100 queries per row; design seeds 11 and 12, held-out 30 and 31): with
+#: 8 robots 954 of 1,000 held-out plans keep the radii against 950 before, paths 1.5-4.5 %
+#: shorter in the plane, at about 4 ms per query (benchmarks/scenes_time.py)
 PLANE_STEPS = 72
 #: a crowd: more robots than this get the crowd's default effort (``CROWD_WAYPOINTS``,
 #: ``CROWD_STEPS``, ``SPACE_CROWD_STEPS``). The effort depends on d and n alone, which every
@@ -404,9 +406,10 @@ def _split_index(split: tuple) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def subdivide(wp: np.ndarray, split: tuple | None = None) -> np.ndarray:
-    """Insert the midpoint ``0.5 P_i + 0.5 P_{i+1}`` of every piece (of the pieces ``split``, a
-    bool per piece, when given: :func:`split_mask`): (B, K, P, d) -> (B, 2K-1, P, d). The path
-    is the same polyline (up to the rounding of the midpoints)."""
+    """Insert the midpoint ``0.5 P_i + 0.5 P_{i+1}`` of every piece: (B, K, P, d) -> (B, 2K-1,
+    P, d); with ``split`` (a bool per piece, :func:`split_mask`) of the pieces it marks only:
+    (B, K + their number, P, d). The path is the same polyline (up to the rounding of the
+    midpoints)."""
     b, k = wp.shape[:2]
     if split is None:
         out = np.empty((b, 2 * k - 1) + wp.shape[2:])
