@@ -231,11 +231,13 @@ def variants_row(fam: str, n: int, seed: int, count: int, variants: dict) -> dic
 def attribute_variants(module, variants: dict) -> dict:
     """The switches :func:`variants_row` takes for variants that set attributes of ``module``
     (constants a pmplan function reads at every call): ``variants`` maps a name to its
-    ``{attribute: value}``, the first pmplan's default."""
+    ``{attribute: value}``, the first pmplan's default; an attribute of another object (a
+    planner class's method) is keyed ``(object, attribute)``."""
     def switch(values: dict):
         def apply() -> None:
             for key, value in values.items():
-                setattr(module, key, value)
+                target, name = key if isinstance(key, tuple) else (module, key)
+                setattr(target, name, value)
         return apply
     return {name: switch(values) for name, values in variants.items()}
 

@@ -51,26 +51,22 @@ _STEPS = {"PLANE_STEPS": GRID.PLANE_STEPS, "CROWD_STEPS": GRID.CROWD_STEPS}
 _BEFORE = {"PLANE_STEPS": GRID.DEFAULT_STEPS, "CROWD_STEPS": 96}
 
 
+_DECLARED = (ObstacleLinePlanner, "still_pieces")
+
+
 def _none(self, r: int):
     return None
 
 
-def _switch(still, steps: dict):
-    def apply() -> None:
-        ObstacleLinePlanner.still_pieces = still
-        for key, value in steps.items():
-            setattr(GRID, key, value)
-    return apply
-
-
-#: name -> its switch; the first is pmplan's default
-VARIANTS = {"still": _switch(_STILL, _STEPS),
-            "still, steps before": _switch(_STILL, _BEFORE),
-            "cut, steps before": _switch(_none, _BEFORE)}
+#: name -> the attributes it sets (the grid's steps, the planner's declaration); the first is
+#: pmplan's default
+VARIANTS = {"still": {_DECLARED: _STILL, **_STEPS},
+            "still, steps before": {_DECLARED: _STILL, **_BEFORE},
+            "cut, steps before": {_DECLARED: _none, **_BEFORE}}
 
 
 def row(fam: str, n: int, seed: int, count: int) -> dict:
-    return scenes.variants_row(fam, n, seed, count, VARIANTS)
+    return scenes.variants_row(fam, n, seed, count, scenes.attribute_variants(GRID, VARIANTS))
 
 
 def markdown(res: dict) -> str:

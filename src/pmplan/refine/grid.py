@@ -54,6 +54,7 @@ __all__ = [
     "default_effort",
     "final_steps",
     "hold_levels",
+    "levels",
     "mobility",
     "overshoot",
     "pairs",
@@ -380,6 +381,26 @@ def _kept_cuts(pieces: int, s: int, still: tuple) -> np.ndarray:
         keep[j * s + 1:(j + 1) * s] = False
     keep.flags.writeable = False
     return keep
+
+
+def levels(times: np.ndarray, waypoints: int, steps: int, still=None) -> list[tuple]:
+    """The levels of :func:`schedule` on the breakpoints ``times`` (K,) or (B, K): per level
+    ``(split, steps, breakpoints)``, ``split`` the pieces :func:`subdivide` halves on the way
+    into the level (:func:`split_mask` of the level before; unused at the coarsest one, None
+    there), with pieces that stand still kept whole (``still``, :func:`piece_counts`). The
+    reference and the kernel both walk these.
+
+    >>> [(split, n, t.tolist()) for split, n, t in levels(np.array([0.0, 1.0, 3.0]), 2, 3,
+    ...                                                   (True, False))]
+    [(None, 2, [0.0, 1.0, 3.0]), ((False, True), 1, [0.0, 1.0, 2.0, 3.0])]
+    """
+    k = np.shape(times)[-1]
+    out, prev = [], None
+    for s, n_steps in schedule(waypoints, steps):
+        split = None if prev is None else split_mask(k, prev, still)
+        out.append((split, n_steps, subdivide_times(times, s, still)))
+        prev = s
+    return out
 
 
 def split_mask(k: int, s: int, still=None) -> tuple[bool, ...] | None:

@@ -24,13 +24,11 @@ from .grid import (
     chord_fraction,
     final_steps,
     hold_levels,
+    levels,
     mobility,
     overshoot,
     pairs,
-    schedule,
-    split_mask,
     subdivide,
-    subdivide_times,
 )
 
 __all__ = ["constants", "refine_batch"]
@@ -480,13 +478,10 @@ def _grids(times: np.ndarray, r: int, waypoints_per_piece: int, steps: int, b: i
         if hit is not None:
             return hit
     out = []
-    k, prev = times.shape[-1], 1
-    for s, n_steps in schedule(waypoints_per_piece, steps):
-        t = subdivide_times(times, s, still)
+    for split, n_steps, t in levels(times, waypoints_per_piece, steps, still):
         tb = t[None] if t.ndim == 1 else t
-        out.append((split_mask(k, prev, still), n_steps, t, np.ascontiguousarray(mobility(tb, r)),
+        out.append((split, n_steps, t, np.ascontiguousarray(mobility(tb, r)),
                     np.ascontiguousarray(chord_fraction(tb))))
-        prev = s
     if key is not None and len(_GRIDS) < 256:
         _GRIDS[key] = out
     return out

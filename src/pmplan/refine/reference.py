@@ -27,15 +27,13 @@ from .grid import (
     dot,
     final_steps,
     hold_levels,
+    levels,
     mobility,
     overshoot,
     pairs,
     piece_minima,
     push_points,
-    schedule,
-    split_mask,
     subdivide,
-    subdivide_times,
 )
 
 __all__ = ["clear_floor", "refine_paths"]
@@ -371,12 +369,9 @@ def refine_paths(times: np.ndarray, waypoints: np.ndarray, m: int, r: int, targe
     tgt = np.where(a >= m, target[:, :1], target[:, 1:2])  # (B, pairs)
     hold = hold_levels(x, a, b, tgt)
     t = times
-    k, prev = times.shape[-1], 1
-    for level, (s, n_steps) in enumerate(schedule(waypoints_per_piece, steps)):
+    for level, (split, n_steps, t) in enumerate(levels(times, waypoints_per_piece, steps, still)):
         if level:
-            x = subdivide(x, split_mask(k, prev, still))
-        prev = s
-        t = subdivide_times(times, s, still)
+            x = subdivide(x, split)
         tb = np.broadcast_to(t, x.shape[:2])
         mob = mobility(tb, r)
         frac = chord_fraction(tb)
