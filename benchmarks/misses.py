@@ -104,9 +104,12 @@ def markdown(res: dict) -> str:
              f"{res['count']} queries per row (the draws of the scene benchmark: seed 1 its "
              "design draw, 2 held out), pmplan's default plan in the box refined at "
              "radius = obstacle_radius = r/2. Every plan that misses the radii at the default "
-             "effort (waypoints/steps: n <= 8 {0[0]}/{0[1]}, n = 16 {1[0]}/{1[1]}), refined "
-             "again from the same raw plan at ".format(default_effort(8), default_effort(16))
-             + ", ".join(eff) + " (an effort equal to the default repeats it). *worst*: the smaller of the robot-robot "
+             "effort (waypoints/steps: "
+             + ", ".join(f"n = {n} {w}/{k}" for n in sorted({c["n"] for c in res["rows"]})
+                         for w, k in [default_effort(n)])
+             + "), refined again from the same raw plan at " + ", ".join(eff)
+             + " (an effort equal to the default repeats it). *worst*: the smaller of the "
+             "robot-robot "
              "and robot-obstacle distances over r (1: kept); *why*: the default plan's "
              "`radius_reason` (*gap*: it crosses a gap narrower than a robot, which no planner "
              "continuous on these domains avoids on every query, Mathematics §8; *robots*, "

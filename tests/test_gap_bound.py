@@ -51,3 +51,32 @@ def test_no_side_is_closed_when_the_gap_is_wide_enough(height):
 def test_the_bound_is_zero_when_obstacles_keep_away_from_the_walls():
     o, s, g = scenes.queries("room_walls", 4, 1, 3)[0]
     assert gap_bound.query_bound(o, s, g, BOX, scenes.WALL_GAP)["all"] == 0.0
+
+
+def test_the_committed_report_is_its_json_rewritten(tmp_path):
+    """``benchmarks/gap_bound.md`` is what ``--from-json`` writes from ``gap_bound.json``, byte
+    for byte: every number in it comes from the run, and the rows kept from an earlier run name
+    the command that wrote them."""
+    here = Path(gap_bound.__file__).parent
+    for ext in (".json", ".md"):
+        (tmp_path / ("g" + ext)).write_bytes((here / ("gap_bound" + ext)).read_bytes())
+    before = (tmp_path / "g.md").read_text()
+    assert gap_bound.main(["--from-json", "--out", str(tmp_path / "g")]) == 0
+    assert (tmp_path / "g.md").read_text() == before
+    assert "(held out)" in before and "written by `python benchmarks/gap_bound.py" in before
+
+
+def test_kept_rows_carry_their_file_and_command(tmp_path):
+    """``--keep`` reads a bare list of rows (the runs before the JSON kept its command) and a
+    run's ``{"argv", "rows"}``; a row kept twice keeps its first origin."""
+    import json
+
+    row = {"seed": 11, "family": "room", "n": 2}
+    bare, full = tmp_path / "bare.json", tmp_path / "full.json"
+    bare.write_text(json.dumps([row]))
+    full.write_text(json.dumps({"argv": ["--seeds", "11"],
+                                "rows": [row, dict(row, n=4, kept="old.json")]}))
+    assert gap_bound._kept_rows(bare) == [dict(row, kept=str(bare), kept_argv=None)]
+    got = gap_bound._kept_rows(full)
+    assert got[0] == dict(row, kept=str(full), kept_argv=["--seeds", "11"])
+    assert got[1] == dict(row, n=4, kept="old.json")
