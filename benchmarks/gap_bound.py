@@ -244,7 +244,8 @@ def markdown(rows: list, argv: list) -> str:
         by = {(r["seed"], r["family"], r["n"]): r for r in rows}
         out += ["", "pmplan's gap misses over the bound (all obstacles), per seed: 1 is as few "
                 "as the bound says any continuous planner expects (an expectation: a draw of "
-                "400 queries may fall below it); the rows whose bound is 0 are left out. Up "
+                f"{rows[0]['count']} queries may fall below it); the rows whose bound is 0 are "
+                "left out. Up "
                 f"to {CROWD_LANES - 1} robots pmplan's default section is the compact lanes, "
                 f"from {CROWD_LANES} on the one-side lanes.", "",
                 "| row | " + " | ".join(f"seed {x}" for x in seeds) + " |",
@@ -260,11 +261,12 @@ def markdown(rows: list, argv: list) -> str:
         for k in kept:
             ks = [r for r in rows if r.get("kept") == k]
             ns = ", ".join(str(n) for n in sorted({r["n"] for r in ks}))
-            seeds = ", ".join(str(x) for x in sorted({r["seed"] for r in ks}))
-            argv = next((r["kept_argv"] for r in ks if r.get("kept_argv")), None)
-            run = "" if argv is None else \
-                f", written by `python benchmarks/gap_bound.py {' '.join(argv)}`"
-            parts.append(f"n = {ns} (seeds {seeds}, {len(ks)} rows) from `{Path(k).name}`{run}")
+            from_seeds = ", ".join(str(x) for x in sorted({r["seed"] for r in ks}))
+            by_argv = next((r["kept_argv"] for r in ks if r.get("kept_argv")), None)
+            run = "" if by_argv is None else \
+                f", written by `python benchmarks/gap_bound.py {' '.join(by_argv)}`"
+            parts.append(f"n = {ns} (seeds {from_seeds}, {len(ks)} rows) from "
+                         f"`{Path(k).name}`{run}")
         out += ["", "Rows kept from an earlier run (`--keep`), not planned again: "
                 + "; ".join(parts) + "."]
     return "\n".join(out) + "\n"
