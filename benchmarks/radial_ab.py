@@ -33,9 +33,9 @@ valid plans, and a continuity probe on the first ``PROBES`` queries: every point
 times a uniform vector in [-1, 1]^2 for delta = 1e-6, 1e-9, 1e-12 (the same moves for both
 variants), ``K = sup change / delta`` of the refined waypoints, its largest value and the probes
 above 1e3 (label changes are not left out: both variants see the same moves). Seeds 11 and 12
-are the design seeds of pmplan's defaults, 30 and 31 held out; the variant was tried on 200
-queries of seeds 11 and 12 (room, swap with 4 and 8 robots) before this script was written, and
-has no parameter.
+are the design seeds of pmplan's defaults, 30 and 31 held out from them; the radial variant has
+no parameter, so nothing was chosen on any seed (a prototype of it ran on 200 queries of seeds
+11, 12, 30 and 31 before this script was written).
 
 Writes ``benchmarks/radial_ab.json`` and ``.md``. Not a test module.
 """
