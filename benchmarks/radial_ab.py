@@ -98,19 +98,16 @@ def refined(o, s, g, variant: str):
     zo, zs, zg = (out_of(np.asarray(a, dtype=float)) for a in (o, s, g))
     name = default_planner(2, n, m, refining=True)
     raw = pmplan.plan(zo, zs, zg, planner=name, lift=2 * RADIUS)
-    wb = into(raw.path.waypoints)
-    wb[:, :m] = o  # the obstacles and the endpoints exactly (as pmplan restores them)
-    wb[0, m:] = s
-    wb[-1, m:] = g
-    wb = wb[None]
+    times = raw.path.times
+    wb = into(raw.path.waypoints)[None]
+    fixed = [0, len(times) - 1]  # the obstacles and the endpoints exactly, as pmplan's are
+    workspace.restore(wb, m, fixed, [s, g], np.asarray(o)[None])
     clr = clearance(wb, m)
     if not clr[0] > 0:
         return None
     w, steps = default_effort(n, 2)
-    still = REGISTRY[name].still_pieces(2)
-    stage = RefineStage(raw.path.times, wb, clr, m, [0, len(raw.path.times) - 1], RADIUS,
-                        RADIUS, w, steps, None, box=BOX,
-                        still=None if still is None else tuple(still))
+    stage = RefineStage(times, wb, clr, m, fixed, RADIUS, RADIUS, w, steps, None, box=BOX,
+                        still=REGISTRY[name].still_for(times))
     run_stage(stage, progress=False, workers=1)
     return stage
 
