@@ -15,9 +15,10 @@ import pytest
 import pmplan
 from pmplan import io
 from pmplan.cli import main
-from pmplan.planners.base import CROWD_LANES, default_planner
+from pmplan.planners.base import CROWD_LANES, WALL_LANES, default_planner
 
 ONESIDE, COMPACT = "obstacle_line_oneside", "obstacle_line_compact"
+WALLS = "obstacle_line_walls"
 RADIUS = 0.01
 
 
@@ -39,34 +40,40 @@ def test_default_planner_by_robot_count_and_refinement(d, m):
             assert refined == (ONESIDE if n >= CROWD_LANES and d == 2 else raw)
             chosen = pmplan.choose_planner(d, n, m, sequential=sequential, refining=True)
             assert chosen.name == refined
+            # in a box (Mathematics §8, "The side of the lanes"): the wall side from WALL_LANES
+            boxed = default_planner(d, n, m, sequential, refining=True, bounded=True)
+            assert boxed == (WALLS if n >= WALL_LANES and d == 2 else refined)
+            assert default_planner(d, n, m, sequential, bounded=True) == raw
             assert pmplan.choose_planner(d, n, m, COMPACT, refining=True).name == COMPACT
 
 
 @pytest.mark.parametrize("bounds", [None, (-1.0, 11.0)])
 def test_every_function_refines_a_crowd_with_the_one_side_lanes(bounds):
     """plan, plan_batch, plan_sequence and plan_sequence_batch (in R^d and in a box): refined,
-    a crowd gets the one-side lanes -- the refinement of the one-side raw plan at the
-    refined plan's unit (the robots' diameter), bit for bit; raw, or fewer robots, or a named
-    planner: as before."""
+    a crowd gets the one-side lanes (in a box in the plane on the wall side) -- the refinement
+    of that raw plan at the refined plan's unit (the robots' diameter), bit for bit; raw, or
+    fewer robots (in R^d), or a named planner: as before."""
     o, s, g = _query(CROWD_LANES)
     kw = dict(refine=True, radius=RADIUS, bounds=bounds)
+    lanes = ONESIDE if bounds is None else WALLS
     got = pmplan.plan(o, s, g, **kw)
-    want = pmplan.refine(pmplan.plan(o, s, g, planner=ONESIDE, lift=2 * RADIUS, bounds=bounds),
+    want = pmplan.refine(pmplan.plan(o, s, g, planner=lanes, lift=2 * RADIUS, bounds=bounds),
                          radius=RADIUS)
-    assert got.planner == ONESIDE and got.domain == want.domain
+    assert got.planner == lanes and got.domain == want.domain
     np.testing.assert_array_equal(got.path.waypoints, want.path.waypoints)
     assert pmplan.plan(o, s, g, bounds=bounds).planner == COMPACT
     assert pmplan.plan(o, s, g, planner=COMPACT, **kw).planner == COMPACT
-    assert pmplan.plan(o, s[1:], g[1:], **kw).planner == COMPACT  # CROWD_LANES - 1 robots
+    fewer = COMPACT if bounds is None else WALLS  # CROWD_LANES - 1 robots
+    assert pmplan.plan(o, s[1:], g[1:], **kw).planner == fewer
     o3, s3, g3 = _query(CROWD_LANES, d=3)
     space = None if bounds is None else (-1.0, 11.0)
     assert pmplan.plan(o3, s3, g3, refine=True, radius=RADIUS, bounds=space).planner == COMPACT
     batch = pmplan.plan_batch(o[None], s[None], g[None], **kw)
-    assert batch.planner == ONESIDE
+    assert batch.planner == lanes
     np.testing.assert_array_equal(batch.waypoints[0], got.path.waypoints)
     seq = pmplan.plan_sequence(o, [s, g, s], **kw)
     seqs = pmplan.plan_sequence_batch(o[None], [s[None], g[None], s[None]], **kw)
-    assert seq.planner == seqs.planner == ONESIDE
+    assert seq.planner == seqs.planner == lanes
     np.testing.assert_array_equal(seqs.waypoints[0], seq.path.waypoints)
     assert pmplan.plan_sequence(o, [s, g, s], bounds=bounds).planner == COMPACT
 
@@ -107,3 +114,6 @@ def test_the_faces_plan_a_refined_crowd_as_the_library_does(tmp_path, capsys):
     assert io.with_defaults(dict(parsed, planner=COMPACT), {"radius": RADIUS})["planner"] \
         == COMPACT
     assert "planner" not in io.with_defaults(parsed, None)
+    # a query with a box: the wall side, as pmplan.plan(..., bounds=, refine=True) takes it
+    boxed = dict(parsed, bounds=np.array([-1.0, 11.0]))
+    assert io.with_defaults(boxed, {"radius": RADIUS})["planner"] == WALLS

@@ -592,8 +592,8 @@ BAD_BATCH_JSON = {
     "via shape": ([dict(QUERY, via=[[[1, 2], [3, 2]]]), dict(QUERY2, via=[[[1, 2, 0], [3, 2, 0]]])],
                   "query 1 has via[0] of shape (2, 3)"),
     "via planner": ([dict(QUERY, via=[[[1, 2], [3, 2]]], planner="planar_three")] * 2,
-                    "planned by the obstacle_line, obstacle_line_compact, obstacle_line_shared "
-                    "or obstacle_line_oneside planner"),
+                    "planned by the obstacle_line, obstacle_line_compact, obstacle_line_shared, "
+                    "obstacle_line_oneside or obstacle_line_walls planner"),
     "empty list": ([], "holds an empty list"),
 }
 

@@ -196,8 +196,12 @@ def test_two_robots_pressed_together_in_a_gap_no_robot_passes():
 
 
 def test_a_plan_gives_its_reason_in_the_api_the_json_and_the_cli(capsys, tmp_path):
+    """A room whose compact lanes cross the gap between o6 and the wall y = 0 (the default in
+    the box, the wall side, passes on the side with room and keeps the radii)."""
     o, s, g = (np.array(ROOM[k]) for k in ("obstacles", "start", "goal"))
-    kw = dict(refine=True, radius=0.15, obstacle_radius=0.15)
+    assert pmplan.plan(o, s, g, bounds=(0, 10), refine=True, radius=0.15,
+                       obstacle_radius=0.15).respects_radius
+    kw = dict(refine=True, radius=0.15, obstacle_radius=0.15, planner="obstacle_line_compact")
     boxed = pmplan.plan(o, s, g, bounds=(0, 10), **kw)
     assert not boxed.respects_radius
     assert boxed.radius_reason == radius_reason(boxed.path.times, boxed.path.waypoints, 6,
@@ -224,12 +228,12 @@ def test_a_plan_gives_its_reason_in_the_api_the_json_and_the_cli(capsys, tmp_pat
     assert fields["between"] == list(miss.between) and fields["distance"] == miss.distance
     assert plan_to_dict(free)["radius_miss"] is None
     path = tmp_path / "room.json"
-    path.write_text(json.dumps({**ROOM, "bounds": [0, 10]}))
+    path.write_text(json.dumps({**ROOM, "bounds": [0, 10], "planner": kw["planner"]}))
     assert cli.main(["plan", str(path), "--refine", "--radius", "0.15",
                             "--obstacle-radius", "0.15"]) == 0
     assert json.loads(capsys.readouterr().out)["radius_reason"] == boxed.radius_reason
     queries = tmp_path / "rooms.json"
-    queries.write_text(json.dumps([{**ROOM, "bounds": [0, 10]}] * 2))
+    queries.write_text(json.dumps([{**ROOM, "bounds": [0, 10], "planner": kw["planner"]}] * 2))
     assert cli.main(["batch", str(queries), "--out", str(tmp_path / "out.npz"),
                             "--refine", "--radius", "0.15", "--obstacle-radius", "0.15",
                             "--no-progress"]) == 0

@@ -344,8 +344,8 @@ def test_demo_draws_raw_and_refined_side_by_side(tmp_path, capsys, monkeypatch):
     assert [int(r[1].removeprefix("W_")) for r in rows if r[0] == "obstacle_line_compact"] \
         == list(labels)
     # the crowded room, last: the plan pmplan.plan(..., refine=True) returns for 8 robots in the
-    # plane (the one-side lanes) and the raw plan it refines
-    assert rows[-1][0] == "obstacle_line_oneside" == drawn[-1].planner == drawn[-2].planner
+    # plane in its box (the one-side lanes on the wall side) and the raw plan it refines
+    assert rows[-1][0] == "obstacle_line_walls" == drawn[-1].planner == drawn[-2].planner
     from pmplan.examples import ROOM_GAP, crowded_room
 
     o, s, g, bounds = crowded_room()

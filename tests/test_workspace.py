@@ -230,10 +230,13 @@ def test_sequences_in_a_box():
 @pytest.mark.parametrize("delta", [1e-6, 1e-9, 1e-12])
 def test_plans_in_a_box_are_continuous(delta):
     """The map and its inverse are continuous (C^1 with slopes at most 1 into the box): a
-    move of the query moves the boxed path by about what it moves the free one."""
+    move of the query moves the boxed path by about what it moves the free one. (The refined
+    default in a box in the plane takes the wall side, Mathematics §8: a move that keeps the
+    label keeps the side.)"""
     rng = np.random.default_rng(9)
     o, s, g = _inside_queries(rng, 30, 4, 4)
     a = pmplan.plan_batch(o, s, g, bounds=(0, 10), refine=True, radius=0.05)
+    assert a.planner == "obstacle_line_walls"
     move = [delta * rng.uniform(-1, 1, x.shape) for x in (o, s, g)]
     b = pmplan.plan_batch(*(x + v for x, v in zip((o, s, g), move)), bounds=(0, 10),
                           refine=True, radius=0.05)
@@ -253,7 +256,8 @@ def test_refined_plans_keep_the_radius_from_the_walls():
     assert np.array_equal(b.respects_radius, kept & ok)
     assert b.respects_radius.sum() >= 30
     assert W.inside(b.waypoints, BOX).all()
-    raw = pmplan.plan_batch(o, s, g, bounds=(0, 10), lift=2 * r)  # (the default unit, refined)
+    # (the default unit and planner, refined)
+    raw = pmplan.plan_batch(o, s, g, bounds=(0, 10), lift=2 * r, planner=b.planner)
     again = pmplan.refine(raw, radius=r, obstacle_radius=r)  # the raw batch carries its box
     assert np.array_equal(again.waypoints, b.waypoints) and (again.bounds == BOX).all()
 

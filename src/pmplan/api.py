@@ -57,12 +57,15 @@ def plan_batch(
         :func:`pmplan.scale.plan_batch`: the PlanBatch then holds dask arrays.
     planner : str, optional
         A name of :func:`planner_names`: ``"obstacle_line"`` (the paper's lanes),
-        ``"obstacle_line_compact"``, ``"obstacle_line_shared"``, ``"obstacle_line_oneside"``
-        or ``"planar_three"``. Default chosen from (d, n, m)
+        ``"obstacle_line_compact"``, ``"obstacle_line_shared"``, ``"obstacle_line_oneside"``,
+        ``"obstacle_line_walls"`` or ``"planar_three"``. Default chosen from (d, n, m)
         (:func:`~pmplan.checks.choose_planner`): ``planar_three`` for (2, 1, 3),
         ``obstacle_line_compact`` otherwise, but ``obstacle_line_oneside`` for a refined plan
         of at least :data:`pmplan.planners.base.CROWD_LANES` robots in the plane
-        (Mathematics §8, "Crowds").
+        (Mathematics §8, "Crowds") and, with ``bounds``, ``obstacle_line_walls`` for a refined
+        plan of at least :data:`pmplan.planners.base.WALL_LANES` robots in the plane (the
+        one-side lanes on the side the walls leave the most room, Mathematics §8, "The side of
+        the lanes").
     lift : float or "scene", optional
         The unit of the motion (the spacing of the lanes of the obstacle-line planners, the 1
         of ``H`` and ``s3`` in the planar one). Default: for a refined plan (``refine=True``

@@ -57,26 +57,29 @@ def check_sequential(planner: str | None) -> None:
 
 def planner_names() -> list[str]:
     """Return the registered planner names, sorted: ``obstacle_line``,
-    ``obstacle_line_compact``, ``obstacle_line_oneside``, ``obstacle_line_shared`` and
-    ``planar_three``."""
+    ``obstacle_line_compact``, ``obstacle_line_oneside``, ``obstacle_line_shared``,
+    ``obstacle_line_walls`` and ``planar_three``."""
     return sorted(REGISTRY)
 
 
 def choose_planner(d: int, n: int, m: int, planner: str | None = None,
-                   sequential: bool = False, refining: bool = False) -> Planner:
+                   sequential: bool = False, refining: bool = False,
+                   bounded: bool = False) -> Planner:
     """Return the planner for (d, n, m): the named one, or the default.
 
     The default is ``planar_three`` (paper Section 4) for (d, n, m) = (2, 1, 3) and
     ``obstacle_line_compact`` (paper Section 3 and Mathematics §4, with the compact lanes of
-    Mathematics §4.4) for every other m >= 2, but ``obstacle_line_oneside`` for a plan to be
-    refined (``refining``) of at least :data:`~pmplan.planners.base.CROWD_LANES` robots in
-    the plane; ``obstacle_line`` is the paper's. With ``sequential`` (a query through intermediate
-    configurations) the default is the sequential planner of (d, n, m)
+    Mathematics §4.4) for every other m >= 2, but for a plan to be refined (``refining``) in
+    the plane ``obstacle_line_walls`` in a workspace box (``bounded``) from
+    :data:`~pmplan.planners.base.WALL_LANES` robots on, else ``obstacle_line_oneside`` from
+    :data:`~pmplan.planners.base.CROWD_LANES` robots on; ``obstacle_line`` is the paper's.
+    With ``sequential`` (a query through intermediate configurations) the default is the sequential planner of (d, n, m)
     (:func:`~pmplan.planners.base.default_planner`); the caller checks a named one with
     ``check_sequential``.
     """
     if planner is None:
-        planner = default_planner(d, n, m, sequential=sequential, refining=refining)
+        planner = default_planner(d, n, m, sequential=sequential, refining=refining,
+                                  bounded=bounded)
     if planner not in REGISTRY:
         raise UnsupportedError(
             f"unknown planner {planner!r}; choose one of {', '.join(planner_names())}"

@@ -164,7 +164,7 @@ def _version() -> str:
 def build_parser() -> argparse.ArgumentParser:
     """Return the argument parser of ``pmplan``."""
     from .checks import planner_names
-    from .planners.base import CROWD_LANES
+    from .planners.base import CROWD_LANES, WALL_LANES
 
     parser = _Parser(
         prog="pmplan",
@@ -180,7 +180,8 @@ def build_parser() -> argparse.ArgumentParser:
     planner_help = ("planner name (default: chosen from d, n, m: planar_three for one robot "
                     "among three obstacles in the plane, obstacle_line_compact otherwise, "
                     f"obstacle_line_oneside for --refine with {CROWD_LANES} robots or more in "
-                    "the plane; "
+                    f"the plane, obstacle_line_walls for --refine with --bounds and {WALL_LANES} "
+                    "robots or more in the plane; "
                     "obstacle_line: the paper's lanes)")
 
     _parser_plan(sub, names, planner_help)
@@ -630,8 +631,8 @@ def _crowded_room_demo():
     """The crowded room of the demo (:func:`pmplan.examples.crowded_room`) in its box: the
     refined plan ``pmplan.plan(..., refine=True)`` returns for robots and obstacles of radius
     half the room's required distance, and the raw plan it refines (the planner and the unit a
-    refined plan takes by default: for 8 robots in the plane the one-side lanes, the robots'
-    diameter)."""
+    refined plan takes by default: for 8 robots in a box in the plane the one-side lanes on the
+    wall side, the robots' diameter)."""
     from . import api
     from .examples import ROOM_GAP, crowded_room
     from .io import with_defaults

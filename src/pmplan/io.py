@@ -59,7 +59,8 @@ def with_defaults(query: dict, refine: dict | None) -> dict:
     ``"planner"``, else those of a plan refined with the keywords ``refine`` (of
     :func:`pmplan.refine`; None: a raw plan), as the planning functions choose them
     (``pmplan.configuration.default_lift``; ``pmplan.checks.choose_planner``, whose default
-    for a refined crowd is ``obstacle_line_oneside``). The faces (``pmplan plan``, ``pmplan
+    for a refined crowd is ``obstacle_line_oneside``, in a workspace box from
+    ``WALL_LANES`` = 2 robots on ``obstacle_line_walls``). The faces (``pmplan plan``, ``pmplan
     batch``, ``pmplan explore``) plan raw, then refine: this gives their raw plan the unit and
     the planner ``pmplan.plan(..., refine=True)`` would use. ``query`` holds arrays
     (:func:`parse_query`, :func:`read_queries`: one query or a batch). The radii are checked
@@ -73,7 +74,8 @@ def with_defaults(query: dict, refine: dict | None) -> dict:
         except (ValueError, IndexError):  # malformed: the planning function says how
             return out
         if out_of_scope(d, n, m) is None:  # (else the planning function says why)
-            out["planner"] = default_planner(d, n, m, "via" in query, refining=True)
+            out["planner"] = default_planner(d, n, m, "via" in query, refining=True,
+                                             bounded=query.get("bounds") is not None)
     return out
 
 

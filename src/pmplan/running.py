@@ -41,6 +41,7 @@ from .refine import (
     subdivide_times,
 )
 from .results import Plan, PlanBatch, extra_row
+from .sides import mirror, wall_sides
 from .workspace import (
     BAND,
     check_bounds,
@@ -530,12 +531,24 @@ def _raw_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers, 
     """The raw plans of queries in a workspace box: ``(box, res)``, the box checked, every
     point checked strictly inside it, the queries mapped out of it by
     :func:`~pmplan.workspace.from_box_linear` and planned in R^d (``res`` of
-    :func:`run_loop`)."""
+    :func:`run_loop`). A planner that declares
+    :attr:`~pmplan.planners.base.Planner.wall_side` plans, in the plane, the queries
+    :func:`~pmplan.sides.wall_sides` flips mirrored (the planner with ``-nu(e)``), their plans
+    mirrored back, and a query on the wall of sides gets its label one less (Mathematics §8,
+    "The side of the lanes")."""
     box = check_bounds(bounds, obstacles.shape[2])
     check_inside(obstacles, configs, box, batched=batched)
     out_of = backends.select(backend).from_box_linear
-    res = run_loop(p, out_of(obstacles, box, BAND), [out_of(c, box, BAND) for c in configs],
-                   lift, batched=batched, progress=progress, backend=backend, workers=workers)
+    z_obstacles, z_configs = out_of(obstacles, box, BAND), [out_of(c, box, BAND) for c in configs]
+    flip = None
+    if p.wall_side and obstacles.shape[2] == 2:  # (the side of the lanes, Mathematics §8)
+        flip, wall = wall_sides(obstacles, z_obstacles, z_configs, box)
+        z_obstacles, z_configs = mirror(z_obstacles, flip), [mirror(c, flip) for c in z_configs]
+    res = run_loop(p, z_obstacles, z_configs, lift, batched=batched, progress=progress,
+                   backend=backend, workers=workers)
+    if flip is not None:
+        res["waypoints"] = mirror(res["waypoints"], flip)
+        res["domain"][wall] -= 1
     return box, res
 
 
@@ -553,7 +566,7 @@ def _prepare(obstacles, configs, planner, backend, sequential: bool, bounds,
         _, m, d = obstacles.shape
         n = start.shape[1]
         try:
-            p = choose_planner(d, n, m, planner, refining=refining)
+            p = choose_planner(d, n, m, planner, refining=refining, bounded=bounds is not None)
             check_backend(backend)
         except PmplanError:  # an invalid query is reported first, as always
             check_query(obstacles, start, goal, batched=True)
@@ -567,7 +580,8 @@ def _prepare(obstacles, configs, planner, backend, sequential: bool, bounds,
         obstacles, configs = check_sequence(obstacles, configs, batched=True)
         _, m, d = obstacles.shape
         n = configs[0].shape[1]
-        p = choose_planner(d, n, m, planner, sequential=True, refining=refining)
+        p = choose_planner(d, n, m, planner, sequential=True, refining=refining,
+                           bounded=bounds is not None)
         check_backend(backend)
         deferred = False
     return p, obstacles, configs, deferred

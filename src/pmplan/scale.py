@@ -328,7 +328,8 @@ def _lazy(obstacles, configs, names, planner, lift, backend, workers, sequential
                              f"({c.shape[0]}, {n}, {d})")
     if sequential:
         check_sequential(planner)
-    p = choose_planner(d, n, m, planner, sequential=sequential, refining=refine is not None)
+    p = choose_planner(d, n, m, planner, sequential=sequential, refining=refine is not None,
+                       bounded=bounds is not None)
     box = _box(bounds, d)  # checked now
     width = None
     if _needs_width(p, len(configs), box, refine):  # the shapes of plans in a box: a first pass
@@ -950,7 +951,8 @@ def plan_store(source, out, *, planner: str | None = None, lift: float | str | N
     r = k + 2
     if r > 2:
         check_sequential(planner)
-    p = choose_planner(d, n, m, planner, sequential=r > 2, refining=refine is not None)
+    p = choose_planner(d, n, m, planner, sequential=r > 2, refining=refine is not None,
+                       bounded=bounds is not None)
     nchunks = -(-b // chunk)
     box = _box(bounds, d)
     box = None if box is None else box.tolist()

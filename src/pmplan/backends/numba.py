@@ -23,6 +23,7 @@ from ..planners.obstacle_line import (
     OBSTACLE_LINE_COMPACT,
     OBSTACLE_LINE_ONESIDE,
     OBSTACLE_LINE_SHARED,
+    OBSTACLE_LINE_WALLS,
     path_times,
 )
 from ..planners.planar_three import PLANAR_THREE
@@ -258,7 +259,8 @@ def _obstacle_line_glue(planner) -> tuple:
 #: planner under the same name gets none): (arrays, kernel, validates, single, sequence)
 PLANNERS = {
     **{p: _obstacle_line_glue(p) for p in (OBSTACLE_LINE, OBSTACLE_LINE_COMPACT,
-                                           OBSTACLE_LINE_SHARED, OBSTACLE_LINE_ONESIDE)},
+                                           OBSTACLE_LINE_SHARED, OBSTACLE_LINE_ONESIDE,
+                                           OBSTACLE_LINE_WALLS)},
     PLANAR_THREE: (_planar_arrays, _planar_kernel, _planar_validates, _planar_single, None),
 }
 

@@ -19,8 +19,10 @@ from .obstacle_line import (
     OBSTACLE_LINE_COMPACT,
     OBSTACLE_LINE_ONESIDE,
     OBSTACLE_LINE_SHARED,
+    OBSTACLE_LINE_WALLS,
 )
 from .planar_three import PLANAR_THREE
 
 __all__ = ["REGISTRY", "Planner", "RawPlan", "OBSTACLE_LINE", "OBSTACLE_LINE_COMPACT",
-           "OBSTACLE_LINE_ONESIDE", "OBSTACLE_LINE_SHARED", "PLANAR_THREE", "default_planner"]
+           "OBSTACLE_LINE_ONESIDE", "OBSTACLE_LINE_SHARED", "OBSTACLE_LINE_WALLS", "PLANAR_THREE",
+           "default_planner"]

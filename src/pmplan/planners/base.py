@@ -26,7 +26,7 @@ from .. import backends
 from ..errors import UnsupportedError
 from ..path import PiecewiseLinearPath
 
-__all__ = ["CROWD_LANES", "RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage",
+__all__ = ["CROWD_LANES", "WALL_LANES", "RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage",
            "default_planner", "lift_code", "out_of_scope", "register", "scene_unit",
            "spec_of_class", "unit"]
 
@@ -45,6 +45,14 @@ SCENE_CODE = 0.0
 #: steps as steps (:data:`pmplan.refine.PLANE_FINAL`), which clear the contacts the one-side
 #: lanes left with 8 robots
 CROWD_LANES = 8
+
+#: from this many robots a refined plan's default planner in a workspace box in the plane is
+#: the one that declares :attr:`Planner.wall_side` (:func:`default_planner`): its lanes, all on
+#: one side of the obstacles' line, take the side where the walls leave the obstacles the most
+#: room (:mod:`pmplan.sides`, Mathematics §8, "The side of the lanes"); with 2 robots, as with
+#: more, they kept the radii on more plans than the compact lanes, at a median paired length
+#: within 1 % (``benchmarks/sides_ab.py``); one robot keeps the default of (d, 1, m)
+WALL_LANES = 2
 
 
 def lift_code(lift) -> float:
@@ -131,6 +139,11 @@ class Planner:
     #: the default instead, where it supports (d, n, m), for a refined plan of at least
     #: :data:`CROWD_LANES` robots in the plane (:func:`default_planner`)
     crowd: ClassVar[bool] = False
+    #: in a workspace box in the plane the lanes take the side of the obstacles' line that
+    #: :func:`pmplan.sides.wall_sides` chooses (the query mirrored, planned, the plan mirrored
+    #: back: the planner with ``-nu(e)``); the default, where it supports (d, n, m), for a
+    #: refined plan of at least :data:`WALL_LANES` robots in a box in the plane
+    wall_side: ClassVar[bool] = False
 
     # --- what the planner covers ---------------------------------------------------------
     def supports(self, d: int, n: int, m: int) -> str | None:
@@ -337,21 +350,26 @@ def out_of_scope(d: int, n: int, m: int, r: int = 2) -> str | None:
 
 
 def default_planner(d: int, n: int, m: int, sequential: bool = False,
-                    refining: bool = False) -> str:
+                    refining: bool = False, bounded: bool = False) -> str:
     """The name of the default planner for (d, n, m): among the registered planners that
     support it (and, for a sequence of configurations, are :attr:`~Planner.sequential`), the one of
     highest :attr:`~Planner.priority` -- ``planar_three`` (paper Section 4) for (2, 1, 3),
     ``obstacle_line_compact`` (paper Section 3 and Mathematics §4.4) otherwise -- but for a
-    plan to be refined (``refining``) of at least :data:`CROWD_LANES` robots in the plane the
-    one that declares :attr:`~Planner.crowd` (``obstacle_line_oneside``; Mathematics §8,
-    "Crowds"). Each is one section on all the queries of its (d, n, m), so the plans stay
-    continuous on its domains. When none supports (d, n, m), the most general one (lowest priority), whose
-    :meth:`~Planner.supports` then says why."""
+    plan to be refined (``refining``) in the plane: in a workspace box (``bounded``) of at
+    least :data:`WALL_LANES` robots the one that declares :attr:`~Planner.wall_side`
+    (``obstacle_line_walls``; Mathematics §8, "The side of the lanes"), else of at least
+    :data:`CROWD_LANES` robots the one that declares :attr:`~Planner.crowd`
+    (``obstacle_line_oneside``; Mathematics §8, "Crowds"). Each is one section on all the
+    queries of its (d, n, m), so the plans stay continuous on its domains. When none supports
+    (d, n, m), the most general one (lowest priority), whose :meth:`~Planner.supports` then
+    says why."""
     pool = [p for p in REGISTRY.values() if p.sequential or not sequential]
     fit = [p for p in pool if p.supports(d, n, m) is None]
-    crowd = [p for p in fit if p.crowd] if refining and d == 2 and n >= CROWD_LANES else []
-    if crowd:
-        return crowd[0].name
+    plane = refining and d == 2
+    walls = [p for p in fit if p.wall_side] if plane and bounded and n >= WALL_LANES else []
+    crowd = [p for p in fit if p.crowd] if plane and n >= CROWD_LANES else []
+    if walls or crowd:
+        return (walls or crowd)[0].name
     if fit:
         return max(fit, key=lambda p: p.priority).name
     return min(pool, key=lambda p: p.priority).name

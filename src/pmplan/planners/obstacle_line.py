@@ -66,7 +66,10 @@ __all__ = [
     "OBSTACLE_LINE_COMPACT",
     "OBSTACLE_LINE_ONESIDE",
     "OBSTACLE_LINE_SHARED",
+    "OBSTACLE_LINE_WALLS",
+    "OneSideLinePlanner",
     "SharedLinePlanner",
+    "WallsLinePlanner",
     "lane_heights",
     "lane_chains",
 ]
@@ -490,10 +493,40 @@ class OneSideLinePlanner(CompactLinePlanner):
     )
     shared = 1
     priority = 0
+    #: the default of a refined plan of at least
+    #: :data:`pmplan.planners.base.CROWD_LANES` robots in the plane without a box
+    #: (:func:`pmplan.planners.base.default_planner`)
     crowd = True
+
+
+class WallsLinePlanner(OneSideLinePlanner):
+    """The one-side lanes on the side the walls leave the most room (Mathematics §8, "The side
+    of the lanes"): without a workspace box, :class:`OneSideLinePlanner` itself; in a box in
+    the plane, the lanes of a query take the side of ``-nu(e)`` where
+    :func:`pmplan.sides.wall_sides` says so (the query mirrored, planned with these lanes, the
+    plan mirrored back), and a query on the wall between the two sides has its label one less.
+    The domains are those of :class:`CompactLinePlanner` cut along that wall, with the same
+    number of labels, so it is optimal too (Mathematics §8 proves it). In the scene
+    families' rooms, whose obstacles may sit near a wall, the lanes then cross a gap too narrow
+    for a robot on few queries (``benchmarks/sides_ab.py``): the default of a refined plan of at
+    least :data:`~pmplan.planners.base.WALL_LANES` robots in a box in the plane."""
+
+    name = "obstacle_line_walls"
+    summary = (
+        "the one-side lanes (Mathematics §4.4), in a workspace box on the side of the line o1o2 "
+        "where the walls leave the obstacles the most room (Mathematics §8): the same number "
+        "of domains, cut along the wall between the sides"
+    )
+    #: not the default of a refined crowd without a box (``obstacle_line_oneside`` is,
+    #: :func:`pmplan.planners.base.default_planner`)
+    crowd = False
+    #: in a box in the plane, the side :func:`pmplan.sides.wall_sides` chooses; the default
+    #: of a refined plan of at least :data:`pmplan.planners.base.WALL_LANES` robots there
+    wall_side = True
 
 
 OBSTACLE_LINE = register(ObstacleLinePlanner())
 OBSTACLE_LINE_COMPACT = register(CompactLinePlanner())
 OBSTACLE_LINE_SHARED = register(SharedLinePlanner())
 OBSTACLE_LINE_ONESIDE = register(OneSideLinePlanner())
+OBSTACLE_LINE_WALLS = register(WallsLinePlanner())
