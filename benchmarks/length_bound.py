@@ -32,7 +32,10 @@ family, then it or its mirror image with equal chances), not on the family's law
 family is not symmetric under the mirror, but a planner continuous on these domains cannot tell
 ``q`` from ``q*`` by any choice it keeps along the move.
 
-Beside it, on the same pairs: pmplan's default plan in the box (``scenes.refined_in_box``) and,
+Beside it, on the same pairs: pmplan's refined plan in the box with its default's section on
+these domains (``scenes.refined_on_domains``: the compact lanes, the one-side lanes from 8
+robots; pmplan's default in a box, ``obstacle_line_walls``, has its domains cut along the wall
+of sides, which the mirror move crosses, so the bound does not bind it) and,
 with ``--ompl``, OMPL RRTConnect (as ``scenes_compare.py``: simplified, exact motion validator,
 one run per query). ``q*`` may bring two points closer than the radii (the map into the box
 compresses the band along the walls); such pairs count for the bound but not in the planners'
@@ -172,7 +175,7 @@ def query_row(o, s, g, ompl=None) -> dict:
     out = {"bound": bound}
     for name, (oo, ss, gg) in (("q", q), ("mirror", q_star)):
         try:  # the map into the box may bring q*'s points closer than the radii
-            out[f"pmplan_{name}"] = _len_lb(scenes.refined_in_box(oo, ss, gg), ss, gg)
+            out[f"pmplan_{name}"] = _len_lb(scenes.refined_on_domains(oo, ss, gg), ss, gg)
         except pmplan.PmplanError:
             out[f"pmplan_{name}"] = float("nan")
         if ompl is not None:
@@ -233,7 +236,11 @@ def markdown(res: dict) -> str:
               "wrong), mean over the row +- one standard error; *> 1*: the share of queries "
               "whose bound exceeds the straight lines. Then over the pairs that every planner "
               "of the table solves (q* may bring points closer than the radii): the bound, "
-              "pmplan's default plan in the box (refined, radius = obstacle_radius = r/2)"
+              "pmplan's refined plan in the box with its default's section on these domains "
+              "(radius = obstacle_radius = r/2; the compact lanes, the one-side lanes from 8 "
+              "robots: pmplan's default in a box, `obstacle_line_walls`, has its domains cut "
+              "along the wall of sides, which the mirror move crosses, so the bound does not "
+              "bind it, Mathematics §8, \"The side of the lanes\")"
               + (", OMPL RRTConnect (one run per query)" if ompl else "") + ", means over "
               "the pairs of len/LB averaged over q and q*, and the pairs where pmplan's mean "
               "is below the bound: its refined box plans start from the chords of the mapped "

@@ -12,9 +12,10 @@ the refinement's effort (``waypoints``, ``steps`` of :func:`pmplan.refine`). On 
 scene families of ``benchmarks/scenes.py`` (box [0, 10]^d, r = 0.3, 16 queries per row), every
 setting is measured on the same queries:
 
-* *pmplan, effort (w, s)*: ``pmplan.refine(pmplan.plan(o, s, g, bounds=(0, 10), lift=r),
-  radius=r/2, obstacle_radius=r/2, waypoints=w, steps=s)`` (``lift=r``: the unit
-  ``pmplan.plan(..., refine=True)`` takes, the robots' diameter; 4/56 is its default effort up
+* *pmplan, effort (w, s)*: ``pmplan.refine(pmplan.plan(o, s, g, bounds=(0, 10), lift=r,
+  planner=P), radius=r/2, obstacle_radius=r/2, waypoints=w, steps=s)`` (``lift=r`` and ``P``:
+  the unit and the planner ``pmplan.plan(..., bounds=, refine=True)`` takes, the robots'
+  diameter and, in the plane, ``obstacle_line_walls``; 4/56 is its default effort up
   to 4 robots and in space, 4/72 for 5 to 8 robots in the plane);
 * *OMPL RRTConnect* (+ ``simplifySolution``) and *OMPL RRT\\** (0.5 s), as in
   ``scenes_compare.py``.
@@ -44,7 +45,6 @@ sys.path.insert(0, str(HERE))
 
 import scenes  # noqa: E402
 from _common import exit_after_ompl, machine_info  # noqa: E402
-import pmplan  # noqa: E402
 from scenes_compare import (  # noqa: E402
     HALF,
     RC,
@@ -57,6 +57,8 @@ from scenes_compare import (  # noqa: E402
     summarise,
 )
 
+import pmplan  # noqa: E402
+from pmplan.planners.base import default_planner  # noqa: E402
 
 #: the refinement efforts (waypoints, steps): pmplan's defaults are (4, 56) up to 4 robots and in
 #: space up to 8, (4, 72) for 5 to 8 robots in the plane, (4, 112) beyond
@@ -77,8 +79,11 @@ class EffortRunner(PmplanRunner):
     def plan(self, o, s, g):
         t0 = time.perf_counter()
         try:
-            # (the unit pmplan.plan(..., refine=True) takes: the robots' diameter)
-            raw = pmplan.plan(o, s, g, bounds=self.kw["bounds"], lift=UNIT)
+            # (the unit and the planner pmplan.plan(..., bounds=, refine=True) takes: the
+            # robots' diameter, the one-side lanes on the wall side in the plane)
+            planner = default_planner(np.shape(o)[-1], len(s), len(o), refining=True,
+                                      bounded=True)
+            raw = pmplan.plan(o, s, g, bounds=self.kw["bounds"], lift=UNIT, planner=planner)
             p = pmplan.refine(raw, radius=HALF, obstacle_radius=HALF, **self.effort)
         except pmplan.PmplanError:
             return time.perf_counter() - t0, None

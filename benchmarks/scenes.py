@@ -251,6 +251,20 @@ def refined_in_box(o: np.ndarray, s: np.ndarray, g: np.ndarray):
                        obstacle_radius=R / 2)
 
 
+def refined_on_domains(o: np.ndarray, s: np.ndarray, g: np.ndarray):
+    """:func:`refined_in_box` with the section pmplan's default takes on the domains of
+    Mathematics §4.2 (the compact lanes, the one-side lanes from ``CROWD_LANES`` robots on):
+    without the wall side (``obstacle_line_walls``, the default in a box), whose domains are
+    cut along the wall of sides; the bounds of Mathematics §8 ("How often", "How long") are
+    for planners continuous on these domains."""
+    import pmplan
+    from pmplan.planners.base import default_planner
+
+    planner = default_planner(np.shape(o)[-1], len(s), len(o), refining=True)
+    return pmplan.plan(o, s, g, bounds=(0.0, SIZE), refine=True, radius=R / 2,
+                       obstacle_radius=R / 2, planner=planner)
+
+
 def fmt_k(k: float) -> str:
     """A modulus of continuity K in a report: ``4,489``, or ``4.7e+05`` from 1e5 on."""
     return f"{k:,.0f}" if k < 1e5 else f"{k:.1e}"

@@ -24,7 +24,9 @@ least 2r + r/2 from the walls), n = 2, 4, 8, 16. Planners:
   absolute length, the box side is 10) and ``lift = "scene"`` (each query's obstacles' radius).
   ``lift 0.03`` is ``lift = 0.3``, the default's unit here: that row is the default row, not
   re-run;
-* ``pmplan default + box``: the default with the workspace box, ``bounds=(0, 10)``
+* ``pmplan default + box``: the default with the workspace box, ``bounds=(0, 10)`` (in the
+  plane the planner ``obstacle_line_walls``, the one-side lanes on the side of the obstacles'
+  line where the walls leave the most room, Mathematics §8, "The side of the lanes")
   (:mod:`pmplan.workspace`): paths inside the box shrunk by the radius.
 
 A path is *valid* when every robot-robot and robot-obstacle distance is >= r along the whole
@@ -679,7 +681,9 @@ start and vice versa). {count} queries per row, seed {seed}{quick}.
   closed-form motion validator (the minimum distance of every linearly moving pair along a
   motion, double precision, no sampling); pmplan refined (`refine=True, radius=r/2,
   obstacle_radius=r/2`, so its certified distances are >= r) at its default arguments (the
-  planner `obstacle_line_compact`, Mathematics §4.4; `lift` = the robots' diameter, {dunit:g})
+  planner `obstacle_line_compact`, Mathematics §4.4, `obstacle_line_oneside` from 8 robots in
+  the plane; with the box, `obstacle_line_walls` in the plane, the one-side lanes on the side
+  the walls leave the most room, Mathematics §8; `lift` = the robots' diameter, {dunit:g})
   and at `lift` = 0.03, 0.1, 0.3, 1 times the box side (absolute 0.3, 1, 3, 10) and `"scene"`
   (each query's obstacles' radius). *lift 0.03* is the default's unit: the same plans (marked
   "= default", not re-run).
