@@ -60,7 +60,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes
 
 from pmplan import frame
-from pmplan.planners.base import CROWD_LANES
+from pmplan.planners.base import CROWD_LANES, WALL_LANES
 from pmplan.workspace import from_box_linear, into_box_linear, into_box_linear_slope
 
 HERE = Path(__file__).resolve().parent
@@ -230,7 +230,7 @@ def markdown(rows: list, argv: list) -> str:
            "the others are held out. *pmplan, these domains*: pmplan's refined plan in the box "
            f"with the section of its default on these domains (the compact lanes up to "
            f"{CROWD_LANES - 1} robots, the one-side lanes on the side of nu(e) from "
-           f"{CROWD_LANES} on); pmplan's default in a box from 2 robots on, "
+           f"{CROWD_LANES} on); pmplan's default in a box from {WALL_LANES} robots on, "
            "`obstacle_line_walls`, has its domains cut along the wall of sides, which these "
            "moves cross, so this bound does not bind it (Mathematics §8, \"The side of the "
            "lanes\"; `benchmarks/sides_ab.md`)."), "",

@@ -242,13 +242,14 @@ def attribute_variants(module, variants: dict) -> dict:
     return {name: switch(values) for name, values in variants.items()}
 
 
-def refined_in_box(o: np.ndarray, s: np.ndarray, g: np.ndarray):
+def refined_in_box(o: np.ndarray, s: np.ndarray, g: np.ndarray, planner: str | None = None):
     """pmplan's default plan of one query in the box ``(0, SIZE)``, refined at its default
-    effort with radius = obstacle_radius = R/2: the plan the per-row scene benchmarks measure."""
+    effort with radius = obstacle_radius = R/2: the plan the per-row scene benchmarks measure
+    (``planner``: another planner's, the rest at its defaults)."""
     import pmplan
 
     return pmplan.plan(o, s, g, bounds=(0.0, SIZE), refine=True, radius=R / 2,
-                       obstacle_radius=R / 2)
+                       obstacle_radius=R / 2, planner=planner)
 
 
 def refined_on_domains(o: np.ndarray, s: np.ndarray, g: np.ndarray):
@@ -257,12 +258,10 @@ def refined_on_domains(o: np.ndarray, s: np.ndarray, g: np.ndarray):
     without the wall side (``obstacle_line_walls``, the default in a box), whose domains are
     cut along the wall of sides; the bounds of Mathematics §8 ("How often", "How long") are
     for planners continuous on these domains."""
-    import pmplan
     from pmplan.planners.base import default_planner
 
-    planner = default_planner(np.shape(o)[-1], len(s), len(o), refining=True)
-    return pmplan.plan(o, s, g, bounds=(0.0, SIZE), refine=True, radius=R / 2,
-                       obstacle_radius=R / 2, planner=planner)
+    return refined_in_box(o, s, g, default_planner(np.shape(o)[-1], len(s), len(o),
+                                                   refining=True))
 
 
 def fmt_k(k: float) -> str:

@@ -23,10 +23,6 @@ def _exact_flags(o, zo, zc, box):
     return flip, g <= 0 and guard >= 0 and not flip
 
 
-def _points(draw_ints, k):
-    return np.array(draw_ints[:k], dtype=float)
-
-
 @settings(max_examples=200, deadline=None)
 @given(st.lists(st.tuples(st.integers(1, 9), st.integers(1, 9)), min_size=7, max_size=7,
                 unique=True), st.integers(-60, 60))
@@ -129,13 +125,11 @@ def test_in_a_box_the_plan_is_the_one_side_plan_on_the_side_chosen():
 
 
 def test_on_the_wall_of_sides_the_label_is_one_less():
-    """o1, o2 across the middle of the box, o3 symmetric: the rooms on the two sides are equal,
+    """The obstacles on the line across the middle of the box: the rooms on the two sides are equal,
     the query lies on the wall of sides and its label is its stratum's minus one; moved off it
     by 1e-9 either way, the label is the stratum's, and the two sides' plans differ by O(1)
     (the wall is where the side changes)."""
-    o = np.array([[4.0, 5.0], [6.0, 5.0], [5.0, 5.0 + 3.0]])
-    o[2, 1] = 5.0  # all three on the middle line: equal room on both sides
-    o[2, 0] = 7.5
+    o = np.array([[4.0, 5.0], [6.0, 5.0], [7.5, 5.0]])  # on the middle line: equal rooms
     s, g = np.array([[2.5, 2.0], [3.0, 8.0]]), np.array([[8.0, 7.0], [7.0, 3.0]])
     one = pmplan.plan(o, s, g, bounds=(0, 10), planner="obstacle_line_oneside")
     on = pmplan.plan(o, s, g, bounds=(0, 10), planner="obstacle_line_walls")
