@@ -185,3 +185,49 @@ def test_integer_queries_keep_the_labels_of_the_planner(pts):
     zo, zc = W.from_box_linear(o[None], box), [W.from_box_linear(c[None], box) for c in (s, g)]
     _, wall = sides.wall_sides(o[None], zo, zc, box)
     assert walls.domain == one.domain - int(wall[0])
+
+
+def test_the_guard_boundary_is_decided_exactly_at_every_magnitude():
+    """Queries on the guard's boundary G = 0 exactly (a robot's column GUARD |w| from the
+    nearest obstacle's column, every other robot nearer) and one float either side of it, with
+    more room below the obstacles (g < 0): on the boundary the query lies on the wall of sides
+    (side of nu(e), label one less), just outside it the lanes flip, just inside they do not;
+    the same at every scale 2**k (the box and the query scaled together)."""
+    box0 = np.array([[0.0, 0.0], [8192.0, 8192.0]])  # inner box [1024, 7168]: the map is 1
+    o0 = np.array([[2048.0, 6000.0], [3072.0, 6000.0], [4000.0, 5000.0]])  # |w| = 1024
+    goal = np.array([[3072.0, 2000.0]])  # in o2's column
+    for x, want in ((2049.0, (False, True)),  # GUARD |w| = 1 off o1's column: G = 0
+                    (np.nextafter(2049.0, 3000.0), (True, False)),
+                    (np.nextafter(2049.0, 0.0), (False, False))):
+        for k in (-40, 0, 40):
+            box, o = box0 * 2.0 ** k, o0 * 2.0 ** k
+            s, g = np.array([[x, 1500.0]]) * 2.0 ** k, goal * 2.0 ** k
+            zo = W.from_box_linear(o[None], box)
+            zc = [W.from_box_linear(c[None], box) for c in (s, g)]
+            assert np.array_equal(zo[0], o) and np.array_equal(zc[0][0], s)
+            flip, wall = sides.wall_sides(o[None], zo, zc, box)
+            assert (bool(flip[0]), bool(wall[0])) == want == _exact_flags(o, zo[0],
+                                                                           [c[0] for c in zc],
+                                                                           box)
+    o, s, g = o0, np.array([[2049.0, 1500.0]]), goal
+    one = pmplan.plan(o, s, g, bounds=(0, 8192), planner="obstacle_line_oneside")
+    walls = pmplan.plan(o, s, g, bounds=(0, 8192), planner="obstacle_line_walls")
+    assert walls.domain == one.domain - 1 and np.array_equal(walls.waypoints, one.waypoints)
+
+
+def test_the_rooms_tie_is_decided_exactly_at_every_magnitude():
+    """The obstacles on the box's middle line (equal rooms: the wall of sides) and one float above
+    or below it (the room above smaller: flip; larger: keep), at every scale 2**k."""
+    box0 = np.array([[0.0, 0.0], [8192.0, 8192.0]])
+    s0, g0 = np.array([[2600.0, 1500.0]]), np.array([[3500.0, 6500.0]])
+    for y, want in ((4096.0, (False, True)), (np.nextafter(4096.0, 9e3), (True, False)),
+                    (np.nextafter(4096.0, 0.0), (False, False))):
+        o0 = np.array([[2048.0, y], [3072.0, y], [4000.0, y]])
+        for k in (-40, 0, 40):
+            box, o, s, g = (a * 2.0 ** k for a in (box0, o0, s0, g0))
+            zo = W.from_box_linear(o[None], box)
+            zc = [W.from_box_linear(c[None], box) for c in (s, g)]
+            flip, wall = sides.wall_sides(o[None], zo, zc, box)
+            assert (bool(flip[0]), bool(wall[0])) == want == _exact_flags(o, zo[0],
+                                                                           [c[0] for c in zc],
+                                                                           box)
