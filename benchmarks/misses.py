@@ -10,13 +10,13 @@ with n = 4, 8 and 16, 16 queries each, drawn as the scene benchmark draws them
 pmplan's default plan in the box (``bounds=(0, 10)``) refined with radius = obstacle_radius =
 r/2 at the default effort (:func:`scenes.refined_in_box`); every plan that misses the radii is
 listed with its reason (``Plan.radius_reason``: *gap*, the path crosses a gap of the scene
-narrower than a robot, which no planner continuous on these domains avoids on every query,
-Mathematics §8; *robots*, *obstacle*, *wall*: the worst contact, which the refinement's
-steps did not clear), its worst distances and its raw clearance, and the same raw plan refined
-again at the efforts ``EFFORTS`` (waypoints / steps, larger than the default; with 16 robots
-in the plane each followed by ``CROWD_FINAL`` times as many clearing-only steps, as the
-default is): does it keep the radii there, the worst distance, the time of that refinement
-(one core).
+narrower than a robot, which no planner continuous on the domains of Mathematics §4.2 avoids on
+every query, Mathematics §8; *robots*, *obstacle*, *wall*: the worst contact, which the
+refinement's steps did not clear), its worst distances and its raw clearance, and the same raw
+plan refined again at the efforts ``EFFORTS`` (waypoints / steps, larger than the default;
+with 16 robots in the plane each followed by ``CROWD_FINAL`` times as many clearing-only
+steps, as the default is): does it keep the radii there, the worst distance, the time of that
+refinement (one core).
 
 Per row it also gives the share of (piece, pair) combinations of the default refined paths
 whose least distance exceeds ``3 r``: the pairs the refinement measures at every step without
@@ -112,7 +112,9 @@ def markdown(res: dict) -> str:
              "robot-robot "
              "and robot-obstacle distances over r (1: kept); *why*: the default plan's "
              "`radius_reason` (*gap*: it crosses a gap narrower than a robot, which no planner "
-             "continuous on these domains avoids on every query, Mathematics §8; *robots*, "
+             "continuous on the domains of Mathematics §4.2 avoids on every query, Mathematics "
+             "§8, and the default in a box, on the side the walls leave the most room, seldom "
+             "meets; *robots*, "
              "*obstacle*, *wall*: the worst contact the refinement did not clear, and in "
              "brackets the gap with room for one robot only that the path passes through "
              "there, when the reason names one); *raw*: the "

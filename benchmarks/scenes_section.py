@@ -50,11 +50,13 @@ def section() -> str:
            "held-out draw). Rooms 10 x 10 (m = 6), swaps, "
            "3-D rooms (m = 4), and rooms and swaps whose obstacles keep 2r + r/2 from the walls "
            "(*room_walls*, *swap_walls*: as far as the obstacles keep from each other; in *room* "
-           "and *swap* an obstacle may sit r from a wall, and no planner continuous on these "
-           "domains keeps the radii on every such query, Mathematics §8), r = 0.3, 16 queries "
-           "per row; *valid*: every distance >= r along "
+           "and *swap* an obstacle may sit r from a wall, and no planner continuous on the "
+           "domains of Mathematics §4.2 keeps the radii on every such query, Mathematics §8), "
+           "r = 0.3, 16 queries per row; *valid*: every distance >= r along "
            "the path, exactly, and inside the box. *box*: pmplan default with `bounds=(0, 10)` "
-           "(`pmplan.workspace`); *best*: the row's best pmplan variant.", ""]
+           "(`pmplan.workspace`; in the plane `obstacle_line_walls`, whose domains, as many, are "
+           "cut along the wall between the two sides of its lanes, Mathematics §8, \"The side "
+           "of the lanes\"); *best*: the row's best pmplan variant.", ""]
     for name, label in DRAWS:
         path = HERE / name
         if not path.exists():
