@@ -73,7 +73,8 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None,
     the plane ``obstacle_line_walls`` in a workspace box (``bounded``) from
     :data:`~pmplan.planners.base.WALL_LANES` robots on, else ``obstacle_line_oneside`` from
     :data:`~pmplan.planners.base.CROWD_LANES` robots on; ``obstacle_line`` is the paper's.
-    With ``sequential`` (a query through intermediate configurations) the default is the sequential planner of (d, n, m)
+    With ``sequential`` (a query through intermediate configurations) the default is the
+    sequential planner of (d, n, m)
     (:func:`~pmplan.planners.base.default_planner`); the caller checks a named one with
     ``check_sequential``.
     """

@@ -33,18 +33,13 @@ from fractions import Fraction
 
 import numpy as np
 
+from .predicates import TINY, U, _direction, projection_values
+
 __all__ = ["GUARD", "wall_sides", "mirror"]
 
 #: the guard's width: the side is that of ``nu(e)`` while every robot of every configuration is
 #: within ``GUARD |o2 - o1|`` of an obstacle's column (in the coordinates the planner plans in)
 GUARD = 2.0 ** -10
-
-# a float sign is kept when the value exceeds this share of the size of its terms (the terms'
-# rounding errors are a few units in the last place), plus a floor below which the products
-# and quotients may be subnormal; other rows are decided again exactly
-_RELATIVE = 2.0 ** -40
-_FLOOR = 2.0 ** -960
-
 
 def _reach(points: np.ndarray, v: np.ndarray, box: np.ndarray) -> np.ndarray:
     """The least, over the points (B, K, 2), of the parameter t > 0 at which ``p + t v`` (v
@@ -82,13 +77,16 @@ def _g_exact(o: np.ndarray, box: np.ndarray) -> int:
 
 
 def _g_signs(o: np.ndarray, box: np.ndarray) -> np.ndarray:
-    """The sign of ``g`` of every query (obstacles (B, m, 2) in the box): int (B,)."""
+    """The sign of ``g`` of every query (obstacles (B, m, 2) in the box): int (B,). A float
+    sign is kept where it exceeds the rounding error: each parameter ``(wall - p) / v`` is
+    within 3.01 U of its value relatively (``v``, the subtraction and the quotient round once
+    each; a subtraction that underflows is exact) and TINY absolutely (a quotient that
+    underflows), and so are their minima; the rest is decided again exactly."""
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        w = o[:, 1] - o[:, 0]
-        v = np.stack([-w[:, 1], w[:, 0]], axis=1)
+        v = _direction(o[:, 0], o[:, 1], perpendicular=True)
         a, b = _reach(o, v, box), _reach(o, -v, box)
         g = a - b
-        sure = np.isfinite(g) & (np.abs(g) > _RELATIVE * (a + b) + _FLOOR)
+        sure = np.isfinite(g) & (np.abs(g) > 4.1 * U * (a + b) + 3 * TINY)
     sign = np.where(g > 0, 1, -1).astype(np.int64)
     for i in np.flatnonzero(~sure):
         sign[i] = _g_exact(o[i], box)
@@ -97,32 +95,34 @@ def _g_signs(o: np.ndarray, box: np.ndarray) -> np.ndarray:
 
 def _guard_exact(zo: np.ndarray, zc: list) -> int:
     """The sign of the guard ``G`` of one query (obstacles (m, 2), configurations (n, 2) each,
-    mapped out of the box), exactly."""
-    q = [[Fraction(x) for x in p] for p in zo]
-    w = [q[1][c] - q[0][c] for c in range(2)]
-    d = None
-    for conf in zc:
-        for x in conf:
-            x = [Fraction(v) for v in x]
-            near = min(abs((x[0] - ok[0]) * w[0] + (x[1] - ok[1]) * w[1]) for ok in q)
-            d = near if d is None or near > d else d
-    g = d - Fraction(GUARD) * (w[0] * w[0] + w[1] * w[1])
+    mapped out of the box), exactly: with the columns ``(y - o1) . w`` of
+    :mod:`pmplan.predicates`, ``(x - o_k) . w`` is the difference of two columns and
+    ``|w|^2`` the column of ``o2``."""
+    o1 = [Fraction(c) for c in zo[0]]
+    w = [Fraction(c) - a for c, a in zip(zo[1], o1)]
+
+    def column(y):
+        return sum((Fraction(c) - a) * b for c, a, b in zip(y, o1, w))
+
+    obstacles = [column(y) for y in zo]
+    d = max(min(abs(column(x) - k) for k in obstacles) for conf in zc for x in conf)
+    g = d - Fraction(GUARD) * obstacles[1]
     return (g > 0) - (g < 0)
 
 
 def _guard_signs(zo: np.ndarray, zc: list) -> np.ndarray:
-    """The sign of the guard ``G`` of every query: int (B,)."""
+    """The sign of the guard ``G`` of every query: int (B,), from the columns of
+    :func:`pmplan.predicates.projection_values` and their error bound ``E``: a float sign is
+    kept where it exceeds ``2 E + U max|difference|`` and the last roundings; the rest is
+    decided again exactly."""
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        w = zo[:, 1] - zo[:, 0]
-        pts = np.concatenate(zc, axis=1)  # (B, r n, 2)
-        rel = pts[:, :, None, :] - zo[:, None, :, :]  # (B, r n, m, 2)
-        prod = rel * w[:, None, None, :]
-        dot = np.abs(prod.sum(axis=-1))
-        size = np.abs(prod).sum(axis=-1).max(axis=(1, 2))
-        d = dot.min(axis=2).max(axis=1)
-        norm2 = (w * w).sum(axis=1)
-        g = d - GUARD * norm2
-        sure = np.isfinite(g) & (np.abs(g) > _RELATIVE * (size + norm2) + _FLOOR)
+        robots, e_r = projection_values(np.concatenate(zc, axis=1), zo[:, 0], zo[:, 1])
+        obstacles, e_o = projection_values(zo, zo[:, 0], zo[:, 1])
+        diff = np.abs(robots[:, :, None] - obstacles[:, None, :])  # (x - o_k) . w
+        d = diff.min(axis=2).max(axis=1)
+        g = d - GUARD * obstacles[:, 1]  # |w|^2 is the column of o2
+        err = 1.01 * (2.01 * np.maximum(e_r, e_o) + U * diff.max(axis=(1, 2))) + 2 * TINY
+        sure = np.isfinite(g) & np.isfinite(err) & (np.abs(g) > err)
     sign = np.where(g > 0, 1, -1).astype(np.int64)
     for i in np.flatnonzero(~sure):
         sign[i] = _guard_exact(zo[i], [c[i] for c in zc])
