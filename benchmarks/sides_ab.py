@@ -24,8 +24,9 @@ the median len/LB, the median of the paired length ratio default / before over t
 keep valid, the median time per query (plan and refinement, one core, a shared machine: compare
 within a row), and a continuity probe on the first ``PROBES`` queries: every point moved by
 delta times a uniform vector in [-1, 1]^2 for delta = 1e-6, 1e-9 and 1e-12, ``K = sup change /
-delta`` of the refined waypoints over the moves that keep the label (its largest value and the
-probes above 1e3), and the moves that change it.
+delta`` over the moves that keep the label (``scenes_compare.continuity``: the sup at equal
+times, exact over the union of the breakpoints; its largest value and the probes above 1e3),
+and the moves that change it.
 
 The wall side's rule (the narrowest room on each side, :mod:`pmplan.sides`) was chosen on seeds
 11 and 12 (a prototype planned every query of 200 per row with the lanes on each side and
@@ -42,20 +43,19 @@ Writes ``benchmarks/sides_ab.json`` and ``.md``. Not a test module.
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes  # noqa: E402
+import scenes_compare as sc  # noqa: E402
 
 from pmplan.planners import base  # noqa: E402
 
 FAMILIES = ["room", "swap", "room_walls", "swap_walls"]
 NS = [2, 3, 4, 8, 16]
 PROBES = 16
-DELTAS = (1e-6, 1e-9, 1e-12)
 DESIGN = (11, 12)
 #: drawn after ``WALL_LANES`` was chosen (the module's docstring)
 FRESH = (40, 41)
@@ -66,45 +66,46 @@ _DEFAULT = base.WALL_LANES
 _BEFORE = 10**9
 
 
-def _cell(qs: list, moves: list) -> dict:
-    """One variant of one row: the plans, valid, misses, lengths, times, probes."""
-    valid, why, lens, times, ks, changed, plans = 0, {}, [], [], [], 0, []
+def _cell(qs: list, seed: int, n: int) -> dict:
+    """One variant of one row: the plans, valid, misses, lengths, times, and on the first
+    ``PROBES`` queries the continuity probe of ``scenes_compare.py`` (:func:`sc.continuity`,
+    its moves drawn from ``[seed, n, 7]``, the same for both variants)."""
+    runner, rng = sc.PmplanRunner(None, bounded=True), np.random.default_rng([seed, n, 7])
+    valid, why, lens, times, probes, plans = 0, {}, [], [], [], []
     for k, (o, s, g) in enumerate(qs):
-        t0 = time.perf_counter()
-        p = scenes.refined_in_box(o, s, g)
-        times.append(time.perf_counter() - t0)
+        t, res = runner.plan(o, s, g)
+        times.append(t)
+        if res is None:  # (a plan refused by its certificate: not valid)
+            why["refused"] = why.get("refused", 0) + 1
+            plans.append((False, None, None))
+            continue
+        p = res[0]
         ok = bool(p.respects_radius)
         valid += ok
         if not ok:
             why[p.radius_miss.category] = why.get(p.radius_miss.category, 0) + 1
         lens.append(p.path.length() / np.linalg.norm(g - s, axis=1).sum())
         plans.append((ok, lens[-1], p.planner))
-        if k < len(moves):
-            for d, (uo, us, ug) in moves[k]:
-                q = scenes.refined_in_box(o + d * uo, s + d * us, g + d * ug)
-                if q.domain != p.domain or q.waypoints.shape != p.waypoints.shape:
-                    changed += 1
-                    continue
-                ks.append(float(np.abs(q.waypoints - p.waypoints).max() / d))
+        if k < PROBES:
+            probes += sc.continuity(runner, o, s, g, res, rng)
+    k = sc.probe_summary(probes)
     return {"valid": valid, "why": why, "len_lb": float(np.median(lens)),
-            "time_ms": 1e3 * float(np.median(times)), "k_max": max(ks) if ks else None,
-            "k_over": int(sum(k > 1e3 for k in ks)), "probes": len(ks),
-            "label_changes": changed, "planner": sorted({p[2] for p in plans}),
-            "_plans": plans}
+            "time_ms": 1e3 * float(np.median(times)),
+            "k_max": None if np.isnan(k["k_max"]) else k["k_max"], "k_over": k["k_over"],
+            "probes": k["probes"],
+            "label_changes": sum(bool(c.get("label_change")) for c in probes),
+            "planner": sorted({p[2] for p in plans if p[2]}), "_plans": plans}
 
 
 def row(fam: str, n: int, seed: int, count: int) -> dict | None:
     if fam.startswith("swap") and n % 2:  # (robots swap places pairwise)
         return None
     qs = scenes.queries(fam, n, count, seed)
-    rng = np.random.default_rng([seed, n, 7])
-    moves = [[(d, [rng.uniform(-1.0, 1.0, np.shape(x)) for x in q]) for d in DELTAS]
-             for q in qs[:PROBES]]
     out = {"family": fam, "n": n, "seed": seed, "count": count}
     for name, lanes in (("default", _DEFAULT), ("before", _BEFORE)):
         base.WALL_LANES = lanes
         try:
-            out[name] = _cell(qs, moves)
+            out[name] = _cell(qs, seed, n)
         finally:
             base.WALL_LANES = _DEFAULT
     a, b = out["default"].pop("_plans"), out["before"].pop("_plans")
