@@ -6,9 +6,12 @@ Usage (from the repository root; needs ``pmplan[bench]``, i.e. ``ompl``)::
 
     python benchmarks/paired_spread.py              # seeds 1 and 2, 10 runs, n <= 8 (~5 min)
     python benchmarks/paired_spread.py --seeds 61,62,63,64 --queries 64 --out paired_spread_large
+    python benchmarks/paired_spread.py --seeds 81,82,83,84 --queries 64 --out paired_spread_fresh
 
 The second run judges the rows on four times the queries of seeds no benchmark had used
-before (none was looked at while a default was chosen), into its own report.
+before (none was looked at while a default was chosen), into its own report; the third on four
+draws made after the side per robot (``obstacle_line_robots``) became the default of 2 to 4
+robots in a box.
 
 ``scenes_compare.py`` runs RRTConnect once per query, so its paired ratio (the median over the
 queries both planners solve validly of length(pmplan) / length(RRTConnect)) is one sample of a

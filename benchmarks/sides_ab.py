@@ -35,7 +35,8 @@ prototype's lengths with 2 robots; the first run of this script (``WALL_LANES = 
 12, 30 and 31) showed the wall side with 2 robots keeping the radii on 0.998-1.000 of the design
 seeds' rooms and swaps against 0.960-0.983, at a paired length ratio of 0.991-1.000, and it was
 set to 2 there; the held-out seeds of that run were printed with it, so seeds 40 and 41, drawn
-after the choice, confirm it.
+after the choice, confirm it. Its report was run before ``obstacle_line_robots`` became the
+default of 2 to 4 robots in a box (``benchmarks/robots_ab.py``); a rerun compares that one there.
 
 Writes ``benchmarks/sides_ab.json`` and ``.md``. Not a test module.
 """
@@ -97,17 +98,21 @@ def _cell(qs: list, seed: int, n: int) -> dict:
             "planner": sorted({p[2] for p in plans if p[2]}), "_plans": plans}
 
 
-def row(fam: str, n: int, seed: int, count: int) -> dict | None:
+def row(fam: str, n: int, seed: int, count: int, knob: str = "WALL_LANES",
+        before: int = _BEFORE) -> dict | None:
+    """One row: its queries planned under pmplan's default (the constant ``knob`` of
+    :mod:`pmplan.planners.base` as it is) and under ``knob = before``, side by side."""
     if fam.startswith("swap") and n % 2:  # (robots swap places pairwise)
         return None
     qs = scenes.queries(fam, n, count, seed)
     out = {"family": fam, "n": n, "seed": seed, "count": count}
-    for name, lanes in (("default", _DEFAULT), ("before", _BEFORE)):
-        base.WALL_LANES = lanes
+    default = getattr(base, knob)
+    for name, lanes in (("default", default), ("before", before)):
+        setattr(base, knob, lanes)
         try:
             out[name] = _cell(qs, seed, n)
         finally:
-            base.WALL_LANES = _DEFAULT
+            setattr(base, knob, default)
     a, b = out["default"].pop("_plans"), out["before"].pop("_plans")
     both = [x[1] / y[1] for x, y in zip(a, b) if x[0] and y[0]]
     out["paired"] = float(np.median(both)) if both else None
@@ -146,7 +151,14 @@ def markdown(res: dict) -> str:
              f"{DESIGN[0]} and {DESIGN[1]} are the design seeds, the others held out; seeds "
              f"{FRESH[0]} and {FRESH[1]} were drawn after `WALL_LANES` was chosen (the "
              "script's docstring says how).", "",
-             "| seed | row | default: valid (misses), len/LB, ms | before: valid (misses), "
+             ] + tables(rows, held)
+    return "\n".join(lines) + "\n"
+
+
+def tables(rows: list, held) -> list:
+    """The report's two tables: per row and seed the variants side by side, then the valid
+    share per row over the seeds, design (``held(r)`` false) and held out."""
+    lines = ["| seed | row | default: valid (misses), len/LB, ms | before: valid (misses), "
              "len/LB, ms | paired | default K | before K |", "|---|---|---|---|---|---|---|"]
     for r in rows:
         d, o = r["default"], r["before"]
@@ -172,7 +184,7 @@ def markdown(res: dict) -> str:
                     cells.append(f"{min(sh):.3f}-{max(sh):.3f}" if sh else "-")
             lines.append(f"| {fam} n = {n} | {cells[0]} | {cells[1]} | {cells[2]} | "
                          f"{cells[3]} |")
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def main(argv=None) -> int:

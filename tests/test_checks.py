@@ -48,10 +48,11 @@ def test_check_sequential():
     checks.check_sequential("obstacle_line_shared")
     checks.check_sequential("obstacle_line_oneside")
     checks.check_sequential("obstacle_line_walls")
+    checks.check_sequential("obstacle_line_robots")
     with pytest.raises(UnsupportedError, match="'via' is planned by the obstacle_line, "
                                                "obstacle_line_compact, obstacle_line_shared, "
-                                               "obstacle_line_oneside or obstacle_line_walls "
-                                               "planner"):
+                                               "obstacle_line_oneside, obstacle_line_walls or "
+                                               "obstacle_line_robots planner"):
         checks.check_sequential("planar_three")
     with pytest.raises(UnsupportedError):
         checks.check_sequential("no_such_planner")
@@ -63,8 +64,9 @@ def test_choose_planner():
     assert checks.choose_planner(3, 4, 5).name == "obstacle_line_compact"
     assert checks.choose_planner(3, 4, 5, "obstacle_line").name == "obstacle_line"
     assert checks.planner_names() == ["obstacle_line", "obstacle_line_compact",
-                                     "obstacle_line_oneside", "obstacle_line_shared",
-                                     "obstacle_line_walls", "planar_three"]
+                                     "obstacle_line_oneside", "obstacle_line_robots",
+                                     "obstacle_line_shared", "obstacle_line_walls",
+                                     "planar_three"]
     with pytest.raises(UnsupportedError, match="unknown planner 'x'; choose one of"):
         checks.choose_planner(2, 1, 2, "x")
     with pytest.raises(UnsupportedError, match="does not apply to"):

@@ -593,7 +593,7 @@ BAD_BATCH_JSON = {
                   "query 1 has via[0] of shape (2, 3)"),
     "via planner": ([dict(QUERY, via=[[[1, 2], [3, 2]]], planner="planar_three")] * 2,
                     "planned by the obstacle_line, obstacle_line_compact, obstacle_line_shared, "
-                    "obstacle_line_oneside or obstacle_line_walls planner"),
+                    "obstacle_line_oneside, obstacle_line_walls or obstacle_line_robots planner"),
     "empty list": ([], "holds an empty list"),
 }
 

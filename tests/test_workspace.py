@@ -231,12 +231,12 @@ def test_sequences_in_a_box():
 def test_plans_in_a_box_are_continuous(delta):
     """The map and its inverse are continuous (C^1 with slopes at most 1 into the box): a
     move of the query moves the boxed path by about what it moves the free one. (The refined
-    default in a box in the plane takes the wall side, Mathematics §8: a move that keeps the
-    label keeps the side.)"""
+    default of 4 robots in a box in the plane takes a side per robot, Mathematics §8: a move
+    that keeps the label keeps the sides; tests/test_sides.py probes the wall side.)"""
     rng = np.random.default_rng(9)
     o, s, g = _inside_queries(rng, 30, 4, 4)
     a = pmplan.plan_batch(o, s, g, bounds=(0, 10), refine=True, radius=0.05)
-    assert a.planner == "obstacle_line_walls"
+    assert a.planner == "obstacle_line_robots"
     move = [delta * rng.uniform(-1, 1, x.shape) for x in (o, s, g)]
     b = pmplan.plan_batch(*(x + v for x, v in zip((o, s, g), move)), bounds=(0, 10),
                           refine=True, radius=0.05)

@@ -58,12 +58,15 @@ def plan_batch(
     planner : str, optional
         A name of :func:`planner_names`: ``"obstacle_line"`` (the paper's lanes),
         ``"obstacle_line_compact"``, ``"obstacle_line_shared"``, ``"obstacle_line_oneside"``,
-        ``"obstacle_line_walls"`` or ``"planar_three"``. Default chosen from (d, n, m)
-        (:func:`~pmplan.checks.choose_planner`): ``planar_three`` for (2, 1, 3),
+        ``"obstacle_line_walls"``, ``"obstacle_line_robots"`` or ``"planar_three"``. Default
+        chosen from (d, n, m) (:func:`~pmplan.checks.choose_planner`): ``planar_three`` for
+        (2, 1, 3),
         ``obstacle_line_compact`` otherwise, but ``obstacle_line_oneside`` for a refined plan
         of at least :data:`pmplan.planners.base.CROWD_LANES` robots in the plane
-        (Mathematics §8, "Crowds") and, with ``bounds``, ``obstacle_line_walls`` for a refined
-        plan of at least :data:`pmplan.planners.base.WALL_LANES` robots in the plane (the
+        (Mathematics §8, "Crowds") and, with ``bounds``, for a refined plan in the plane,
+        ``obstacle_line_robots`` for :data:`pmplan.planners.base.WALL_LANES` to
+        :data:`pmplan.planners.base.ROBOT_LANES` robots (the one-side lanes with a side per
+        robot, Mathematics §8, "A side per robot") and ``obstacle_line_walls`` for more (the
         one-side lanes on the side the walls leave the most room, Mathematics §8, "The side of
         the lanes").
     lift : float or "scene", optional

@@ -58,7 +58,7 @@ def check_sequential(planner: str | None) -> None:
 def planner_names() -> list[str]:
     """Return the registered planner names, sorted: ``obstacle_line``,
     ``obstacle_line_compact``, ``obstacle_line_oneside``, ``obstacle_line_shared``,
-    ``obstacle_line_walls`` and ``planar_three``."""
+    ``obstacle_line_walls``, ``obstacle_line_robots`` and ``planar_three``."""
     return sorted(REGISTRY)
 
 
@@ -70,8 +70,9 @@ def choose_planner(d: int, n: int, m: int, planner: str | None = None,
     The default is ``planar_three`` (paper Section 4) for (d, n, m) = (2, 1, 3) and
     ``obstacle_line_compact`` (paper Section 3 and Mathematics §4, with the compact lanes of
     Mathematics §4.4) for every other m >= 2, but for a plan to be refined (``refining``) in
-    the plane ``obstacle_line_walls`` in a workspace box (``bounded``) from
-    :data:`~pmplan.planners.base.WALL_LANES` robots on, else ``obstacle_line_oneside`` from
+    the plane, in a workspace box (``bounded``), ``obstacle_line_robots`` for
+    :data:`~pmplan.planners.base.WALL_LANES` to :data:`~pmplan.planners.base.ROBOT_LANES`
+    robots and ``obstacle_line_walls`` for more, else ``obstacle_line_oneside`` from
     :data:`~pmplan.planners.base.CROWD_LANES` robots on; ``obstacle_line`` is the paper's.
     With ``sequential`` (a query through intermediate configurations) the default is the
     sequential planner of (d, n, m)

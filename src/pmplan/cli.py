@@ -164,7 +164,7 @@ def _version() -> str:
 def build_parser() -> argparse.ArgumentParser:
     """Return the argument parser of ``pmplan``."""
     from .checks import planner_names
-    from .planners.base import CROWD_LANES, WALL_LANES
+    from .planners.base import CROWD_LANES, ROBOT_LANES, WALL_LANES
 
     parser = _Parser(
         prog="pmplan",
@@ -180,8 +180,8 @@ def build_parser() -> argparse.ArgumentParser:
     planner_help = ("planner name (default: chosen from d, n, m: planar_three for one robot "
                     "among three obstacles in the plane, obstacle_line_compact otherwise, "
                     f"obstacle_line_oneside for --refine with {CROWD_LANES} robots or more in "
-                    f"the plane, obstacle_line_walls for --refine with --bounds and {WALL_LANES} "
-                    "robots or more in the plane; "
+                    f"the plane, obstacle_line_robots for --refine with --bounds and {WALL_LANES} "
+                    f"to {ROBOT_LANES} robots in the plane, obstacle_line_walls with more; "
                     "obstacle_line: the paper's lanes)")
 
     _parser_plan(sub, names, planner_help)

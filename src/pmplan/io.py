@@ -60,7 +60,8 @@ def with_defaults(query: dict, refine: dict | None) -> dict:
     :func:`pmplan.refine`; None: a raw plan), as the planning functions choose them
     (``pmplan.configuration.default_lift``; ``pmplan.checks.choose_planner``, whose default
     for a refined crowd is ``obstacle_line_oneside``, in a workspace box from
-    ``WALL_LANES`` robots on ``obstacle_line_walls``). The faces (``pmplan plan``, ``pmplan
+    ``WALL_LANES`` to ``ROBOT_LANES`` robots ``obstacle_line_robots``, with more
+    ``obstacle_line_walls``). The faces (``pmplan plan``, ``pmplan
     batch``, ``pmplan explore``) plan raw, then refine: this gives their raw plan the unit and
     the planner ``pmplan.plan(..., refine=True)`` would use. ``query`` holds arrays
     (:func:`parse_query`, :func:`read_queries`: one query or a batch). The radii are checked

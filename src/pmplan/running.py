@@ -41,7 +41,7 @@ from .refine import (
     subdivide_times,
 )
 from .results import Plan, PlanBatch, extra_row
-from .sides import mirror, wall_sides
+from .sides import mirror, robot_sides, wall_sides
 from .workspace import (
     BAND,
     check_bounds,
@@ -188,7 +188,7 @@ def _scaled_call(planner, obstacles, configs, lift, k: np.ndarray, call):
 
 def run_loop(planner: Planner, obstacles, configs, lift: float, batched: bool,
          progress: bool = False, backend: str | None = None, workers: int = 1,
-         validate: bool = False, into: dict | None = None):
+         validate: bool = False, into: dict | None = None, down: np.ndarray | None = None):
     """Plan and certify in chunks; return the arrays of a PlanBatch.
 
     The planner (:class:`pmplan.planners.base.Planner`) allocates the output arrays
@@ -202,6 +202,8 @@ def run_loop(planner: Planner, obstacles, configs, lift: float, batched: bool,
     (where the backend's ``validates`` says it can): before a certificate error is raised, the
     queries are checked (:func:`pmplan.configuration.check_query`), which raises the input
     error if one of them is invalid -- the error the caller would have got from checking first.
+    ``down`` (bool (B, n), a :attr:`~pmplan.planners.base.Planner.robot_side` planner only):
+    the robots whose lanes take the side of ``-nu(e)``, passed on with each chunk's rows.
     """
     b, m, d = obstacles.shape
     n = configs[0].shape[1]
@@ -226,15 +228,16 @@ def run_loop(planner: Planner, obstacles, configs, lift: float, batched: bool,
         times = out["times"][lo:hi] if per_query_times else out["times"]
         k = None
         lift_c = lift[lo:hi] if np.ndim(lift) else lift  # a per-query lift scales too
+        down_c = None if down is None else down[lo:hi]
         if equivariant and magnitude.needs_scaling([obs, *cfg], lift_c):
             k = magnitude.exponents([obs, *cfg], lift_c)
         if k is None:
             rows = {"domain": out["domain"][lo:hi], "strata": out["strata"][lo:hi],
                     "clearance": out["clearance"][lo:hi], "times": times, "waypoints": wp}
-            ok = be.plan(planner, obs, cfg, lift, rows, validate)
+            ok = be.plan(planner, obs, cfg, lift, rows, validate, down=down_c)
         else:
             ok = np.empty(hi - lo, dtype=bool)
-            call = _fused_call(planner, r, m, n, d, per_query_times, validate, be)
+            call = _fused_call(planner, r, m, n, d, per_query_times, validate, be, down_c)
             for idx, arrays, ok_g in _scaled_call(planner, obs, cfg, lift_c, k, call):
                 wp[idx] = arrays["waypoints"]
                 out["domain"][lo + idx] = arrays["domain"]
@@ -349,13 +352,15 @@ def _failed_clauses(out: dict, bad: np.ndarray, obstacles, configs) -> np.ndarra
 
 
 def _fused_call(planner, r: int, m: int, n: int, d: int, per_query_times: bool, validate: bool,
-                be):
+                be, down: np.ndarray | None = None):
     """``call(idx, obstacles, configs, lift) -> (arrays, ok)`` for :func:`_scaled_call`: the
-    backend ``be`` planning rows into new arrays (:meth:`allocate`, the backend's ``plan``)."""
+    backend ``be`` planning rows into new arrays (:meth:`allocate`, the backend's ``plan``;
+    ``down``: the chunk's, of :func:`run_loop`)."""
 
     def call(idx, obstacles, configs, lift):
         arrays = planner.allocate(idx.size, r, m, n, d)
-        ok = be.plan(planner, obstacles, configs, lift, arrays, validate)
+        ok = be.plan(planner, obstacles, configs, lift, arrays, validate,
+                     down=None if down is None else down[idx])
         return arrays, ok
 
     return call
@@ -535,20 +540,28 @@ def _raw_in_box(p: Planner, obstacles, configs, lift, bounds, backend, workers, 
     :attr:`~pmplan.planners.base.Planner.wall_side` plans, in the plane, the queries
     :func:`~pmplan.sides.wall_sides` flips mirrored (the planner with ``-nu(e)``), their plans
     mirrored back, and a query on the wall of sides gets its label one less (Mathematics §8,
-    "The side of the lanes")."""
+    "The side of the lanes"); one that declares
+    :attr:`~pmplan.planners.base.Planner.robot_side` plans, in the plane, every robot on the side
+    :func:`~pmplan.sides.robot_sides` chooses for it, and a query on the walls of k robots gets
+    its label k less (Mathematics §8, "A side per robot")."""
     box = check_bounds(bounds, obstacles.shape[2])
     check_inside(obstacles, configs, box, batched=batched)
     out_of = backends.select(backend).from_box_linear
     z_obstacles, z_configs = out_of(obstacles, box, BAND), [out_of(c, box, BAND) for c in configs]
-    flip = None
-    if p.wall_side and obstacles.shape[2] == 2:  # (the side of the lanes, Mathematics §8)
+    flip = down = None
+    plane = obstacles.shape[2] == 2
+    if p.wall_side and plane:  # (the side of the lanes, Mathematics §8)
         flip, wall = wall_sides(obstacles, z_obstacles, z_configs, box)
         z_obstacles, z_configs = mirror(z_obstacles, flip), [mirror(c, flip) for c in z_configs]
+    elif p.robot_side and plane:  # (a side per robot, Mathematics §8)
+        down, walls = robot_sides(obstacles, configs, z_obstacles, z_configs, box, lift)
     res = run_loop(p, z_obstacles, z_configs, lift, batched=batched, progress=progress,
-                   backend=backend, workers=workers)
+                   backend=backend, workers=workers, down=down)
     if flip is not None:
         res["waypoints"] = mirror(res["waypoints"], flip)
         res["domain"][wall] -= 1
+    if down is not None:
+        res["domain"] -= walls
     return box, res
 
 

@@ -22,6 +22,7 @@ from ..planners.obstacle_line import (
     OBSTACLE_LINE,
     OBSTACLE_LINE_COMPACT,
     OBSTACLE_LINE_ONESIDE,
+    OBSTACLE_LINE_ROBOTS,
     OBSTACLE_LINE_SHARED,
     OBSTACLE_LINE_WALLS,
     path_times,
@@ -260,7 +261,7 @@ def _obstacle_line_glue(planner) -> tuple:
 PLANNERS = {
     **{p: _obstacle_line_glue(p) for p in (OBSTACLE_LINE, OBSTACLE_LINE_COMPACT,
                                            OBSTACLE_LINE_SHARED, OBSTACLE_LINE_ONESIDE,
-                                           OBSTACLE_LINE_WALLS)},
+                                           OBSTACLE_LINE_WALLS, OBSTACLE_LINE_ROBOTS)},
     PLANAR_THREE: (_planar_arrays, _planar_kernel, _planar_validates, _planar_single, None),
 }
 
@@ -298,13 +299,17 @@ def sequence_query(planner, r: int, m: int, n: int, d: int):
     return None if glue is None or glue[4] is None else glue[4](r, m, n, d)
 
 
-def plan(planner, obstacles, configs, lift, out: dict, validate: bool = False) -> np.ndarray:
+def plan(planner, obstacles, configs, lift, out: dict, validate: bool = False,
+         down: np.ndarray | None = None) -> np.ndarray:
     """Plan and certify a chunk into ``out``: the kernel, then :func:`redecide`; the
-    reference (:func:`pmplan.backends.numpy.plan`) where no kernel plans the chunk."""
+    reference (:func:`pmplan.backends.numpy.plan`) where no kernel plans the chunk, and where
+    a robot's lanes take the side of ``-nu(e)`` (``down``, of a
+    :attr:`~pmplan.planners.base.Planner.robot_side` planner: no kernel takes it)."""
     glue = PLANNERS.get(planner)
-    flags = None if glue is None else glue[1](obstacles, configs, lift, out, validate)
+    side = down is not None and bool(np.any(down))
+    flags = None if glue is None or side else glue[1](obstacles, configs, lift, out, validate)
     if flags is None:
-        return reference.plan(planner, obstacles, configs, lift, out)
+        return reference.plan(planner, obstacles, configs, lift, out, down=down)
     return redecide(planner, flags, obstacles, configs, lift, out)
 
 

@@ -47,24 +47,29 @@ def certify(waypoints, start, goal, m: int, *, times=None, via=()):
     return certificate(waypoints, start, goal, m, times=times, via=via)
 
 
-def plan(planner, obstacles, configs, lift, out: dict, validate: bool = False) -> np.ndarray:
+def plan(planner, obstacles, configs, lift, out: dict, validate: bool = False,
+         down: np.ndarray | None = None) -> np.ndarray:
     """Plan every row of a chunk with the reference into ``out`` and certify it; return the
     certificate (B,) bool (:func:`plan_rows`)."""
     obstacles = np.asarray(obstacles, dtype=float)
     configs = [np.asarray(c, dtype=float) for c in configs]
-    return plan_rows(planner, obstacles, configs, lift, np.arange(obstacles.shape[0]), out)
+    return plan_rows(planner, obstacles, configs, lift, np.arange(obstacles.shape[0]), out,
+                     down)
 
 
-def plan_rows(planner, obstacles, configs, lift, idx, out: dict) -> np.ndarray:
+def plan_rows(planner, obstacles, configs, lift, idx, out: dict,
+              down: np.ndarray | None = None) -> np.ndarray:
     """Plan rows ``idx`` of a chunk with the reference, write them into ``out`` and certify
     them (:func:`pmplan.certify.certificate`, intermediate configurations included); return the
     certificate of those rows (bool, (len(idx),)). Kernels call it for the rows they leave to
-    the reference."""
+    the reference. ``down`` (the chunk's, a :attr:`~pmplan.planners.base.Planner.robot_side`
+    planner only) goes to its :meth:`~pmplan.planners.base.Planner.reference`."""
     obs = obstacles[idx]
     cfg = [c[idx] for c in configs]
     r = len(cfg)
+    sides = {} if down is None else {"down": down[idx]}
     with np.errstate(all="ignore"):  # what overflows (coordinates ~1e308) fails the certificate
-        raw = planner.reference(obs, cfg, lift)
+        raw = planner.reference(obs, cfg, lift, **sides)
     pw = raw.path.waypoints
     out["waypoints"][idx] = pw
     out["domain"][idx] = raw.domain

@@ -5,6 +5,10 @@
 * ``obstacle_line_shared`` -- the compact lanes shared by robots that keep their order
   (Mathematics §4.4).
 * ``obstacle_line_oneside`` -- the shared lanes all on one side of the line (Mathematics §4.4).
+* ``obstacle_line_walls`` -- the one-side lanes, in a box on the side the walls leave the most
+  room (Mathematics §8).
+* ``obstacle_line_robots`` -- the one-side lanes, in a box with a side per robot
+  (Mathematics §8).
 * ``planar_three`` -- paper Section 4 (d = 2, n = 1, m = 3).
 
 A new planner is one module here that subclasses :class:`~pmplan.planners.base.Planner` and
@@ -18,11 +22,12 @@ from .obstacle_line import (
     OBSTACLE_LINE,
     OBSTACLE_LINE_COMPACT,
     OBSTACLE_LINE_ONESIDE,
+    OBSTACLE_LINE_ROBOTS,
     OBSTACLE_LINE_SHARED,
     OBSTACLE_LINE_WALLS,
 )
 from .planar_three import PLANAR_THREE
 
 __all__ = ["REGISTRY", "Planner", "RawPlan", "OBSTACLE_LINE", "OBSTACLE_LINE_COMPACT",
-           "OBSTACLE_LINE_ONESIDE", "OBSTACLE_LINE_SHARED", "OBSTACLE_LINE_WALLS", "PLANAR_THREE",
-           "default_planner"]
+           "OBSTACLE_LINE_ONESIDE", "OBSTACLE_LINE_ROBOTS", "OBSTACLE_LINE_SHARED",
+           "OBSTACLE_LINE_WALLS", "PLANAR_THREE", "default_planner"]

@@ -26,9 +26,9 @@ from .. import backends
 from ..errors import UnsupportedError
 from ..path import PiecewiseLinearPath
 
-__all__ = ["CROWD_LANES", "WALL_LANES", "RawPlan", "Planner", "REGISTRY", "SCENE_CODE", "Stage",
-           "default_planner", "lift_code", "out_of_scope", "register", "scene_unit",
-           "spec_of_class", "unit"]
+__all__ = ["CROWD_LANES", "ROBOT_LANES", "WALL_LANES", "RawPlan", "Planner", "REGISTRY",
+           "SCENE_CODE", "Stage", "default_planner", "lift_code", "out_of_scope", "register",
+           "scene_unit", "spec_of_class", "unit"]
 
 #: how the planners and their kernels receive ``lift="scene"``: a ``lift`` that is not > 0.
 #: A positive lift is the unit itself; SCENE_CODE (0.0) asks for the unit u(O) of every query
@@ -53,6 +53,15 @@ CROWD_LANES = 8
 #: more, they kept the radii on more plans than the compact lanes, at a median paired length
 #: within 1 % (``benchmarks/sides_ab.py``); one robot keeps the default of (d, 1, m)
 WALL_LANES = 2
+
+#: up to this many robots a refined plan's default planner in a workspace box in the plane
+#: (from :data:`WALL_LANES` on) is the one that declares :attr:`Planner.robot_side`
+#: (:func:`default_planner`): each robot's lanes take the side of the obstacles' line where
+#: its own positions lie unless the walls leave the obstacles it passes too little room there
+#: (:mod:`pmplan.sides`, Mathematics §8, "A side per robot"), so that its path goes round
+#: fewer obstacles; with more robots the lanes of one side for all keep the radii on more
+#: plans (``benchmarks/robots_ab.py``)
+ROBOT_LANES = 4
 
 
 def lift_code(lift) -> float:
@@ -144,6 +153,12 @@ class Planner:
     #: back: the planner with ``-nu(e)``); the default, where it supports (d, n, m), for a
     #: refined plan of at least :data:`WALL_LANES` robots in a box in the plane
     wall_side: ClassVar[bool] = False
+    #: in a workspace box in the plane each robot's lanes take the side of the obstacles' line
+    #: that :func:`pmplan.sides.robot_sides` chooses for it: :meth:`reference` takes ``down``
+    #: (bool (B, n), the robots on the side of ``-nu(e)``); the default, where it supports
+    #: (d, n, m), for a refined plan of :data:`WALL_LANES` to :data:`ROBOT_LANES` robots in a
+    #: box in the plane
+    robot_side: ClassVar[bool] = False
 
     # --- what the planner covers ---------------------------------------------------------
     def supports(self, d: int, n: int, m: int) -> str | None:
@@ -355,8 +370,10 @@ def default_planner(d: int, n: int, m: int, sequential: bool = False,
     support it (and, for a sequence of configurations, are :attr:`~Planner.sequential`), the one of
     highest :attr:`~Planner.priority` -- ``planar_three`` (paper Section 4) for (2, 1, 3),
     ``obstacle_line_compact`` (paper Section 3 and Mathematics §4.4) otherwise -- but for a
-    plan to be refined (``refining``) in the plane: in a workspace box (``bounded``) of at
-    least :data:`WALL_LANES` robots the one that declares :attr:`~Planner.wall_side`
+    plan to be refined (``refining``) in the plane: in a workspace box (``bounded``) of
+    :data:`WALL_LANES` to :data:`ROBOT_LANES` robots the one that declares
+    :attr:`~Planner.robot_side` (``obstacle_line_robots``; Mathematics §8, "A side per
+    robot"), of more the one that declares :attr:`~Planner.wall_side`
     (``obstacle_line_walls``; Mathematics §8, "The side of the lanes"), else of at least
     :data:`CROWD_LANES` robots the one that declares :attr:`~Planner.crowd`
     (``obstacle_line_oneside``; Mathematics §8, "Crowds"). Each is one section on all the
@@ -366,10 +383,12 @@ def default_planner(d: int, n: int, m: int, sequential: bool = False,
     pool = [p for p in REGISTRY.values() if p.sequential or not sequential]
     fit = [p for p in pool if p.supports(d, n, m) is None]
     plane = refining and d == 2
-    walls = [p for p in fit if p.wall_side] if plane and bounded and n >= WALL_LANES else []
+    boxed = plane and bounded and n >= WALL_LANES
+    robots = [p for p in fit if p.robot_side] if boxed and n <= ROBOT_LANES else []
+    walls = [p for p in fit if p.wall_side] if boxed else []
     crowd = [p for p in fit if p.crowd] if plane and n >= CROWD_LANES else []
-    if walls or crowd:
-        return (walls or crowd)[0].name
+    if robots or walls or crowd:
+        return (robots or walls or crowd)[0].name
     if fit:
         return max(fit, key=lambda p: p.priority).name
     return min(pool, key=lambda p: p.priority).name

@@ -66,8 +66,10 @@ __all__ = [
     "OBSTACLE_LINE_COMPACT",
     "OBSTACLE_LINE_ONESIDE",
     "OBSTACLE_LINE_SHARED",
+    "OBSTACLE_LINE_ROBOTS",
     "OBSTACLE_LINE_WALLS",
     "OneSideLinePlanner",
+    "RobotsLinePlanner",
     "SharedLinePlanner",
     "WallsLinePlanner",
     "lane_heights",
@@ -162,14 +164,17 @@ def lift_height(fr: Frame, obstacles: np.ndarray, lift: float) -> np.ndarray:
     return u + np.sqrt((r * r).sum(-1)).max(axis=1)
 
 
-def lane_chains(keys: list[np.ndarray], sides: int = 2) -> np.ndarray:
+def lane_chains(keys: list[np.ndarray], sides: int = 2,
+                down: np.ndarray | None = None) -> np.ndarray:
     """Return the lane of every robot on its side of the line, 1, 2, ..., shape (B, n), for the
     shared lanes (Mathematics §4.4).
 
     ``keys`` holds, for every configuration ``C_k`` of the query, the robots' order keys of
     :class:`ColumnStructure` (B, n), distinct in each row. The odd robots (i = 1, 3, ...) take
     the side of ``nu``, the even ones the other (``sides=1``: every robot on the side of
-    ``nu``, the planner ``obstacle_line_oneside``). On each side the robots, taken in the order of
+    ``nu``, the planner ``obstacle_line_oneside``; ``down``, bool (B, n): the robots of
+    ``down`` on the side of ``-nu``, the others on that of ``nu``, the planner
+    ``obstacle_line_robots``). On each side the robots, taken in the order of
     their columns in ``H(C_1, 1)``, form *chains*: a robot joins the first chain whose last
     robot is before it in every ``H(C_k, 1)`` (they *keep their order*), else it opens a new
     one; the robots of the c-th chain share lane c. Two robots of one lane are in the same
@@ -180,30 +185,34 @@ def lane_chains(keys: list[np.ndarray], sides: int = 2) -> np.ndarray:
     b, _, n = rk.shape
     rows = np.arange(b)
     lane = np.zeros((b, n), np.int64)
-    for side in range(sides):  # robots 1, 3, ... (index 0, 2, ...), then 2, 4, ...
-        own = np.arange(side, n, sides)
-        if own.size == 0:
-            continue
-        sub = rk[:, :, own]
-        order = np.argsort(sub[:, 0], axis=1, kind="stable")
-        tail = np.zeros((b, own.size), np.int64)  # the last robot (of ``own``) of chain c
+    if down is None:  # robots 1, 3, ... (index 0, 2, ...), then 2, 4, ...
+        groups = [np.broadcast_to(np.arange(n) % sides == side, (b, n)) for side in range(sides)]
+    else:
+        groups = [~down, down]
+    for member in groups:
+        # the robots of the side first, in the order of their columns in H(C_1, 1)
+        order = np.lexsort((rk[:, 0], ~member), axis=-1)
+        tail = np.zeros((b, n), np.int64)  # the last robot of chain c
         count = np.zeros(b, np.int64)
-        for t in range(own.size):
+        for t in range(n):
             x = order[:, t]
-            here = sub[rows, :, x]  # (B, r)
+            on = member[rows, x]
+            if not on.any():
+                break
+            here = rk[rows, :, x]  # (B, r)
             pick = count.copy()
-            for c in range(own.size - 1, -1, -1):  # the first chain that takes it
-                before = (sub[rows, :, tail[:, c]] < here).all(axis=1)
+            for c in range(n - 1, -1, -1):  # the first chain that takes it
+                before = (rk[rows, :, tail[:, c]] < here).all(axis=1)
                 pick = np.where((c < count) & before, c, pick)
-            lane[rows, own[x]] = pick + 1
-            tail[rows, pick] = x
-            count = np.maximum(count, pick + 1)
+            lane[rows[on], x[on]] = pick[on] + 1
+            tail[rows[on], pick[on]] = x[on]
+            count = np.where(on, np.maximum(count, pick + 1), count)
     return lane
 
 
 def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
                  compact: bool = False, lanes: np.ndarray | None = None,
-                 sides: int = 2) -> np.ndarray:
+                 sides: int = 2, down: np.ndarray | None = None) -> np.ndarray:
     """Return the signed height ``h_i`` of every robot's lane above the line, shape (B, n):
     robot i slides at ``h_i nu(e)``.
 
@@ -218,7 +227,9 @@ def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
       ``t_k = (o_k - o_1).nu`` (k >= 3). Two lanes differ by at least ``u``; a lane is at
       least ``u`` above (or below) every obstacle's height.
     * ``sides=1`` (with ``lanes`` from :func:`lane_chains` with ``sides=1``; the planner
-      ``obstacle_line_oneside``): every robot on the side of ``nu``, ``h_i = H_+ + k_i u``.
+      ``obstacle_line_oneside``): every robot on the side of ``nu``, ``h_i = H_+ + k_i u``;
+      with ``down`` (bool (B, n), and ``lanes`` from :func:`lane_chains` with it; the planner
+      ``obstacle_line_robots``) the robots of ``down`` at ``-(H_- + k_i u)``.
     """
     i = np.arange(1, n + 1, dtype=float)
     if not compact:
@@ -235,8 +246,8 @@ def lane_heights(fr: Frame, obstacles: np.ndarray, lift: float, n: int,
         hp = np.where(t > hp, t, hp)
         hm = np.where(-t > hm, -t, hm)
     k = np.ceil(i / 2.0)[None, :] if lanes is None else lanes.astype(float)
-    up = ((i % 2.0) == 1.0) | (sides == 1)
-    return np.where(up[None, :], hp[:, None] + u[:, None] * k,
+    up = (((i % 2.0) == 1.0) | (sides == 1))[None, :] if down is None else ~down
+    return np.where(up, hp[:, None] + u[:, None] * k,
                     -(hm[:, None] + u[:, None] * k))
 
 
@@ -377,9 +388,11 @@ class ObstacleLinePlanner(Planner):
         """
         return self.planned(obstacles, configs, lift, backend)
 
-    def reference(self, obstacles, configs, lift) -> RawPlan:
+    def reference(self, obstacles, configs, lift, down: np.ndarray | None = None) -> RawPlan:
         """The mathematics of :meth:`plan_sequence`, in numpy with the exact predicates of
-        :mod:`pmplan.predicates` (the numpy backend's plan)."""
+        :mod:`pmplan.predicates` (the numpy backend's plan). ``down`` (bool (B, n), a
+        :attr:`~pmplan.planners.base.Planner.robot_side` planner only): the robots whose lanes
+        take the side of ``-nu(e)``."""
         lift = lift_code(lift)
         obstacles = np.asarray(obstacles, dtype=float)
         configs = [np.asarray(c, dtype=float) for c in configs]
@@ -388,9 +401,9 @@ class ObstacleLinePlanner(Planner):
         cols = [column_structure(fr, obstacles, c) for c in configs]
         hs = [deformation(fr, obstacles, c, cs, self.compact) for c, cs in zip(configs, cols)]
         sides = self.shared or 2
-        lanes = lane_chains([c.key for c in cols], sides) if self.shared else None
+        lanes = lane_chains([c.key for c in cols], sides, down) if self.shared else None
         heights = lane_heights(fr, obstacles, lift, configs[0].shape[1], self.compact, lanes,
-                               sides)
+                               sides, down)
         direct = self.compact and obstacles.shape[2] == 2  # (Mathematics §4.4)
         legs = [two_configuration_path(fr, obstacles, hs[k], hs[k + 1], heights, direct)
                 for k in range(r - 1)]
@@ -525,8 +538,37 @@ class WallsLinePlanner(OneSideLinePlanner):
     wall_side = True
 
 
+class RobotsLinePlanner(OneSideLinePlanner):
+    """The one-side lanes with a side per robot (Mathematics §8, "A side per robot"): without
+    a workspace box, :class:`OneSideLinePlanner` itself; in a box in the plane, robot i's lane
+    takes the side of ``-nu(e)`` where :func:`pmplan.sides.robot_sides` says so (the robots of
+    each side share lanes as the one-side lanes do, :func:`lane_chains`), and a query on the
+    walls of k robots has its label k less. The domains are those of
+    :class:`CompactLinePlanner` cut along those walls, with the same number of labels, so it
+    is optimal too (Mathematics §8 proves it). A robot whose start and goal lie on one side of
+    the obstacles' line passes the obstacles on that side unless the walls leave them too
+    little room there, so its path goes round fewer obstacles: the default of a refined plan
+    of :data:`~pmplan.planners.base.WALL_LANES` to
+    :data:`~pmplan.planners.base.ROBOT_LANES` robots in a box in the plane
+    (``benchmarks/robots_ab.py``). Planned by the numpy reference in a box (no kernel
+    takes a side per robot)."""
+
+    name = "obstacle_line_robots"
+    summary = (
+        "the one-side lanes (Mathematics §4.4), in a workspace box with a side of the line o1o2 "
+        "per robot, chosen by its own positions and the walls' room (Mathematics §8): the "
+        "same number of domains, cut along each robot's wall"
+    )
+    crowd = False
+    #: in a box in the plane, the side :func:`pmplan.sides.robot_sides` chooses per robot;
+    #: the default of a refined plan of :data:`pmplan.planners.base.WALL_LANES` to
+    #: :data:`pmplan.planners.base.ROBOT_LANES` robots there
+    robot_side = True
+
+
 OBSTACLE_LINE = register(ObstacleLinePlanner())
 OBSTACLE_LINE_COMPACT = register(CompactLinePlanner())
 OBSTACLE_LINE_SHARED = register(SharedLinePlanner())
 OBSTACLE_LINE_ONESIDE = register(OneSideLinePlanner())
 OBSTACLE_LINE_WALLS = register(WallsLinePlanner())
+OBSTACLE_LINE_ROBOTS = register(RobotsLinePlanner())
