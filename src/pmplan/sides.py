@@ -42,9 +42,9 @@ __all__ = ["GUARD", "ROBOT_BARRIER", "ROBOT_DELTA", "ROBOT_GAP", "ROBOT_KAPPA", 
 #: within ``GUARD |o2 - o1|`` of an obstacle's column (in the coordinates the planner plans in)
 GUARD = 2.0 ** -10
 
-def _reach(points: np.ndarray, v: np.ndarray, box: np.ndarray) -> np.ndarray:
-    """The least, over the points (B, K, 2), of the parameter t > 0 at which ``p + t v`` (v
-    (B, 2) nonzero) leaves the box (2, 2): shape (B,), floating point (inf on overflow)."""
+def _reach_each(points: np.ndarray, v: np.ndarray, box: np.ndarray) -> np.ndarray:
+    """For every point (B, K, 2), the parameter t > 0 at which ``p + t v`` (v (B, 2) nonzero)
+    leaves the box (2, 2): shape (B, K), floating point (inf on overflow)."""
     t = np.full(points.shape[:2], np.inf)
     with np.errstate(over="ignore", divide="ignore", invalid="ignore", under="ignore"):
         for c in range(2):
@@ -52,11 +52,34 @@ def _reach(points: np.ndarray, v: np.ndarray, box: np.ndarray) -> np.ndarray:
             up = (box[1, c] - points[..., c]) / vc
             dn = (box[0, c] - points[..., c]) / vc
             t = np.minimum(t, np.where(vc > 0, up, np.where(vc < 0, dn, np.inf)))
-    return t.min(axis=1)
+    return t
+
+
+def _exact_columns(o: np.ndarray):
+    """``(w, dot)`` of one query's obstacles (m, 2) in rational arithmetic: ``w = o2 - o1``
+    and ``dot(y, u=w) = (y - o1) . u`` (a column; with ``u = J w`` a height)."""
+    o1 = [Fraction(c) for c in o[0]]
+    w = [Fraction(c) - a for c, a in zip(o[1], o1)]
+
+    def dot(y, u=w):
+        return sum((Fraction(c) - a) * b for c, a, b in zip(y, o1, u))
+
+    return w, dot
+
+
+def _rooms(o: np.ndarray, box: np.ndarray, sign: float) -> np.ndarray:
+    """``A_k`` of every obstacle: the parameter at which ``o_k + sign t J w`` leaves the box,
+    (B, m), floating point (each within 3.01 U relatively and TINY absolutely, see
+    :func:`_g_signs`)."""
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        w = o[:, 1] - o[:, 0]
+        v = sign * np.stack([-w[:, 1], w[:, 0]], axis=1)  # the quarter turn of predicates
+    return _reach_each(o, v, box)
 
 
 def _reach_exact(points, v, box) -> Fraction | None:
-    """:func:`_reach` of one query in rational arithmetic (None: no coordinate of v moves)."""
+    """The least, over the points, of :func:`_reach_each` of one query in rational arithmetic
+    (None: no coordinate of v moves)."""
     best = None
     for p in points:
         for c in range(2):
@@ -83,10 +106,8 @@ def _g_signs(o: np.ndarray, box: np.ndarray) -> np.ndarray:
     within 3.01 U of its value relatively (``v``, the subtraction and the quotient round once
     each; a subtraction that underflows is exact) and TINY absolutely (a quotient that
     underflows), and so are their minima; the rest is decided again exactly."""
+    a, b = _rooms(o, box, 1.0).min(axis=1), _rooms(o, box, -1.0).min(axis=1)
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        w = o[:, 1] - o[:, 0]
-        v = np.stack([-w[:, 1], w[:, 0]], axis=1)  # the quarter turn of pmplan.predicates
-        a, b = _reach(o, v, box), _reach(o, -v, box)
         g = a - b
         sure = np.isfinite(g) & (np.abs(g) > 4.1 * U * (a + b) + 3 * TINY)
     sign = np.where(g > 0, 1, -1).astype(np.int64)
@@ -100,12 +121,7 @@ def _guard_exact(zo: np.ndarray, zc: list) -> int:
     mapped out of the box), exactly: with the columns ``(y - o1) . w`` of
     :mod:`pmplan.predicates`, ``(x - o_k) . w`` is the difference of two columns and
     ``|w|^2`` the column of ``o2``."""
-    o1 = [Fraction(c) for c in zo[0]]
-    w = [Fraction(c) - a for c, a in zip(zo[1], o1)]
-
-    def column(y):
-        return sum((Fraction(c) - a) * b for c, a, b in zip(y, o1, w))
-
+    _, column = _exact_columns(zo)
     obstacles = [column(y) for y in zo]
     d = max(min(abs(column(x) - k) for k in obstacles) for conf in zc for x in conf)
     g = d - Fraction(GUARD) * obstacles[1]
@@ -200,22 +216,6 @@ ROBOT_GAP = 3.0
 ROBOT_BARRIER = 32.0
 
 
-def _rooms(o: np.ndarray, box: np.ndarray, sign: float) -> np.ndarray:
-    """``A_k`` of every obstacle: the parameter at which ``o_k + sign t J w`` leaves the box,
-    (B, m), floating point (each within 3.01 U relatively and TINY absolutely, see
-    :func:`_g_signs`)."""
-    w = o[:, 1] - o[:, 0]
-    v = sign * np.stack([-w[:, 1], w[:, 0]], axis=1)
-    t = np.full(o.shape[:2], np.inf)
-    with np.errstate(over="ignore", divide="ignore", invalid="ignore", under="ignore"):
-        for c in range(2):
-            vc = v[:, None, c]
-            up = (box[1, c] - o[..., c]) / vc
-            dn = (box[0, c] - o[..., c]) / vc
-            t = np.minimum(t, np.where(vc > 0, up, np.where(vc < 0, dn, np.inf)))
-    return t
-
-
 def _clip01(x: Fraction) -> Fraction:
     return min(max(x, Fraction(0)), Fraction(1))
 
@@ -224,23 +224,18 @@ def _f_exact(o: np.ndarray, xs: list, box: np.ndarray, lift: float) -> list:
     """The signs of ``f_i`` of one query (obstacles (m, 2), the robot's positions ``xs`` (r
     arrays (n, 2)) in the box, the unit ``lift``, or the scene's for ``lift <= 0``),
     exactly."""
-    o1 = [Fraction(c) for c in o[0]]
-    w = [Fraction(c) - a for c, a in zip(o[1], o1)]
+    w, col = _exact_columns(o)
     jw = (-w[1], w[0])
-
-    def col(y, u):
-        return sum((Fraction(c) - a) * b for c, a, b in zip(y, o1, u))
-
-    ww = col(o[1], w)
+    ww = col(o[1])
     u2 = (Fraction(lift) ** 2 if lift > 0 else
-          max(sum((Fraction(c) - a) ** 2 for c, a in zip(y, o1)) for y in o[1:]))
+          max(sum((Fraction(c) - Fraction(a)) ** 2 for c, a in zip(y, o[0])) for y in o[1:]))
     gap = Fraction(ROBOT_GAP) ** 2 * u2
-    cols = [col(y, w) for y in o]
+    cols = [col(y) for y in o]
     rooms = [[_reach_exact([y], s, box) for y in o] for s in (jw, (-jw[0], -jw[1]))]
     signs = []
     for i in range(xs[0].shape[0]):
         h = sum(col(x[i], jw) for x in xs) / ww
-        p = [col(x[i], w) for x in xs]
+        p = [col(x[i]) for x in xs]
         a, b = min(p), max(p)
         om = [_clip01(min(ck - a, b - ck) / (Fraction(ROBOT_DELTA) * ww)) for ck in cols]
         room = [min(side[k] + Fraction(ROBOT_ROOM) * (1 - om[k]) for k in range(len(cols)))
@@ -324,12 +319,7 @@ def _f_signs(o: np.ndarray, xs: list, box: np.ndarray, lift: np.ndarray) -> np.n
 def _robot_guard_exact(zo: np.ndarray, zc: list) -> list:
     """The signs of the guards ``G_i`` of one query (obstacles (m, 2), configurations (n, 2)
     each, mapped out of the box), exactly (the columns as in :func:`_guard_exact`)."""
-    o1 = [Fraction(c) for c in zo[0]]
-    w = [Fraction(c) - a for c, a in zip(zo[1], o1)]
-
-    def column(y):
-        return sum((Fraction(c) - a) * b for c, a, b in zip(y, o1, w))
-
+    _, column = _exact_columns(zo)
     obstacles = [column(y) for y in zo]
     confs = [[column(x) for x in conf] for conf in zc]
     signs = []
