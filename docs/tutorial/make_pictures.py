@@ -130,11 +130,10 @@ def refined_picture(plan, out: Path) -> None:
 
 def room_picture(out: Path) -> None:
     """The crowded room of ``pmplan demo`` raw and refined (radius 0.15) in its box."""
-    from pmplan.cli import _crowded_room_demo
-    from pmplan.examples import ROOM_GAP
+    from pmplan.examples import ROOM_GAP, crowded_room_plans
     from pmplan.plotting import plan_grid
 
-    raw, ref = _crowded_room_demo()  # the demo's own two plans
+    raw, ref = crowded_room_plans()  # the demo's own two plans
     fig = plan_grid([raw, ref], ncols=2, panel=4.6, same_axes=2,
                     titles=[f"raw, in the box: $W_{{{raw.domain}}}$, length "
                             f"{raw.path.length():.3g}",

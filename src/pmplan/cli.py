@@ -554,7 +554,7 @@ def _cmd_batch_store(args, options: dict | None) -> int:
 
 def cmd_demo(args) -> int:
     from . import api
-    from .examples import obstacle_line_examples
+    from .examples import crowded_room_plans, obstacle_line_examples
 
     out = _picture_path(args.out)
     import numpy as np
@@ -572,7 +572,7 @@ def cmd_demo(args) -> int:
         refined = list(api.refine(batch, **radii))
         extra = _planar_three_demo(args.lift)
         refined += [api.refine(p, **radii) for p in extra]
-        room, room_refined = _crowded_room_demo()
+        room, room_refined = crowded_room_plans()
     from .display import display_for
 
     print(f"pmplan demo: {args.n} robots among 2 obstacles in the plane "
@@ -625,24 +625,6 @@ def _picture_path(out: str) -> Path:
         raise InputError(f"cannot draw the demo into {path.name!r}: use a file name ending in "
                          f"{', '.join(PICTURE_SUFFIXES)}")
     return path
-
-
-def _crowded_room_demo():
-    """The crowded room of the demo (:func:`pmplan.examples.crowded_room`) in its box: the
-    refined plan ``pmplan.plan(..., refine=True)`` returns for robots and obstacles of radius
-    half the room's required distance, and the raw plan it refines (the planner and the unit a
-    refined plan takes by default: for 8 robots in a box in the plane the one-side lanes on the
-    wall side, the robots' diameter)."""
-    from . import api
-    from .examples import ROOM_GAP, crowded_room
-    from .io import with_defaults
-
-    o, s, g, bounds = crowded_room()
-    radii = {"radius": ROOM_GAP / 2, "obstacle_radius": ROOM_GAP / 2}
-    # (as pmplan plan --refine does: the raw plan with the unit and planner of a refined one)
-    raw = api.plan_query(with_defaults({"obstacles": o, "start": s, "goal": g,
-                                        "bounds": bounds}, radii))
-    return raw, api.refine(raw, **radii)
 
 
 def _planar_three_demo(lift=1.0):

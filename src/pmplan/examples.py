@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["crowded_room", "line_configuration", "obstacle_line_examples",
+__all__ = ["crowded_room", "crowded_room_plans", "line_configuration", "obstacle_line_examples",
            "planar_three_examples"]
 
 # columns and heights (for n = 3) giving cp = 2..5 with obstacles o1 = (0, 0), o2 = (4, 0)
@@ -109,3 +109,20 @@ def crowded_room(n: int = 8, m: int = 6, seed: int = ROOM_SEED):
     s = draw(n, o, g, g, g)
     t = draw(n, o, g, g, g)
     return o, s, t, (0.0, ROOM_SIZE)
+
+
+def crowded_room_plans():
+    """The crowded room (:func:`crowded_room`) in its box, planned as ``pmplan demo`` and the
+    tutorial show it: ``(raw, refined)``, the refined plan ``pmplan.plan(..., refine=True)``
+    returns for robots and obstacles of radius ``ROOM_GAP / 2`` and the raw plan it refines
+    (the planner and the unit a refined plan takes by default: for 8 robots in a box in the
+    plane the one-side lanes on the wall side, the robots' diameter)."""
+    from . import api
+    from .io import with_defaults
+
+    o, s, g, bounds = crowded_room()
+    radii = {"radius": ROOM_GAP / 2, "obstacle_radius": ROOM_GAP / 2}
+    # (as pmplan plan --refine does: the raw plan with the unit and planner of a refined one)
+    raw = api.plan_query(with_defaults({"obstacles": o, "start": s, "goal": g,
+                                        "bounds": bounds}, radii))
+    return raw, api.refine(raw, **radii)
