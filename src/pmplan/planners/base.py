@@ -59,8 +59,9 @@ WALL_LANES = 2
 #: (:func:`default_planner`): each robot's lanes take the side of the obstacles' line where
 #: its own positions lie unless the walls leave the obstacles it passes too little room there
 #: (:mod:`pmplan.sides`, Mathematics §8, "A side per robot"), so that its path goes round
-#: fewer obstacles; with more robots the lanes of one side for all keep the radii on more
-#: plans (``benchmarks/robots_ab.py``)
+#: fewer obstacles. With 8 robots it kept the radii on a few queries fewer than the lanes of
+#: one side for all, and, planned by the numpy reference, took more than the 5 ms per query
+#: issue 25 asks (``benchmarks/robots_ab.py``'s docstring)
 ROBOT_LANES = 4
 
 
