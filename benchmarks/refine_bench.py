@@ -273,7 +273,9 @@ def replace_section(path: Path, title: str, body: str) -> None:
     else:
         end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("## ")),
                    len(lines))
-        new = lines[:start] + body.splitlines() + lines[end:]
+        part = body.splitlines()
+        gap = [""] if end < len(lines) and part and part[-1] else []  # (before the next one)
+        new = lines[:start] + part + gap + lines[end:]
     path.write_text("\n".join(new) + "\n")
 
 
