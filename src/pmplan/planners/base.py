@@ -124,8 +124,8 @@ class Planner:
     * the mathematics (required): :attr:`name`, :attr:`summary`, :meth:`supports`,
       :meth:`domain_labels`, :meth:`stratum_name`, :meth:`reference` (the numpy reference)
       and :meth:`allocate`; optional :attr:`equivariant`, :attr:`sequential`,
-      :attr:`priority`, :attr:`crowd`, :meth:`path_times`, :meth:`still_pieces`,
-      :meth:`fixed_waypoints`;
+      :attr:`priority`, :attr:`crowd`, :attr:`wall_side`, :attr:`robot_side`,
+      :meth:`path_times`, :meth:`still_pieces`, :meth:`fixed_waypoints`;
     * how a batch is computed is a backend's (:mod:`pmplan.backends`), what ``pmplan verify``
       needs is the planner's :class:`~pmplan.strata.StrataSpec` (:mod:`pmplan.strata`), and
       what the faces show of it its :class:`~pmplan.display.DisplaySpec`
@@ -152,7 +152,7 @@ class Planner:
     #: in a workspace box in the plane the lanes take the side of the obstacles' line that
     #: :func:`pmplan.sides.wall_sides` chooses (the query mirrored, planned, the plan mirrored
     #: back: the planner with ``-nu(e)``); the default, where it supports (d, n, m), for a
-    #: refined plan of at least :data:`WALL_LANES` robots in a box in the plane
+    #: refined plan of more than :data:`ROBOT_LANES` robots in a box in the plane
     wall_side: ClassVar[bool] = False
     #: in a workspace box in the plane each robot's lanes take the side of the obstacles' line
     #: that :func:`pmplan.sides.robot_sides` chooses for it: :meth:`reference` takes ``down``
@@ -180,7 +180,9 @@ class Planner:
         r = 2 unless :attr:`sequential`) among ``obstacles`` (B, m, d) with the unit ``lift``
         (a positive float, or :data:`SCENE_CODE` for the unit :func:`scene_unit` of every
         query): the planner's mathematics in numpy, exact, the reference every backend is held
-        to. The input is not validated here (see :mod:`pmplan.configuration`)."""
+        to. The input is not validated here (see :mod:`pmplan.configuration`). A planner that
+        declares :attr:`robot_side` also takes ``down`` (bool (B, n), the robots whose lanes
+        take the side of ``-nu(e)``; None: none), which the box passes it."""
         raise NotImplementedError
 
     def plan(self, obstacles, start, goal, *, lift: float = 1.0,
