@@ -75,26 +75,11 @@ def row(fam: str, n: int, seed: int, count: int) -> dict | None:
 
 
 def markdown(res: dict) -> str:
-    rows = [r for r in res["rows"] if r is not None]
-    held = lambda r: r["seed"] not in DESIGN  # noqa: E731
-    lines = ["# A side per robot in a box: valid share, length, continuity", "",
-             f"Command: `{res['command'].strip()}` ({res['date']}, {res['seconds']:.0f} s). "
-             f"Rooms 10 x 10, r = {scenes.R}, {res['count']} queries per row, "
-             "`pmplan.plan(..., bounds=(0, 10), refine=True)` at radius = obstacle_radius = "
-             "r/2 and default arguments. *default*: pmplan's (`ROBOT_LANES = "
-             f"{_DEFAULT}`: `obstacle_line_robots` for 2 to {_DEFAULT} robots); *before*: the "
-             "default before it (`obstacle_line_walls`, one side for all the robots). Per "
-             "variant: valid of the row and its misses by category (`pmplan.reasons`: *gap*, a "
-             "gap narrower than a robot; *obstacle*, *robots*, a contact the refinement left), "
-             "median len/LB, median ms per query; *paired*: the median over the queries both "
-             "keep valid of the length ratio default / before; *K*: the largest K of "
-             f"{sides_ab.PROBES} queries moved by 1e-6, 1e-9 and 1e-12 that keep their label "
-             "(in brackets: the probes above 1e3; the moves that change the label). Seeds "
-             f"{DESIGN[0]} and {DESIGN[1]} are the design seeds, the others held out; seeds "
-             f"{FRESH[0]} and {FRESH[1]} were drawn after the rule's last change (the script's "
-             "docstring says how).", ""]
-    lines += sides_ab.tables(rows, held)
-    return "\n".join(lines) + "\n"
+    return sides_ab.report(
+        res, "A side per robot in a box: valid share, length, continuity",
+        f"*default*: pmplan's (`ROBOT_LANES = {_DEFAULT}`: `obstacle_line_robots` for 2 to "
+        f"{_DEFAULT} robots); *before*: the default before it (`obstacle_line_walls`, one side "
+        "for all the robots).", DESIGN, FRESH, "the rule's last change")
 
 
 #: the queries the picture chooses from (the module's docstring)

@@ -132,27 +132,35 @@ def _k(c: dict) -> str:
 
 
 def markdown(res: dict) -> str:
+    return report(res, "The side of the lanes in a box: valid share, length, continuity",
+                  f"*default*: pmplan's (`WALL_LANES = {_DEFAULT}`: `obstacle_line_walls` from "
+                  f"{_DEFAULT} robots on); *before*: the default before the wall side (the "
+                  "compact lanes up to 7 robots, the one-side lanes on the side of nu(e) from "
+                  "8).", DESIGN, FRESH, "`WALL_LANES` was chosen")
+
+
+def report(res: dict, title: str, variants: str, design: tuple, fresh: tuple,
+           after: str) -> str:
+    """The report of a default-against-before benchmark of these rows (this script's,
+    ``robots_ab.py``'s): ``title``, the command and the setting, ``variants`` (what *default*
+    and *before* are), the columns, the seeds (``design``; ``fresh``, drawn after ``after``),
+    then :func:`tables`."""
     rows = [r for r in res["rows"] if r is not None]
-    held = lambda r: r["seed"] not in DESIGN  # noqa: E731
-    lines = ["# The side of the lanes in a box: valid share, length, continuity", "",
-             f"Command: `{res['command'].strip()}` ({res['date']}, {res['seconds']:.0f} s). "
-             f"Rooms 10 x 10, r = {scenes.R}, {res['count']} queries per row, "
-             "`pmplan.plan(..., bounds=(0, 10), refine=True)` at radius = obstacle_radius = "
-             "r/2 and default arguments. *default*: pmplan's (`WALL_LANES = "
-             f"{_DEFAULT}`: `obstacle_line_walls` from {_DEFAULT} robots on); *before*: the "
-             "default before the wall side (the compact lanes up to 7 robots, the one-side lanes "
-             "on the side of nu(e) from 8). Per variant: valid of the row and its misses by "
-             "category (`pmplan.reasons`: *gap*, a gap narrower than a robot; *obstacle*, "
-             "*robots*, a contact the refinement left), median len/LB, median ms per query; "
-             "*paired*: the median over the queries both keep valid of the length ratio "
-             "default / before; *K*: the largest K of "
-             f"{PROBES} queries moved by 1e-6, 1e-9 and 1e-12 that keep their label (in "
-             "brackets: the probes above 1e3; the moves that change the label). Seeds "
-             f"{DESIGN[0]} and {DESIGN[1]} are the design seeds, the others held out; seeds "
-             f"{FRESH[0]} and {FRESH[1]} were drawn after `WALL_LANES` was chosen (the "
-             "script's docstring says how).", "",
-             ] + tables(rows, held)
-    return "\n".join(lines) + "\n"
+    held = lambda r: r["seed"] not in design  # noqa: E731
+    text = (f"Command: `{res['command'].strip()}` ({res['date']}, {res['seconds']:.0f} s). "
+            f"Rooms 10 x 10, r = {scenes.R}, {res['count']} queries per row, "
+            "`pmplan.plan(..., bounds=(0, 10), refine=True)` at radius = obstacle_radius = "
+            f"r/2 and default arguments. {variants} Per variant: valid of the row and its "
+            "misses by category (`pmplan.reasons`: *gap*, a gap narrower than a robot; "
+            "*obstacle*, *robots*, a contact the refinement left), median len/LB, median ms "
+            "per query; *paired*: the median over the queries both keep valid of the length "
+            "ratio default / before; *K*: the largest K of "
+            f"{PROBES} queries moved by 1e-6, 1e-9 and 1e-12 that keep their label (in "
+            "brackets: the probes above 1e3; the moves that change the label). Seeds "
+            f"{design[0]} and {design[1]} are the design seeds, the others held out; seeds "
+            f"{fresh[0]} and {fresh[1]} were drawn after {after} (the script's docstring says "
+            "how).")
+    return "\n".join([f"# {title}", "", text, ""] + tables(rows, held)) + "\n"
 
 
 def tables(rows: list, held) -> list:
