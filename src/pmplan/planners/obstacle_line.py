@@ -201,7 +201,7 @@ def lane_chains(keys: list[np.ndarray], sides: int = 2,
                 break
             here = rk[rows, :, x]  # (B, r)
             pick = count.copy()
-            for c in range(n - 1, -1, -1):  # the first chain that takes it
+            for c in range(int(count.max()) - 1, -1, -1):  # the first chain that takes it
                 before = (rk[rows, :, tail[:, c]] < here).all(axis=1)
                 pick = np.where((c < count) & before, c, pick)
             lane[rows[on], x[on]] = pick[on] + 1
